@@ -1,0 +1,181 @@
+// `clipray reconcile`: rasterize every scene headlessly, trace the same pixels analytically,
+// compare.
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+#include <sstream>
+
+#include "Commands.hpp"
+#include "clipray/gl/GlContext.hpp"
+#include "clipray/gl/ReconcileRun.hpp"
+#include "clipray/gl/Renderer.hpp"
+#include "clipray/report/Report.hpp"
+#include "clipray/scene/InputError.hpp"
+#include "clipray/scene/Scene.hpp"
+
+namespace clipray::cli {
+
+namespace {
+
+std::vector<std::string> splitList(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) items.push_back(item);
+  return items;
+}
+
+template <typename T, typename Parse>
+std::vector<T> parseList(const std::string& option, const std::string& text, Parse parse,
+                         const std::string& valid) {
+  std::vector<T> values;
+  for (const std::string& item : splitList(text)) {
+    const std::optional<T> value = parse(item);
+    if (!value) {
+      throw InputError(option + ": unknown value \"" + item +
+                       "\"; expected a comma-separated list of: " + valid);
+    }
+    if (std::find(values.begin(), values.end(), *value) == values.end()) values.push_back(*value);
+  }
+  if (values.empty()) throw InputError(option + ": expected at least one of: " + valid);
+  return values;
+}
+
+Viewport parseSize(const std::string& text) {
+  int width = 0, height = 0;
+  char x = 0;
+  std::istringstream stream(text);
+  if (!(stream >> width >> x >> height) || x != 'x' || !stream.eof() || width <= 0 || height <= 0) {
+    throw InputError("--size: expected WxH with positive integers (e.g. 1920x1080), got \"" + text +
+                     "\"");
+  }
+  return {width, height};
+}
+
+struct ReconcileOptions {
+  std::vector<std::string> scenes;
+  std::string backend = "osmesa";
+  std::string conventions;  // empty: per scene, default no,zo
+  std::string depthFormats = "24,32f";
+  std::string vertexModes = "world";
+  std::string size;
+  std::string out = "report";
+  bool json = false;
+  unsigned threads = 0;
+};
+
+int runReconcile(const ReconcileOptions& options) {
+  // 1. Everything the user handed us is checked before anything is rendered or written.
+  const std::vector<DepthFormat> formats = parseList<DepthFormat>(
+      "--depth-formats", options.depthFormats, parseDepthFormat, "16, 24, 32f");
+  const std::vector<VertexMode> vertexModes =
+      parseList<VertexMode>("--vertex-modes", options.vertexModes, parseVertexMode,
+                            "world, camera-relative, pretransformed");
+  std::optional<std::vector<DepthMode>> conventions;
+  if (!options.conventions.empty()) {
+    conventions = parseList<DepthMode>("--conventions", options.conventions, DepthMode::parse,
+                                       "no, zo, zo-reversed");
+  }
+  const std::optional<Viewport> sizeOverride =
+      options.size.empty() ? std::nullopt : std::optional<Viewport>(parseSize(options.size));
+
+  std::vector<std::string> scenePaths = options.scenes;
+  if (scenePaths.empty()) {
+    if (!std::filesystem::is_directory("scenes")) {
+      throw InputError(
+          "no scene given and there is no scenes/ folder here; name scene files, e.g. clipray "
+          "reconcile scenes/standard.json");
+    }
+    for (const auto& entry : std::filesystem::directory_iterator("scenes")) {
+      if (entry.path().extension() == ".json") scenePaths.push_back(entry.path().string());
+    }
+    std::sort(scenePaths.begin(), scenePaths.end());
+    if (scenePaths.empty()) throw InputError("scenes/: no *.json scene files");
+  }
+  std::vector<Scene> scenes;
+  for (const std::string& path : scenePaths) scenes.push_back(loadScene(path));
+
+  // 2. The backend, and the limits only it knows.
+  std::unique_ptr<gl::GlContext> context = gl::createContext(options.backend);
+  gl::Renderer renderer(*context);
+  const Viewport maxViewport = renderer.maxViewport();
+  auto checkViewport = [&](Viewport v, const std::string& where) {
+    if (v.width > maxViewport.width || v.height > maxViewport.height) {
+      throw InputError(where + ": " + std::to_string(v.width) + "x" + std::to_string(v.height) +
+                       " exceeds GL_MAX_VIEWPORT_DIMS " + std::to_string(maxViewport.width) + "x" +
+                       std::to_string(maxViewport.height) + " of " + renderer.info().renderer);
+    }
+  };
+  if (sizeOverride) checkViewport(*sizeOverride, "--size");
+  for (const Scene& scene : scenes) {
+    for (std::size_t c = 0; c < scene.cameras.size(); ++c) {
+      if (!sizeOverride) {
+        checkViewport(scene.cameras[c].viewport,
+                      scene.path + ": /cameras/" + std::to_string(c) + "/viewport");
+      }
+    }
+  }
+
+  // 3. The runs: scene x camera x convention (one analytic pass) x format x vertex mode.
+  std::vector<RunRecord> runs;
+  for (const Scene& scene : scenes) {
+    const std::vector<DepthMode> sceneConventions =
+        conventions
+            ? *conventions
+            : (scene.conventions.empty() ? std::vector<DepthMode>{kNegativeOneToOne, kZeroToOne}
+                                         : scene.conventions);
+    for (const Camera& camera : scene.cameras) {
+      const Viewport viewport = sizeOverride.value_or(camera.viewport);
+      for (const DepthMode mode : sceneConventions) {
+        const gl::AnalyticPass pass =
+            gl::runAnalyticPass(scene, camera, mode, viewport, robustPickRays(), options.threads);
+        for (const DepthFormat format : formats) {
+          for (const VertexMode vertexMode : vertexModes) {
+            std::cerr << "clipray: " << scene.name << "/" << camera.name << " " << mode.name()
+                      << " " << depthFormatName(format) << " " << vertexModeName(vertexMode) << "\r"
+                      << std::flush;
+            runs.push_back(
+                gl::rasterAndCompare(renderer, pass, format, vertexMode, true, options.threads));
+          }
+        }
+      }
+    }
+  }
+  std::cerr << std::string(72, ' ') << "\r" << std::flush;
+
+  // 4. Outputs, all at the end and each atomically.
+  writeReport(options.out, runs, renderer.info());
+  std::cout << textSummary(runs);
+  std::cout << "report: " << (std::filesystem::path(options.out) / "report.json").string() << "\n";
+  if (options.json) std::cout << reportJson(runs, renderer.info()).dump(2) << "\n";
+  const bool consistent = std::all_of(runs.begin(), runs.end(),
+                                      [](const RunRecord& r) { return r.metrics.consistent(); });
+  return consistent ? 0 : 1;
+}
+
+}  // namespace
+
+Subcommand addReconcileCommand(CLI::App& parent) {
+  auto options = std::make_shared<ReconcileOptions>();
+  CLI::App* app = parent.add_subcommand(
+      "reconcile", "Rasterize scenes headlessly and compare every pixel with analytic ray hits");
+  app->add_option("scenes", options->scenes, "Scene files (default: every scenes/*.json)");
+  app->add_option("--backend", options->backend, "GL backend: osmesa")->capture_default_str();
+  app->add_option("--conventions", options->conventions,
+                  "Comma-separated: no, zo, zo-reversed (default: the scene's list, else no,zo)");
+  app->add_option("--depth-formats", options->depthFormats, "Comma-separated: 16, 24, 32f")
+      ->capture_default_str();
+  app->add_option("--vertex-modes", options->vertexModes,
+                  "Comma-separated: world, camera-relative, pretransformed")
+      ->capture_default_str();
+  app->add_option("--size", options->size, "WxH: override every camera's viewport");
+  app->add_option("--out", options->out, "Output folder for report.json and PNGs")
+      ->capture_default_str();
+  app->add_flag("--json", options->json, "Also print report.json to stdout");
+  app->add_option("--threads", options->threads, "Threads for the analytic pass (0: all cores)")
+      ->capture_default_str();
+  return {app, [options] { return runReconcile(*options); }};
+}
+
+}  // namespace clipray::cli

@@ -1,0 +1,125 @@
+#pragma once
+// Reconciliation of a raster frame with an analytic frame (DESIGN.md section 5): coverage, id and
+// depth comparisons, ambiguous pixels counted apart, and a predicted per-pixel depth tolerance
+// derived from the depth format, the convention, the matrix and the vertex mode.
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "clipray/compare/Frames.hpp"
+#include "clipray/math/Conventions.hpp"
+#include "clipray/scene/Scene.hpp"
+
+namespace clipray {
+
+// What the raster side was: needed to predict what it may legitimately differ by.
+struct RasterSetup {
+  glm::dmat4 clipFromWorld{1.0};  // the exact (double) matrix of the camera
+  DepthMode mode;
+  DepthFormat depthFormat = DepthFormat::Float32;
+  VertexMode vertexMode = VertexMode::World;
+  glm::dvec3 vertexReference{0.0};  // the point removed on the CPU in CameraRelative mode
+  int subpixelBits = 4;             // GL_SUBPIXEL_BITS of the rasterizer
+};
+
+// Per-pixel verdict.
+enum class PixelClass : std::uint8_t {
+  Background,             // neither side hits
+  Agree,                  // same primitive, depth within tolerance
+  DepthBeyondTolerance,   // same primitive, depth error above the predicted tolerance
+  CoverageEdgeAmbiguous,  // one side hits; the pixel centre is within epsilon of the edge
+  CoverageUnexplained,
+  IdDepthAmbiguous,  // different primitives whose depths are within tolerance (z-fighting)
+  IdEdgeAmbiguous,   // different primitives, pixel centre within epsilon of an edge
+  IdUnexplained,
+};
+const char* pixelClassName(PixelClass value);
+
+struct Distribution {
+  double max = 0.0;
+  double p50 = 0.0;
+  double p99 = 0.0;
+};
+
+struct RunMetrics {
+  std::int64_t pixels = 0;
+  std::int64_t rasterHits = 0;
+  std::int64_t rayHits = 0;
+  struct {
+    std::int64_t total = 0, edgeAmbiguous = 0, unexplained = 0;
+  } coverageMismatch;
+  struct {
+    std::int64_t total = 0, depthAmbiguous = 0, edgeAmbiguous = 0, unexplained = 0;
+  } idMismatch;
+  std::int64_t depthCompared = 0;         // pixels where both sides hit the same primitive
+  std::int64_t depthBeyondTolerance = 0;  // of those, error above the predicted tolerance
+  Distribution depthErrorQuanta;          // |d_r - d_a| / quantum(d_a)
+  Distribution distanceRelError;          // |t_r - t_a| / distance from the eye
+  Distribution toleranceRatio;  // |d_r - d_a| / predicted tolerance (p50 unused in report)
+  bool consistent() const {
+    return coverageMismatch.unexplained == 0 && idMismatch.unexplained == 0 &&
+           depthBeyondTolerance == 0;
+  }
+};
+
+// Per-pixel data kept for the images.
+struct PixelComparison {
+  Viewport viewport;
+  std::vector<float> rasterDepth;     // NaN where the raster shows background
+  std::vector<double> analyticDepth;  // NaN where the ray misses
+  std::vector<float> toleranceRatio;  // NaN where not compared
+  std::vector<PixelClass> classes;
+};
+
+struct ComparisonResult {
+  RunMetrics metrics;
+  PixelComparison pixels;
+};
+
+// Compares the frames. The intersector supplies the triangles both sides drew.
+ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
+                               const SceneIntersector& intersector, const RasterSetup& setup,
+                               unsigned threadCount = 0);
+
+// The predicted tolerance model, exposed for tests: window-depth tolerance at a pixel whose
+// analytic hit lies on primitive `primitiveId` at window depth `windowDepth`.
+class ToleranceModel {
+ public:
+  ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup, Viewport viewport);
+  // Window-depth tolerance for a hit on primitive id at pixel (px, py) (pixel-centre coordinates,
+  // in pixels from the lower-left corner) and world hit point.
+  double depthTolerance(std::uint32_t primitiveId, glm::dvec2 pixel,
+                        const glm::dvec3& hitWorld) const;
+  // Distance in pixels from a window position to the boundary of the primitive's clipped screen
+  // polygon (+inf for a primitive clipped away entirely).
+  double edgeDistancePixels(std::uint32_t primitiveId, glm::dvec2 pixel) const;
+  bool insidePolygon(std::uint32_t primitiveId, glm::dvec2 pixel) const;
+  // How close to an edge a pixel centre must be for coverage to be ambiguous, in pixels.
+  double edgeEpsilonPixels(std::uint32_t primitiveId) const;
+  // Window depth of the primitive's plane at a window position (NaN if it has no screen polygon).
+  double planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel) const;
+
+ private:
+  // A triangle clipped against the six clip planes has at most 3 + 6 vertices.
+  static constexpr int kMaxPolygonVertices = 9;
+  struct ScreenPolygon {
+    std::array<glm::dvec3, kMaxPolygonVertices> vertices;  // window x, y (pixels), window depth
+    int vertexCount = 0;
+    glm::dvec3 depthPlane{std::nan("")};  // d = a x + b y + c in window coordinates
+    double maxDepth = 0.0;
+    double edgeEpsilon = 0.0;  // pixels
+    // Bounds of the float vertex-transform error in clip space, per clip row (x, y, z, w).
+    glm::dvec4 clipErrorBound{0.0};
+  };
+  const ScreenPolygon& polygon(std::uint32_t primitiveId) const { return polygons_[primitiveId]; }
+  RasterSetup setup_;
+  Viewport viewport_;
+  std::vector<ScreenPolygon> polygons_;  // indexed by primitive id
+};
+
+}  // namespace clipray

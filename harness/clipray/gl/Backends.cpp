@@ -1,0 +1,18 @@
+#include <string>
+
+#include "clipray/gl/GlContext.hpp"
+
+namespace clipray::gl {
+
+std::vector<std::string> backendNames() {
+  return {"osmesa"};
+}
+
+std::unique_ptr<GlContext> createContext(std::string_view backend) {
+  if (backend == "osmesa") return createOsMesaContext();
+  std::string known;
+  for (const std::string& name : backendNames()) known += (known.empty() ? "" : ", ") + name;
+  throw BackendError("unknown backend \"" + std::string(backend) + "\"; expected one of: " + known);
+}
+
+}  // namespace clipray::gl

@@ -1,0 +1,80 @@
+#include "clipray/gl/ReconcileRun.hpp"
+
+#include <chrono>
+
+namespace clipray::gl {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+}  // namespace
+
+glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode) {
+  const glm::dvec4 p = glm::inverse(clipFromWorld) * glm::dvec4(0.0, 0.0, mode.nearNdcZ(), 1.0);
+  return glm::dvec3(p) / p.w;
+}
+
+AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
+                             Viewport viewport, const PickRayFunction& rayFunction,
+                             unsigned threadCount) {
+  AnalyticPass pass;
+  pass.scene = &scene;
+  pass.cameraName = camera.name;
+  pass.camera.clipFromWorld = camera.clipFromWorld(mode, viewport);
+  pass.camera.mode = mode;
+  pass.camera.viewport = viewport;
+  pass.reference = nearPlaneCentre(pass.camera.clipFromWorld, mode);
+
+  const auto raysStart = Clock::now();
+  pass.frame = generateRays(pass.camera, rayFunction, threadCount);
+  pass.raysMilliseconds = millisecondsSince(raysStart);
+
+  const auto intersectStart = Clock::now();
+  pass.intersector.emplace(scene, pass.reference);
+  intersectFrame(pass.frame, *pass.intersector, threadCount);
+  pass.intersectMilliseconds = millisecondsSince(intersectStart);
+  return pass;
+}
+
+RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFormat depthFormat,
+                           VertexMode vertexMode, bool images, unsigned threadCount) {
+  RenderRequest request;
+  request.scene = pass.scene;
+  request.clipFromWorld = pass.camera.clipFromWorld;
+  request.mode = pass.camera.mode;
+  request.depthFormat = depthFormat;
+  request.vertexMode = vertexMode;
+  request.vertexReference = pass.reference;
+  request.viewport = pass.camera.viewport;
+  RenderTimings renderTimings;
+  const RasterFrame raster = renderer.render(request, &renderTimings);
+
+  RasterSetup setup;
+  setup.clipFromWorld = pass.camera.clipFromWorld;
+  setup.mode = pass.camera.mode;
+  setup.depthFormat = depthFormat;
+  setup.vertexMode = vertexMode;
+  setup.vertexReference = pass.reference;
+  setup.subpixelBits = renderer.info().subpixelBits;
+  const auto compareStart = Clock::now();
+  const ComparisonResult comparison =
+      compareFrames(raster, pass.frame, *pass.intersector, setup, threadCount);
+  const double compareMilliseconds = millisecondsSince(compareStart);
+
+  RunRecord run;
+  run.scene = pass.scene->name;
+  run.camera = pass.cameraName;
+  run.convention = pass.camera.mode;
+  run.depthFormat = depthFormat;
+  run.vertexMode = vertexMode;
+  run.size = pass.camera.viewport;
+  run.metrics = comparison.metrics;
+  run.timings = {renderTimings.raster, renderTimings.readback, pass.raysMilliseconds,
+                 pass.intersectMilliseconds, compareMilliseconds};
+  if (images) encodeRunImages(run, comparison.pixels);
+  return run;
+}
+
+}  // namespace clipray::gl

@@ -1,0 +1,48 @@
+#pragma once
+// Reconciling one scene camera: the library entry point for other projects' tests.
+//
+//   clipray::gl::Renderer renderer(*context);
+//   AnalyticPass rays = runAnalyticPass(scene, scene.cameras[0], kZeroToOne, viewport, myPickRays);
+//   RunRecord run = rasterAndCompare(renderer, scene, rays, DepthFormat::Float32,
+//   VertexMode::World); EXPECT_TRUE(run.metrics.consistent());
+//
+// The ray function is the app's own picking code (PickRayFunction); robustPickRays() is clipray's.
+
+#include <optional>
+
+#include "clipray/compare/Reconcile.hpp"
+#include "clipray/gl/Renderer.hpp"
+#include "clipray/intersect/SceneIntersector.hpp"
+#include "clipray/report/Report.hpp"
+#include "clipray/scene/Scene.hpp"
+
+namespace clipray::gl {
+
+// Rays and closest hits for one camera under one convention; independent of the depth format
+// and vertex mode, so one pass serves every raster variant.
+struct AnalyticPass {
+  const Scene* scene = nullptr;
+  std::string cameraName;
+  PickingCamera camera;
+  glm::dvec3 reference{0.0};  // centre of the near plane: camera-relative origin for both sides
+  std::optional<SceneIntersector> intersector;
+  AnalyticFrame frame;
+  double raysMilliseconds = 0.0;
+  double intersectMilliseconds = 0.0;
+};
+
+AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
+                             Viewport viewport,
+                             const PickRayFunction& rayFunction = robustPickRays(),
+                             unsigned threadCount = 0);
+
+// Renders the same camera with the renderer and compares. If images is true, the run's PNGs are
+// encoded into the record.
+RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFormat depthFormat,
+                           VertexMode vertexMode, bool images = true, unsigned threadCount = 0);
+
+// The point near the camera that both passes measure coordinates from: the centre of the near
+// plane the rasterizer clips at, in world space.
+glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode);
+
+}  // namespace clipray::gl

@@ -1,0 +1,286 @@
+#include "clipray/gl/Renderer.hpp"
+
+#include <glad/gl.h>
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "clipray/math/Projections.hpp"
+
+namespace clipray::shaders {
+extern const char* const raster_vert;
+extern const char* const raster_vert_file;
+extern const char* const raster_frag;
+extern const char* const raster_frag_file;
+}  // namespace clipray::shaders
+
+namespace clipray::gl {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double millisecondsSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+const char* glErrorName(GLenum error) {
+  switch (error) {
+    case GL_INVALID_ENUM:
+      return "GL_INVALID_ENUM";
+    case GL_INVALID_VALUE:
+      return "GL_INVALID_VALUE";
+    case GL_INVALID_OPERATION:
+      return "GL_INVALID_OPERATION";
+    case GL_INVALID_FRAMEBUFFER_OPERATION:
+      return "GL_INVALID_FRAMEBUFFER_OPERATION";
+    case GL_OUT_OF_MEMORY:
+      return "GL_OUT_OF_MEMORY";
+    default:
+      return "unknown GL error";
+  }
+}
+
+void checkGl(const char* stage) {
+  const GLenum error = glGetError();
+  if (error != GL_NO_ERROR) {
+    throw GlError(std::string("GL: ") + glErrorName(error) + " during " + stage);
+  }
+}
+
+GLuint compileShader(GLenum kind, const char* source, const char* file) {
+  const GLuint shader = glCreateShader(kind);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = GL_FALSE;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    glDeleteShader(shader);
+    throw GlError(std::string("GL: ") + file + " does not compile:\n" + log.c_str());
+  }
+  return shader;
+}
+
+GLuint linkProgram(GLuint vertex, GLuint fragment, const char* name) {
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, vertex);
+  glAttachShader(program, fragment);
+  glLinkProgram(program);
+  GLint ok = GL_FALSE;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
+    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+    glGetProgramInfoLog(program, length, nullptr, log.data());
+    glDeleteProgram(program);
+    throw GlError(std::string("GL: program ") + name + " does not link:\n" + log.c_str());
+  }
+  return program;
+}
+
+GLenum depthInternalFormat(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::Unorm16:
+      return GL_DEPTH_COMPONENT16;
+    case DepthFormat::Unorm24:
+      return GL_DEPTH_COMPONENT24;
+    case DepthFormat::Float32:
+      return GL_DEPTH_COMPONENT32F;
+  }
+  return GL_DEPTH_COMPONENT32F;
+}
+
+std::string glString(GLenum name) {
+  const GLubyte* text = glGetString(name);
+  return text ? reinterpret_cast<const char*>(text) : "";
+}
+
+}  // namespace
+
+struct Renderer::State {
+  GLuint program = 0;
+  GLint clipFromInputLocation = -1;
+  GLint firstIdLocation = -1;
+  GLuint vertexArray = 0;
+  GLuint vertexBuffer = 0;
+  GLuint indexBuffer = 0;
+  GLuint framebuffer = 0;
+  GLuint colorBuffer = 0;
+  GLuint depthBuffer = 0;
+};
+
+Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
+  const int version = gladLoadGL(context.loader());
+  if (version == 0) throw BackendError(context.backendName() + ": cannot load GL entry points");
+  if (GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 45) {
+    throw BackendError(context.backendName() + ": GL 4.5 core is required (glClipControl), got " +
+                       glString(GL_VERSION));
+  }
+  info_.backend = context.backendName();
+  info_.vendor = glString(GL_VENDOR);
+  info_.renderer = glString(GL_RENDERER);
+  info_.version = glString(GL_VERSION);
+  glGetIntegerv(GL_SUBPIXEL_BITS, &info_.subpixelBits);
+  GLint viewportDims[2] = {0, 0};
+  GLint renderbufferSize = 0;
+  glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewportDims);
+  glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbufferSize);
+  maxViewport_ = {std::min(viewportDims[0], renderbufferSize),
+                  std::min(viewportDims[1], renderbufferSize)};
+
+  const GLuint vertex =
+      compileShader(GL_VERTEX_SHADER, shaders::raster_vert, shaders::raster_vert_file);
+  const GLuint fragment =
+      compileShader(GL_FRAGMENT_SHADER, shaders::raster_frag, shaders::raster_frag_file);
+  state_->program = linkProgram(vertex, fragment, "raster");
+  glDeleteShader(vertex);
+  glDeleteShader(fragment);
+  state_->clipFromInputLocation = glGetUniformLocation(state_->program, "uClipFromInput");
+  state_->firstIdLocation = glGetUniformLocation(state_->program, "uFirstId");
+
+  glCreateVertexArrays(1, &state_->vertexArray);
+  glCreateBuffers(1, &state_->vertexBuffer);
+  glCreateBuffers(1, &state_->indexBuffer);
+  glVertexArrayVertexBuffer(state_->vertexArray, 0, state_->vertexBuffer, 0, 4 * sizeof(float));
+  glVertexArrayElementBuffer(state_->vertexArray, state_->indexBuffer);
+  glEnableVertexArrayAttrib(state_->vertexArray, 0);
+  glVertexArrayAttribFormat(state_->vertexArray, 0, 4, GL_FLOAT, GL_FALSE, 0);
+  glVertexArrayAttribBinding(state_->vertexArray, 0, 0);
+  checkGl("renderer set-up");
+}
+
+Renderer::~Renderer() {
+  glDeleteFramebuffers(1, &state_->framebuffer);
+  glDeleteRenderbuffers(1, &state_->colorBuffer);
+  glDeleteRenderbuffers(1, &state_->depthBuffer);
+  glDeleteBuffers(1, &state_->vertexBuffer);
+  glDeleteBuffers(1, &state_->indexBuffer);
+  glDeleteVertexArrays(1, &state_->vertexArray);
+  glDeleteProgram(state_->program);
+}
+
+RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timings) {
+  const Scene& scene = *request.scene;
+  const Viewport viewport = request.viewport;
+  const auto rasterStart = Clock::now();
+
+  // Vertex data as the vertex mode prescribes; the matrix row comments are in raster.vert.
+  const glm::dmat4& clipFromWorld = request.clipFromWorld;
+  glm::dmat4 clipFromInput(1.0);
+  if (request.vertexMode == VertexMode::World) clipFromInput = clipFromWorld;
+  if (request.vertexMode == VertexMode::CameraRelative) {
+    glm::dmat4 worldFromRelative(1.0);
+    worldFromRelative[3] = glm::dvec4(request.vertexReference, 1.0);
+    clipFromInput = clipFromWorld * worldFromRelative;
+  }
+  std::vector<float> vertices;
+  std::vector<std::uint32_t> indices;
+  struct Draw {
+    std::uint32_t firstId;
+    GLsizei indexCount;
+    std::size_t indexOffset;
+    GLint baseVertex;
+  };
+  std::vector<Draw> draws;
+  const PrimitiveIdTable ids(scene);
+  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+    const MeshObject& object = scene.objects[k];
+    const GLint baseVertex = static_cast<GLint>(vertices.size() / 4);
+    for (const glm::dvec3& p : object.worldPositions) {
+      glm::dvec4 input(p, 1.0);
+      if (request.vertexMode == VertexMode::CameraRelative)
+        input = glm::dvec4(p - request.vertexReference, 1.0);
+      if (request.vertexMode == VertexMode::Pretransformed)
+        input = clipFromWorld * glm::dvec4(p, 1.0);
+      for (int c = 0; c < 4; ++c) vertices.push_back(static_cast<float>(input[c]));
+    }
+    draws.push_back({ids.firstIdOfObject[k], static_cast<GLsizei>(object.triangles.size() * 3),
+                     indices.size() * sizeof(std::uint32_t), baseVertex});
+    for (const glm::u32vec3& t : object.triangles) {
+      indices.insert(indices.end(), {t.x, t.y, t.z});
+    }
+  }
+  glNamedBufferData(state_->vertexBuffer, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
+                    vertices.data(), GL_STREAM_DRAW);
+  glNamedBufferData(state_->indexBuffer,
+                    static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
+                    GL_STREAM_DRAW);
+
+  // A fresh FBO per frame: the depth format and the size change between runs.
+  glDeleteFramebuffers(1, &state_->framebuffer);
+  glDeleteRenderbuffers(1, &state_->colorBuffer);
+  glDeleteRenderbuffers(1, &state_->depthBuffer);
+  glCreateFramebuffers(1, &state_->framebuffer);
+  glCreateRenderbuffers(1, &state_->colorBuffer);
+  glCreateRenderbuffers(1, &state_->depthBuffer);
+  glNamedRenderbufferStorage(state_->colorBuffer, GL_R32UI, viewport.width, viewport.height);
+  glNamedRenderbufferStorage(state_->depthBuffer, depthInternalFormat(request.depthFormat),
+                             viewport.width, viewport.height);
+  glNamedFramebufferRenderbuffer(state_->framebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
+                                 state_->colorBuffer);
+  glNamedFramebufferRenderbuffer(state_->framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
+                                 state_->depthBuffer);
+  const GLenum status = glCheckNamedFramebufferStatus(state_->framebuffer, GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    throw GlError("GL: framebuffer incomplete (status 0x" + std::to_string(status) +
+                  ") for depth format " + depthFormatName(request.depthFormat));
+  }
+  checkGl("framebuffer set-up");
+
+  glBindFramebuffer(GL_FRAMEBUFFER, state_->framebuffer);
+  glViewport(0, 0, viewport.width, viewport.height);
+  glDepthRange(0.0, 1.0);
+  // glClipControl: which NDC z the near clip plane sits at (z_n = -1 or 0).
+  glClipControl(GL_LOWER_LEFT, request.mode.convention == DepthConvention::ZeroToOne
+                                   ? GL_ZERO_TO_ONE
+                                   : GL_NEGATIVE_ONE_TO_ONE);
+  glEnable(GL_DEPTH_TEST);
+  glDepthMask(GL_TRUE);
+  // Reversed-Z: near -> 1, far -> 0, so the nearer surface has the greater depth.
+  glDepthFunc(request.mode.reversed ? GL_GREATER : GL_LESS);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glDisable(GL_MULTISAMPLE);
+  const GLuint clearId[4] = {0, 0, 0, 0};
+  const GLfloat clearDepth = request.mode.reversed ? 0.0f : 1.0f;
+  glClearNamedFramebufferuiv(state_->framebuffer, GL_COLOR, 0, clearId);
+  glClearNamedFramebufferfv(state_->framebuffer, GL_DEPTH, 0, &clearDepth);
+
+  glUseProgram(state_->program);
+  const glm::mat4 uniformMatrix(clipFromInput);  // rounded to float, as an app's uniform is
+  glUniformMatrix4fv(state_->clipFromInputLocation, 1, GL_FALSE, &uniformMatrix[0][0]);
+  glBindVertexArray(state_->vertexArray);
+  for (const Draw& draw : draws) {
+    if (draw.indexCount == 0) continue;
+    glUniform1ui(state_->firstIdLocation, draw.firstId);
+    glDrawElementsBaseVertex(GL_TRIANGLES, draw.indexCount, GL_UNSIGNED_INT,
+                             reinterpret_cast<const void*>(draw.indexOffset), draw.baseVertex);
+  }
+  glFinish();
+  checkGl("drawing");
+  if (timings) timings->raster = millisecondsSince(rasterStart);
+
+  const auto readbackStart = Clock::now();
+  RasterFrame frame;
+  frame.viewport = viewport;
+  const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;
+  frame.depth.resize(count);
+  frame.ids.resize(count);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glNamedFramebufferReadBuffer(state_->framebuffer, GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, viewport.width, viewport.height, GL_DEPTH_COMPONENT, GL_FLOAT,
+               frame.depth.data());
+  glReadPixels(0, 0, viewport.width, viewport.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
+               frame.ids.data());
+  checkGl("readback");
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (timings) timings->readback = millisecondsSince(readbackStart);
+  return frame;
+}
+
+}  // namespace clipray::gl

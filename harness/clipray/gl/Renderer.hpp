@@ -1,0 +1,60 @@
+#pragma once
+// The raster pass: draws a scene into an FBO (selected depth format + R32UI primitive ids) under
+// a depth convention and vertex mode, and reads depth (GL_FLOAT) and ids back.
+
+#include <memory>
+#include <stdexcept>
+
+#include <glm/glm.hpp>
+
+#include "clipray/compare/Frames.hpp"
+#include "clipray/gl/GlContext.hpp"
+#include "clipray/report/Report.hpp"
+#include "clipray/scene/Scene.hpp"
+
+namespace clipray::gl {
+
+// A GL call failed or a shader did not compile/link; the message carries the info log.
+class GlError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+struct RenderRequest {
+  const Scene* scene = nullptr;
+  glm::dmat4 clipFromWorld{1.0};
+  DepthMode mode;
+  DepthFormat depthFormat = DepthFormat::Float32;
+  VertexMode vertexMode = VertexMode::World;
+  glm::dvec3 vertexReference{0.0};  // removed on the CPU in camera-relative mode
+  Viewport viewport;
+};
+
+struct RenderTimings {  // milliseconds
+  double raster = 0.0;
+  double readback = 0.0;
+};
+
+class Renderer {
+ public:
+  // Takes the current context, loads GL through its loader, checks GL >= 4.5 (glClipControl),
+  // compiles the shaders.
+  explicit Renderer(GlContext& context);
+  ~Renderer();
+  Renderer(const Renderer&) = delete;
+  Renderer& operator=(const Renderer&) = delete;
+
+  const GlInfo& info() const { return info_; }
+  // min(GL_MAX_VIEWPORT_DIMS, GL_MAX_RENDERBUFFER_SIZE) per axis.
+  Viewport maxViewport() const { return maxViewport_; }
+
+  RasterFrame render(const RenderRequest& request, RenderTimings* timings = nullptr);
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+  GlInfo info_;
+  Viewport maxViewport_;
+};
+
+}  // namespace clipray::gl

@@ -1,0 +1,89 @@
+#include "clipray/math/Conventions.hpp"
+
+#include <cmath>
+#include <limits>
+
+namespace clipray {
+
+std::string DepthMode::name() const {
+  if (convention == DepthConvention::NegativeOneToOne) return reversed ? "no-reversed" : "no";
+  return reversed ? "zo-reversed" : "zo";
+}
+
+std::optional<DepthMode> DepthMode::parse(std::string_view text) {
+  if (text == "no") return kNegativeOneToOne;
+  if (text == "zo") return kZeroToOne;
+  if (text == "zo-reversed") return kZeroToOneReversed;
+  return std::nullopt;
+}
+
+double windowDepthFromNdc(double zNdc, DepthConvention convention) {
+  const double zn = convention == DepthConvention::ZeroToOne ? 0.0 : -1.0;
+  return (zNdc - zn) / (1.0 - zn);
+}
+
+double ndcFromWindowDepth(double windowDepth, DepthConvention convention) {
+  const double zn = convention == DepthConvention::ZeroToOne ? 0.0 : -1.0;
+  return windowDepth * (1.0 - zn) + zn;
+}
+
+glm::dvec2 clipXYOfPixelCentre(int i, int j, Viewport viewport) {
+  return {(2.0 * i + 1.0) / viewport.width - 1.0, (2.0 * j + 1.0) / viewport.height - 1.0};
+}
+
+std::string depthFormatName(DepthFormat format) {
+  switch (format) {
+    case DepthFormat::Unorm16:
+      return "16";
+    case DepthFormat::Unorm24:
+      return "24";
+    case DepthFormat::Float32:
+      return "32f";
+  }
+  return "?";
+}
+
+std::optional<DepthFormat> parseDepthFormat(std::string_view text) {
+  if (text == "16") return DepthFormat::Unorm16;
+  if (text == "24") return DepthFormat::Unorm24;
+  if (text == "32f") return DepthFormat::Float32;
+  return std::nullopt;
+}
+
+double depthQuantum(DepthFormat format, double windowDepth) {
+  switch (format) {
+    case DepthFormat::Unorm16:
+      return std::ldexp(1.0, -16);
+    case DepthFormat::Unorm24:
+      return std::ldexp(1.0, -24);
+    case DepthFormat::Float32: {
+      // The spacing of floats at d (the ulp); at d = 0 the smallest normal spacing is a fair floor.
+      const float d = static_cast<float>(std::fabs(windowDepth));
+      const float next = std::nextafter(d, std::numeric_limits<float>::infinity());
+      return std::max(static_cast<double>(next - d),
+                      static_cast<double>(std::numeric_limits<float>::min()));
+    }
+  }
+  return 0.0;
+}
+
+std::string vertexModeName(VertexMode mode) {
+  switch (mode) {
+    case VertexMode::World:
+      return "world";
+    case VertexMode::CameraRelative:
+      return "camera-relative";
+    case VertexMode::Pretransformed:
+      return "pretransformed";
+  }
+  return "?";
+}
+
+std::optional<VertexMode> parseVertexMode(std::string_view text) {
+  if (text == "world") return VertexMode::World;
+  if (text == "camera-relative") return VertexMode::CameraRelative;
+  if (text == "pretransformed") return VertexMode::Pretransformed;
+  return std::nullopt;
+}
+
+}  // namespace clipray

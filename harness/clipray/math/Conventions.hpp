@@ -1,0 +1,71 @@
+#pragma once
+// Depth conventions, window depth, pixel centres and depth formats: the vocabulary every other part
+// of clipray speaks. Matrices are column-major with p_clip = clipFromWorld * p_world.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <glm/glm.hpp>
+
+namespace clipray {
+
+// Where the near clip plane sits in NDC z: -1 for classic GL, 0 for glClipControl(GL_ZERO_TO_ONE).
+enum class DepthConvention { NegativeOneToOne, ZeroToOne };
+
+// The conventions a frame is drawn under: the clip-control depth mode plus reversed-Z
+// (near -> 1, far -> 0, depth test GREATER, clear 0). Reversed-Z is only meaningful with ZeroToOne.
+struct DepthMode {
+  DepthConvention convention = DepthConvention::NegativeOneToOne;
+  bool reversed = false;
+
+  // z_n: the clip volume is z_n * w <= z <= w.
+  double clipVolumeMinZ() const { return convention == DepthConvention::ZeroToOne ? 0.0 : -1.0; }
+  // NDC z of the clip plane the rasterizer meets first along a view ray (1 for reversed-Z).
+  double nearNdcZ() const { return reversed ? 1.0 : clipVolumeMinZ(); }
+  // NDC z of the far clip plane (0 for reversed-Z; the plane may lie at infinity).
+  double farNdcZ() const { return reversed ? clipVolumeMinZ() : 1.0; }
+
+  // "no", "zo", "zo-reversed" (the names used on the command line and in reports).
+  std::string name() const;
+  // Parses those names; nullopt for anything else (including the meaningless "no-reversed").
+  static std::optional<DepthMode> parse(std::string_view text);
+
+  friend bool operator==(const DepthMode&, const DepthMode&) = default;
+};
+
+inline constexpr DepthMode kNegativeOneToOne{DepthConvention::NegativeOneToOne, false};
+inline constexpr DepthMode kZeroToOne{DepthConvention::ZeroToOne, false};
+inline constexpr DepthMode kZeroToOneReversed{DepthConvention::ZeroToOne, true};
+
+// Window depth with glDepthRange(0, 1): d = (z_ndc - z_n) / (1 - z_n).
+double windowDepthFromNdc(double zNdc, DepthConvention convention);
+double ndcFromWindowDepth(double windowDepth, DepthConvention convention);
+
+struct Viewport {
+  int width = 0;
+  int height = 0;
+  friend bool operator==(const Viewport&, const Viewport&) = default;
+};
+
+// Clip-space xy of the centre of pixel (i, j), lower-left origin:
+// x' = (2i + 1) / W - 1, y' = (2j + 1) / H - 1.
+glm::dvec2 clipXYOfPixelCentre(int i, int j, Viewport viewport);
+
+// Depth attachment formats a frame can be rendered with.
+enum class DepthFormat { Unorm16, Unorm24, Float32 };
+std::string depthFormatName(DepthFormat format);  // "16", "24", "32f"
+std::optional<DepthFormat> parseDepthFormat(std::string_view text);
+// One quantum of the stored depth at window depth d: 2^-bits for UNORM, the float ulp at d for 32F.
+double depthQuantum(DepthFormat format, double windowDepth);
+
+// How vertex positions reach the GPU (the rounding differs, so the tolerances differ):
+// World: float clipFromWorld uniform, float world positions (what most apps do).
+// CameraRelative: translation to a reference point removed in double on the CPU.
+// Pretransformed: clip coordinates computed in double, uploaded as float.
+enum class VertexMode { World, CameraRelative, Pretransformed };
+std::string vertexModeName(VertexMode mode);  // "world", "camera-relative", "pretransformed"
+std::optional<VertexMode> parseVertexMode(std::string_view text);
+
+}  // namespace clipray

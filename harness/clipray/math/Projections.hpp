@@ -1,0 +1,31 @@
+#pragma once
+// Builders for clip-from-view matrices in every depth convention clipray draws, in double.
+// Right-handed view space: the camera looks down -z, w_clip = -z_view for perspective.
+
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "clipray/math/Conventions.hpp"
+
+namespace clipray {
+
+// Perspective projection built so that the near plane lands on mode.nearNdcZ() and the far plane
+// on mode.farNdcZ(). farDistance == nullopt builds an infinite far plane.
+glm::dmat4 perspectiveClipFromView(double fovYRadians, double aspect, double nearDistance,
+                                   std::optional<double> farDistance, DepthMode builtFor);
+
+// Orthographic projection of the box [left,right] x [bottom,top] x [-near,-far] (view space).
+glm::dmat4 orthographicClipFromView(double left, double right, double bottom, double top,
+                                    double nearDistance, double farDistance, DepthMode builtFor);
+
+// Right-handed look-at: eye at the origin of view space, target on -z, up projected on +y.
+glm::dmat4 viewFromWorldLookAt(const glm::dvec3& eye, const glm::dvec3& target,
+                               const glm::dvec3& up);
+
+// Row r of a column-major matrix (rows are the clip-space planes: row 3 is w).
+inline glm::dvec4 matrixRow(const glm::dmat4& m, int r) {
+  return {m[0][r], m[1][r], m[2][r], m[3][r]};
+}
+
+}  // namespace clipray

@@ -1,0 +1,15 @@
+#pragma once
+
+#include <glm/glm.hpp>
+
+namespace clipray {
+
+// A camera ray: origin on the near clip plane, unit direction into the frustum,
+// t in [0, tMax]; tMax = +inf for an infinite far plane.
+struct Ray {
+  glm::dvec3 origin{0.0};
+  glm::dvec3 direction{0.0, 0.0, -1.0};
+  double tMax = 0.0;
+};
+
+}  // namespace clipray

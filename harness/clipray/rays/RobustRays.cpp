@@ -1,0 +1,56 @@
+#include "clipray/rays/RobustRays.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "clipray/math/Projections.hpp"
+
+namespace clipray {
+
+RobustRayGenerator::RobustRayGenerator(const glm::dmat4& clipFromWorld, DepthMode mode)
+    : clipFromWorld_(clipFromWorld), worldFromClip_(glm::inverse(clipFromWorld)), mode_(mode) {
+  const glm::dvec4 rowX = matrixRow(clipFromWorld, 0);
+  const glm::dvec4 rowY = matrixRow(clipFromWorld, 1);
+  const glm::dvec4 rowZ = matrixRow(clipFromWorld, 2);
+  const glm::dvec4 rowW = matrixRow(clipFromWorld, 3);
+  const glm::dvec3 mx(rowX), my(rowY), mw(rowW);
+  myCrossMw_ = glm::cross(my, mw);
+  mwCrossMx_ = glm::cross(mw, mx);
+  mxCrossMy_ = glm::cross(mx, my);
+  nearPlane_ = rowZ - mode.nearNdcZ() * rowW;
+  farPlane_ = rowZ - mode.farNdcZ() * rowW;
+  // Inside the clip volume z_n w <= z <= w: the plane z - z_n w is >= 0 for the classic near
+  // plane; for reversed-Z the near plane is z - w, which is <= 0 inside.
+  nearSign_ = mode.reversed ? -1.0 : 1.0;
+  parallel_ = mw == glm::dvec3(0.0);
+}
+
+Ray RobustRayGenerator::generate(glm::dvec2 clipXY) const noexcept {
+  const double x = clipXY.x;
+  const double y = clipXY.y;
+  glm::dvec3 d;
+  for (int k = 0; k < 3; ++k) {
+    d[k] = std::fma(x, myCrossMw_[k], std::fma(y, mwCrossMx_[k], mxCrossMy_[k]));
+  }
+  // The direction must enter the frustum through the near plane.
+  if (nearSign_ * glm::dot(glm::dvec3(nearPlane_), d) < 0.0) d = -d;
+  d /= std::sqrt(glm::dot(d, d));
+
+  const glm::dvec4 nearPointClip(x, y, mode_.nearNdcZ(), 1.0);
+  const glm::dvec4 nearPointWorld = worldFromClip_ * nearPointClip;
+  Ray ray;
+  ray.origin = glm::dvec3(nearPointWorld) / nearPointWorld.w;
+  ray.direction = d;
+
+  // Far plane: F . (o + t d, 1) = 0. A zero denominator or a non-positive / non-finite t means the
+  // far plane lies at infinity (an infinite-far matrix makes F's xyz exactly zero).
+  const double denominator = glm::dot(glm::dvec3(farPlane_), d);
+  const double numerator = glm::dot(farPlane_, glm::dvec4(ray.origin, 1.0));
+  const double t = -numerator / denominator;
+  ray.tMax = (denominator != 0.0 && t > 0.0 && std::isfinite(t))
+                 ? t
+                 : std::numeric_limits<double>::infinity();
+  return ray;
+}
+
+}  // namespace clipray

@@ -1,0 +1,280 @@
+// report.json, the text summary and the atomic writing of every output file.
+
+#include "clipray/report/Report.hpp"
+
+#include <algorithm>
+#include <array>
+#include <atomic>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <system_error>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+namespace clipray {
+namespace {
+
+// A scene or camera name as one safe path component: characters other than letters, digits and
+// "._+-" become '_', and a name that is empty or only dots ("", ".", "..") is replaced by
+// underscores.
+std::string pathComponent(const std::string& name) {
+  std::string out;
+  out.reserve(name.size());
+  for (const char c : name) {
+    const bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                      c == '.' || c == '_' || c == '+' || c == '-';
+    out.push_back(safe ? c : '_');
+  }
+  if (out.find_first_not_of('.') == std::string::npos)
+    std::replace(out.begin(), out.end(), '.', '_');
+  if (out.empty()) out = "_";
+  return out;
+}
+
+// JSON number, or null for NaN and infinities (JSON has no spelling for them).
+nlohmann::json number(double value) {
+  if (!std::isfinite(value)) return nullptr;
+  return value;
+}
+
+nlohmann::json distribution(const Distribution& d, bool withP50) {
+  nlohmann::json out = {{"max", number(d.max)}, {"p99", number(d.p99)}};
+  if (withP50) out["p50"] = number(d.p50);
+  return out;
+}
+
+constexpr std::array<const char*, 4> kImageNames{"raster_depth", "ray_depth", "error_heatmap",
+                                                 "mismatch"};
+
+nlohmann::json imagesJson(const RunRecord& run) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const char* name : kImageNames) {
+    const std::string file = std::string(name) + ".png";
+    out[name] = nullptr;
+    for (const EncodedImage& image : run.images) {
+      const std::string& path = image.relativePath;
+      if (path == file || (path.size() > file.size() && path.ends_with(file) &&
+                           path[path.size() - file.size() - 1] == '/')) {
+        out[name] = path;
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+nlohmann::json runJson(const RunRecord& run) {
+  const RunMetrics& m = run.metrics;
+  return {
+      {"scene", run.scene},
+      {"camera", run.camera},
+      {"convention", run.convention.name()},
+      {"depth_format", depthFormatName(run.depthFormat)},
+      {"vertex_mode", vertexModeName(run.vertexMode)},
+      {"size", {{"width", run.size.width}, {"height", run.size.height}}},
+      {"pixels", m.pixels},
+      {"raster_hits", m.rasterHits},
+      {"ray_hits", m.rayHits},
+      {"coverage_mismatch",
+       {{"total", m.coverageMismatch.total},
+        {"edge_ambiguous", m.coverageMismatch.edgeAmbiguous},
+        {"unexplained", m.coverageMismatch.unexplained}}},
+      {"id_mismatch",
+       {{"total", m.idMismatch.total},
+        {"depth_ambiguous", m.idMismatch.depthAmbiguous},
+        {"edge_ambiguous", m.idMismatch.edgeAmbiguous},
+        {"unexplained", m.idMismatch.unexplained}}},
+      {"depth_compared", m.depthCompared},
+      {"depth_beyond_tolerance", m.depthBeyondTolerance},
+      {"depth_error_quanta", distribution(m.depthErrorQuanta, true)},
+      {"distance_rel_error", distribution(m.distanceRelError, true)},
+      {"tolerance_ratio", distribution(m.toleranceRatio, false)},
+      {"verdict", m.consistent() ? "consistent" : "inconsistent"},
+      {"timings_ms",
+       {{"raster", number(run.timings.raster)},
+        {"readback", number(run.timings.readback)},
+        {"rays", number(run.timings.rays)},
+        {"intersect", number(run.timings.intersect)},
+        {"compare", number(run.timings.compare)}}},
+      {"images", imagesJson(run)},
+  };
+}
+
+std::int64_t unexplainedCount(const RunMetrics& m) {
+  return m.coverageMismatch.unexplained + m.idMismatch.unexplained + m.depthBeyondTolerance;
+}
+
+// For ordering: NaN counts as the worst (largest) value.
+double sortKey(double value) {
+  return std::isnan(value) ? std::numeric_limits<double>::infinity() : value;
+}
+
+// Two significant digits, a short exponent ("2.1e-7", "1.2e5"); "nan" / "inf" spelled out.
+std::string shortNumber(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.2g", value);
+  std::string text = buffer;
+  const std::size_t e = text.find('e');
+  if (e == std::string::npos) return text;
+  std::string exponent = text.substr(e + 1);
+  const bool negative = exponent.front() == '-';
+  exponent.erase(0, exponent.find_first_not_of("+-"));
+  exponent.erase(0, std::min(exponent.find_first_not_of('0'), exponent.size() - 1));
+  return text.substr(0, e + 1) + (negative ? "-" : "") + exponent;
+}
+
+std::string summaryLine(const RunRecord& run) {
+  const RunMetrics& m = run.metrics;
+  const std::string name = run.scene + "/" + run.camera;
+  const std::string size = std::to_string(run.size.width) + "x" + std::to_string(run.size.height);
+  char buffer[512];
+  std::snprintf(
+      buffer, sizeof buffer,
+      "%-12s %-16s %-11s %-3s %-15s %-9s cov %lld (e%lld u%lld) id %lld (z%lld e%lld u%lld) "
+      ">tol %lld q %s/%s tol %s/%s rel %s",
+      m.consistent() ? "consistent" : "INCONSISTENT", name.c_str(), run.convention.name().c_str(),
+      depthFormatName(run.depthFormat).c_str(), vertexModeName(run.vertexMode).c_str(),
+      size.c_str(), static_cast<long long>(m.coverageMismatch.total),
+      static_cast<long long>(m.coverageMismatch.edgeAmbiguous),
+      static_cast<long long>(m.coverageMismatch.unexplained),
+      static_cast<long long>(m.idMismatch.total),
+      static_cast<long long>(m.idMismatch.depthAmbiguous),
+      static_cast<long long>(m.idMismatch.edgeAmbiguous),
+      static_cast<long long>(m.idMismatch.unexplained),
+      static_cast<long long>(m.depthBeyondTolerance), shortNumber(m.depthErrorQuanta.max).c_str(),
+      shortNumber(m.depthErrorQuanta.p99).c_str(), shortNumber(m.toleranceRatio.max).c_str(),
+      shortNumber(m.toleranceRatio.p99).c_str(), shortNumber(m.distanceRelError.p99).c_str());
+  std::string line = buffer;
+  while (!line.empty() && line.back() == ' ') line.pop_back();
+  return line;
+}
+
+std::string errnoText(int error) {
+  return std::strerror(error);
+}
+
+}  // namespace
+
+std::string runFolderName(const RunRecord& run) {
+  return pathComponent(run.scene) + "/" + pathComponent(run.camera) + "-" + run.convention.name() +
+         "-" + depthFormatName(run.depthFormat) + "-" + vertexModeName(run.vertexMode);
+}
+
+nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl) {
+  nlohmann::json runList = nlohmann::json::array();
+  std::int64_t consistent = 0;
+  for (const RunRecord& run : runs) {
+    runList.push_back(runJson(run));
+    if (run.metrics.consistent()) ++consistent;
+  }
+  const auto total = static_cast<std::int64_t>(runs.size());
+  return {
+      {"tool", "clipray"},
+      {"format_version", 1},
+      {"gl",
+       {{"backend", gl.backend},
+        {"vendor", gl.vendor},
+        {"renderer", gl.renderer},
+        {"version", gl.version},
+        {"subpixel_bits", gl.subpixelBits}}},
+      {"summary",
+       {{"runs", total},
+        {"consistent", consistent},
+        {"inconsistent", total - consistent},
+        {"verdict", consistent == total ? "consistent" : "inconsistent"}}},
+      {"runs", std::move(runList)},
+  };
+}
+
+// Columns: verdict, scene/camera, convention, depth format, vertex mode, size; then
+//   cov T (eE uU)      coverage mismatches: total, edge-ambiguous, unexplained
+//   id T (zZ eE uU)    id mismatches: total, depth-ambiguous (z-fighting), edge-ambiguous,
+//   unexplained >tol N             same-primitive pixels whose depth error exceeds the predicted
+//   tolerance q MAX/P99          depth error in quanta of the depth format tol MAX/P99        depth
+//   error / predicted tolerance rel P99            relative distance error along the ray
+std::string textSummary(const std::vector<RunRecord>& runs) {
+  std::vector<std::size_t> order(runs.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    const RunMetrics& ma = runs[a].metrics;
+    const RunMetrics& mb = runs[b].metrics;
+    if (ma.consistent() != mb.consistent()) return !ma.consistent();
+    const std::int64_t ua = unexplainedCount(ma), ub = unexplainedCount(mb);
+    if (ua != ub) return ua > ub;
+    return sortKey(ma.toleranceRatio.max) > sortKey(mb.toleranceRatio.max);
+  });
+  std::string out;
+  std::size_t consistent = 0;
+  for (const std::size_t i : order) {
+    out += summaryLine(runs[i]) + "\n";
+    if (runs[i].metrics.consistent()) ++consistent;
+  }
+  out += std::to_string(runs.size()) + " runs: " + std::to_string(consistent) + " consistent, " +
+         std::to_string(runs.size() - consistent) + " inconsistent\n";
+  return out;
+}
+
+void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes) {
+  static std::atomic<unsigned long long> counter{0};
+  std::filesystem::path temp = path;
+  temp += ".tmp-" + std::to_string(static_cast<long long>(::getpid())) + "-" +
+          std::to_string(counter.fetch_add(1));
+  const auto fail = [&](const std::string& what, int error, bool removeTemp) {
+    if (removeTemp) ::unlink(temp.c_str());
+    throw std::runtime_error("cannot " + what + " " + path.string() + ": " + errnoText(error));
+  };
+
+  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
+  if (fd < 0) fail("create", errno, false);
+  const char* data = bytes.data();
+  std::size_t left = bytes.size();
+  while (left > 0) {
+    const ssize_t written = ::write(fd, data, left);
+    if (written < 0) {
+      if (errno == EINTR) continue;
+      const int error = errno;
+      ::close(fd);
+      fail("write", error, true);
+    }
+    data += written;
+    left -= static_cast<std::size_t>(written);
+  }
+  if (::close(fd) != 0) fail("write", errno, true);
+  std::error_code ec;
+  std::filesystem::rename(temp, path, ec);
+  if (ec) {
+    ::unlink(temp.c_str());
+    throw std::runtime_error("cannot write " + path.string() + ": " + ec.message());
+  }
+}
+
+void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecord>& runs,
+                 const GlInfo& gl) {
+  const auto makeFolder = [](const std::filesystem::path& folder) {
+    std::error_code ec;
+    std::filesystem::create_directories(folder, ec);
+    if (ec)
+      throw std::runtime_error("cannot create folder " + folder.string() + ": " + ec.message());
+  };
+  makeFolder(outDir);
+  for (const RunRecord& run : runs) {
+    for (const EncodedImage& image : run.images) {
+      const std::filesystem::path path = outDir / std::filesystem::path(image.relativePath);
+      makeFolder(path.parent_path());
+      writeFileAtomically(path, image.pngBytes);
+    }
+  }
+  writeFileAtomically(outDir / "summary.txt", textSummary(runs));
+  // Last: a report.json means every other file is complete.
+  const std::string json =
+      reportJson(runs, gl).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+  writeFileAtomically(outDir / "report.json", json);
+}
+
+}  // namespace clipray

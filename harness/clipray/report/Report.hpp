@@ -1,0 +1,62 @@
+#pragma once
+// The outputs of `clipray reconcile`: report.json (stable field names), a one-screen text summary,
+// and four PNGs per run. Files are written atomically (temp file in the same folder, then rename),
+// and only after every run has finished, so a failed reconcile leaves nothing half-written.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "clipray/compare/Reconcile.hpp"
+
+namespace clipray {
+
+struct RunTimings {  // milliseconds
+  double raster = 0, readback = 0, rays = 0, intersect = 0, compare = 0;
+};
+
+struct GlInfo {
+  std::string backend;  // "osmesa", "egl"
+  std::string vendor, renderer, version;
+  int subpixelBits = 0;
+};
+
+// A PNG already encoded in memory, with its path relative to the output folder.
+struct EncodedImage {
+  std::string relativePath;
+  std::string pngBytes;
+};
+
+struct RunRecord {
+  std::string scene;
+  std::string camera;
+  DepthMode convention;
+  DepthFormat depthFormat = DepthFormat::Float32;
+  VertexMode vertexMode = VertexMode::World;
+  Viewport size;
+  RunMetrics metrics;
+  RunTimings timings;
+  std::vector<EncodedImage> images;  // filled by encodeRunImages
+};
+
+// "<scene>/<camera>-<convention>-<format>-<vertex mode>": the run's folder under the output folder.
+std::string runFolderName(const RunRecord& run);
+
+// Encodes raster depth, ray depth, error heat map (with its colour scale drawn in) and mismatch
+// mask PNGs for a run, and stores them in run.images.
+void encodeRunImages(RunRecord& run, const PixelComparison& pixels);
+
+nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl);
+// One line per run, the worst first, then a totals line.
+std::string textSummary(const std::vector<RunRecord>& runs);
+
+// Writes report.json and every run's PNGs under outDir (created if missing), each atomically.
+void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecord>& runs,
+                 const GlInfo& gl);
+
+// Writes bytes to path atomically: a temp file in the same folder, then rename.
+void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
+
+}  // namespace clipray

@@ -1,0 +1,180 @@
+#!/usr/bin/env python3
+"""Writes the shipped scenes (scenes/*.json). Deterministic: the same files every run.
+
+Each scene's "comment" says what it tests. Run from anywhere: python3 scenes/generate.py
+"""
+import json
+import math
+import os
+import re
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def quad(name, a, b, c, d):
+    """Two triangles a-b-c, a-c-d."""
+    return {"name": name, "type": "mesh", "positions": [*a, *b, *c, *d], "indices": [0, 1, 2, 0, 2, 3]}
+
+
+def box(name, centre, size, rotate=None):
+    sx, sy, sz = (s / 2 for s in size)
+    corners = [(x, y, z) for x in (-sx, sx) for y in (-sy, sy) for z in (-sz, sz)]
+    faces = [(0, 1, 3, 2), (4, 6, 7, 5), (0, 4, 5, 1), (2, 3, 7, 6), (0, 2, 6, 4), (1, 5, 7, 3)]
+    indices = []
+    for a, b, c, d in faces:
+        indices += [a, b, c, a, c, d]
+    obj = {"name": name, "type": "mesh", "positions": [v for p in corners for v in p], "indices": indices,
+           "transform": {"translate": list(centre)}}
+    if rotate:
+        obj["transform"]["rotateDegrees"] = {"axis": rotate[0], "angle": rotate[1]}
+    return obj
+
+
+def tetrahedron(name, centre, radius):
+    s = radius / math.sqrt(3)
+    verts = [(s, s, s), (s, -s, -s), (-s, s, -s), (-s, -s, s)]
+    return {"name": name, "type": "mesh", "positions": [v for p in verts for v in p],
+            "indices": [0, 1, 2, 0, 3, 1, 0, 2, 3, 1, 3, 2], "transform": {"translate": list(centre)}}
+
+
+def icosphere(name, centre, radius, level):
+    t = (1 + math.sqrt(5)) / 2
+    verts = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+             (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    verts = [tuple(c / math.sqrt(1 + t * t) for c in v) for v in verts]
+    faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+             (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
+             (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    for _ in range(level):
+        cache = {}
+
+        def middle(i, j):
+            key = (min(i, j), max(i, j))
+            if key not in cache:
+                m = [(a + b) / 2 for a, b in zip(verts[i], verts[j])]
+                n = math.sqrt(sum(c * c for c in m))
+                verts.append(tuple(c / n for c in m))
+                cache[key] = len(verts) - 1
+            return cache[key]
+
+        refined = []
+        for a, b, c in faces:
+            ab, bc, ca = middle(a, b), middle(b, c), middle(c, a)
+            refined += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        faces = refined
+    # Shared vertices are stored once, so shared edges are bit-identical in both triangles.
+    positions = [round(c * radius, 12) for v in verts for c in v]
+    return {"name": name, "type": "mesh", "positions": positions, "indices": [i for f in faces for i in f],
+            "transform": {"translate": list(centre)}}
+
+
+def perspective(name, eye, target, fov, near, far=None, viewport=(320, 240), up=(0, 1, 0), built_for=None):
+    cam = {"name": name, "viewport": list(viewport),
+           "view": {"eye": list(eye), "target": list(target), "up": list(up)},
+           "projection": {"type": "perspective", "fovYDegrees": fov, "near": near}}
+    if far is not None:
+        cam["projection"]["far"] = far
+    if built_for:
+        cam["builtFor"] = built_for
+    return cam
+
+
+def write(name, comment, cameras, objects, conventions=None):
+    scene = {"version": 1, "comment": comment}
+    if conventions:
+        scene["conventions"] = conventions
+    scene["cameras"] = cameras
+    scene["objects"] = objects
+    text = json.dumps(scene, indent=1)
+    # Keep number arrays on one line each: readable files, small diffs.
+    text = re.sub(r"\[\s*([-0-9.e+,\s]+?)\s*\]", lambda m: "[" + ", ".join(m.group(1).split()).replace(",,", ",") + "]",
+                  text)
+    with open(os.path.join(HERE, name + ".json"), "w") as f:
+        f.write(text + "\n")
+
+
+def main():
+    ground = quad("ground", (-4, 0, -4), (-4, 0, 4), (4, 0, 4), (4, 0, -4))
+    write("standard",
+          "A plain perspective camera (60 deg, near 0.1, far 100) on a ground quad, a box and a tetrahedron: "
+          "the baseline every convention must reconcile.",
+          [perspective("main", (3, 2.5, 5), (0, 0.5, 0), 60, 0.1, 100)],
+          [ground, box("box", (0, 0.5, 0), (1, 1, 1), ((0, 1, 0), 30)), tetrahedron("tetra", (1.8, 0.6, 0.8), 0.6)])
+
+    # Seed 002's renderer case: near 0.01, eye about 280 units from the origin, in float.
+    far_objects = [quad("ground", (-60, 0, -60), (-60, 0, 60), (60, 0, 60), (60, 0, -60)),
+                   box("tower", (0, 10, 0), (8, 20, 8), ((0, 1, 0), 20)), box("crate", (15, 3, 10), (6, 6, 6)),
+                   icosphere("ball", (-12, 5, 8), 5, 2)]
+    write("far_from_origin",
+          "Seed 002's renderer case: near plane 0.01, eye about 280 units from the origin, looking at geometry "
+          "near the origin. Float matrices and positions lose precision here (world vertex mode).",
+          [perspective("main", (200, 140, 130), (0, 5, 0), 40, 0.01, 1000)], far_objects)
+
+    write("infinite_far",
+          "Perspective with no far plane (t_max = +inf): the far-plane sign fix of seed 002 listing 4 fails here. "
+          "A ground quad and a distant wall 1e5 units away.",
+          [perspective("main", (0, 2, 6), (0, 1.5, 0), 50, 0.1, None)],
+          [quad("ground", (-1e3, 0, -1e5), (-1e3, 0, 10), (1e3, 0, 10), (1e3, 0, -1e5)),
+           quad("far_wall", (-5e4, -10, -1e5), (5e4, -10, -1e5), (5e4, 3e4, -1e5), (-5e4, 3e4, -1e5)),
+           box("box", (0, 0.5, 0), (1, 1, 1), ((0, 1, 0), 30))])
+
+    write("reversed_z",
+          "Reversed-Z with an infinite far plane (near -> 1, far -> 0, depth test GREATER, clear 0), as modern "
+          "engines draw. Only meaningful with glClipControl ZERO_TO_ONE, so it runs under zo-reversed only.",
+          [perspective("main", (3, 2.5, 5), (0, 0.5, 0), 60, 0.05, None)],
+          [quad("ground", (-400, 0, -400), (-400, 0, 400), (400, 0, 400), (400, 0, -400)),
+           box("box", (0, 0.5, 0), (1, 1, 1), ((0, 1, 0), 30)), icosphere("ball", (-1.5, 0.7, -1), 0.7, 2),
+           box("distant", (-40, 10, -300), (30, 20, 30))],
+          conventions=["zo-reversed"])
+
+    ortho_eye = (5000, 3000, 4000)
+    write("ortho_far_from_origin",
+          "Orthographic camera 7000 units from the origin looking at geometry near the origin: every ray has the "
+          "same direction, so the ray origins carry the error.",
+          [{"name": "main", "viewport": [320, 240],
+            "view": {"eye": list(ortho_eye), "target": [0, 0, 0], "up": [0, 1, 0]},
+            "projection": {"type": "orthographic", "left": -8, "right": 8, "bottom": -6, "top": 6,
+                           "near": 6000, "far": 8000}}],
+          [ground, box("box", (0, 0.5, 0), (1, 1, 1), ((0, 1, 0), 30)), icosphere("ball", (-2, 1, 1.5), 1, 2)])
+
+    write("near_plane_straddle",
+          "Geometry straddling the near plane and reaching behind the camera: a long wall and floor pass through "
+          "the eye's surroundings. Rays must start on the near plane the rasterizer clips at.",
+          [perspective("main", (0, 1, 0), (0, 0.8, -5), 70, 0.5, 50)],
+          [quad("floor", (-3, 0, 5), (3, 0, 5), (3, 0, -20), (-3, 0, -20)),
+           quad("left_wall", (-0.3, -1, 5), (-0.3, -1, -20), (-0.3, 3, -20), (-0.3, 3, 5)),
+           box("pillar", (0.4, 1, -0.3), (0.3, 3, 0.3)), box("crate", (0.5, 0.5, -4), (1, 1, 1))])
+
+    write("coplanar",
+          "Coplanar overlapping quads with different ids (z-fighting) beside a slightly raised quad: id mismatches "
+          "on the coplanar pair are depth-ambiguous, the raised one must win everywhere it covers.",
+          [perspective("main", (0, 3, 4), (0, 0, 0), 50, 0.1, 100)],
+          [quad("under", (-2, 0, -2), (-2, 0, 2), (2, 0, 2), (2, 0, -2)),
+           quad("over", (-1, 0, -1.5), (-1, 0, 2.5), (3, 0, 2.5), (3, 0, -1.5)),
+           quad("raised", (-1.5, 0.05, -1), (-1.5, 0.05, 0), (-0.5, 0.05, 0), (-0.5, 0.05, -1))])
+
+    write("grazing_floor",
+          "A large floor seen at a grazing angle from 0.3 units up: depth changes fast per pixel near the "
+          "horizon, so the depth-gradient part of the tolerance matters.",
+          [perspective("main", (0, 0.3, 0), (0, 0.25, -10), 60, 0.05, 5000)],
+          [quad("floor", (-500, 0, 10), (500, 0, 10), (500, 0, -5000), (-500, 0, -5000)),
+           box("marker", (0, 0.5, -20), (1, 1, 1))])
+
+    write("closed_mesh",
+          "A closed icosphere (1280 triangles) filling the view: a ray slipping through a shared edge would hit "
+          "the back side, which the id and depth comparison would show. Watertight intersection must not let any "
+          "through.",
+          [perspective("main", (0, 0, 3), (0, 0, 0), 45, 0.1, 100)],
+          [icosphere("sphere", (0, 0, 0), 1, 3)])
+
+    write("no_matrix_under_zo",
+          "A projection built for NO (z_n = -1, near 1, far 100) drawn under both conventions. Under ZO the "
+          "rasterizer clips at z_ndc = 0, about 2 units away, so the effective near plane moves: the slanted quad "
+          "between 1 and 3 units is cut further out, and the rays must start there too.",
+          [perspective("main", (0, 0, 0), (0, 0, -1), 60, 1.0, 100, built_for="no")],
+          [quad("slanted", (-0.6, -0.6, -1.2), (0.6, -0.6, -1.2), (0.6, 0.6, -3.0), (-0.6, 0.6, -3.0)),
+           box("back", (0, 0, -6), (3, 3, 0.5))])
+
+
+if __name__ == "__main__":
+    main()

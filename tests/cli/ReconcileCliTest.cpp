@@ -1,0 +1,139 @@
+// The CLI as a user meets it: exit statuses, messages, report fields, nothing half-written.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "support/RunCommand.hpp"
+
+namespace clipray {
+namespace {
+
+using testing::runClipray;
+using testing::TempFolder;
+
+const std::string kSource = CLIPRAY_SOURCE_DIR;
+
+bool folderIsEmpty(const std::filesystem::path& folder) {
+  return std::filesystem::is_empty(folder);
+}
+
+TEST(ReconcileCli, WritesTheReportAndExitsZeroWhenConsistent) {
+  TempFolder folder;
+  const auto result = runClipray(
+      "reconcile '" + kSource + "/scenes/standard.json' --out out --json", folder.path());
+  ASSERT_EQ(result.status, 0) << result.err;
+  const auto report = nlohmann::json::parse(testing::readText(folder.path() / "out/report.json"));
+  EXPECT_EQ(report["tool"], "clipray");
+  EXPECT_EQ(report["gl"]["backend"], "osmesa");
+  EXPECT_FALSE(report["gl"]["renderer"].get<std::string>().empty());
+  ASSERT_EQ(report["runs"].size(), 4u);  // no,zo x 24,32f x world
+  for (const auto& run : report["runs"]) {
+    EXPECT_EQ(run["scene"], "standard");
+    EXPECT_EQ(run["camera"], "main");
+    EXPECT_EQ(run["verdict"], "consistent");
+    EXPECT_EQ(run["vertex_mode"], "world");
+    EXPECT_EQ(run["size"]["width"], 320);
+    EXPECT_EQ(run["pixels"], 320 * 240);
+    for (const char* field :
+         {"raster_hits", "ray_hits", "coverage_mismatch", "id_mismatch", "depth_error_quanta",
+          "distance_rel_error", "tolerance_ratio", "timings_ms", "images"}) {
+      EXPECT_TRUE(run.contains(field)) << field;
+    }
+    for (const auto& [name, path] : run["images"].items()) {
+      EXPECT_TRUE(std::filesystem::is_regular_file(folder.path() / "out" / path.get<std::string>()))
+          << name;
+    }
+  }
+  std::set<std::string> conventions, formats;
+  for (const auto& run : report["runs"]) {
+    conventions.insert(run["convention"].get<std::string>());
+    formats.insert(run["depth_format"].get<std::string>());
+  }
+  EXPECT_EQ(conventions, (std::set<std::string>{"no", "zo"}));
+  EXPECT_EQ(formats, (std::set<std::string>{"24", "32f"}));
+  // --json prints the same report after the summary.
+  EXPECT_NE(result.out.find("\"tool\": \"clipray\""), std::string::npos);
+  EXPECT_NE(result.out.find("4 runs: 4 consistent, 0 inconsistent"), std::string::npos)
+      << result.out;
+}
+
+TEST(ReconcileCli, DefaultsToEveryShippedScene) {
+  TempFolder folder;
+  std::filesystem::create_directory_symlink(kSource + "/scenes", folder.path() / "scenes");
+  const auto result = runClipray("reconcile --depth-formats 32f --size 64x48", folder.path());
+  ASSERT_EQ(result.status, 0) << result.err << result.out;
+  const auto report =
+      nlohmann::json::parse(testing::readText(folder.path() / "report/report.json"));
+  std::set<std::string> scenes;
+  for (const auto& run : report["runs"]) scenes.insert(run["scene"].get<std::string>());
+  EXPECT_EQ(scenes.size(), 10u);
+  EXPECT_TRUE(scenes.count("reversed_z"));
+}
+
+struct BadInvocation {
+  const char* name;
+  std::string arguments;
+  std::string environment;
+  std::string expectedMessage;
+};
+
+// Test names stay readable in ctest output instead of a byte dump.
+void PrintTo(const BadInvocation& bad, std::ostream* os) {
+  *os << bad.name;
+}
+
+class ReconcileBadInput : public ::testing::TestWithParam<BadInvocation> {};
+
+TEST_P(ReconcileBadInput, ExitsTwoWithAMessageAndWritesNothing) {
+  TempFolder folder;
+  const BadInvocation& bad = GetParam();
+  const auto result = runClipray(bad.arguments, folder.path(), bad.environment);
+  EXPECT_EQ(result.status, 2) << result.err;
+  EXPECT_NE(result.err.find(bad.expectedMessage), std::string::npos)
+      << "stderr was: " << result.err;
+  EXPECT_TRUE(folderIsEmpty(folder.path())) << "outputs were written";
+}
+
+const std::string kStandard = "'" + kSource + "/scenes/standard.json'";
+
+INSTANTIATE_TEST_SUITE_P(
+    Messages, ReconcileBadInput,
+    ::testing::Values(
+        BadInvocation{"MissingScene", "reconcile nope.json", "",
+                      "clipray: nope.json: cannot open file"},
+        BadInvocation{"NoScenesFolder", "reconcile", "",
+                      "clipray: no scene given and there is no scenes/ folder here"},
+        BadInvocation{"UnknownConvention", "reconcile " + kStandard + " --conventions no,xo", "",
+                      "clipray: --conventions: unknown value \"xo\"; expected a comma-separated "
+                      "list of: no, zo, "
+                      "zo-reversed"},
+        BadInvocation{"ReversedWithClassicDepth",
+                      "reconcile " + kStandard + " --conventions no-reversed", "",
+                      "clipray: --conventions: unknown value \"no-reversed\""},
+        BadInvocation{"UnknownDepthFormat", "reconcile " + kStandard + " --depth-formats 24,32", "",
+                      "clipray: --depth-formats: unknown value \"32\"; expected a comma-separated "
+                      "list of: 16, 24, 32f"},
+        BadInvocation{"UnknownVertexMode", "reconcile " + kStandard + " --vertex-modes local", "",
+                      "clipray: --vertex-modes: unknown value \"local\""},
+        BadInvocation{
+            "ZeroSize", "reconcile " + kStandard + " --size 0x10", "",
+            "clipray: --size: expected WxH with positive integers (e.g. 1920x1080), got \"0x10\""},
+        BadInvocation{
+            "MalformedSize", "reconcile " + kStandard + " --size 640", "",
+            "clipray: --size: expected WxH with positive integers (e.g. 1920x1080), got \"640\""},
+        BadInvocation{"OversizedViewport", "reconcile " + kStandard + " --size 40000x16", "",
+                      "clipray: --size: 40000x16 exceeds GL_MAX_VIEWPORT_DIMS"},
+        BadInvocation{"UnknownBackend", "reconcile " + kStandard + " --backend vulkan", "",
+                      "clipray: unknown backend \"vulkan\"; expected one of: osmesa"},
+        BadInvocation{"OsMesaUnavailable", "reconcile " + kStandard,
+                      "CLIPRAY_OSMESA_LIBRARY=/nonexistent/libOSMesa.so.8",
+                      "clipray: OSMesa: cannot load /nonexistent/libOSMesa.so.8"},
+        BadInvocation{"NoSubcommand", "", "", "A subcommand is required"},
+        BadInvocation{"UnknownOption", "reconcile --frobnicate", "", "frobnicate"}),
+    [](const ::testing::TestParamInfo<BadInvocation>& param) {
+      return std::string(param.param.name);
+    });
+
+}  // namespace
+}  // namespace clipray

@@ -1,0 +1,630 @@
+// report.json, the text summary, the four PNGs of a run and the atomic file writing.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+#define STB_IMAGE_IMPLEMENTATION
+#include <stb_image.h>
+
+#include "clipray/report/Report.hpp"
+
+namespace clipray {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+using ::testing::Not;
+
+constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+struct Rgb {
+  int r, g, b;
+  friend bool operator==(const Rgb&, const Rgb&) = default;
+  friend std::ostream& operator<<(std::ostream& os, const Rgb& c) {
+    return os << "(" << c.r << "," << c.g << "," << c.b << ")";
+  }
+};
+
+struct Decoded {
+  int width = 0, height = 0;
+  std::vector<std::uint8_t> rgb;
+  // (x, y) with y from the top, as PNG stores rows.
+  Rgb at(int x, int y) const {
+    const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 3;
+    return {rgb[i], rgb[i + 1], rgb[i + 2]};
+  }
+};
+
+Decoded decode(const std::string& png) {
+  Decoded out;
+  int comp = 0;
+  stbi_uc* data =
+      stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(png.data()),
+                            static_cast<int>(png.size()), &out.width, &out.height, &comp, 3);
+  if (data == nullptr) {
+    ADD_FAILURE() << "PNG did not decode: " << stbi_failure_reason();
+    return out;
+  }
+  out.rgb.assign(data, data + static_cast<std::size_t>(out.width) * out.height * 3);
+  stbi_image_free(data);
+  return out;
+}
+
+const EncodedImage& imageNamed(const RunRecord& run, const std::string& file) {
+  for (const EncodedImage& image : run.images)
+    if (fs::path(image.relativePath).filename() == file) return image;
+  throw std::runtime_error("no image " + file);
+}
+
+RunRecord sampleRun() {
+  RunRecord run;
+  run.scene = "standard";
+  run.camera = "main";
+  run.convention = kZeroToOne;
+  run.depthFormat = DepthFormat::Unorm24;
+  run.vertexMode = VertexMode::World;
+  run.size = {640, 480};
+  RunMetrics& m = run.metrics;
+  m.pixels = 307200;
+  m.rasterHits = 150000;
+  m.rayHits = 150010;
+  m.coverageMismatch.total = 12;
+  m.coverageMismatch.edgeAmbiguous = 10;
+  m.coverageMismatch.unexplained = 2;
+  m.idMismatch.total = 3;
+  m.idMismatch.depthAmbiguous = 2;
+  m.idMismatch.edgeAmbiguous = 1;
+  m.idMismatch.unexplained = 0;
+  m.depthCompared = 149990;
+  m.depthBeyondTolerance = 0;
+  m.depthErrorQuanta = {1.0, 0.25, 0.5};
+  m.distanceRelError = {4.5e-7, 1.5e-8, 2.125e-7};
+  m.toleranceRatio = {0.75, 0.125, 0.5};
+  run.timings = {1.5, 2.5, 3.25, 40.0, 5.0};
+  return run;
+}
+
+GlInfo sampleGl() {
+  return {"osmesa", "Mesa", "llvmpipe (LLVM 15.0.6, 256 bits)", "4.5 (Core)", 8};
+}
+
+// A fresh, empty folder under the test temp directory.
+fs::path freshFolder(const std::string& name) {
+  const fs::path folder = fs::temp_directory_path() /
+                          ("clipray-report-test-" + std::to_string(::getpid()) + "-" + name);
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  return folder;
+}
+
+std::string readFile(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string line; std::getline(in, line);) out.push_back(line);
+  return out;
+}
+
+// ---- runFolderName -----------------------------------------------------------------------------
+
+TEST(RunFolderName, JoinsSceneCameraConventionFormatAndVertexMode) {
+  RunRecord run = sampleRun();
+  run.depthFormat = DepthFormat::Float32;
+  EXPECT_EQ(runFolderName(run), "standard/main-zo-32f-world");
+  run.convention = kZeroToOneReversed;
+  run.depthFormat = DepthFormat::Unorm16;
+  run.vertexMode = VertexMode::CameraRelative;
+  EXPECT_EQ(runFolderName(run), "standard/main-zo-reversed-16-camera-relative");
+  run.convention = kNegativeOneToOne;
+  run.vertexMode = VertexMode::Pretransformed;
+  EXPECT_EQ(runFolderName(run), "standard/main-no-16-pretransformed");
+}
+
+TEST(RunFolderName, NamesCannotEscapeTheOutputFolder) {
+  RunRecord run = sampleRun();
+  run.depthFormat = DepthFormat::Float32;
+  run.scene = "..";
+  run.camera = "a/b c";
+  EXPECT_EQ(runFolderName(run), "__/a_b_c-zo-32f-world");
+  run.scene = "";
+  run.camera = ".";
+  EXPECT_EQ(runFolderName(run), "_/_-zo-32f-world");
+}
+
+// ---- report.json -------------------------------------------------------------------------------
+
+TEST(ReportJson, WritesEveryFieldOfARun) {
+  RunRecord run = sampleRun();
+  run.images = {{"standard/main-zo-24-world/raster_depth.png", "x"},
+                {"standard/main-zo-24-world/ray_depth.png", "x"},
+                {"standard/main-zo-24-world/error_heatmap.png", "x"},
+                {"standard/main-zo-24-world/mismatch.png", "x"}};
+  const nlohmann::json j = reportJson({run}, sampleGl());
+
+  EXPECT_EQ(j["tool"], "clipray");
+  EXPECT_EQ(j["format_version"], 1);
+  const nlohmann::json gl = nlohmann::json::parse(R"json({"backend": "osmesa", "vendor": "Mesa",
+      "renderer": "llvmpipe (LLVM 15.0.6, 256 bits)", "version": "4.5 (Core)",
+      "subpixel_bits": 8})json");
+  EXPECT_EQ(j["gl"], gl);
+  const nlohmann::json summary = nlohmann::json::parse(
+      R"({"runs": 1, "consistent": 0, "inconsistent": 1, "verdict": "inconsistent"})");
+  EXPECT_EQ(j["summary"], summary);
+  EXPECT_EQ(j.size(), 5u);  // tool, format_version, gl, summary, runs
+  ASSERT_EQ(j["runs"].size(), 1u);
+  const nlohmann::json expected = nlohmann::json::parse(R"({
+    "scene": "standard", "camera": "main", "convention": "zo", "depth_format": "24",
+    "vertex_mode": "world", "size": {"width": 640, "height": 480},
+    "pixels": 307200, "raster_hits": 150000, "ray_hits": 150010,
+    "coverage_mismatch": {"total": 12, "edge_ambiguous": 10, "unexplained": 2},
+    "id_mismatch": {"total": 3, "depth_ambiguous": 2, "edge_ambiguous": 1, "unexplained": 0},
+    "depth_compared": 149990, "depth_beyond_tolerance": 0,
+    "depth_error_quanta": {"max": 1.0, "p50": 0.25, "p99": 0.5},
+    "distance_rel_error": {"max": 4.5e-7, "p50": 1.5e-8, "p99": 2.125e-7},
+    "tolerance_ratio": {"max": 0.75, "p99": 0.5},
+    "verdict": "inconsistent",
+    "timings_ms": {"raster": 1.5, "readback": 2.5, "rays": 3.25, "intersect": 40.0, "compare": 5.0},
+    "images": {"raster_depth": "standard/main-zo-24-world/raster_depth.png",
+               "ray_depth": "standard/main-zo-24-world/ray_depth.png",
+               "error_heatmap": "standard/main-zo-24-world/error_heatmap.png",
+               "mismatch": "standard/main-zo-24-world/mismatch.png"}
+  })");
+  EXPECT_EQ(j["runs"][0], expected) << j["runs"][0].dump(2);
+}
+
+TEST(ReportJson, ConsistentRunsAndAnEmptyReport) {
+  RunRecord run = sampleRun();
+  run.metrics.coverageMismatch.unexplained = 0;
+  const nlohmann::json j = reportJson({run, run}, sampleGl());
+  EXPECT_EQ(j["summary"]["runs"], 2);
+  EXPECT_EQ(j["summary"]["consistent"], 2);
+  EXPECT_EQ(j["summary"]["inconsistent"], 0);
+  EXPECT_EQ(j["summary"]["verdict"], "consistent");
+  EXPECT_EQ(j["runs"][1]["verdict"], "consistent");
+  // Images not encoded yet: the keys are there, the paths are null.
+  EXPECT_TRUE(j["runs"][0]["images"]["mismatch"].is_null());
+
+  const nlohmann::json empty = reportJson({}, sampleGl());
+  EXPECT_EQ(empty["summary"]["runs"], 0);
+  EXPECT_TRUE(empty["runs"].is_array());
+  EXPECT_TRUE(empty["runs"].empty());
+}
+
+TEST(ReportJson, NonFiniteNumbersBecomeNull) {
+  RunRecord run = sampleRun();
+  run.metrics.depthErrorQuanta = {kNaN, kInf, -kInf};
+  run.metrics.toleranceRatio.max = kNaN;
+  run.timings.rays = kNaN;
+  const nlohmann::json j = reportJson({run}, sampleGl());
+  const nlohmann::json& r = j["runs"][0];
+  EXPECT_TRUE(r["depth_error_quanta"]["max"].is_null());
+  EXPECT_TRUE(r["depth_error_quanta"]["p50"].is_null());
+  EXPECT_TRUE(r["depth_error_quanta"]["p99"].is_null());
+  EXPECT_TRUE(r["tolerance_ratio"]["max"].is_null());
+  EXPECT_EQ(r["tolerance_ratio"]["p99"], 0.5);
+  EXPECT_TRUE(r["timings_ms"]["rays"].is_null());
+  // And the text is valid JSON that reads back the same.
+  const std::string text = j.dump(2);
+  EXPECT_THAT(text, Not(HasSubstr("nan")));
+  EXPECT_THAT(text, Not(HasSubstr("inf")));
+  EXPECT_EQ(nlohmann::json::parse(text), j);
+}
+
+// ---- text summary ------------------------------------------------------------------------------
+
+TEST(TextSummary, WorstRunsFirstThenTotals) {
+  RunRecord ok = sampleRun();
+  ok.camera = "ok";
+  ok.metrics.coverageMismatch.unexplained = 0;
+  ok.metrics.toleranceRatio.max = 0.9;  // the highest ratio, but consistent: still last
+
+  RunRecord one = sampleRun();  // 1 unexplained, ratio max 0.5
+  one.camera = "one";
+  one.metrics.coverageMismatch.unexplained = 1;
+  one.metrics.toleranceRatio.max = 0.5;
+
+  RunRecord oneWorse = one;  // 1 unexplained, ratio max 0.8
+  oneWorse.camera = "oneworse";
+  oneWorse.metrics.coverageMismatch.unexplained = 0;
+  oneWorse.metrics.depthBeyondTolerance = 1;
+  oneWorse.metrics.toleranceRatio.max = 0.8;
+
+  RunRecord five = sampleRun();  // 2 + 1 + 2 = 5 unexplained
+  five.camera = "five";
+  five.metrics.coverageMismatch.unexplained = 2;
+  five.metrics.idMismatch.unexplained = 1;
+  five.metrics.depthBeyondTolerance = 2;
+  five.metrics.toleranceRatio.max = 0.1;
+
+  const std::vector<std::string> got = lines(textSummary({ok, one, five, oneWorse}));
+  ASSERT_EQ(got.size(), 5u);
+  EXPECT_THAT(got[0], ::testing::StartsWith("INCONSISTENT standard/five "));
+  EXPECT_THAT(got[1], ::testing::StartsWith("INCONSISTENT standard/oneworse "));
+  EXPECT_THAT(got[2], ::testing::StartsWith("INCONSISTENT standard/one "));
+  EXPECT_THAT(got[3], ::testing::StartsWith("consistent   standard/ok "));
+  EXPECT_EQ(got[4], "4 runs: 1 consistent, 3 inconsistent");
+  for (const std::string& line : got) EXPECT_LT(line.size(), 160u) << line;
+}
+
+TEST(TextSummary, LineHasFixedColumns) {
+  RunRecord run = sampleRun();
+  EXPECT_EQ(textSummary({run}),
+            // verdict (12), scene/camera (16), convention (11), format (3), vertex mode (15),
+            // size (9), then the metrics.
+            "INCONSISTENT standard/main    zo          24  world           640x480   "
+            "cov 12 (e10 u2) id 3 (z2 e1 u0) >tol 0 q 1/0.5 tol 0.75/0.5 rel 2.1e-7\n"
+            "1 runs: 0 consistent, 1 inconsistent\n");
+  // Columns line up whatever the names' lengths (up to the column widths).
+  RunRecord other = run;
+  other.camera = "topdown";
+  other.convention = kZeroToOneReversed;
+  other.depthFormat = DepthFormat::Float32;
+  other.vertexMode = VertexMode::CameraRelative;
+  other.size = {7, 3};
+  other.metrics.toleranceRatio.max = kNaN;
+  const std::vector<std::string> got = lines(textSummary({run, other}));
+  ASSERT_EQ(got.size(), 3u);
+  EXPECT_EQ(got[0].find(" cov "), got[1].find(" cov "));
+  EXPECT_THAT(got[0], HasSubstr("standard/topdown zo-reversed 32f camera-relative 7x3       cov"));
+  EXPECT_THAT(got[0], HasSubstr("tol nan/0.5"));  // NaN sorts as the worst ratio
+}
+
+TEST(TextSummary, NoRuns) {
+  EXPECT_EQ(textSummary({}), "0 runs: 0 consistent, 0 inconsistent\n");
+}
+
+// ---- images ------------------------------------------------------------------------------------
+
+constexpr Rgb kDepthBackground{20, 30, 70};
+constexpr Rgb kPanel{32, 32, 32};
+constexpr Rgb kWhite{255, 255, 255};
+
+// A 4x3 comparison, row 0 at the bottom. Depths on the shared range [0, 1]: the analytic side
+// holds the nearest depth (0), the raster side the farthest (1).
+PixelComparison tinyComparison() {
+  PixelComparison p;
+  p.viewport = {4, 3};
+  // clang-format off
+  p.rasterDepth = {kNaNf, 0.25f, 0.5f,  1.0f,    // row 0 (bottom)
+                   0.5f,  0.5f,  0.5f,  0.5f,    // row 1
+                   0.75f, 0.5f,  0.5f,  kNaNf};  // row 2 (top)
+  p.analyticDepth = {kNaN, 0.0,  0.5,  0.75,
+                     0.5,  0.5,  0.5,  0.5,
+                     0.75, 0.5,  kInf, kNaN};
+  p.toleranceRatio = {kNaNf, 0.0f, 0.5f, 1.0f,
+                      1.5f,  2.0f, 5.0f, -1.0f,
+                      std::numeric_limits<float>::infinity(), 0.25f, 0.75f, kNaNf};
+  p.classes = {PixelClass::Background, PixelClass::Agree, PixelClass::DepthBeyondTolerance,
+               PixelClass::CoverageEdgeAmbiguous,
+               PixelClass::CoverageUnexplained, PixelClass::IdDepthAmbiguous,
+               PixelClass::IdEdgeAmbiguous, PixelClass::IdUnexplained,
+               PixelClass::Agree, PixelClass::Agree, PixelClass::Agree, PixelClass::Background};
+  // clang-format on
+  return p;
+}
+
+// PNG row of frame row `row` in a 3-row frame.
+int pngRow(int row) {
+  return 2 - row;
+}
+
+TEST(EncodeRunImages, ProducesTheFourImagesInTheRunFolder) {
+  RunRecord run = sampleRun();
+  encodeRunImages(run, tinyComparison());
+  ASSERT_EQ(run.images.size(), 4u);
+  EXPECT_EQ(run.images[0].relativePath, "standard/main-zo-24-world/raster_depth.png");
+  EXPECT_EQ(run.images[1].relativePath, "standard/main-zo-24-world/ray_depth.png");
+  EXPECT_EQ(run.images[2].relativePath, "standard/main-zo-24-world/error_heatmap.png");
+  EXPECT_EQ(run.images[3].relativePath, "standard/main-zo-24-world/mismatch.png");
+  // Encoding again replaces them.
+  encodeRunImages(run, tinyComparison());
+  EXPECT_EQ(run.images.size(), 4u);
+  const nlohmann::json j = reportJson({run}, sampleGl());
+  EXPECT_EQ(j["runs"][0]["images"]["error_heatmap"], "standard/main-zo-24-world/error_heatmap.png");
+}
+
+TEST(EncodeRunImages, MismatchMaskHasOneColourPerClassAndIsFlipped) {
+  RunRecord run = sampleRun();
+  encodeRunImages(run, tinyComparison());
+  const Decoded m = decode(imageNamed(run, "mismatch.png").pngBytes);
+  ASSERT_EQ(m.width, 4);
+  ASSERT_EQ(m.height, 3);
+  // Frame row 0 (bottom) is the last PNG row.
+  EXPECT_EQ(m.at(0, 2), (Rgb{0, 0, 0}));       // Background
+  EXPECT_EQ(m.at(1, 2), (Rgb{60, 60, 60}));    // Agree
+  EXPECT_EQ(m.at(2, 2), (Rgb{255, 140, 0}));   // DepthBeyondTolerance
+  EXPECT_EQ(m.at(3, 2), (Rgb{255, 230, 0}));   // CoverageEdgeAmbiguous
+  EXPECT_EQ(m.at(0, 1), (Rgb{255, 0, 0}));     // CoverageUnexplained
+  EXPECT_EQ(m.at(1, 1), (Rgb{0, 255, 255}));   // IdDepthAmbiguous
+  EXPECT_EQ(m.at(2, 1), (Rgb{60, 110, 255}));  // IdEdgeAmbiguous
+  EXPECT_EQ(m.at(3, 1), (Rgb{255, 0, 255}));   // IdUnexplained
+  EXPECT_EQ(m.at(0, 0), (Rgb{60, 60, 60}));    // frame row 2 is the first PNG row
+  EXPECT_EQ(m.at(3, 0), (Rgb{0, 0, 0}));
+}
+
+TEST(EncodeRunImages, DepthImagesShareOneRangeNearerIsBrighter) {
+  RunRecord run = sampleRun();
+  encodeRunImages(run, tinyComparison());
+  const Decoded raster = decode(imageNamed(run, "raster_depth.png").pngBytes);
+  const Decoded ray = decode(imageNamed(run, "ray_depth.png").pngBytes);
+  ASSERT_EQ(raster.width, 4);
+  ASSERT_EQ(raster.height, 3);
+  ASSERT_EQ(ray.width, 4);
+  ASSERT_EQ(ray.height, 3);
+  // grey = 48 + 207 * (1 - d) on the shared range [0, 1].
+  const auto grey = [](int g) { return Rgb{g, g, g}; };
+  EXPECT_EQ(ray.at(1, pngRow(0)), grey(255));     // d = 0: the nearest of both sides
+  EXPECT_EQ(raster.at(1, pngRow(0)), grey(203));  // d = 0.25: the nearest raster pixel
+  EXPECT_EQ(raster.at(3, pngRow(0)), grey(48));   // d = 1: the farthest
+  EXPECT_EQ(ray.at(3, pngRow(0)), grey(100));     // d = 0.75
+  EXPECT_EQ(raster.at(2, pngRow(0)), grey(152));  // d = 0.5 in both
+  EXPECT_EQ(ray.at(2, pngRow(0)), grey(152));
+  EXPECT_EQ(raster.at(0, pngRow(2)), grey(100));  // top-left of the PNG is frame row 2
+  // Background (NaN) and a non-finite depth: dark blue.
+  EXPECT_EQ(raster.at(0, pngRow(0)), kDepthBackground);
+  EXPECT_EQ(ray.at(0, pngRow(0)), kDepthBackground);
+  EXPECT_EQ(raster.at(3, pngRow(2)), kDepthBackground);
+  EXPECT_EQ(ray.at(2, pngRow(2)), kDepthBackground);
+  // The brightest pixel of each image is its nearest depth.
+  for (const Decoded* image : {&raster, &ray}) {
+    int brightest = 0;
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 4; ++x)
+        if (image->at(x, y) != kDepthBackground) brightest = std::max(brightest, image->at(x, y).r);
+    EXPECT_EQ(brightest, image == &ray ? 255 : 203);
+  }
+}
+
+TEST(EncodeRunImages, ReversedZLargerDepthIsNearer) {
+  RunRecord run = sampleRun();
+  run.convention = kZeroToOneReversed;
+  encodeRunImages(run, tinyComparison());
+  const Decoded raster = decode(imageNamed(run, "raster_depth.png").pngBytes);
+  const Decoded ray = decode(imageNamed(run, "ray_depth.png").pngBytes);
+  // grey = 48 + 207 * d.
+  EXPECT_EQ(raster.at(3, pngRow(0)), (Rgb{255, 255, 255}));  // d = 1: the nearest
+  EXPECT_EQ(ray.at(1, pngRow(0)), (Rgb{48, 48, 48}));        // d = 0: the farthest
+  EXPECT_EQ(raster.at(1, pngRow(0)), (Rgb{100, 100, 100}));  // d = 0.25
+}
+
+TEST(EncodeRunImages, FlatDepthIsMidGrey) {
+  PixelComparison p = tinyComparison();
+  for (float& d : p.rasterDepth)
+    if (!std::isnan(d)) d = 0.5f;
+  for (double& d : p.analyticDepth)
+    if (std::isfinite(d)) d = 0.5;
+  RunRecord run = sampleRun();
+  encodeRunImages(run, p);
+  const Decoded raster = decode(imageNamed(run, "raster_depth.png").pngBytes);
+  EXPECT_EQ(raster.at(1, pngRow(0)), (Rgb{128, 128, 128}));
+  EXPECT_EQ(raster.at(0, pngRow(0)), kDepthBackground);
+}
+
+TEST(EncodeRunImages, HeatMapColoursAndScale) {
+  RunRecord run = sampleRun();
+  encodeRunImages(run, tinyComparison());
+  const Decoded h = decode(imageNamed(run, "error_heatmap.png").pngBytes);
+  // 70 px scale strip on the right; padded to 120 px high.
+  ASSERT_EQ(h.width, 4 + 70);
+  ASSERT_EQ(h.height, 120);
+  EXPECT_EQ(h.at(0, pngRow(0)), (Rgb{0, 0, 0}));        // NaN: not compared
+  EXPECT_EQ(h.at(1, pngRow(0)), (Rgb{68, 1, 84}));      // 0
+  EXPECT_EQ(h.at(2, pngRow(0)), (Rgb{33, 145, 140}));   // 0.5
+  EXPECT_EQ(h.at(3, pngRow(0)), (Rgb{253, 231, 37}));   // 1: the predicted tolerance
+  EXPECT_EQ(h.at(0, pngRow(1)), (Rgb{243, 128, 128}));  // 1.5: halfway red -> white
+  EXPECT_EQ(h.at(1, pngRow(1)), kWhite);                // 2
+  EXPECT_EQ(h.at(2, pngRow(1)), kWhite);                // 5: clamped
+  EXPECT_EQ(h.at(3, pngRow(1)), (Rgb{68, 1, 84}));      // -1: clamped to 0
+  EXPECT_EQ(h.at(0, pngRow(2)), kWhite);                // +inf
+  EXPECT_EQ(h.at(1, pngRow(2)), (Rgb{59, 82, 139}));    // 0.25
+  EXPECT_EQ(h.at(2, pngRow(2)), (Rgb{94, 201, 98}));    // 0.75
+  EXPECT_EQ(h.at(3, pngRow(2)), (Rgb{0, 0, 0}));        // NaN
+  // Padding below the image and the strip background.
+  EXPECT_EQ(h.at(0, 3), kPanel);
+  EXPECT_EQ(h.at(3, 119), kPanel);
+  EXPECT_EQ(h.at(4 + 69, 119), kPanel);
+  // The bar: 2 (white) at its top row 20, 0 at its bottom row 110, the tolerance in between.
+  const int barX = 4 + 12;
+  EXPECT_EQ(h.at(barX, 20), kWhite);
+  EXPECT_EQ(h.at(barX, 110), (Rgb{68, 1, 84}));
+  EXPECT_EQ(h.at(barX, 65), (Rgb{253, 231, 37}));  // v = 1
+  EXPECT_EQ(h.at(barX, 64), (Rgb{231, 6, 6}));     // just above 1: red
+  // Tick marks right of the bar at 0, 0.5, 1, 1.5, 2.
+  for (const int y : {110, 87, 65, 42, 20}) EXPECT_EQ(h.at(4 + 22, y), kWhite) << y;
+  EXPECT_EQ(h.at(4 + 22, 100), kPanel);
+  // Labels and title are drawn: white pixels right of the ticks and above the bar.
+  const auto whiteIn = [&](int x0, int y0, int x1, int y1) {
+    int n = 0;
+    for (int y = y0; y < y1; ++y)
+      for (int x = x0; x < x1; ++x) n += h.at(x, y) == kWhite;
+    return n;
+  };
+  EXPECT_GT(whiteIn(4 + 27, 104, 4 + 70, 118), 3);  // "0"
+  EXPECT_GT(whiteIn(4 + 27, 59, 4 + 70, 72), 3);    // "1"
+  EXPECT_GT(whiteIn(4 + 27, 14, 4 + 70, 27), 8);    // ">=2"
+  EXPECT_GT(whiteIn(4, 0, 4 + 70, 16), 10);         // "err/tol"
+  EXPECT_EQ(whiteIn(4 + 27, 75, 4 + 70, 80), 0);    // nothing between "1" and "0.5"
+}
+
+TEST(EncodeRunImages, TinyViewportsDoNotCrash) {
+  for (const Viewport viewport : {Viewport{1, 1}, Viewport{7, 3}, Viewport{3, 7}}) {
+    const std::size_t n = static_cast<std::size_t>(viewport.width) * viewport.height;
+    PixelComparison p;
+    p.viewport = viewport;
+    p.rasterDepth.assign(n, 0.5f);
+    p.analyticDepth.assign(n, 0.5);
+    p.toleranceRatio.assign(n, 0.5f);
+    p.classes.assign(n, PixelClass::Agree);
+    RunRecord run = sampleRun();
+    run.size = viewport;
+    ASSERT_NO_THROW(encodeRunImages(run, p));
+    ASSERT_EQ(run.images.size(), 4u);
+    const Decoded m = decode(imageNamed(run, "mismatch.png").pngBytes);
+    EXPECT_EQ(m.width, viewport.width);
+    EXPECT_EQ(m.height, viewport.height);
+    const Decoded h = decode(imageNamed(run, "error_heatmap.png").pngBytes);
+    EXPECT_EQ(h.width, viewport.width + 70);
+    EXPECT_EQ(h.height, 120);
+    EXPECT_EQ(h.at(0, 0), (Rgb{33, 145, 140}));
+  }
+}
+
+TEST(EncodeRunImages, TallImagesKeepTheirHeight) {
+  const Viewport viewport{2, 300};
+  const std::size_t n = 600;
+  PixelComparison p;
+  p.viewport = viewport;
+  p.rasterDepth.assign(n, kNaNf);
+  p.analyticDepth.assign(n, kNaN);
+  p.toleranceRatio.assign(n, kNaNf);
+  p.classes.assign(n, PixelClass::Background);
+  RunRecord run = sampleRun();
+  encodeRunImages(run, p);
+  const Decoded h = decode(imageNamed(run, "error_heatmap.png").pngBytes);
+  EXPECT_EQ(h.width, 72);
+  EXPECT_EQ(h.height, 300);
+  EXPECT_EQ(h.at(1, 299), (Rgb{0, 0, 0}));
+  EXPECT_EQ(h.at(2 + 12, 290), (Rgb{68, 1, 84}));  // the bar reaches row height - 10
+}
+
+TEST(EncodeRunImages, RejectsInconsistentSizes) {
+  PixelComparison p = tinyComparison();
+  p.classes.pop_back();
+  RunRecord run = sampleRun();
+  EXPECT_THROW(encodeRunImages(run, p), std::invalid_argument);
+  PixelComparison empty;
+  EXPECT_THROW(encodeRunImages(run, empty), std::invalid_argument);
+}
+
+// ---- files -------------------------------------------------------------------------------------
+
+std::vector<std::string> filesUnder(const fs::path& folder) {
+  std::vector<std::string> out;
+  for (const auto& entry : fs::recursive_directory_iterator(folder))
+    if (entry.is_regular_file()) out.push_back(fs::relative(entry.path(), folder).generic_string());
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TEST(WriteReport, WritesImagesSummaryAndReportWithoutTempFiles) {
+  const fs::path root = freshFolder("write");
+  const fs::path out = root / "nested" / "out";
+  RunRecord a = sampleRun();
+  encodeRunImages(a, tinyComparison());
+  RunRecord b = sampleRun();
+  b.camera = "top";
+  b.convention = kZeroToOneReversed;
+  b.depthFormat = DepthFormat::Float32;
+  b.metrics.coverageMismatch.unexplained = 0;
+  encodeRunImages(b, tinyComparison());
+
+  writeReport(out, {a, b}, sampleGl());
+  const std::vector<std::string> expected = {
+      "report.json",
+      "standard/main-zo-24-world/error_heatmap.png",
+      "standard/main-zo-24-world/mismatch.png",
+      "standard/main-zo-24-world/raster_depth.png",
+      "standard/main-zo-24-world/ray_depth.png",
+      "standard/top-zo-reversed-32f-world/error_heatmap.png",
+      "standard/top-zo-reversed-32f-world/mismatch.png",
+      "standard/top-zo-reversed-32f-world/raster_depth.png",
+      "standard/top-zo-reversed-32f-world/ray_depth.png",
+      "summary.txt",
+  };
+  EXPECT_EQ(filesUnder(out), expected);  // and so no *.tmp-* files
+
+  const nlohmann::json report = nlohmann::json::parse(readFile(out / "report.json"));
+  EXPECT_EQ(report, reportJson({a, b}, sampleGl()));
+  for (const auto& run : report["runs"])
+    for (const auto& [name, path] : run["images"].items())
+      EXPECT_TRUE(fs::is_regular_file(out / path.get<std::string>())) << name;
+  EXPECT_EQ(readFile(out / "standard/main-zo-24-world/mismatch.png"),
+            imageNamed(a, "mismatch.png").pngBytes);
+  EXPECT_EQ(readFile(out / "summary.txt"), textSummary({a, b}));
+
+  // Writing again over the same folder replaces the files.
+  writeReport(out, {a}, sampleGl());
+  EXPECT_EQ(nlohmann::json::parse(readFile(out / "report.json"))["summary"]["runs"], 1);
+  EXPECT_EQ(filesUnder(out), expected);
+  fs::remove_all(root);
+}
+
+TEST(WriteReport, UnwritableOutputFolderThrowsNamingIt) {
+  const fs::path root = freshFolder("blocked");
+  {
+    std::ofstream file(root / "file");
+    file << "x";
+  }
+  const fs::path out = root / "file" / "out";  // a regular file stands in the way
+  try {
+    writeReport(out, {sampleRun()}, sampleGl());
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr((root / "file").string()));
+  }
+  fs::remove_all(root);
+}
+
+TEST(WriteFileAtomically, WritesAndReplaces) {
+  const fs::path root = freshFolder("atomic");
+  const fs::path path = root / "data.bin";
+  const std::string bytes("a\0b\nc", 5);
+  writeFileAtomically(path, bytes);
+  EXPECT_EQ(readFile(path), bytes);
+  writeFileAtomically(path, "second");
+  EXPECT_EQ(readFile(path), "second");
+  writeFileAtomically(root / "empty", "");
+  EXPECT_TRUE(fs::is_regular_file(root / "empty"));
+  EXPECT_EQ(fs::file_size(root / "empty"), 0u);
+  EXPECT_EQ(filesUnder(root), (std::vector<std::string>{"data.bin", "empty"}));
+  fs::remove_all(root);
+}
+
+TEST(WriteFileAtomically, MissingFolderThrowsAndLeavesNothing) {
+  const fs::path root = freshFolder("missing");
+  const fs::path path = root / "nope" / "report.json";
+  try {
+    writeFileAtomically(path, "{}");
+    FAIL() << "no exception";
+  } catch (const std::runtime_error& e) {
+    EXPECT_THAT(e.what(), HasSubstr(path.string()));
+    EXPECT_THAT(e.what(), HasSubstr("No such file or directory"));
+  }
+  EXPECT_FALSE(fs::exists(root / "nope"));
+  EXPECT_TRUE(fs::is_empty(root));
+  fs::remove_all(root);
+}
+
+TEST(WriteFileAtomically, FailedRenameRemovesTheTempFile) {
+  const fs::path root = freshFolder("rename");
+  fs::create_directories(root / "target" / "inside");  // a non-empty folder cannot be replaced
+  EXPECT_THROW(writeFileAtomically(root / "target", "x"), std::runtime_error);
+  EXPECT_EQ(filesUnder(root), std::vector<std::string>{});
+  EXPECT_TRUE(fs::is_directory(root / "target" / "inside"));
+  fs::remove_all(root);
+}
+
+}  // namespace
+}  // namespace clipray

@@ -1,0 +1,145 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "clipray/math/Projections.hpp"
+#include "clipray/rays/RobustRays.hpp"
+
+namespace clipray {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+glm::dvec3 clipNdc(const glm::dmat4& m, const glm::dvec3& p) {
+  const glm::dvec4 c = m * glm::dvec4(p, 1.0);
+  return glm::dvec3(c) / c.w;
+}
+
+// Condition number of the matrix in the max-row-sum norm: the error of anything computed through
+// worldFromClip is bounded by a small multiple of kappa * eps (relative).
+double conditionNumber(const glm::dmat4& m) {
+  auto norm = [](const glm::dmat4& a) {
+    double best = 0.0;
+    for (int r = 0; r < 4; ++r) {
+      best = std::max(
+          best, std::abs(a[0][r]) + std::abs(a[1][r]) + std::abs(a[2][r]) + std::abs(a[3][r]));
+    }
+    return best;
+  };
+  return norm(m) * norm(glm::inverse(m));
+}
+
+struct CameraCase {
+  const char* name;
+  glm::dmat4 clipFromWorld;
+  DepthMode mode;
+};
+
+std::vector<CameraCase> cameraCases() {
+  const glm::dmat4 view = viewFromWorldLookAt({3, 2.5, 5}, {0, 0.5, 0}, {0, 1, 0});
+  const glm::dmat4 farView = viewFromWorldLookAt({200, 140, 130}, {0, 5, 0}, {0, 1, 0});
+  glm::dmat4 mirror(1.0);
+  mirror[0][0] = -1.0;  // x flipped in view space: a mirrored image (det < 0)
+  std::vector<CameraCase> cases;
+  for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed}) {
+    cases.push_back(
+        {"perspective", perspectiveClipFromView(1.0, 1.5, 0.1, 100.0, mode) * view, mode});
+    cases.push_back(
+        {"infinite", perspectiveClipFromView(1.0, 1.5, 0.1, std::nullopt, mode) * view, mode});
+    cases.push_back(
+        {"far_from_origin", perspectiveClipFromView(0.7, 1.5, 0.01, 1000.0, mode) * farView, mode});
+    cases.push_back(
+        {"orthographic", orthographicClipFromView(-3, 5, -2, 4, 1.0, 50.0, mode) * view, mode});
+    cases.push_back(
+        {"mirrored", perspectiveClipFromView(1.0, 1.5, 0.1, 100.0, mode) * mirror * view, mode});
+  }
+  return cases;
+}
+
+TEST(RobustRays, OriginOnTheNearPlaneAndRayThroughThePixel) {
+  for (const CameraCase& c : cameraCases()) {
+    const RobustRayGenerator generator(c.clipFromWorld, c.mode);
+    const double bound = 16.0 * conditionNumber(c.clipFromWorld) * kEps;
+    for (double x : {-0.999, -0.3, 0.0, 0.51, 0.999}) {
+      for (double y : {-0.999, 0.25, 0.999}) {
+        const Ray ray = generator.generate({x, y});
+        SCOPED_TRACE(std::string(c.name) + " " + c.mode.name());
+        EXPECT_NEAR(glm::length(ray.direction), 1.0, 4 * kEps);
+        const glm::dvec3 origin = clipNdc(c.clipFromWorld, ray.origin);
+        EXPECT_NEAR(origin.x, x, bound);
+        EXPECT_NEAR(origin.y, y, bound);
+        EXPECT_NEAR(origin.z, c.mode.nearNdcZ(), bound);
+        // A point further along projects to the same pixel, deeper into the frustum.
+        const double t = std::isfinite(ray.tMax) ? ray.tMax * 0.5 : 10.0;
+        const glm::dvec3 inside = clipNdc(c.clipFromWorld, ray.origin + t * ray.direction);
+        EXPECT_NEAR(inside.x, x, bound);
+        EXPECT_NEAR(inside.y, y, bound);
+        if (c.mode.reversed) {
+          EXPECT_LT(inside.z, origin.z);
+        } else {
+          EXPECT_GT(inside.z, origin.z);
+        }
+        if (std::isfinite(ray.tMax)) {
+          const glm::dvec3 end = clipNdc(c.clipFromWorld, ray.origin + ray.tMax * ray.direction);
+          EXPECT_NEAR(end.z, c.mode.farNdcZ(), bound);
+        }
+      }
+    }
+  }
+}
+
+TEST(RobustRays, InfiniteFarPlaneGivesInfiniteTMax) {
+  const glm::dmat4 view = viewFromWorldLookAt({0, 2, 6}, {0, 1.5, 0}, {0, 1, 0});
+  for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed}) {
+    const RobustRayGenerator generator(
+        perspectiveClipFromView(0.9, 1.0, 0.1, std::nullopt, mode) * view, mode);
+    for (double x : {-0.9, 0.0, 0.9}) {
+      const Ray ray = generator.generate({x, -0.4});
+      EXPECT_EQ(ray.tMax, std::numeric_limits<double>::infinity()) << mode.name();
+      EXPECT_LT(ray.direction.z, 0.0) << mode.name();  // looking down -z
+    }
+  }
+}
+
+TEST(RobustRays, MatrixBuiltForNoUnderZoStartsAtTheEffectiveNearPlane) {
+  // Built for NO with near n, far f; drawn under ZO the rasterizer clips at z_ndc = 0, which is
+  // the view distance 2fn/(f+n).
+  const double n = 1.0, f = 100.0;
+  const glm::dmat4 m = perspectiveClipFromView(glm::radians(60.0), 1.0, n, f, kNegativeOneToOne);
+  const Ray underNo = RobustRayGenerator(m, kNegativeOneToOne).generate({0.0, 0.0});
+  const Ray underZo = RobustRayGenerator(m, kZeroToOne).generate({0.0, 0.0});
+  EXPECT_NEAR(-underNo.origin.z, n, 4 * kEps * f);
+  EXPECT_NEAR(-underZo.origin.z, 2 * f * n / (f + n), 4 * kEps * f);
+  // Both end on the same far plane.
+  EXPECT_NEAR(underNo.origin.z - underNo.tMax, -f, 64 * kEps * f);
+  EXPECT_NEAR(underZo.origin.z - underZo.tMax, -f, 64 * kEps * f);
+}
+
+TEST(RobustRays, OrthographicRaysShareOneDirection) {
+  const glm::dmat4 view = viewFromWorldLookAt({5000, 3000, 4000}, {0, 0, 0}, {0, 1, 0});
+  const glm::dmat4 m = orthographicClipFromView(-8, 8, -6, 6, 6000, 8000, kZeroToOne) * view;
+  const RobustRayGenerator generator(m, kZeroToOne);
+  EXPECT_TRUE(generator.isParallel());
+  const Ray a = generator.generate({-0.9, -0.9});
+  const Ray b = generator.generate({0.9, 0.7});
+  EXPECT_NEAR(glm::length(a.direction - b.direction), 0.0, 4 * kEps);
+  EXPECT_NEAR(glm::dot(a.direction, glm::normalize(glm::dvec3(-5000, -3000, -4000))), 1.0,
+              4 * kEps);
+  EXPECT_NEAR(a.tMax, 2000.0, 2000.0 * 16 * conditionNumber(m) * kEps);
+}
+
+TEST(RobustRays, MirroredViewStillLooksForward) {
+  glm::dmat4 mirror(1.0);
+  mirror[0][0] = -1.0;
+  const glm::dmat4 projection = perspectiveClipFromView(1.0, 1.0, 0.1, 10.0, kZeroToOne);
+  const glm::dmat4 m = projection * mirror;
+  ASSERT_LT(glm::determinant(m) * glm::determinant(projection), 0.0);  // handedness flipped
+  const Ray ray = RobustRayGenerator(m, kZeroToOne).generate({0.5, 0.0});
+  EXPECT_LT(ray.direction.z, 0.0);
+  // Mirrored: clip x = +0.5 lies on the -x side of view space.
+  EXPECT_LT(ray.direction.x, 0.0);
+}
+
+}  // namespace
+}  // namespace clipray
