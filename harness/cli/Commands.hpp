@@ -1,15 +1,33 @@
 #pragma once
+// Subcommands register themselves here, one file each (ReconcileCommand.cpp, ...), so adding a
+// command touches no other file.
+
+#include <functional>
+#include <string>
+#include <vector>
+
 #include <CLI/CLI.hpp>
 
 namespace clipray::cli {
 
-// Each subcommand registers its options and returns the function that runs it (exit status).
 // Exit status: 0 consistent / no errors, 1 inconsistent / errors found, 2 bad input or backend.
-struct Subcommand {
-  CLI::App* app = nullptr;
-  std::function<int()> run;
+using CommandRunner = std::function<int()>;
+// Adds the subcommand's options to `app` and returns what runs it.
+using CommandFactory = std::function<CommandRunner(CLI::App& app)>;
+
+struct CommandRegistration {
+  std::string name;
+  std::string description;
+  int order;  // position in --help
+  CommandFactory factory;
 };
 
-Subcommand addReconcileCommand(CLI::App& parent);
+std::vector<CommandRegistration>& commandRegistry();
+
+// `static const bool registered = registerCommand({...});` in each command's file.
+inline bool registerCommand(CommandRegistration registration) {
+  commandRegistry().push_back(std::move(registration));
+  return true;
+}
 
 }  // namespace clipray::cli

@@ -1,6 +1,8 @@
 // `clipray reconcile`: rasterize every scene headlessly, trace the same pixels analytically,
 // compare.
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <filesystem>
 #include <iostream>
@@ -118,6 +120,8 @@ int runReconcile(const ReconcileOptions& options) {
   }
 
   // 3. The runs: scene x camera x convention (one analytic pass) x format x vertex mode.
+  //    A progress line on stderr only when a person is watching it.
+  const bool progress = isatty(STDERR_FILENO) != 0;
   std::vector<RunRecord> runs;
   for (const Scene& scene : scenes) {
     const std::vector<DepthMode> sceneConventions =
@@ -129,12 +133,14 @@ int runReconcile(const ReconcileOptions& options) {
       const Viewport viewport = sizeOverride.value_or(camera.viewport);
       for (const DepthMode mode : sceneConventions) {
         const gl::AnalyticPass pass =
-            gl::runAnalyticPass(scene, camera, mode, viewport, robustPickRays(), options.threads);
+            gl::runAnalyticPass(scene, camera, mode, viewport, options.threads);
         for (const DepthFormat format : formats) {
           for (const VertexMode vertexMode : vertexModes) {
-            std::cerr << "clipray: " << scene.name << "/" << camera.name << " " << mode.name()
-                      << " " << depthFormatName(format) << " " << vertexModeName(vertexMode) << "\r"
-                      << std::flush;
+            if (progress) {
+              std::cerr << "clipray: " << scene.name << "/" << camera.name << " " << mode.name()
+                        << " " << depthFormatName(format) << " " << vertexModeName(vertexMode)
+                        << "\x1b[K\r" << std::flush;
+            }
             runs.push_back(
                 gl::rasterAndCompare(renderer, pass, format, vertexMode, true, options.threads));
           }
@@ -142,7 +148,7 @@ int runReconcile(const ReconcileOptions& options) {
       }
     }
   }
-  std::cerr << std::string(72, ' ') << "\r" << std::flush;
+  if (progress) std::cerr << "\x1b[K" << std::flush;
 
   // 4. Outputs, all at the end and each atomically.
   writeReport(options.out, runs, renderer.info());
@@ -154,28 +160,29 @@ int runReconcile(const ReconcileOptions& options) {
   return consistent ? 0 : 1;
 }
 
-}  // namespace
-
-Subcommand addReconcileCommand(CLI::App& parent) {
+CommandRunner addReconcileOptions(CLI::App& app) {
   auto options = std::make_shared<ReconcileOptions>();
-  CLI::App* app = parent.add_subcommand(
-      "reconcile", "Rasterize scenes headlessly and compare every pixel with analytic ray hits");
-  app->add_option("scenes", options->scenes, "Scene files (default: every scenes/*.json)");
-  app->add_option("--backend", options->backend, "GL backend: osmesa")->capture_default_str();
-  app->add_option("--conventions", options->conventions,
-                  "Comma-separated: no, zo, zo-reversed (default: the scene's list, else no,zo)");
-  app->add_option("--depth-formats", options->depthFormats, "Comma-separated: 16, 24, 32f")
+  app.add_option("scenes", options->scenes, "Scene files (default: every scenes/*.json)");
+  app.add_option("--backend", options->backend, "GL backend: osmesa")->capture_default_str();
+  app.add_option("--conventions", options->conventions,
+                 "Comma-separated: no, zo, zo-reversed (default: the scene's list, else no,zo)");
+  app.add_option("--depth-formats", options->depthFormats, "Comma-separated: 16, 24, 32f")
       ->capture_default_str();
-  app->add_option("--vertex-modes", options->vertexModes,
-                  "Comma-separated: world, camera-relative, pretransformed")
+  app.add_option("--vertex-modes", options->vertexModes,
+                 "Comma-separated: world, camera-relative, pretransformed")
       ->capture_default_str();
-  app->add_option("--size", options->size, "WxH: override every camera's viewport");
-  app->add_option("--out", options->out, "Output folder for report.json and PNGs")
+  app.add_option("--size", options->size, "WxH: override every camera's viewport");
+  app.add_option("--out", options->out, "Output folder for report.json and PNGs")
       ->capture_default_str();
-  app->add_flag("--json", options->json, "Also print report.json to stdout");
-  app->add_option("--threads", options->threads, "Threads for the analytic pass (0: all cores)")
+  app.add_flag("--json", options->json, "Also print report.json to stdout");
+  app.add_option("--threads", options->threads, "Threads for the analytic pass (0: all cores)")
       ->capture_default_str();
-  return {app, [options] { return runReconcile(*options); }};
+  return [options] { return runReconcile(*options); };
 }
 
+const bool registered = registerCommand(
+    {"reconcile", "Rasterize scenes headlessly and compare every pixel with analytic ray hits", 0,
+     addReconcileOptions});
+
+}  // namespace
 }  // namespace clipray::cli

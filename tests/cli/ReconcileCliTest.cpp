@@ -4,6 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <fstream>
+#include <set>
+
 #include "support/RunCommand.hpp"
 
 namespace clipray {
@@ -69,6 +72,26 @@ TEST(ReconcileCli, DefaultsToEveryShippedScene) {
   for (const auto& run : report["runs"]) scenes.insert(run["scene"].get<std::string>());
   EXPECT_EQ(scenes.size(), 10u);
   EXPECT_TRUE(scenes.count("reversed_z"));
+}
+
+TEST(ReconcileCli, ABadSceneAmongGoodOnesStopsEverythingBeforeAnyOutput) {
+  TempFolder folder;
+  {
+    std::ofstream bad(folder.path() / "bad.json");
+    bad << R"({"version": 1, "cameras": [{"name": "main", "viewport": [64, 48],
+      "view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]},
+      "projection": {"type": "perspective", "fovYDegrees": 60, "near": -1, "far": 10}}],
+      "objects": []})";
+  }
+  const auto result =
+      runClipray("reconcile '" + kSource + "/scenes/standard.json' bad.json", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err,
+            "clipray: bad.json: /cameras/0/projection/near: expected a positive number, got -1\n");
+  // Only the scene file itself is there: no report folder, no partial files.
+  EXPECT_EQ(std::distance(std::filesystem::directory_iterator(folder.path()),
+                          std::filesystem::directory_iterator{}),
+            1);
 }
 
 struct BadInvocation {

@@ -67,6 +67,21 @@ AnalyticFrame generateRays(const PickingCamera& camera, const PickRayFunction& r
   return frame;
 }
 
+AnalyticFrame generateRobustRays(const PickingCamera& camera, unsigned threadCount) {
+  const Viewport viewport = camera.viewport;
+  const RobustRayGenerator generator(camera.clipFromWorld, camera.mode);
+  AnalyticFrame frame;
+  frame.viewport = viewport;
+  frame.rays.resize(static_cast<std::size_t>(viewport.width) * viewport.height);
+  parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
+    for (int y = rowBegin; y < rowEnd; ++y) {
+      Ray* row = frame.rays.data() + static_cast<std::size_t>(y) * viewport.width;
+      for (int x = 0; x < viewport.width; ++x) row[x] = generator.generateForPixel(x, y, viewport);
+    }
+  });
+  return frame;
+}
+
 void intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
                     unsigned threadCount) {
   const Viewport viewport = frame.viewport;

@@ -49,6 +49,8 @@ inline constexpr double kNoRayTMax = -1.0;
 // Pass 1: one ray per pixel from the ray function, multi-threaded over rows (frame.hits empty).
 AnalyticFrame generateRays(const PickingCamera& camera, const PickRayFunction& rayFunction,
                            unsigned threadCount = 0);
+// The same with clipray's robust rays, called directly (no per-pixel std::function dispatch).
+AnalyticFrame generateRobustRays(const PickingCamera& camera, unsigned threadCount = 0);
 // Pass 2: the closest hit of every ray, multi-threaded over rows.
 void intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
                     unsigned threadCount = 0);

@@ -16,9 +16,11 @@ glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode) {
   return glm::dvec3(p) / p.w;
 }
 
-AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
-                             Viewport viewport, const PickRayFunction& rayFunction,
-                             unsigned threadCount) {
+namespace {
+
+AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
+                          Viewport viewport, const PickRayFunction* rayFunction,
+                          unsigned threadCount) {
   AnalyticPass pass;
   pass.scene = &scene;
   pass.cameraName = camera.name;
@@ -28,7 +30,8 @@ AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode
   pass.reference = nearPlaneCentre(pass.camera.clipFromWorld, mode);
 
   const auto raysStart = Clock::now();
-  pass.frame = generateRays(pass.camera, rayFunction, threadCount);
+  pass.frame = rayFunction ? generateRays(pass.camera, *rayFunction, threadCount)
+                           : generateRobustRays(pass.camera, threadCount);
   pass.raysMilliseconds = millisecondsSince(raysStart);
 
   const auto intersectStart = Clock::now();
@@ -36,6 +39,19 @@ AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode
   intersectFrame(pass.frame, *pass.intersector, threadCount);
   pass.intersectMilliseconds = millisecondsSince(intersectStart);
   return pass;
+}
+
+}  // namespace
+
+AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
+                             Viewport viewport, unsigned threadCount) {
+  return analyticPass(scene, camera, mode, viewport, nullptr, threadCount);
+}
+
+AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
+                             Viewport viewport, const PickRayFunction& rayFunction,
+                             unsigned threadCount) {
+  return analyticPass(scene, camera, mode, viewport, &rayFunction, threadCount);
 }
 
 RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFormat depthFormat,

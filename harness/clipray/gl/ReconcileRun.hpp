@@ -3,8 +3,8 @@
 //
 //   clipray::gl::Renderer renderer(*context);
 //   AnalyticPass rays = runAnalyticPass(scene, scene.cameras[0], kZeroToOne, viewport, myPickRays);
-//   RunRecord run = rasterAndCompare(renderer, scene, rays, DepthFormat::Float32,
-//   VertexMode::World); EXPECT_TRUE(run.metrics.consistent());
+//   RunRecord run = rasterAndCompare(renderer, rays, DepthFormat::Float32, VertexMode::World);
+//   EXPECT_TRUE(run.metrics.consistent());
 //
 // The ray function is the app's own picking code (PickRayFunction); robustPickRays() is clipray's.
 
@@ -31,9 +31,12 @@ struct AnalyticPass {
   double intersectMilliseconds = 0.0;
 };
 
+// With clipray's robust rays.
 AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
-                             Viewport viewport,
-                             const PickRayFunction& rayFunction = robustPickRays(),
+                             Viewport viewport, unsigned threadCount = 0);
+// With the caller's own ray function (e.g. the app's picking code).
+AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
+                             Viewport viewport, const PickRayFunction& rayFunction,
                              unsigned threadCount = 0);
 
 // Renders the same camera with the renderer and compares. If images is true, the run's PNGs are
