@@ -1,0 +1,242 @@
+// `clipray check`: a convention checker for GL apps' matrices.
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <iostream>
+#include <sstream>
+
+#include "Commands.hpp"
+#include "clipray/check/ConventionCheck.hpp"
+#include "clipray/scene/InputError.hpp"
+
+namespace clipray::cli {
+
+namespace {
+
+struct CheckOptions {
+  std::string file;
+  std::string clipFromWorld, projection, view;
+  std::string layout = "column-major";
+  std::string declaredDepth;
+  bool reversed = false;
+  std::string depthRange;
+  std::string origin;
+  std::string viewport = "1920x1080";
+  std::string depthBits = "24";
+  std::string sceneExtent;
+  bool json = false;
+};
+
+std::vector<double> parseNumbers(const std::string& text, const std::string& what) {
+  std::vector<double> numbers;
+  std::string token;
+  std::istringstream stream(text);
+  while (stream >> token) {
+    std::istringstream pieces(token);
+    std::string piece;
+    while (std::getline(pieces, piece, ',')) {
+      if (piece.empty()) continue;
+      char* end = nullptr;
+      const double value = std::strtod(piece.c_str(), &end);
+      if (end == piece.c_str() || *end != '\0') {
+        throw InputError(what + ": \"" + piece + "\" is not a number");
+      }
+      numbers.push_back(value);
+    }
+  }
+  return numbers;
+}
+
+glm::dmat4 parseMatrixOption(const std::string& text, bool rowMajor, const std::string& what) {
+  return parseMatrix16(parseNumbers(text, what), rowMajor, what);
+}
+
+std::string requireOneOf(const std::string& value, const std::string& what,
+                         const std::vector<std::string>& valid) {
+  for (const std::string& v : valid) {
+    if (v == value) return value;
+  }
+  std::string list;
+  for (const std::string& v : valid) list += (list.empty() ? "" : ", ") + v;
+  throw InputError(what + ": unknown value \"" + value + "\"; expected one of: " + list);
+}
+
+// The same fields from a JSON file (keys in camelCase, matrices as arrays of 16 numbers).
+void readCheckFile(CheckOptions& options) {
+  std::ifstream in(options.file);
+  if (!in) throw InputError(options.file + ": cannot open file");
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& error) {
+    throw InputError(options.file + ": malformed JSON: " + error.what());
+  }
+  if (!doc.is_object()) throw InputError(options.file, "/", "expected an object");
+  auto text = [&](const char* key) -> std::string {
+    const auto& value = doc[key];
+    if (value.is_string()) return value.get<std::string>();
+    if (value.is_array()) {
+      std::string joined;
+      for (const auto& item : value) {
+        if (!item.is_number())
+          throw InputError(options.file, std::string("/") + key,
+                           "expected numbers, got " + item.dump());
+        joined += item.dump() + " ";
+      }
+      return joined;
+    }
+    throw InputError(options.file, std::string("/") + key,
+                     "expected a string or an array of numbers, got " + value.dump());
+  };
+  for (const auto& [key, value] : doc.items()) {
+    if (key == "clipFromWorld")
+      options.clipFromWorld = text("clipFromWorld");
+    else if (key == "projection")
+      options.projection = text("projection");
+    else if (key == "view")
+      options.view = text("view");
+    else if (key == "sceneExtent")
+      options.sceneExtent = text("sceneExtent");
+    else if (key == "depthRange")
+      options.depthRange = text("depthRange");
+    else if (key == "layout" && value.is_string())
+      options.layout = value.get<std::string>();
+    else if (key == "declaredDepth" && value.is_string())
+      options.declaredDepth = value.get<std::string>();
+    else if (key == "origin" && value.is_string())
+      options.origin = value.get<std::string>();
+    else if (key == "viewport" && value.is_string())
+      options.viewport = value.get<std::string>();
+    else if (key == "depthBits" && value.is_string())
+      options.depthBits = value.get<std::string>();
+    else if (key == "reversed" && value.is_boolean())
+      options.reversed = value.get<bool>();
+    else if (key == "comment")
+      continue;
+    else {
+      throw InputError(
+          options.file, "/" + key,
+          "unknown key or wrong type (" + value.dump() +
+              "); valid keys: clipFromWorld, projection, view, layout, declaredDepth, reversed, "
+              "depthRange, origin, viewport, depthBits, sceneExtent, comment");
+    }
+  }
+}
+
+int runCheck(CheckOptions options) {
+  if (!options.file.empty()) readCheckFile(options);
+  const std::string where = options.file.empty() ? "" : options.file + ": ";
+  if (options.clipFromWorld.empty() == options.projection.empty()) {
+    throw InputError(
+        where +
+        (options.clipFromWorld.empty()
+             ? "give the matrix: --clip-from-world \"16 numbers\", or --projection (with --view)"
+             : "--clip-from-world and --projection are exclusive: give one"));
+  }
+  if (!options.view.empty() && options.projection.empty()) {
+    throw InputError(
+        where + "--view needs --projection (for a combined matrix use --clip-from-world alone)");
+  }
+  const bool rowMajor = requireOneOf(options.layout, where + "--layout",
+                                     {"column-major", "row-major"}) == "row-major";
+  CheckInput input;
+  if (!options.clipFromWorld.empty()) {
+    input.clipFromWorld =
+        parseMatrixOption(options.clipFromWorld, rowMajor, where + "--clip-from-world");
+  } else {
+    input.projection = parseMatrixOption(options.projection, rowMajor, where + "--projection");
+    input.view = options.view.empty() ? glm::dmat4(1.0)
+                                      : parseMatrixOption(options.view, rowMajor, where + "--view");
+    input.clipFromWorld = *input.projection * *input.view;
+  }
+  if (!options.declaredDepth.empty()) {
+    input.declaredDepth =
+        requireOneOf(options.declaredDepth, where + "--declared-depth", {"no", "zo"}) == "zo"
+            ? DepthConvention::ZeroToOne
+            : DepthConvention::NegativeOneToOne;
+  }
+  input.declaredReversed = options.reversed;
+  if (!options.depthRange.empty()) {
+    const std::vector<double> range = parseNumbers(options.depthRange, where + "--depth-range");
+    if (range.size() != 2 || range[0] < 0 || range[0] > 1 || range[1] < 0 || range[1] > 1) {
+      throw InputError(where + "--depth-range: expected NEAR,FAR in [0, 1], got \"" +
+                       options.depthRange + "\"");
+    }
+    input.depthRange = {range[0], range[1]};
+  }
+  if (!options.origin.empty()) {
+    input.origin = requireOneOf(options.origin, where + "--origin", {"lower-left", "upper-left"}) ==
+                           "upper-left"
+                       ? WindowOrigin::UpperLeft
+                       : WindowOrigin::LowerLeft;
+  }
+  {
+    int width = 0, height = 0;
+    char x = 0;
+    std::istringstream stream(options.viewport);
+    if (!(stream >> width >> x >> height) || x != 'x' || !stream.eof() || width <= 0 ||
+        height <= 0) {
+      throw InputError(where + "--viewport: expected WxH with positive integers, got \"" +
+                       options.viewport + "\"");
+    }
+    input.viewport = {width, height};
+  }
+  input.depthFormat = *parseDepthFormat(
+      requireOneOf(options.depthBits, where + "--depth-bits", {"16", "24", "32f"}));
+  if (!options.sceneExtent.empty()) {
+    const std::vector<double> e = parseNumbers(options.sceneExtent, where + "--scene-extent");
+    if (e.size() != 6 || e[0] > e[3] || e[1] > e[4] || e[2] > e[5]) {
+      throw InputError(
+          where +
+          "--scene-extent: expected \"minx miny minz maxx maxy maxz\" with min <= max, got \"" +
+          options.sceneExtent + "\"");
+    }
+    input.sceneExtent = std::make_pair(glm::dvec3(e[0], e[1], e[2]), glm::dvec3(e[3], e[4], e[5]));
+  }
+  if (!input.declaredDepth && input.declaredReversed) {
+    // Reversed-Z without a declared depth mode: the GL default, NEGATIVE_ONE_TO_ONE, is what runs.
+    input.declaredDepth = DepthConvention::NegativeOneToOne;
+  }
+  const CheckReport report = checkConventions(input);
+  if (options.json) {
+    std::cout << checkReportJson(report, input).dump(2) << "\n";
+  } else {
+    std::cout << checkReportText(report, input);
+  }
+  return report.hasErrors() ? 1 : 0;
+}
+
+CommandRunner addCheckOptions(CLI::App& app) {
+  auto options = std::make_shared<CheckOptions>();
+  app.add_option("file", options->file,
+                 "A JSON file with the same fields (clipFromWorld, declaredDepth, ...)");
+  app.add_option("--clip-from-world", options->clipFromWorld,
+                 "The world-to-clip matrix: 16 numbers");
+  app.add_option("--projection", options->projection, "The projection (clipFromView): 16 numbers");
+  app.add_option("--view", options->view, "The view (viewFromWorld): 16 numbers");
+  app.add_option("--layout", options->layout,
+                 "How the numbers are listed: column-major (GL) or row-major (D3D)")
+      ->capture_default_str();
+  app.add_option("--declared-depth", options->declaredDepth,
+                 "What the app draws under: no or zo (glClipControl)");
+  app.add_flag("--reversed", options->reversed, "The app draws reversed-Z (GL_GREATER, clear 0)");
+  app.add_option("--depth-range", options->depthRange, "glDepthRange NEAR,FAR (default 0,1)");
+  app.add_option("--origin", options->origin,
+                 "Window y origin of the app's picking: lower-left or upper-left");
+  app.add_option("--viewport", options->viewport, "Framebuffer size WxH")->capture_default_str();
+  app.add_option("--depth-bits", options->depthBits, "Depth buffer: 16, 24 or 32f")
+      ->capture_default_str();
+  app.add_option("--scene-extent", options->sceneExtent,
+                 "World box of the geometry: minx miny minz maxx maxy maxz");
+  app.add_flag("--json", options->json, "Print the report as JSON");
+  return [options] { return runCheck(*options); };
+}
+
+const bool registered = registerCommand(
+    {"check",
+     "Diagnose a GL app's matrix and declared conventions (NO/ZO, reversed-Z, transposed, ...)", 10,
+     addCheckOptions});
+
+}  // namespace
+}  // namespace clipray::cli

@@ -1,0 +1,123 @@
+// `clipray check` as a user meets it: exit statuses 0/1/2, text and JSON, files, bad flags.
+
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "support/RunCommand.hpp"
+
+namespace clipray {
+namespace {
+
+using testing::runClipray;
+using testing::TempFolder;
+
+// glm::perspectiveRH_NO(60 deg, 16/9, 0.1, 100) * lookAtRH((0,2,5), (0,0,0), (0,1,0)),
+// column-major, printed with 9 significant digits as an app would log it.
+const std::string kPerspectiveNo =
+    "0.974278579 0 0 0 0 1.6081688 -0.372134201 -0.371390676 "
+    "0 -0.643267521 -0.930335503 -0.928476691 0 -3.84592537e-16 5.19574572 5.38516481";
+
+TEST(CheckCli, CleanMatrixExitsZero) {
+  TempFolder folder;
+  const auto result = runClipray(
+      "check --clip-from-world '" + kPerspectiveNo + "' --declared-depth no", folder.path());
+  EXPECT_EQ(result.status, 0) << result.err;
+  EXPECT_NE(result.out.find("matrix: perspective, right-handed"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("built for: no (near 0.1 if NO, 0.1998 if ZO)"), std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("0 errors, 0 warnings, 0 notes"), std::string::npos) << result.out;
+}
+
+TEST(CheckCli, MismatchExitsOneWithJson) {
+  TempFolder folder;
+  const auto result = runClipray(
+      "check --clip-from-world '" + kPerspectiveNo + "' --declared-depth zo --json", folder.path());
+  EXPECT_EQ(result.status, 1) << result.err;
+  const auto report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report["verdict"], "errors");
+  EXPECT_EQ(report["properties"]["built_for"], "no");
+  EXPECT_EQ(report["properties"]["projection"], "perspective");
+  ASSERT_EQ(report["findings"].size(), 1u);
+  EXPECT_EQ(report["findings"][0]["code"], "depth-convention-mismatch");
+  EXPECT_EQ(report["findings"][0]["severity"], "error");
+  EXPECT_FALSE(report["findings"][0]["fix"].get<std::string>().empty());
+}
+
+TEST(CheckCli, ReadsTheSameFieldsFromAFile) {
+  TempFolder folder;
+  std::ofstream(folder.path() / "app.json")
+      << R"({"clipFromWorld": ")" << kPerspectiveNo
+      << R"(", "declaredDepth": "zo", "origin": "upper-left"})";
+  const auto result = runClipray("check app.json --json", folder.path());
+  EXPECT_EQ(result.status, 1) << result.err;
+  const auto report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report["findings"].size(), 2u);
+  EXPECT_EQ(report["findings"][1]["code"], "window-origin-upper-left");
+}
+
+struct BadCheck {
+  const char* name;
+  std::string arguments;
+  std::string expected;
+};
+void PrintTo(const BadCheck& bad, std::ostream* os) {
+  *os << bad.name;
+}
+
+class CheckBadInput : public ::testing::TestWithParam<BadCheck> {};
+
+TEST_P(CheckBadInput, ExitsTwoWithAMessage) {
+  TempFolder folder;
+  const auto result = runClipray(GetParam().arguments, folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err, "clipray: " + GetParam().expected + "\n");
+  EXPECT_TRUE(result.out.empty());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Messages, CheckBadInput,
+    ::testing::Values(
+        BadCheck{
+            "NoMatrix", "check --declared-depth zo",
+            "give the matrix: --clip-from-world \"16 numbers\", or --projection (with --view)"},
+        BadCheck{"WrongCount", "check --clip-from-world '1 2 3'",
+                 "--clip-from-world: expected 16 numbers, got 3"},
+        BadCheck{"NotANumber", "check --clip-from-world '1 2 x'",
+                 "--clip-from-world: \"x\" is not a number"},
+        BadCheck{"NaN", "check --clip-from-world 'nan 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1'",
+                 "--clip-from-world: number 1 is nan; expected finite numbers"},
+        BadCheck{"AllZero", "check --clip-from-world '0 0 0 0 0 0 0 0 0 0 0 0 0 0 0 0'",
+                 "--clip-from-world: the matrix is all zero"},
+        BadCheck{"NonProjective", "check --clip-from-world '1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 0'",
+                 "--clip-from-world: row 3 (w) is all zero: not a projection (every point would "
+                 "have w = 0)"},
+        BadCheck{"BothForms",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --projection '" +
+                     kPerspectiveNo + "'",
+                 "--clip-from-world and --projection are exclusive: give one"},
+        BadCheck{"ViewWithoutProjection",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --view '" + kPerspectiveNo + "'",
+                 "--view needs --projection (for a combined matrix use --clip-from-world alone)"},
+        BadCheck{"UnknownLayout",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --layout diagonal",
+                 "--layout: unknown value \"diagonal\"; expected one of: column-major, row-major"},
+        BadCheck{"UnknownDepth",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --declared-depth zero",
+                 "--declared-depth: unknown value \"zero\"; expected one of: no, zo"},
+        BadCheck{"BadDepthRange",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --depth-range 0,2",
+                 "--depth-range: expected NEAR,FAR in [0, 1], got \"0,2\""},
+        BadCheck{"EqualDepthRange",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --depth-range 0.5,0.5",
+                 "--depth-range: near and far are both 0.5; every depth would be equal"},
+        BadCheck{"BadExtent",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --scene-extent '1 1 1 0 0 0'",
+                 "--scene-extent: expected \"minx miny minz maxx maxy maxz\" with min <= max, got "
+                 "\"1 1 1 0 0 0\""},
+        BadCheck{"MissingFile", "check nope.json", "nope.json: cannot open file"}),
+    [](const ::testing::TestParamInfo<BadCheck>& param) { return std::string(param.param.name); });
+
+}  // namespace
+}  // namespace clipray

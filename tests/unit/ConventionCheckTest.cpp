@@ -1,0 +1,272 @@
+// `clipray check`, table-driven: matrices built the way real libraries build them, every property
+// and every finding asserted.
+
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "clipray/check/ConventionCheck.hpp"
+#include "clipray/scene/InputError.hpp"
+
+namespace clipray {
+namespace {
+
+const glm::dmat4 kViewRH =
+    glm::lookAtRH(glm::dvec3(0, 2, 5), glm::dvec3(0, 0, 0), glm::dvec3(0, 1, 0));
+const glm::dmat4 kViewLH =
+    glm::lookAtLH(glm::dvec3(0, 2, 5), glm::dvec3(0, 0, 0), glm::dvec3(0, 1, 0));
+const double kFov = glm::radians(60.0);
+
+std::vector<std::string> codes(const CheckReport& report) {
+  std::vector<std::string> result;
+  for (const Finding& f : report.findings) result.push_back(f.severity + ":" + f.code);
+  return result;
+}
+
+CheckInput combined(const glm::dmat4& clipFromWorld, std::optional<DepthConvention> declared,
+                    bool reversed = false) {
+  CheckInput input;
+  input.clipFromWorld = clipFromWorld;
+  input.declaredDepth = declared;
+  input.declaredReversed = reversed;
+  return input;
+}
+
+CheckInput separate(const glm::dmat4& projection, const glm::dmat4& view,
+                    std::optional<DepthConvention> declared) {
+  CheckInput input = combined(projection * view, declared);
+  input.projection = projection;
+  input.view = view;
+  return input;
+}
+
+constexpr auto NO = DepthConvention::NegativeOneToOne;
+constexpr auto ZO = DepthConvention::ZeroToOne;
+// Properties come from a float-listed matrix in practice; here from double: 1e-9 relative.
+constexpr double kRelative = 1e-9;
+
+TEST(ConventionCheck, GlmPerspectiveRhNoDrawnUnderNo) {
+  const CheckReport r =
+      checkConventions(combined(glm::perspectiveRH_NO(kFov, 16.0 / 9.0, 0.1, 100.0) * kViewRH, NO));
+  const MatrixProperties& p = r.properties;
+  EXPECT_TRUE(p.perspective);
+  EXPECT_FALSE(p.oblique || p.offAxis || p.leftHanded || p.reversed || p.yFlipped ||
+               p.likelyTransposed);
+  EXPECT_EQ(p.builtFor, "no");
+  EXPECT_NEAR(*p.nearDistance, 0.1, 0.1 * kRelative);
+  EXPECT_NEAR(*p.farDistance, 100.0, 100.0 * kRelative);
+  EXPECT_FALSE(p.infiniteFar);
+  EXPECT_NEAR(p.fovYDegrees, 60.0, 60.0 * kRelative);
+  EXPECT_NEAR(p.fovXDegrees, 2 * glm::degrees(std::atan(std::tan(kFov / 2) * 16.0 / 9.0)),
+              kRelative * 100);
+  EXPECT_NEAR(glm::distance(*p.eye, glm::dvec3(0, 2, 5)), 0.0, 1e-12);
+  EXPECT_NEAR(glm::distance(p.viewDirection, glm::normalize(glm::dvec3(0, -2, -5))), 0.0, 1e-12);
+  EXPECT_TRUE(r.findings.empty());
+}
+
+TEST(ConventionCheck, GlmPerspectiveRhNoDrawnUnderZoIsAMismatch) {
+  const CheckReport r =
+      checkConventions(combined(glm::perspectiveRH_NO(kFov, 16.0 / 9.0, 0.1, 100.0) * kViewRH, ZO));
+  EXPECT_EQ(codes(r), std::vector<std::string>{"error:depth-convention-mismatch"});
+  // Under ZO the rasterizer clips at z_ndc = 0: distance 2fn/(f+n).
+  EXPECT_NEAR(*r.properties.nearDistance, 2 * 100 * 0.1 / 100.1, 1e-12);
+  EXPECT_EQ(r.findings[0].message,
+            "built for NEGATIVE_ONE_TO_ONE (near 0.1) but drawn under ZERO_TO_ONE: the rasterizer "
+            "clips at z_ndc = 0, "
+            "so the effective near plane moves to 0.1998 (1.998x) and NDC [-1, 0), half the depth "
+            "range, is never "
+            "used");
+  EXPECT_TRUE(r.hasErrors());
+}
+
+TEST(ConventionCheck, GlmPerspectiveRhZo) {
+  const glm::dmat4 m = glm::perspectiveRH_ZO(kFov, 1.5, 0.25, 400.0) * kViewRH;
+  const CheckReport underZo = checkConventions(combined(m, ZO));
+  EXPECT_EQ(underZo.properties.builtFor, "zo");
+  EXPECT_NEAR(*underZo.properties.nearDistance, 0.25, 0.25 * kRelative);
+  EXPECT_TRUE(underZo.findings.empty());
+  const CheckReport underNo = checkConventions(combined(m, NO));
+  EXPECT_EQ(codes(underNo), std::vector<std::string>{"error:depth-convention-mismatch"});
+  // Under NO the rasterizer keeps geometry down to z_ndc = -1: fn/(2f - n).
+  EXPECT_NEAR(*underNo.properties.nearDistance, 400 * 0.25 / (800 - 0.25), 1e-12);
+}
+
+TEST(ConventionCheck, GlmPerspectiveLhZoIsLeftHanded) {
+  const CheckReport r =
+      checkConventions(combined(glm::perspectiveLH_ZO(kFov, 1.5, 0.5, 50.0) * kViewLH, ZO));
+  EXPECT_TRUE(r.properties.leftHanded);
+  EXPECT_EQ(r.properties.builtFor, "zo");
+  EXPECT_NEAR(*r.properties.farDistance, 50.0, 50.0 * kRelative);
+  EXPECT_EQ(codes(r), std::vector<std::string>{"info:mirrored"});
+}
+
+TEST(ConventionCheck, GlmInfinitePerspective) {
+  const CheckReport r =
+      checkConventions(combined(glm::infinitePerspective(kFov, 1.5, 0.1) * kViewRH, NO));
+  const MatrixProperties& p = r.properties;
+  EXPECT_TRUE(p.infiniteFar);
+  EXPECT_FALSE(p.farDistance.has_value());
+  // 1 - 2n/d (NO, near 0.1) and 1 - n/d (ZO, near 0.2) are the same matrix: both round.
+  EXPECT_EQ(p.builtFor, "ambiguous");
+  EXPECT_NEAR(*p.nearIfBuiltForNo, 0.1, 1e-12);
+  EXPECT_NEAR(*p.nearIfBuiltForZo, 0.2, 1e-12);
+  EXPECT_EQ(codes(r), (std::vector<std::string>{"info:depth-convention-ambiguous",
+                                                "warning:infinite-far-plane"}));
+}
+
+TEST(ConventionCheck, GlmOrthoVariants) {
+  const glm::dmat4 projection = glm::orthoRH_NO(-2.0, 2.0, -1.0, 1.0, 0.5, 50.0);
+  const CheckReport r = checkConventions(combined(projection * kViewRH, NO));
+  const MatrixProperties& p = r.properties;
+  EXPECT_FALSE(p.perspective);
+  EXPECT_FALSE(p.eye.has_value());
+  EXPECT_NEAR(p.extentX, 4.0, 1e-12);
+  EXPECT_NEAR(p.extentY, 2.0, 1e-12);
+  EXPECT_NEAR(p.depthExtent, 49.5, 1e-12);
+  EXPECT_EQ(p.builtFor, "ambiguous");  // no view: no origin to measure near from
+  EXPECT_TRUE(r.findings.empty());
+  // With the view given, near 0.5 reads round under NO (ZO's reading: 25.25).
+  const CheckReport withView = checkConventions(separate(projection, kViewRH, NO));
+  EXPECT_EQ(withView.properties.builtFor, "no");
+  EXPECT_NEAR(*withView.properties.nearDistance, 0.5, 1e-12);
+  EXPECT_NEAR(*withView.properties.farDistance, 50.0, 1e-12);
+  const CheckReport zoUnderNo =
+      checkConventions(separate(glm::orthoRH_ZO(-2.0, 2.0, -1.0, 1.0, 0.5, 50.0), kViewRH, NO));
+  EXPECT_EQ(zoUnderNo.properties.builtFor, "zo");
+  EXPECT_EQ(codes(zoUnderNo), std::vector<std::string>{"error:depth-convention-mismatch"});
+}
+
+// The reversed-Z infinite projection modern engines use: z_ndc = n / distance under ZERO_TO_ONE.
+glm::dmat4 reversedInfinite(double fovY, double aspect, double n) {
+  glm::dmat4 m(0.0);
+  const double focal = 1.0 / std::tan(fovY / 2);
+  m[0][0] = focal / aspect;
+  m[1][1] = focal;
+  m[2][3] = -1.0;
+  m[3][2] = n;
+  return m;
+}
+
+TEST(ConventionCheck, HandMadeReversedInfinite) {
+  const glm::dmat4 m = reversedInfinite(kFov, 1.5, 0.05) * kViewRH;
+  const CheckReport r = checkConventions(combined(m, ZO, true));
+  const MatrixProperties& p = r.properties;
+  EXPECT_TRUE(p.reversed);
+  EXPECT_TRUE(p.infiniteFar);
+  EXPECT_EQ(p.builtFor, "zo-reversed");
+  EXPECT_NEAR(*p.nearDistance, 0.05, 1e-12);
+  EXPECT_EQ(codes(r), std::vector<std::string>{"warning:infinite-far-plane"});
+  // Drawn without the reversed depth test: the farthest surface wins.
+  EXPECT_EQ(codes(checkConventions(combined(m, ZO, false))),
+            (std::vector<std::string>{"error:reversed-z-mismatch", "warning:infinite-far-plane"}));
+  // Reversed under the classic depth mapping gains nothing.
+  EXPECT_EQ(codes(checkConventions(combined(m, NO, true))),
+            (std::vector<std::string>{"warning:reversed-z-without-zero-to-one",
+                                      "warning:infinite-far-plane"}));
+}
+
+TEST(ConventionCheck, VulkanStyleYFlip) {
+  glm::dmat4 projection = glm::perspectiveRH_ZO(kFov, 1.5, 0.1, 100.0);
+  projection[1][1] *= -1.0;
+  CheckInput input = separate(projection, kViewRH, ZO);
+  input.origin = WindowOrigin::LowerLeft;
+  const CheckReport r = checkConventions(input);
+  EXPECT_TRUE(r.properties.yFlipped);
+  EXPECT_TRUE(r.properties.leftHanded);  // flipping one axis flips the frame
+  EXPECT_EQ(codes(r), (std::vector<std::string>{"warning:y-flipped", "info:mirrored"}));
+  input.origin = WindowOrigin::UpperLeft;
+  EXPECT_EQ(codes(checkConventions(input)),
+            (std::vector<std::string>{"info:y-flipped", "info:mirrored"}));
+}
+
+TEST(ConventionCheck, D3DRowMajorListing) {
+  const glm::dmat4 m = glm::perspectiveLH_ZO(kFov, 1.5, 0.1, 100.0) * kViewLH;
+  // A D3D app lists m[row][col]: read as column-major, that is the transpose.
+  std::vector<double> rowMajor;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) rowMajor.push_back(m[c][r]);
+  }
+  const CheckReport misread =
+      checkConventions(combined(parseMatrix16(rowMajor, false, "--clip-from-world"), ZO));
+  EXPECT_TRUE(misread.properties.likelyTransposed);
+  EXPECT_EQ(codes(misread), std::vector<std::string>{"error:likely-transposed"});
+  const CheckReport read =
+      checkConventions(combined(parseMatrix16(rowMajor, true, "--clip-from-world"), ZO));
+  EXPECT_FALSE(read.properties.likelyTransposed);
+  EXPECT_EQ(codes(read), std::vector<std::string>{"info:mirrored"});
+}
+
+TEST(ConventionCheck, ObliqueNearPlane) {
+  // Lengyel's oblique near-plane clipping: row 2 replaced so the near plane is a tilted mirror
+  // plane.
+  glm::dmat4 projection = glm::perspectiveRH_NO(kFov, 1.5, 0.1, 100.0);
+  const glm::dvec4 plane(0.0, 0.6, -0.8, -1.0);  // view space, 1 unit in front, tilted
+  const glm::dvec4 q(((plane.x > 0) - (plane.x < 0) + projection[2][0]) / projection[0][0],
+                     ((plane.y > 0) - (plane.y < 0) + projection[2][1]) / projection[1][1], -1.0,
+                     (1.0 + projection[2][2]) / projection[3][2]);
+  const glm::dvec4 c = plane * (2.0 / glm::dot(plane, q));
+  projection[0][2] = c.x;
+  projection[1][2] = c.y;
+  projection[2][2] = c.z + 1.0;
+  projection[3][2] = c.w;
+  const CheckReport r = checkConventions(combined(projection * kViewRH, NO));
+  EXPECT_TRUE(r.properties.oblique);
+  EXPECT_EQ(codes(r).back(), "info:oblique-near-plane");
+}
+
+TEST(ConventionCheck, NearPlaneTooCloseForTheDepthFormat) {
+  CheckInput input = combined(glm::perspectiveRH_NO(kFov, 1.5, 0.001, 1000.0) * kViewRH, NO);
+  input.depthFormat = DepthFormat::Unorm24;
+  input.sceneExtent = std::make_pair(glm::dvec3(-500, -1, -500), glm::dvec3(500, 10, 5));
+  const CheckReport r = checkConventions(input);
+  ASSERT_EQ(codes(r), std::vector<std::string>{"warning:near-plane-precision"});
+  // dz = z^2 (1/n - 1/f) dd = 0.01 z  =>  z = 0.01 / ((1/n - 1/f) 2^-24) = 167.77...
+  const double expected = 0.01 / ((1 / 0.001 - 1 / 1000.0) * std::ldexp(1.0, -24));
+  EXPECT_NE(r.findings[0].message.find("beyond " + std::to_string(expected).substr(0, 6)),
+            std::string::npos)
+      << r.findings[0].message << " expected " << expected;
+  // Reversed-Z with 32F under ZERO_TO_ONE keeps relative precision: no finding.
+  CheckInput reversed = combined(reversedInfinite(kFov, 1.5, 0.001) * kViewRH, ZO, true);
+  reversed.depthFormat = DepthFormat::Float32;
+  reversed.sceneExtent = input.sceneExtent;
+  EXPECT_EQ(codes(checkConventions(reversed)),
+            std::vector<std::string>{"warning:infinite-far-plane"});
+}
+
+TEST(ConventionCheck, BadInput) {
+  auto message = [](auto&& call) {
+    try {
+      call();
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message([] {
+              parseMatrix16({1, 2, 3}, false, "--clip-from-world");
+            }),
+            "--clip-from-world: expected 16 numbers, got 3");
+  std::vector<double> withNan(16, 1.0);
+  withNan[5] = std::nan("");
+  EXPECT_EQ(message([&] { parseMatrix16(withNan, false, "--projection"); }),
+            "--projection: number 6 is nan; expected finite numbers");
+  EXPECT_EQ(message([] { checkConventions(combined(glm::dmat4(0.0), NO)); }),
+            "--clip-from-world: the matrix is all zero");
+  glm::dmat4 singular(1.0);
+  singular[1] = singular[0];
+  EXPECT_EQ(message([&] { checkConventions(combined(singular, NO)); }).substr(0, 42),
+            "--clip-from-world: the matrix is singular ");
+  glm::dmat4 noW(1.0);
+  noW[3][3] = 0.0;
+  EXPECT_EQ(
+      message([&] { checkConventions(combined(noW, NO)); }),
+      "--clip-from-world: row 3 (w) is all zero: not a projection (every point would have w = 0)");
+  glm::dmat4 negativeW(1.0);
+  negativeW[3][3] = -1.0;
+  EXPECT_EQ(
+      message([&] { checkConventions(combined(negativeW, NO)); }),
+      "--clip-from-world: row 3 (w) is (0, 0, 0, -1): w <= 0 everywhere, so GL clips every point");
+}
+
+}  // namespace
+}  // namespace clipray
