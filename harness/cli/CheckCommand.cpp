@@ -8,6 +8,8 @@
 
 #include "Commands.hpp"
 #include "clipray/check/ConventionCheck.hpp"
+#include "clipray/gl/GlContext.hpp"
+#include "clipray/gl/VerifyCheck.hpp"
 #include "clipray/scene/InputError.hpp"
 
 namespace clipray::cli {
@@ -26,6 +28,8 @@ struct CheckOptions {
   std::string depthBits = "24";
   std::string sceneExtent;
   bool json = false;
+  bool verify = false;
+  std::string backend = "osmesa";
 };
 
 std::vector<double> parseNumbers(const std::string& text, const std::string& what) {
@@ -199,10 +203,28 @@ int runCheck(CheckOptions options) {
     input.declaredDepth = DepthConvention::NegativeOneToOne;
   }
   const CheckReport report = checkConventions(input);
+  std::optional<gl::VerifyResult> verified;
+  std::string verifiedWith;
+  if (options.verify) {
+    // Backed by pixels: the app's matrix under the app's conventions on a real rasterizer.
+    std::unique_ptr<gl::GlContext> context = gl::createContext(options.backend);
+    gl::Renderer renderer(*context);
+    verified = gl::verifyCheck(input, report, renderer);
+    verifiedWith = options.backend + ", " + renderer.info().renderer;
+  }
   if (options.json) {
-    std::cout << checkReportJson(report, input).dump(2) << "\n";
+    nlohmann::json json = checkReportJson(report, input);
+    if (verified) {
+      json["verify"] = gl::verifyResultJson(*verified);
+      json["verify"]["backend"] = verifiedWith;
+    }
+    std::cout << json.dump(2) << "\n";
   } else {
     std::cout << checkReportText(report, input);
+    if (verified) {
+      std::cout << "verify (" << verifiedWith << "):\n";
+      for (const std::string& line : verified->observations) std::cout << "  " << line << "\n";
+    }
   }
   return report.hasErrors() ? 1 : 0;
 }
@@ -230,6 +252,11 @@ CommandRunner addCheckOptions(CLI::App& app) {
   app.add_option("--scene-extent", options->sceneExtent,
                  "World box of the geometry: minx miny minz maxx maxy maxz");
   app.add_flag("--json", options->json, "Print the report as JSON");
+  app.add_flag(
+      "--verify", options->verify,
+      "Render a probe scene with the matrix under the declared conventions and reconcile it");
+  app.add_option("--backend", options->backend, "GL backend for --verify: osmesa, egl")
+      ->capture_default_str();
   return [options] { return runCheck(*options); };
 }
 

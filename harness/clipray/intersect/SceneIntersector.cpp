@@ -91,6 +91,9 @@ void testTriangle(const WatertightRay& ray, const Triangle& tri, Hit& best) {
 }  // namespace
 
 Hit SceneIntersector::closestHitLinear(const Ray& worldRay) const noexcept {
+  const double sum = worldRay.origin.x + worldRay.origin.y + worldRay.origin.z +
+                     worldRay.direction.x + worldRay.direction.y + worldRay.direction.z;
+  if (!std::isfinite(sum)) return Hit{};
   const WatertightRay ray(worldRay.origin - reference_, worldRay.direction);
   Hit best;
   best.t = worldRay.tMax;
@@ -100,6 +103,11 @@ Hit SceneIntersector::closestHitLinear(const Ray& worldRay) const noexcept {
 }
 
 Hit SceneIntersector::closestHit(const Ray& worldRay) const noexcept {
+  // A ray function may hand us a non-finite ray (e.g. a near point unprojected at infinity):
+  // it hits nothing, rather than producing a NaN "hit" from comparisons that are all false.
+  const double sum = worldRay.origin.x + worldRay.origin.y + worldRay.origin.z +
+                     worldRay.direction.x + worldRay.direction.y + worldRay.direction.z;
+  if (!std::isfinite(sum)) return Hit{};
   const glm::dvec3 origin = worldRay.origin - reference_;
   const WatertightRay ray(origin, worldRay.direction);
   Hit best;
