@@ -205,8 +205,7 @@ double ToleranceModel::planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel)
   return plane.x * pixel.x + plane.y * pixel.y + plane.z;
 }
 
-double ToleranceModel::depthTolerance(std::uint32_t primitiveId, glm::dvec2 pixel,
-                                      const glm::dvec3& hitWorld) const {
+double ToleranceModel::depthTolerance(std::uint32_t primitiveId, const glm::dvec3& hitWorld) const {
   const ScreenPolygon& polygon = this->polygon(primitiveId);
   const double u = kFloatUnitRoundoff;
   const glm::dvec4 c = setup_.clipFromWorld * glm::dvec4(hitWorld, 1.0);
@@ -235,7 +234,6 @@ double ToleranceModel::depthTolerance(std::uint32_t primitiveId, glm::dvec2 pixe
   // 4. Plane evaluation in float (setup of dz/dx, dz/dy and the sum): ~8u of the largest depth
   //    the plane takes over the clipped triangle.
   const double interpolation = 8.0 * u * polygon.maxDepth;
-  (void)pixel;
   return storage + vertex + snap + interpolation;
 }
 
@@ -306,7 +304,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
         } else if (rasterId == rayId) {
           const double rasterDepth = raster.depth[i];
           const double error = std::abs(rasterDepth - rayDepth);
-          const double tolerance = model.depthTolerance(rayId, centre, hitPoint);
+          const double tolerance = model.depthTolerance(rayId, hitPoint);
           const double ratio = error / tolerance;
           // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1 t).
           const double zRaster = ndcFromWindowDepth(rasterDepth, convention);
@@ -340,9 +338,8 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                                            ndcFromWindowDepth(rasterPlaneDepth, convention), 1.0);
           const glm::dvec4 rasterPointWorld = worldFromClip * rasterPointClip;
           const double tolerance =
-              model.depthTolerance(rayId, centre, hitPoint) +
-              model.depthTolerance(rasterId, centre,
-                                   glm::dvec3(rasterPointWorld) / rasterPointWorld.w);
+              model.depthTolerance(rayId, hitPoint) +
+              model.depthTolerance(rasterId, glm::dvec3(rasterPointWorld) / rasterPointWorld.w);
           if (std::abs(rasterPlaneDepth - rayDepth) <= tolerance) {
             ++local.idMismatch.depthAmbiguous;
             cls = PixelClass::IdDepthAmbiguous;

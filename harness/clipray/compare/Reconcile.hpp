@@ -91,10 +91,8 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
 class ToleranceModel {
  public:
   ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup, Viewport viewport);
-  // Window-depth tolerance for a hit on primitive id at pixel (px, py) (pixel-centre coordinates,
-  // in pixels from the lower-left corner) and world hit point.
-  double depthTolerance(std::uint32_t primitiveId, glm::dvec2 pixel,
-                        const glm::dvec3& hitWorld) const;
+  // Window-depth tolerance for a hit on primitive id at a world hit point.
+  double depthTolerance(std::uint32_t primitiveId, const glm::dvec3& hitWorld) const;
   // Distance in pixels from a window position to the boundary of the primitive's clipped screen
   // polygon (+inf for a primitive clipped away entirely).
   double edgeDistancePixels(std::uint32_t primitiveId, glm::dvec2 pixel) const;
