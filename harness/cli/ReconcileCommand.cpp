@@ -163,7 +163,7 @@ int runReconcile(const ReconcileOptions& options) {
 CommandRunner addReconcileOptions(CLI::App& app) {
   auto options = std::make_shared<ReconcileOptions>();
   app.add_option("scenes", options->scenes, "Scene files (default: every scenes/*.json)");
-  app.add_option("--backend", options->backend, "GL backend: osmesa")->capture_default_str();
+  app.add_option("--backend", options->backend, "GL backend: osmesa, egl")->capture_default_str();
   app.add_option("--conventions", options->conventions,
                  "Comma-separated: no, zo, zo-reversed (default: the scene's list, else no,zo)");
   app.add_option("--depth-formats", options->depthFormats, "Comma-separated: 16, 24, 32f")

@@ -148,7 +148,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadInvocation{"OversizedViewport", "reconcile " + kStandard + " --size 40000x16", "",
                       "clipray: --size: 40000x16 exceeds GL_MAX_VIEWPORT_DIMS"},
         BadInvocation{"UnknownBackend", "reconcile " + kStandard + " --backend vulkan", "",
-                      "clipray: unknown backend \"vulkan\"; expected one of: osmesa"},
+                      "clipray: unknown backend \"vulkan\"; expected one of: osmesa, egl"},
         BadInvocation{"OsMesaUnavailable", "reconcile " + kStandard,
                       "CLIPRAY_OSMESA_LIBRARY=/nonexistent/libOSMesa.so.8",
                       "clipray: OSMesa: cannot load /nonexistent/libOSMesa.so.8"},

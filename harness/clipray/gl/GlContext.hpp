@@ -31,7 +31,12 @@ class GlContext {
 // path in CLIPRAY_OSMESA_LIBRARY) so a machine without it gets a message, not a loader error.
 std::unique_ptr<GlContext> createOsMesaContext();
 
-// By name: "osmesa". Throws BackendError for unknown names, listing the known ones.
+// EGL without a surface (libEGL.so.1, or the path in CLIPRAY_EGL_LIBRARY, loaded at run time): the
+// device platform on a GPU driver's device when one is offered, else Mesa's surfaceless platform.
+// CLIPRAY_EGL_PLATFORM = surfaceless | device restricts the choice.
+std::unique_ptr<GlContext> createEglContext();
+
+// By name: "osmesa", "egl". Throws BackendError for unknown names, listing the known ones.
 std::unique_ptr<GlContext> createContext(std::string_view backend);
 std::vector<std::string> backendNames();
 

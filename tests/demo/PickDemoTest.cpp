@@ -1,0 +1,409 @@
+// clipray-pick without a person: scripted clicks under Xvfb, checked against the library (the
+// analytic ray) and OSMesa (the id buffer) on the standard scene; bad input; and the pieces that
+// need no window (cursor -> pixel, script parsing, ray methods).
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <sstream>
+
+#include "GlfwBackend.hpp"
+#include "PickScript.hpp"
+#include "Picking.hpp"
+#include "XvfbServer.hpp"
+#include "clipray/gl/GlContext.hpp"
+#include "clipray/gl/ReconcileRun.hpp"
+#include "clipray/gl/Renderer.hpp"
+#include "clipray/rays/RobustRays.hpp"
+#include "clipray/scene/InputError.hpp"
+#include "support/RunCommand.hpp"
+
+namespace clipray {
+namespace {
+
+using testing::TempFolder;
+using testing::XvfbServer;
+
+const std::string kSource = CLIPRAY_SOURCE_DIR;
+const std::string kStandard = kSource + "/scenes/standard.json";
+
+// Runs clipray-pick in `folder` with `environment` prefixed (shell words).
+testing::CommandResult runPick(const std::string& arguments, const std::filesystem::path& folder,
+                               const std::string& environment) {
+  const std::filesystem::path out = folder / ".stdout.txt", err = folder / ".stderr.txt";
+  const std::string command = "cd '" + folder.string() + "' && " + environment + " timeout 120 '" +
+                              std::string(CLIPRAY_PICK_BINARY) + "' " + arguments + " >'" +
+                              out.string() + "' 2>'" + err.string() + "'";
+  const int raw = std::system(command.c_str());
+  testing::CommandResult result;
+  result.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  result.out = testing::readText(out);
+  result.err = testing::readText(err);
+  std::filesystem::remove(out);
+  std::filesystem::remove(err);
+  return result;
+}
+
+std::vector<nlohmann::json> jsonLines(const std::string& text) {
+  std::vector<nlohmann::json> lines;
+  std::istringstream stream(text);
+  std::string line;
+  while (std::getline(stream, line)) {
+    if (!line.empty()) lines.push_back(nlohmann::json::parse(line));
+  }
+  return lines;
+}
+
+void writeText(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path) << text;
+}
+
+// What the library says about a pixel of the standard scene's camera at 320x240 under ZO: the
+// robust ray's hit and OSMesa's id (the demo draws through the same renderer).
+struct Expected {
+  int rayObject = -1;
+  glm::dvec3 rayPoint{0.0};
+  int idObject = -1;
+};
+
+class StandardSceneReference {
+ public:
+  StandardSceneReference()
+      : scene_(loadScene(kStandard)),
+        clipFromWorld_(scene_.cameras[0].clipFromWorld(kZeroToOne, kViewport)),
+        reference_(gl::nearPlaneCentre(clipFromWorld_, kZeroToOne)),
+        intersector_(scene_, reference_),
+        ids_(scene_) {
+    std::unique_ptr<gl::GlContext> context = gl::createOsMesaContext();
+    gl::Renderer renderer(*context);
+    gl::RenderRequest request;
+    request.scene = &scene_;
+    request.clipFromWorld = clipFromWorld_;
+    request.mode = kZeroToOne;
+    request.depthFormat = DepthFormat::Float32;
+    request.vertexReference = reference_;
+    request.viewport = kViewport;
+    raster_ = renderer.render(request);
+  }
+
+  Expected at(glm::ivec2 pixel) const {
+    Expected e;
+    const Ray ray = RobustRayGenerator(clipFromWorld_, kZeroToOne)
+                        .generateForPixel(pixel.x, pixel.y, kViewport);
+    const Hit hit = intersector_.closestHit(ray);
+    if (hit.hit()) {
+      e.rayObject = ids_.decode(hit.primitiveId).object;
+      e.rayPoint = ray.origin + hit.t * ray.direction;
+    }
+    e.idObject = idObjectAt(pixel);
+    return e;
+  }
+  int idObjectAt(glm::ivec2 pixel) const {
+    return ids_.decode(raster_.ids[static_cast<std::size_t>(pixel.y) * kViewport.width + pixel.x])
+        .object;
+  }
+  nlohmann::json name(int object) const {
+    if (object < 0) return nullptr;
+    return scene_.objects[static_cast<std::size_t>(object)].name;
+  }
+  // A pixel on the box's silhouette against the ground: the box at (i, j), the ground at (i+1, j).
+  glm::ivec2 boxEdgePixel() const {
+    for (int j = kViewport.height / 2; j < kViewport.height; ++j) {
+      for (int i = 0; i + 1 < kViewport.width; ++i) {
+        if (idObjectAt({i, j}) == 1 && idObjectAt({i + 1, j}) == 0) return {i, j};
+      }
+    }
+    return {-1, -1};
+  }
+
+  static constexpr Viewport kViewport{320, 240};
+
+ private:
+  Scene scene_;
+  glm::dmat4 clipFromWorld_;
+  glm::dvec3 reference_;
+  SceneIntersector intersector_;
+  PrimitiveIdTable ids_;
+  RasterFrame raster_;
+};
+
+// The cursor position (top-left origin, window units = pixels under Xvfb) inside pixel (i, j),
+// off-centre so that the test also checks the pixel is found by flooring, not rounding.
+std::string clickInside(glm::ivec2 pixel, int height) {
+  std::ostringstream line;
+  line << "click " << pixel.x + 0.2 << " " << (height - 1 - pixel.y) + 0.7 << "\n";
+  return line.str();
+}
+
+class PickDemoUnderX : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    if (!xvfb_.running()) GTEST_SKIP() << xvfb_.failure();
+  }
+  testing::CommandResult run(const std::string& arguments, const std::string& script) {
+    writeText(folder_.path() / "script.txt", script);
+    return runPick(arguments + " --script script.txt", folder_.path(),
+                   "DISPLAY=" + xvfb_.display() + " LIBGL_ALWAYS_SOFTWARE=1");
+  }
+  XvfbServer xvfb_;
+  TempFolder folder_;
+};
+
+TEST_F(PickDemoUnderX, ScriptedPicksAgreeWithTheLibraryAndTheIdBuffer) {
+  const StandardSceneReference reference;
+  const glm::ivec2 boxCentre{160, 119}, background{5, 234};
+  const glm::ivec2 edge = reference.boxEdgePixel();
+  ASSERT_GE(edge.x, 0) << "no box/ground edge found";
+  const auto result =
+      run("'" + kStandard + "' --size 320x240 --convention zo --depth-format 32f",
+          clickInside(boxCentre, 240) + clickInside(edge, 240) + clickInside(background, 240));
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 3u) << result.out;
+
+  const glm::ivec2 pixels[] = {boxCentre, edge, background};
+  for (std::size_t k = 0; k < 3; ++k) {
+    const nlohmann::json& p = picks[k];
+    const Expected e = reference.at(pixels[k]);
+    SCOPED_TRACE(p.dump());
+    EXPECT_EQ(p["pixel"], nlohmann::json::array({pixels[k].x, pixels[k].y}));
+    EXPECT_EQ(p["framebuffer"], nlohmann::json::array({320, 240}));
+    EXPECT_EQ(p["method"], "robust");
+    EXPECT_EQ(p["convention"], "zo");
+    EXPECT_EQ(p["depth_format"], "32f");
+    EXPECT_EQ(p["ray"]["object"], reference.name(e.rayObject));
+    EXPECT_EQ(p["id"]["object"], reference.name(e.idObject));
+    EXPECT_EQ(p["agree"], e.rayObject == e.idObject);
+    if (e.rayObject >= 0) {
+      for (int c = 0; c < 3; ++c) {
+        EXPECT_NEAR(p["ray"]["point"][c].get<double>(), e.rayPoint[c], 1e-12);
+      }
+    }
+  }
+  // The box's middle: all three agree, and the depth readback lands within a pixel of the hit.
+  EXPECT_EQ(picks[0]["ray"]["object"], "box");
+  EXPECT_EQ(picks[0]["agree"], true);
+  EXPECT_LT(picks[0]["gap_px"].get<double>(), 0.1);
+  EXPECT_LT(picks[0]["gap_world"].get<double>(), 1e-3);
+  // The edge pixel: the id buffer says box (that is how it was chosen), the ray decides for itself.
+  EXPECT_EQ(picks[1]["id"]["object"], "box");
+  // The background: nothing anywhere.
+  EXPECT_TRUE(picks[2]["ray"]["object"].is_null());
+  EXPECT_TRUE(picks[2]["ray"]["point"].is_null());
+  EXPECT_TRUE(picks[2]["depth"]["point"].is_null());
+  EXPECT_TRUE(picks[2]["id"]["object"].is_null());
+  EXPECT_TRUE(picks[2]["gap_world"].is_null());
+  EXPECT_TRUE(picks[2]["gap_px"].is_null());
+  EXPECT_EQ(picks[2]["agree"], true);
+}
+
+TEST_F(PickDemoUnderX, TeleportMakesTwoPointDriftWhileRobustHolds) {
+  // Camera-relative vertices keep the raster honest 1e5 from the origin; only the rays differ.
+  const auto result = run("'" + kStandard + "' --size 320x240 --vertex-mode camera-relative",
+                          "click 160 120\nkey t\nclick 160 120\nkey m\nclick 160 120\n");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 3u) << result.out;
+  EXPECT_EQ(picks[0]["teleported"], false);
+  EXPECT_EQ(picks[1]["teleported"], true);
+  EXPECT_EQ(picks[1]["method"], "robust");
+  EXPECT_EQ(picks[2]["method"], "two_point");
+  for (const auto& p : picks) EXPECT_EQ(p["ray"]["object"], "box") << p.dump();
+  EXPECT_NEAR(picks[1]["ray"]["point"][0].get<double>(), 1e5, 10.0);
+  // robust: the same sub-pixel gap at the origin and 1e5 away; two_point: pixels off.
+  EXPECT_LT(picks[0]["gap_px"].get<double>(), 0.1);
+  EXPECT_LT(picks[1]["gap_px"].get<double>(), 0.1);
+  EXPECT_GT(picks[2]["gap_px"].get<double>(), 1.0);
+}
+
+TEST_F(PickDemoUnderX, KeysSwitchConventionAndDepthFormat) {
+  const auto result = run("'" + kStandard + "' --size 320x240",
+                          "key c\nclick 160 120\nkey c\nkey d\nclick 160 120\n");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 2u) << result.out;
+  EXPECT_EQ(picks[0]["convention"], "zo-reversed");
+  EXPECT_EQ(picks[0]["depth_format"], "24");
+  EXPECT_EQ(picks[1]["convention"], "no");
+  EXPECT_EQ(picks[1]["depth_format"], "32f");
+  for (const auto& p : picks) {
+    EXPECT_EQ(p["ray"]["object"], "box");
+    EXPECT_EQ(p["agree"], true);
+    EXPECT_LT(p["gap_px"].get<double>(), 0.5) << p.dump();
+  }
+  // Reversed-Z stores the near surfaces deeper (closer to 1).
+  EXPECT_GT(picks[0]["depth"]["window_depth"].get<double>(), 0.0);
+  EXPECT_LT(picks[0]["depth"]["window_depth"].get<double>(), 0.5);
+}
+
+TEST_F(PickDemoUnderX, ResizeChangesTheFramebufferAndThePixelUnderTheCursor) {
+  const auto result = run("'" + kStandard + "' --size 320x240 --screenshot shot.png",
+                          "resize 400 300\nclick 200.5 150.5\n");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 1u) << result.out;
+  EXPECT_EQ(picks[0]["framebuffer"], nlohmann::json::array({400, 300}));
+  EXPECT_EQ(picks[0]["pixel"], nlohmann::json::array({200, 149}));
+  // The screenshot is a PNG of the resized framebuffer (IHDR width and height, big-endian).
+  const std::string png = testing::readText(folder_.path() / "shot.png");
+  ASSERT_GT(png.size(), 24u);
+  EXPECT_EQ(png.substr(0, 8), std::string("\x89PNG\r\n\x1a\n", 8));
+  auto be32 = [&](std::size_t at) {
+    return (static_cast<unsigned char>(png[at]) << 24) |
+           (static_cast<unsigned char>(png[at + 1]) << 16) |
+           (static_cast<unsigned char>(png[at + 2]) << 8) | static_cast<unsigned char>(png[at + 3]);
+  };
+  EXPECT_EQ(be32(16), 400);
+  EXPECT_EQ(be32(20), 300);
+}
+
+// Bad input is reported before any window opens: these run without a display on purpose.
+struct BadPick {
+  const char* name;
+  std::string arguments;
+  std::string script;  // written to script.txt when not empty
+  std::string expected;
+};
+
+void PrintTo(const BadPick& bad, std::ostream* os) {
+  *os << bad.name;
+}
+
+class PickBadInput : public ::testing::TestWithParam<BadPick> {};
+
+TEST_P(PickBadInput, ExitsTwoWithAMessageBeforeAnyWindow) {
+  TempFolder folder;
+  const BadPick& bad = GetParam();
+  if (!bad.script.empty()) writeText(folder.path() / "script.txt", bad.script);
+  const auto result = runPick(bad.arguments, folder.path(), "env -u DISPLAY -u WAYLAND_DISPLAY");
+  EXPECT_EQ(result.status, 2) << result.err;
+  EXPECT_EQ(result.err.rfind(bad.expected, 0), 0u) << "stderr was: " << result.err;
+  EXPECT_TRUE(result.out.empty()) << result.out;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Messages, PickBadInput,
+    ::testing::Values(
+        BadPick{"MissingScene", "nope.json", "", "clipray-pick: nope.json: cannot open file\n"},
+        BadPick{"MalformedScene", "script.txt", "not json",
+                "clipray-pick: script.txt: "},  // the scene loader's own message follows
+        BadPick{"UnknownScriptCommand", "'" + kStandard + "' --script script.txt",
+                "click 1 2\ntap 3 4\n",
+                "clipray-pick: script.txt:2: unknown command \"tap\"; expected one of: resize, "
+                "click, drag, scroll, key\n"},
+        BadPick{"ScriptNumber", "'" + kStandard + "' --script script.txt", "click 1 y\n",
+                "clipray-pick: script.txt:1: y: expected a number, got \"y\"\n"},
+        BadPick{"ScriptKey", "'" + kStandard + "' --script script.txt", "key z\n",
+                "clipray-pick: script.txt:1: key: expected one of c, d, m, v, t, r, h, got "
+                "\"z\"\n"},
+        BadPick{"MissingScript", "'" + kStandard + "' --script none.txt", "",
+                "clipray-pick: none.txt: cannot open file\n"},
+        BadPick{"UnknownConvention", "'" + kStandard + "' --convention xo", "",
+                "clipray-pick: --convention: unknown value \"xo\"; expected one of: no, zo, "
+                "zo-reversed\n"},
+        BadPick{"UnknownDepthFormat", "'" + kStandard + "' --depth-format 32", "",
+                "clipray-pick: --depth-format: unknown value \"32\"; expected one of: 16, 24, "
+                "32f\n"},
+        BadPick{"ScreenshotFolder", "'" + kStandard + "' --screenshot no/such/shot.png", "",
+                "clipray-pick: --screenshot: no/such/shot.png: folder no/such does not exist\n"},
+        BadPick{"NoDisplay", "'" + kStandard + "'", "",
+                "clipray-pick: GLFW: no display available ("}),
+    [](const ::testing::TestParamInfo<BadPick>& param) { return std::string(param.param.name); });
+
+TEST(PickDemoNoDisplay, SaysSoAndWritesNoScreenshot) {
+  TempFolder folder;
+  const auto result = runPick("'" + kStandard + "' --screenshot shot.png", folder.path(),
+                              "env -u DISPLAY -u WAYLAND_DISPLAY");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_NE(result.err.find("run inside a desktop session, or under xvfb-run"), std::string::npos)
+      << result.err;
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "shot.png"));
+}
+
+// The one place where window coordinates become framebuffer pixels: scale, then flip y once.
+TEST(WindowGeometry, ScalesThenFlipsOnHighDpi) {
+  const demo::WindowGeometry g{glm::dvec2(100, 50), glm::ivec2(200, 100)};  // scale 2
+  EXPECT_EQ(g.scale(), glm::dvec2(2.0));
+  EXPECT_EQ(g.pixelFromCursor({0.0, 0.0}), glm::ivec2(0, 99));  // top-left -> top row
+  EXPECT_EQ(g.pixelFromCursor({0.49, 0.49}), glm::ivec2(0, 99));
+  EXPECT_EQ(g.pixelFromCursor({0.5, 0.5}), glm::ivec2(1, 98));
+  EXPECT_EQ(g.pixelFromCursor({99.9, 49.9}), glm::ivec2(199, 0));   // bottom-right
+  EXPECT_EQ(g.pixelFromCursor({100.0, 50.0}), glm::ivec2(199, 0));  // clamped
+  EXPECT_EQ(g.cursorFromFramebuffer({0.0, 100.0}), glm::dvec2(0.0, 0.0));
+  EXPECT_EQ(g.cursorFromFramebuffer({200.0, 0.0}), glm::dvec2(100.0, 50.0));
+  // A pixel's centre maps back inside the same pixel.
+  const glm::dvec2 centre = g.cursorFromFramebuffer(glm::dvec2(37, 61) + 0.5);
+  EXPECT_EQ(g.pixelFromCursor(centre), glm::ivec2(37, 61));
+}
+
+TEST(WindowGeometry, NoScaleIsTheIdentityUpToTheFlip) {
+  const demo::WindowGeometry g{glm::dvec2(320, 240), glm::ivec2(320, 240)};
+  EXPECT_EQ(g.pixelFromCursor({160.2, 120.7}), glm::ivec2(160, 119));
+}
+
+TEST(PickScript, ParsesEveryCommand) {
+  const auto commands = demo::parseScript(
+      "# a comment\n\nresize 640 480\nclick 1.5 2\ndrag right 1 2 3 4  # pan\nscroll -2\nkey T\n",
+      "s.txt");
+  ASSERT_EQ(commands.size(), 5u);
+  EXPECT_EQ(commands[0].kind, demo::ScriptCommand::Kind::Resize);
+  EXPECT_EQ(commands[0].a, glm::dvec2(640, 480));
+  EXPECT_EQ(commands[0].line, 3);
+  EXPECT_EQ(commands[1].a, glm::dvec2(1.5, 2));
+  EXPECT_TRUE(commands[2].rightButton);
+  EXPECT_EQ(commands[2].b, glm::dvec2(3, 4));
+  EXPECT_EQ(commands[3].steps, -2.0);
+  EXPECT_EQ(commands[4].key, 't');
+}
+
+TEST(PickScript, BadLinesNameFileAndLine) {
+  auto message = [](const std::string& text) {
+    try {
+      demo::parseScript(text, "s.txt");
+    } catch (const InputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("resize 0 10"), "s.txt:1: resize: expected whole numbers from 1 to 16384");
+  EXPECT_EQ(message("\nclick 1"), "s.txt:2: missing y");
+  EXPECT_EQ(message("click 1 2 3"), "s.txt:1: unexpected \"3\" at the end of the line");
+  EXPECT_EQ(message("drag middle 1 2 3 4"),
+            "s.txt:1: drag: expected left or right, got \"middle\"");
+  EXPECT_EQ(message("scroll nan"), "s.txt:1: steps: expected a number, got \"nan\"");
+}
+
+TEST(PickRays, RobustAndTwoPointAgreeNearTheOriginAndPartFarFromIt) {
+  const Scene scene = loadScene(kStandard);
+  const Viewport viewport{320, 240};
+  const glm::dmat4 clipFromWorld = scene.cameras[0].clipFromWorld(kZeroToOne, viewport);
+  const glm::dvec2 xy = clipXYOfPixelCentre(160, 119, viewport);
+  const auto robust = demo::pickRay(demo::RayMethod::Robust, clipFromWorld, kZeroToOne, xy);
+  const auto twoPoint = demo::pickRay(demo::RayMethod::TwoPoint, clipFromWorld, kZeroToOne, xy);
+  ASSERT_TRUE(robust && twoPoint);
+  EXPECT_GT(glm::dot(robust->direction, twoPoint->direction), 1.0 - 1e-9);
+  // 1e5 away, the float inverse loses the near plane: the directions part by far more than a
+  // pixel's angle (about 60 deg / 240).
+  glm::dmat4 offset(1.0);
+  offset[3] = glm::dvec4(-1e5, 0.0, 0.0, 1.0);
+  const glm::dmat4 far = clipFromWorld * offset;
+  const auto robustFar = demo::pickRay(demo::RayMethod::Robust, far, kZeroToOne, xy);
+  const auto twoPointFar = demo::pickRay(demo::RayMethod::TwoPoint, far, kZeroToOne, xy);
+  ASSERT_TRUE(robustFar);
+  EXPECT_GT(glm::dot(robustFar->direction, robust->direction), 1.0 - 1e-12);
+  if (twoPointFar) {
+    const double angle =
+        std::acos(std::min(1.0, glm::dot(twoPointFar->direction, robust->direction)));
+    EXPECT_GT(angle, glm::radians(60.0) / 240.0);
+  }
+  // An infinite far plane puts two_point's far point at infinity: no ray at all.
+  const Scene infinite = loadScene(kSource + "/scenes/infinite_far.json");
+  const glm::dmat4 infiniteClip = infinite.cameras[0].clipFromWorld(kZeroToOne, viewport);
+  EXPECT_TRUE(demo::pickRay(demo::RayMethod::Robust, infiniteClip, kZeroToOne, xy));
+  EXPECT_FALSE(demo::pickRay(demo::RayMethod::TwoPoint, infiniteClip, kZeroToOne, xy));
+}
+
+}  // namespace
+}  // namespace clipray
