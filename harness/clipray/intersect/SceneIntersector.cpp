@@ -4,23 +4,50 @@
 #include <cmath>
 #include <numeric>
 
+#include "clipray/intersect/PacketKernels.hpp"
 #include "clipray/intersect/Watertight.hpp"
 
 namespace clipray {
 
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+double maxAbs(const glm::dvec3& p) {
+  return std::max(std::abs(p.x), std::max(std::abs(p.y), std::abs(p.z)));
+}
+
+bool finiteRay(const Ray& ray) {
+  const double sum = ray.origin.x + ray.origin.y + ray.origin.z + ray.direction.x +
+                     ray.direction.y + ray.direction.z;
+  return std::isfinite(sum);
+}
+
+}  // namespace
+
 SceneIntersector::SceneIntersector(const Scene& scene, const glm::dvec3& reference)
     : reference_(reference) {
   const PrimitiveIdTable ids(scene);
+  triangles_.reserve(scene.triangleCount());
+  double extent = 0.0;
   for (std::size_t k = 0; k < scene.objects.size(); ++k) {
     const MeshObject& object = scene.objects[k];
     for (std::size_t t = 0; t < object.triangles.size(); ++t) {
       const glm::u32vec3 tri = object.triangles[t];
-      triangles_.push_back({object.worldPositions[tri.x] - reference,
-                            object.worldPositions[tri.y] - reference,
-                            object.worldPositions[tri.z] - reference,
-                            ids.firstIdOfObject[k] + static_cast<std::uint32_t>(t)});
+      const Triangle relative{object.worldPositions[tri.x] - reference,
+                              object.worldPositions[tri.y] - reference,
+                              object.worldPositions[tri.z] - reference,
+                              ids.firstIdOfObject[k] + static_cast<std::uint32_t>(t)};
+      extent = std::max(
+          extent, std::max(maxAbs(relative.a), std::max(maxAbs(relative.b), maxAbs(relative.c))));
+      triangles_.push_back(relative);
     }
   }
+  // Boxes are padded by far more than the rounding of the slab test and of the watertight test
+  // (both are relative to the coordinates' size, at most `extent`): rounding never culls a box
+  // holding a triangle that the linear scan would report.
+  boxPad_ = extent * 0x1p-30 + std::numeric_limits<double>::min();
+  if (!std::isfinite(boxPad_)) boxPad_ = kInf;
   if (triangles_.size() > kBvhThreshold) buildBvh();
   slotOfPrimitive_.assign(triangles_.size(), 0);
   for (std::size_t i = 0; i < triangles_.size(); ++i) {
@@ -33,54 +60,194 @@ std::array<glm::dvec3, 3> SceneIntersector::worldTriangle(std::uint32_t primitiv
   return {tri.a + reference_, tri.b + reference_, tri.c + reference_};
 }
 
-void SceneIntersector::buildBvh() {
-  nodes_.reserve(2 * triangles_.size() / 2 + 1);
-  buildNode(0, static_cast<std::uint32_t>(triangles_.size()));
+std::size_t SceneIntersector::memoryBytes() const {
+  return triangles_.capacity() * sizeof(Triangle) + nodes_.capacity() * sizeof(Node) +
+         slotOfPrimitive_.capacity() * sizeof(std::uint32_t);
 }
 
-// Object-median split on the longest centroid axis; leaves of at most 4 triangles.
-std::uint32_t SceneIntersector::buildNode(std::uint32_t first, std::uint32_t count) {
-  const std::uint32_t index = static_cast<std::uint32_t>(nodes_.size());
-  nodes_.push_back({});
-  glm::dvec3 lower(std::numeric_limits<double>::infinity());
-  glm::dvec3 upper(-std::numeric_limits<double>::infinity());
-  glm::dvec3 centroidLower = lower, centroidUpper = upper;
-  for (std::uint32_t i = first; i < first + count; ++i) {
-    const Triangle& t = triangles_[i];
-    lower = glm::min(glm::min(lower, t.a), glm::min(t.b, t.c));
-    upper = glm::max(glm::max(upper, t.a), glm::max(t.b, t.c));
-    const glm::dvec3 centroid = (t.a + t.b + t.c) / 3.0;
-    centroidLower = glm::min(centroidLower, centroid);
-    centroidUpper = glm::max(centroidUpper, centroid);
-  }
-  nodes_[index].lower = lower;
-  nodes_[index].upper = upper;
-  if (count <= 4) {
-    nodes_[index].first = first;
-    nodes_[index].count = count;
-    return index;
-  }
-  const glm::dvec3 extent = centroidUpper - centroidLower;
-  const int axis =
-      extent.x > extent.y ? (extent.x > extent.z ? 0 : 2) : (extent.y > extent.z ? 1 : 2);
-  const std::uint32_t half = count / 2;
-  std::nth_element(triangles_.begin() + first, triangles_.begin() + first + half,
-                   triangles_.begin() + first + count,
-                   [axis](const Triangle& l, const Triangle& r) {
-                     return l.a[axis] + l.b[axis] + l.c[axis] < r.a[axis] + r.b[axis] + r.c[axis];
-                   });
-  buildNode(first, half);
-  const std::uint32_t second = buildNode(first + half, count - half);
-  nodes_[index].first = second;
-  nodes_[index].count = 0;
-  return index;
-}
+// ---------------------------------------------------------------------------------------------
+// Binned SAH build (Wald 2007): 16 bins per axis on triangle centroids, leaves of at most 4
+// triangles (2 or fewer always become leaves), object-median fallback when centroids coincide.
 
 namespace {
-// Keeps the closest hit; an equal t goes to the smaller primitive id, so the answer does not
-// depend on the order triangles are visited in.
+
+constexpr int kBins = 16;
+constexpr std::uint32_t kMaxLeaf = 4;
+// Below this depth SAH splits; deeper, halves (at most 32 more levels for 2^32 triangles), so a
+// traversal stack of 128 entries always suffices.
+constexpr int kMaxDepth = 64;
+
+struct Box {
+  glm::dvec3 lower{kInf};
+  glm::dvec3 upper{-kInf};
+  void grow(const Box& b) {
+    lower = glm::min(lower, b.lower);
+    upper = glm::max(upper, b.upper);
+  }
+  void grow(const glm::dvec3& p) {
+    lower = glm::min(lower, p);
+    upper = glm::max(upper, p);
+  }
+  double halfArea() const {
+    const glm::dvec3 e = upper - lower;
+    return e.x < 0.0 ? 0.0 : e.x * e.y + e.y * e.z + e.z * e.x;
+  }
+};
+
+struct PrimRef {
+  Box box;
+  glm::dvec3 centroid;
+};
+
+float roundedDown(double x) {
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+float roundedUp(double x) {
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+template <typename NodeT>
+class BvhBuilder {
+ public:
+  BvhBuilder(const std::vector<PrimRef>& refs, std::vector<std::uint32_t>& order,
+             std::vector<NodeT>& nodes, double pad)
+      : refs_(refs), order_(order), nodes_(nodes), pad_(pad) {}
+
+  std::uint32_t build(std::uint32_t first, std::uint32_t count, int depth = 0) {
+    const auto index = static_cast<std::uint32_t>(nodes_.size());
+    nodes_.push_back({});
+    Box bounds, centroids;
+    for (std::uint32_t i = first; i < first + count; ++i) {
+      const PrimRef& ref = refs_[order_[i]];
+      bounds.grow(ref.box);
+      centroids.grow(ref.centroid);
+    }
+    for (int k = 0; k < 3; ++k) {
+      nodes_[index].lower[k] = roundedDown(bounds.lower[k] - pad_);
+      nodes_[index].upper[k] = roundedUp(bounds.upper[k] + pad_);
+    }
+    if (count <= 2) return makeLeaf(index, first, count);
+
+    // Best split over three axes of binned centroids.
+    const glm::dvec3 extent = centroids.upper - centroids.lower;
+    double bestCost = kInf;
+    int bestAxis = -1, bestBin = 0;
+    for (int axis = 0; axis < 3; ++axis) {
+      if (!(extent[axis] > 0.0)) continue;
+      const double scale = kBins * (1.0 - 1e-9) / extent[axis];
+      Box binBox[kBins];
+      std::uint32_t binCount[kBins] = {};
+      for (std::uint32_t i = first; i < first + count; ++i) {
+        const PrimRef& ref = refs_[order_[i]];
+        const int b = binOf(ref.centroid[axis], centroids.lower[axis], scale);
+        binBox[b].grow(ref.box);
+        ++binCount[b];
+      }
+      double rightArea[kBins];
+      std::uint32_t rightCount[kBins];
+      Box right;
+      std::uint32_t n = 0;
+      for (int b = kBins - 1; b > 0; --b) {
+        right.grow(binBox[b]);
+        n += binCount[b];
+        rightArea[b] = right.halfArea();
+        rightCount[b] = n;
+      }
+      Box left;
+      n = 0;
+      for (int b = 1; b < kBins; ++b) {
+        left.grow(binBox[b - 1]);
+        n += binCount[b - 1];
+        if (n == 0 || rightCount[b] == 0) continue;
+        const double cost = left.halfArea() * n + rightArea[b] * rightCount[b];
+        if (cost < bestCost) {
+          bestCost = cost;
+          bestAxis = axis;
+          bestBin = b;
+        }
+      }
+    }
+    const double leafCost = static_cast<double>(count);
+    const double splitCost = 0.25 + bestCost / std::max(bounds.halfArea(), 1e-300);
+    if (count <= kMaxLeaf && (bestAxis < 0 || splitCost >= leafCost)) {
+      return makeLeaf(index, first, count);
+    }
+
+    std::uint32_t half;
+    int axis = bestAxis;
+    if (depth > kMaxDepth) bestAxis = -1;  // keeps traversal stacks bounded
+    if (bestAxis >= 0) {
+      const double scale = kBins * (1.0 - 1e-9) / extent[axis];
+      const double lower = centroids.lower[axis];
+      const auto middle = std::partition(
+          order_.begin() + first, order_.begin() + first + count,
+          [&](std::uint32_t r) { return binOf(refs_[r].centroid[axis], lower, scale) < bestBin; });
+      half = static_cast<std::uint32_t>(middle - order_.begin()) - first;
+    } else {
+      // All centroids coincide: split the list in two (keeps leaves small).
+      axis = 0;
+      half = count / 2;
+    }
+    build(first, half, depth + 1);
+    const std::uint32_t second = build(first + half, count - half, depth + 1);
+    nodes_[index].first = second;
+    nodes_[index].count = 0;
+    nodes_[index].axis = static_cast<std::uint16_t>(axis);
+    return index;
+  }
+
+ private:
+  static int binOf(double c, double lower, double scale) {
+    const int b = static_cast<int>((c - lower) * scale);
+    return std::clamp(b, 0, kBins - 1);
+  }
+  std::uint32_t makeLeaf(std::uint32_t index, std::uint32_t first, std::uint32_t count) {
+    nodes_[index].first = first;
+    nodes_[index].count = static_cast<std::uint16_t>(count);
+    nodes_[index].axis = 0;
+    return index;
+  }
+
+  const std::vector<PrimRef>& refs_;
+  std::vector<std::uint32_t>& order_;
+  std::vector<NodeT>& nodes_;
+  double pad_;
+};
+
+}  // namespace
+
+void SceneIntersector::buildBvh() {
+  std::vector<PrimRef> refs(triangles_.size());
+  for (std::size_t i = 0; i < triangles_.size(); ++i) {
+    const Triangle& t = triangles_[i];
+    Box box;
+    box.grow(t.a);
+    box.grow(t.b);
+    box.grow(t.c);
+    refs[i] = {box, (box.lower + box.upper) * 0.5};
+  }
+  std::vector<std::uint32_t> order(triangles_.size());
+  std::iota(order.begin(), order.end(), 0u);
+  nodes_.reserve(triangles_.size());
+  BvhBuilder<Node> builder(refs, order, nodes_, boxPad_);
+  builder.build(0, static_cast<std::uint32_t>(triangles_.size()));
+  nodes_.shrink_to_fit();
+  std::vector<Triangle> sorted(triangles_.size());
+  for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = triangles_[order[i]];
+  triangles_ = std::move(sorted);
+}
+
+// ---------------------------------------------------------------------------------------------
+// One ray at a time.
+
+namespace {
+// Keeps the smallest (t, primitive id): the answer does not depend on the visiting order.
 template <typename Triangle>
-void testTriangle(const WatertightRay& ray, const Triangle& tri, Hit& best) {
+inline void testTriangle(const WatertightRay& ray, const Triangle& tri, Hit& best) {
   const auto t = intersectTriangle(ray, best.t, tri.a, tri.b, tri.c);
   if (!t) return;
   if (*t < best.t || best.primitiveId == 0 || tri.primitiveId < best.primitiveId) {
@@ -91,85 +258,108 @@ void testTriangle(const WatertightRay& ray, const Triangle& tri, Hit& best) {
 }  // namespace
 
 Hit SceneIntersector::closestHitLinear(const Ray& worldRay) const noexcept {
-  const double sum = worldRay.origin.x + worldRay.origin.y + worldRay.origin.z +
-                     worldRay.direction.x + worldRay.direction.y + worldRay.direction.z;
-  if (!std::isfinite(sum)) return Hit{};
+  if (!finiteRay(worldRay)) return Hit{};
   const WatertightRay ray(worldRay.origin - reference_, worldRay.direction);
   Hit best;
   best.t = worldRay.tMax;
   for (const Triangle& tri : triangles_) testTriangle(ray, tri, best);
-  if (best.primitiveId == 0) best.t = std::numeric_limits<double>::infinity();
+  if (best.primitiveId == 0) best.t = kInf;
   return best;
 }
 
 Hit SceneIntersector::closestHit(const Ray& worldRay) const noexcept {
   // A ray function may hand us a non-finite ray (e.g. a near point unprojected at infinity):
   // it hits nothing, rather than producing a NaN "hit" from comparisons that are all false.
-  const double sum = worldRay.origin.x + worldRay.origin.y + worldRay.origin.z +
-                     worldRay.direction.x + worldRay.direction.y + worldRay.direction.z;
-  if (!std::isfinite(sum)) return Hit{};
+  if (!finiteRay(worldRay)) return Hit{};
   const glm::dvec3 origin = worldRay.origin - reference_;
   const WatertightRay ray(origin, worldRay.direction);
   Hit best;
   best.t = worldRay.tMax;
-  auto visit = [&](const Triangle& tri) { testTriangle(ray, tri, best); };
   if (nodes_.empty()) {
-    for (const Triangle& tri : triangles_) visit(tri);
-  } else {
-    const glm::dvec3 inverseDirection = 1.0 / worldRay.direction;
-    // Ize's robust slab test: widen the far distance by 2 gamma(3) so rounding never culls a box
-    // the ray grazes.
-    constexpr double kEps = std::numeric_limits<double>::epsilon() * 0.5;
-    constexpr double kWiden = 1.0 + 2.0 * (3.0 * kEps) / (1.0 - 3.0 * kEps);
-    auto slab = [&](const Node& node, double& entry) {
-      double tNear = 0.0, tFar = best.t;
-      for (int k = 0; k < 3; ++k) {
-        double t0 = (node.lower[k] - origin[k]) * inverseDirection[k];
-        double t1 = (node.upper[k] - origin[k]) * inverseDirection[k];
-        if (t0 > t1) std::swap(t0, t1);
-        if (std::isnan(t0) || std::isnan(t1))
-          continue;  // 0 * inf: origin on the slab, direction parallel
-        t1 *= kWiden;
-        tNear = t0 > tNear ? t0 : tNear;
-        tFar = t1 < tFar ? t1 : tFar;
-        if (tNear > tFar) return false;
+    for (const Triangle& tri : triangles_) testTriangle(ray, tri, best);
+    if (best.primitiveId == 0) best.t = kInf;
+    return best;
+  }
+  // Rays starting far outside the scene get extra padding (rounding grows with |origin|).
+  const double extraPad = std::max(0.0, maxAbs(origin) * 0x1p-30 - boxPad_);
+  const glm::dvec3 inverseDirection = 1.0 / worldRay.direction;
+  // Ize's robust slab test widens the far distance by 2 gamma(3); the relative slack on the
+  // current best t keeps a box whose entry rounds just past it.
+  auto slab = [&](const Node& node, double& entry) {
+    double tNear = 0.0;
+    double tFar = best.t * (1.0 + 0x1p-30);
+    for (int k = 0; k < 3; ++k) {
+      double t0 = (node.lower[k] - extraPad - origin[k]) * inverseDirection[k];
+      double t1 = (node.upper[k] + extraPad - origin[k]) * inverseDirection[k];
+      if (t0 > t1) std::swap(t0, t1);
+      if (std::isnan(t0) || std::isnan(t1)) continue;  // 0 * inf: origin on the slab
+      t1 *= 1.0 + 0x1p-40;
+      tNear = t0 > tNear ? t0 : tNear;
+      tFar = t1 < tFar ? t1 : tFar;
+      if (tNear > tFar) return false;
+    }
+    entry = tNear;
+    return true;
+  };
+  std::uint32_t stack[128];
+  int top = 0;
+  double entry = 0.0;
+  if (slab(nodes_[0], entry)) stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (node.count > 0) {
+      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+        testTriangle(ray, triangles_[i], best);
       }
-      entry = tNear;
-      return true;
-    };
-    std::uint32_t stack[64];
-    int top = 0;
-    double entry = 0.0;
-    if (slab(nodes_[0], entry)) stack[top++] = 0;
-    while (top > 0) {
-      const Node& node = nodes_[stack[--top]];
-      if (node.count > 0) {
-        for (std::uint32_t i = node.first; i < node.first + node.count; ++i) visit(triangles_[i]);
-        continue;
-      }
-      const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
-      const std::uint32_t right = node.first;
-      double entryLeft = 0.0, entryRight = 0.0;
-      const bool hitLeft = slab(nodes_[left], entryLeft);
-      const bool hitRight = slab(nodes_[right], entryRight);
-      // Visit the nearer child first (pushed last); ties keep a fixed order.
-      if (hitLeft && hitRight) {
-        if (entryLeft <= entryRight) {
-          stack[top++] = right;
-          stack[top++] = left;
-        } else {
-          stack[top++] = left;
-          stack[top++] = right;
-        }
-      } else if (hitLeft) {
+      continue;
+    }
+    const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+    const std::uint32_t right = node.first;
+    double entryLeft = 0.0, entryRight = 0.0;
+    const bool hitLeft = slab(nodes_[left], entryLeft);
+    const bool hitRight = slab(nodes_[right], entryRight);
+    // Visit the nearer child first (pushed last).
+    if (hitLeft && hitRight) {
+      if (entryLeft <= entryRight) {
+        stack[top++] = right;
         stack[top++] = left;
-      } else if (hitRight) {
+      } else {
+        stack[top++] = left;
         stack[top++] = right;
       }
+    } else if (hitLeft) {
+      stack[top++] = left;
+    } else if (hitRight) {
+      stack[top++] = right;
     }
   }
-  if (best.primitiveId == 0) best.t = std::numeric_limits<double>::infinity();
+  if (best.primitiveId == 0) best.t = kInf;
   return best;
+}
+
+void SceneIntersector::closestHits(std::span<const Ray> rays, std::span<Hit> hits) const noexcept {
+  for (std::size_t begin = 0; begin < rays.size(); begin += kMaxPacket) {
+    const auto count = static_cast<int>(std::min(kMaxPacket, rays.size() - begin));
+    closestHitsTile(rays.data() + begin, hits.data() + begin, 0, count, 1);
+  }
+}
+
+void SceneIntersector::closestHitsTile(const Ray* rays, Hit* hits, std::size_t rowStride, int width,
+                                       int height) const noexcept {
+  if (!nodes_.empty() && packetKernelsAvailable() && width * height <= int{kMaxPacket}) {
+    detail::PacketKernels::trace(*this, rays, hits, rowStride, width, height);
+    return;
+  }
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * rowStride + x;
+      hits[i] = closestHit(rays[i]);
+    }
+  }
+}
+
+bool SceneIntersector::packetKernelsAvailable() {
+  return detail::PacketKernels::available();
 }
 
 }  // namespace clipray

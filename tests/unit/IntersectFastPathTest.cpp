@@ -1,0 +1,240 @@
+// The fast path (BVH + SIMD packets) against the brute-force reference: same closest triangle,
+// same t, bit for bit, on random and adversarial rays; and watertightness of a closed mesh.
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include "clipray/compare/Frames.hpp"
+#include "clipray/intersect/SceneIntersector.hpp"
+#include "support/TestScenes.hpp"
+
+namespace clipray {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// A heightfield grid (shared vertices stored once), cells x cells quads over [-s, s]^2.
+MeshObject terrain(int cells, double size, std::uint64_t seed) {
+  MeshObject mesh;
+  mesh.name = "terrain";
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> height(-0.5, 0.5);
+  const int n = cells + 1;
+  for (int j = 0; j < n; ++j) {
+    for (int i = 0; i < n; ++i) {
+      mesh.worldPositions.emplace_back(-size + 2 * size * i / cells, height(rng),
+                                       -size + 2 * size * j / cells);
+    }
+  }
+  for (int j = 0; j < cells; ++j) {
+    for (int i = 0; i < cells; ++i) {
+      const auto k = static_cast<std::uint32_t>(j * n + i), r = static_cast<std::uint32_t>(n);
+      mesh.triangles.emplace_back(k, k + r, k + 1);
+      mesh.triangles.emplace_back(k + 1, k + r, k + r + 1);
+    }
+  }
+  return mesh;
+}
+
+Scene testScene() {
+  Scene scene;
+  scene.objects.push_back(terrain(40, 5.0, 11));
+  scene.objects.push_back(testing::icosphere("ball", {0.5, 1.0, -0.5}, 0.8, 3));
+  // A coplanar duplicate of part of the floor: ties at equal t must go to the smaller id.
+  scene.objects.push_back(testing::quad("decal", {-1, 2, -1}, {-1, 2, 1}, {1, 2, 1}, {1, 2, -1}));
+  scene.objects.push_back(testing::quad("decal2", {-1, 2, -1}, {-1, 2, 1}, {1, 2, 1}, {1, 2, -1}));
+  return scene;
+}
+
+// closestHits (packets of up to 64 rays), closestHit and closestHitLinear agree bit for bit.
+void expectIdentical(const SceneIntersector& intersector, const std::vector<Ray>& rays,
+                     const char* what) {
+  std::vector<Hit> packet(rays.size());
+  intersector.closestHits(rays, packet);
+  int hits = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const Hit linear = intersector.closestHitLinear(rays[i]);
+    const Hit single = intersector.closestHit(rays[i]);
+    hits += linear.hit();
+    ASSERT_EQ(packet[i].primitiveId, linear.primitiveId) << what << " ray " << i;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(packet[i].t), std::bit_cast<std::uint64_t>(linear.t))
+        << what << " ray " << i;
+    ASSERT_EQ(single.primitiveId, linear.primitiveId) << what << " ray " << i;
+    ASSERT_EQ(std::bit_cast<std::uint64_t>(single.t), std::bit_cast<std::uint64_t>(linear.t))
+        << what << " ray " << i;
+  }
+  EXPECT_GT(hits, 0) << what;
+}
+
+class FastPath : public ::testing::Test {
+ protected:
+  Scene scene = testScene();
+  glm::dvec3 eye{0.3, 6.0, 9.0};
+  SceneIntersector intersector{scene, eye};
+  const MeshObject& floor() const { return scene.objects[0]; }
+};
+
+TEST_F(FastPath, BuildsABvhOnlyWhenItPays) {
+  EXPECT_TRUE(intersector.usesBvh());
+  Scene small;
+  small.objects.push_back(testing::quad("q", {-1, 0, -1}, {-1, 0, 1}, {1, 0, 1}, {1, 0, -1}));
+  small.objects.push_back(testing::icosphere("b", {0, 1, 0}, 0.5, 0));
+  EXPECT_FALSE(SceneIntersector(small, {0, 0, 0}).usesBvh());
+}
+
+TEST_F(FastPath, CoherentPrimaryRaysMatchTheLinearScan) {
+  // A camera's rays in 8x8 tiles, as intersectFrame traces them.
+  std::vector<Ray> rays;
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const glm::dvec3 target(-5.0 + 10.0 * (x + 0.5) / 64, 0.0, -5.0 + 10.0 * (y + 0.5) / 48);
+      rays.push_back({eye, glm::normalize(target - eye), (x + y) % 3 == 0 ? 11.0 : kInf});
+    }
+  }
+  expectIdentical(intersector, rays, "primary");
+}
+
+TEST_F(FastPath, RandomRaysMatchTheLinearScan) {
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Ray> rays;
+  for (int k = 0; k < 4000; ++k) {
+    Ray ray;
+    ray.origin = {unit(rng) * 6, 1.0 + 3.0 * std::abs(unit(rng)), unit(rng) * 6};
+    ray.direction = glm::normalize(glm::dvec3(unit(rng), unit(rng), unit(rng)));
+    ray.tMax = k % 4 == 0 ? 3.0 : kInf;
+    rays.push_back(ray);
+  }
+  expectIdentical(intersector, rays, "random");
+}
+
+TEST_F(FastPath, AdversarialRaysMatchTheLinearScan) {
+  // Through vertices, along and through shared edges, grazing the floor, tMax exactly at a hit,
+  // zero direction components, non-finite rays and rays without a ray (tMax < 0).
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const MeshObject& mesh = floor();
+  std::vector<Ray> rays;
+  for (int k = 0; k < 3000; ++k) {
+    const glm::u32vec3 tri = mesh.triangles[(k * 7919) % mesh.triangles.size()];
+    const glm::dvec3 a = mesh.worldPositions[tri.x], b = mesh.worldPositions[tri.y];
+    const glm::dvec3 origin = eye + glm::dvec3(unit(rng), unit(rng), unit(rng));
+    glm::dvec3 target;
+    switch (k % 4) {
+      case 0:
+        target = a;
+        break;  // a vertex
+      case 1:
+        target = a + (b - a) * (0.5 + 0.5 * unit(rng));
+        break;  // a shared edge
+      case 2:
+        target = 0.5 * (a + b);
+        break;  // an edge midpoint
+      default:
+        target = a + (b - a) * 0.25;
+        break;
+    }
+    rays.push_back({origin, glm::normalize(target - origin), kInf});
+    if (k % 3 == 0) {
+      // Along the edge itself, from just above the floor: grazing and coplanar cases.
+      const glm::dvec3 along = glm::normalize(b - a);
+      rays.push_back({a - 3.0 * along + glm::dvec3(0, 1e-9 * (k % 5), 0), along, kInf});
+      rays.push_back(
+          {a + glm::dvec3(0, 0.01, 0), glm::normalize(b - a + glm::dvec3(0, -1e-3, 0)), kInf});
+    }
+  }
+  // tMax exactly at the hit found, and one ulp below it.
+  const std::size_t base = rays.size();
+  for (std::size_t i = 0; i < 400; ++i) {
+    const Hit hit = intersector.closestHitLinear(rays[i]);
+    if (!hit.hit()) continue;
+    rays.push_back({rays[i].origin, rays[i].direction, hit.t});
+    rays.push_back({rays[i].origin, rays[i].direction, std::nextafter(hit.t, 0.0)});
+  }
+  EXPECT_GT(rays.size(), base);
+  // Axis-aligned directions (zero components) and special rays.
+  rays.push_back({{0.1, 5.0, 0.2}, {0, -1, 0}, kInf});
+  rays.push_back({{-8.0, 0.0, 0.0}, {1, 0, 0}, kInf});
+  rays.push_back({{0.0, 2.0, -8.0}, {0, 0, 1}, kInf});
+  rays.push_back({{0.0, std::nan(""), 0.0}, {0, -1, 0}, kInf});
+  rays.push_back({{0.0, 5.0, 0.0}, {0, -1, 0}, -1.0});
+  rays.push_back({{0.0, 5.0, 0.0}, {0, -1, 0}, 0.0});
+  rays.push_back({{1e7, 3.0, 1e7}, glm::normalize(glm::dvec3(-1e7, -3.0, -1e7)), kInf});
+  expectIdentical(intersector, rays, "adversarial");
+}
+
+TEST_F(FastPath, CoplanarTiesGoToTheSmallerIdInPackets) {
+  std::vector<Ray> rays;
+  for (int k = 0; k < 64; ++k) {
+    const glm::dvec3 origin(-0.9 + 0.025 * k, 4.0, -0.5 + 0.01 * k);
+    rays.push_back({origin, glm::normalize(glm::dvec3(0.01, -1, 0.02)), kInf});
+  }
+  std::vector<Hit> hits(rays.size());
+  intersector.closestHits(rays, hits);
+  const PrimitiveIdTable ids(scene);
+  for (const Hit& hit : hits) {
+    ASSERT_TRUE(hit.hit());
+    EXPECT_EQ(ids.decode(hit.primitiveId).object, 2);  // "decal", not its duplicate "decal2"
+  }
+  expectIdentical(intersector, rays, "coplanar");
+}
+
+TEST_F(FastPath, IntersectFrameMatchesClosestHitPerPixel) {
+  AnalyticFrame frame;
+  frame.viewport = {37, 29};  // partial tiles at the right and top
+  for (int y = 0; y < 29; ++y) {
+    for (int x = 0; x < 37; ++x) {
+      const glm::dvec3 target(-4.0 + 8.0 * x / 37, 0.0, -4.0 + 8.0 * y / 29);
+      Ray ray{eye, glm::normalize(target - eye), kInf};
+      if ((x * 31 + y) % 17 == 0) ray.tMax = kNoRayTMax;
+      frame.rays.push_back(ray);
+    }
+  }
+  intersectFrame(frame, intersector, 2);
+  for (std::size_t i = 0; i < frame.rays.size(); ++i) {
+    const Hit expected = intersector.closestHitLinear(frame.rays[i]);
+    ASSERT_EQ(frame.hits[i].primitiveId, expected.primitiveId) << i;
+    ASSERT_EQ(frame.hits[i].t, expected.t) << i;
+  }
+}
+
+TEST(FastPathWatertight, NoPacketRayLeaksThroughAClosedMesh) {
+  // Packets of rays from inside a closed icosphere aimed at its vertices and edges: every ray
+  // must hit (a miss would be a crack between neighbours).
+  Scene scene;
+  scene.objects.push_back(testing::icosphere("sphere", {0.3, -0.2, 0.1}, 1.0, 4));
+  const SceneIntersector intersector(scene, {0.25, -0.25, 0.0});
+  ASSERT_TRUE(intersector.usesBvh());
+  const MeshObject& mesh = scene.objects[0];
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Ray> rays;
+  for (int k = 0; k < 30000; ++k) {
+    // Origins near the centre; a packet's rays share an origin region, like a camera's.
+    const glm::dvec3 origin =
+        glm::dvec3(0.3, -0.2, 0.1) + 0.05 * glm::dvec3(unit(rng), unit(rng), unit(rng));
+    const glm::u32vec3 tri = mesh.triangles[(k / 3) % mesh.triangles.size()];
+    const glm::dvec3 a = mesh.worldPositions[tri.x], b = mesh.worldPositions[tri.y];
+    const glm::dvec3 target =
+        k % 3 == 0 ? a : (k % 3 == 1 ? 0.5 * (a + b) : a + (b - a) * std::abs(unit(rng)));
+    rays.push_back({origin, glm::normalize(target - origin), kInf});
+  }
+  std::vector<Hit> hits(rays.size());
+  intersector.closestHits(rays, hits);
+  int escaped = 0;
+  for (const Hit& hit : hits) escaped += !hit.hit();
+  EXPECT_EQ(escaped, 0);
+  for (std::size_t i = 0; i < rays.size(); i += 7) {
+    const Hit linear = intersector.closestHitLinear(rays[i]);
+    ASSERT_EQ(hits[i].primitiveId, linear.primitiveId) << i;
+    ASSERT_EQ(hits[i].t, linear.t) << i;
+  }
+}
+
+}  // namespace
+}  // namespace clipray
