@@ -6,6 +6,7 @@ packages=(
   build-essential cmake ninja-build pkg-config clang-format
   libosmesa6-dev libegl-dev libgl-dev libglfw3-dev libglm-dev python3-glad libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
+  libembree-dev
   libimgui-dev xvfb xauth
 )
 missing=()

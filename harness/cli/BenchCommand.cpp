@@ -1,0 +1,460 @@
+// `clipray bench`: every ray method x precision on the hard cases (or on a user's own matrix):
+// speed per ray and error against the __float128 reference, as a table, JSON rows and an SVG.
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <iostream>
+#include <limits>
+#include <map>
+#include <sstream>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "Commands.hpp"
+#include "clipray/rays/HardCases.hpp"
+#include "clipray/rays/QuadReference.hpp"
+#include "clipray/rays/RayErrors.hpp"
+#include "clipray/rays/RayMethods.hpp"
+#include "clipray/report/Report.hpp"
+#include "clipray/report/SvgPlot.hpp"
+#include "clipray/scene/InputError.hpp"
+
+namespace clipray::cli {
+
+namespace {
+
+struct BenchOptions {
+  std::string cases;
+  std::string methods;
+  std::string size = "1920x1080";
+  std::string clipFromWorld;
+  std::string layout = "column-major";
+  std::string convention;
+  std::string json;
+  std::string plot;
+};
+
+std::vector<std::string> splitComma(const std::string& text) {
+  std::vector<std::string> items;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    const auto first = item.find_first_not_of(' ');
+    if (first == std::string::npos) continue;
+    items.push_back(item.substr(first, item.find_last_not_of(' ') - first + 1));
+  }
+  return items;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out;
+}
+
+Viewport parseBenchSize(const std::string& text) {
+  int width = 0, height = 0;
+  char x = 0;
+  std::istringstream stream(text);
+  if (!(stream >> width >> x >> height) || x != 'x' || !stream.eof() || width <= 0 || height <= 0) {
+    throw InputError("--size: expected WxH with positive integers (e.g. 1920x1080), got \"" + text +
+                     "\"");
+  }
+  return {width, height};
+}
+
+// Sixteen numbers separated by spaces and/or commas.
+glm::dmat4 parseMatrix(const std::string& text, const std::string& layout) {
+  std::string spaced = text;
+  std::replace(spaced.begin(), spaced.end(), ',', ' ');
+  std::istringstream stream(spaced);
+  std::vector<double> values;
+  std::string word;
+  while (stream >> word) {
+    char* end = nullptr;
+    const double value = std::strtod(word.c_str(), &end);
+    if (end == word.c_str() || *end != '\0') {
+      throw InputError("--clip-from-world: \"" + word + "\" is not a number");
+    }
+    values.push_back(value);
+  }
+  if (values.size() != 16) {
+    throw InputError("--clip-from-world: expected 16 numbers, got " +
+                     std::to_string(values.size()));
+  }
+  for (std::size_t k = 0; k < values.size(); ++k) {
+    if (!std::isfinite(values[k])) {
+      std::ostringstream message;
+      message << "--clip-from-world: number " << (k + 1) << " is " << values[k]
+              << "; every element must be finite";
+      throw InputError(message.str());
+    }
+  }
+  glm::dmat4 m;
+  const bool rowMajor = layout == "row-major";
+  for (int k = 0; k < 16; ++k) {
+    // column-major: element 4 * column + row (as glm::value_ptr writes it).
+    const int column = rowMajor ? k % 4 : k / 4, row = rowMajor ? k / 4 : k % 4;
+    m[column][row] = values[static_cast<std::size_t>(k)];
+  }
+  return m;
+}
+
+struct Row {
+  std::string caseName, convention, method, precision;
+  double nsPerRay = 0.0;
+  MethodErrors errors;
+  double floorAnglePx = 0.0;
+  std::optional<double> fovYDegrees;
+  bool parallel = false;
+};
+
+template <typename T>
+double timeGenerator(const RayGenerator<T>& generator) {
+  // Row by row into one cache-resident row buffer, as a tracer consuming the rays would.
+  const Viewport v = generator.viewport();
+  RayBuffer<T> buffer(static_cast<std::size_t>(v.width));
+  const RaySpan<T> span = buffer.span(0, v.width);
+  using Clock = std::chrono::steady_clock;
+  double best = std::numeric_limits<double>::infinity();
+  double spent = 0.0;
+  for (int repeat = 0; repeat < 50 && (repeat < 3 || spent < 0.15); ++repeat) {
+    const auto start = Clock::now();
+    for (int j = 0; j < v.height; ++j) generator.generateRow(j, span);
+    const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
+    spent += seconds;
+    best = std::min(best, seconds);
+    if (seconds > 1.0) break;  // slow methods: one pass is plenty
+  }
+  volatile float sink = static_cast<float>(span.directionX[0]);
+  (void)sink;
+  return best * 1e9 / (static_cast<double>(v.width) * v.height);
+}
+
+struct CaseJob {
+  HardCase hardCase;
+  std::vector<RayMethod> methods;
+};
+
+// Measures one case: timings (single thread, nothing else running), then errors on all cores.
+std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::string& progressTag) {
+  const HardCase& c = job.hardCase;
+  const Viewport v = c.viewport;
+  std::vector<std::unique_ptr<RayGenerator<float>>> floats;
+  std::vector<std::unique_ptr<RayGenerator<double>>> doubles;
+  std::vector<Row> rows;
+  const bool parallel = describeProjection(c.inputs.clipFromWorld, c.inputs.mode)
+                            .facts.value_or(ProjectionFacts{})
+                            .parallel;
+  for (const RayMethod method : job.methods) {
+    auto f = makeRayGenerator<float>(method, c.inputs, v);
+    auto d = makeRayGenerator<double>(method, c.inputs, v);
+    if (!f || !d) continue;
+    for (const Precision precision : kPrecisions) {
+      Row row;
+      row.caseName = c.name;
+      row.convention = c.convention();
+      row.method = rayMethodName(method);
+      row.precision = precisionName(precision);
+      row.fovYDegrees = c.fovYDegrees;
+      row.parallel = parallel;
+      row.nsPerRay = precision == Precision::Float ? timeGenerator(*f) : timeGenerator(*d);
+      rows.push_back(row);
+    }
+    floats.push_back(std::move(f));
+    doubles.push_back(std::move(d));
+  }
+  if (progress) {
+    std::cerr << "clipray bench: " << progressTag << " " << c.name << " " << c.convention()
+              << ": reference (__float128)...\x1b[K\r" << std::flush;
+  }
+
+  // References: the exact rays of the float-rounded entries (judge float methods), of the double
+  // entries (judge double methods); their difference is the float floor.
+  const glm::dmat4 floatEntries = glm::dmat4(glm::mat4(c.inputs.clipFromWorld));
+  const QuadReference floatReference(floatEntries, c.inputs.mode, v);
+  const QuadReference doubleReference(c.inputs.clipFromWorld, c.inputs.mode, v);
+
+  const unsigned threads = std::max(1u, std::min(8u, std::thread::hardware_concurrency()));
+  struct Partial {
+    std::vector<ErrorAccumulator> floatErrors, doubleErrors;
+    double floorMax = 0.0;
+  };
+  std::vector<Partial> partials(threads);
+  auto work = [&](unsigned t) {
+    Partial& partial = partials[t];
+    for (std::size_t m = 0; m < floats.size(); ++m) {
+      const bool tMax = methodProvidesTMax(*parseRayMethod(rows[2 * m].method));
+      partial.floatErrors.emplace_back(tMax);
+      partial.doubleErrors.emplace_back(tMax);
+    }
+    std::vector<ReferenceRay> floatRow, doubleRow;
+    RayBuffer<float> floatRays(static_cast<std::size_t>(v.width));
+    RayBuffer<double> doubleRays(static_cast<std::size_t>(v.width));
+    for (int j = static_cast<int>(t); j < v.height; j += static_cast<int>(threads)) {
+      floatReference.row(j, floatRow);
+      doubleReference.row(j, doubleRow);
+      partial.floorMax = std::max(partial.floorMax, floorAngleRowMax(floatRow, doubleRow));
+      for (std::size_t m = 0; m < floats.size(); ++m) {
+        floats[m]->generateRow(j, floatRays.span(0, v.width));
+        partial.floatErrors[m].addRow(floatRow, floatRays.span(0, v.width));
+        doubles[m]->generateRow(j, doubleRays.span(0, v.width));
+        partial.doubleErrors[m].addRow(doubleRow, doubleRays.span(0, v.width));
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
+  work(0);
+  for (std::thread& thread : pool) thread.join();
+  double floorMax = 0.0;
+  for (const Partial& p : partials) floorMax = std::max(floorMax, p.floorMax);
+  for (std::size_t m = 0; m < floats.size(); ++m) {
+    ErrorAccumulator f = partials[0].floatErrors[m], d = partials[0].doubleErrors[m];
+    for (unsigned t = 1; t < threads; ++t) {
+      f.merge(partials[t].floatErrors[m]);
+      d.merge(partials[t].doubleErrors[m]);
+    }
+    rows[2 * m].errors = f.result();
+    rows[2 * m].floorAnglePx = floorMax;
+    rows[2 * m + 1].errors = d.result();
+    rows[2 * m + 1].floorAnglePx = 0.0;  // the double entries are the camera: nothing is lost
+  }
+  return rows;
+}
+
+nlohmann::json number(double value) {
+  return std::isfinite(value) ? nlohmann::json(value) : nlohmann::json(nullptr);
+}
+
+std::string cpuName() {
+  std::ifstream cpuinfo("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(cpuinfo, line)) {
+    if (line.rfind("model name", 0) == 0) {
+      const auto colon = line.find(':');
+      if (colon != std::string::npos) return line.substr(colon + 2);
+    }
+  }
+  return "unknown CPU";
+}
+
+std::string cell(double value) {
+  if (std::isnan(value)) return "-";
+  if (std::isinf(value)) return "inf";
+  std::ostringstream out;
+  out << std::setprecision(2) << std::scientific << value;
+  return out.str();
+}
+
+std::string table(const std::vector<Row>& rows) {
+  std::ostringstream out;
+  out << std::left << std::setw(22) << "case" << std::setw(12) << "conv" << std::setw(16)
+      << "method" << std::setw(7) << "prec" << std::right << std::setw(9) << "ns/ray"
+      << std::setw(10) << "ang max" << std::setw(10) << "ang p50" << std::setw(10) << "org max"
+      << std::setw(10) << "org p50" << std::setw(10) << "tmax rel" << std::setw(9) << "nonfin"
+      << std::setw(9) << "backw" << std::setw(10) << "floor"
+      << "\n";
+  for (const Row& r : rows) {
+    std::ostringstream ns;
+    ns << std::fixed << std::setprecision(r.nsPerRay < 10 ? 2 : 1) << r.nsPerRay;
+    out << std::left << std::setw(22) << r.caseName << std::setw(12) << r.convention
+        << std::setw(16) << r.method << std::setw(7) << r.precision << std::right << std::setw(9)
+        << ns.str() << std::setw(10) << cell(r.errors.anglePx.max) << std::setw(10)
+        << cell(r.errors.anglePx.p50) << std::setw(10) << cell(r.errors.originLateralPx.max)
+        << std::setw(10) << cell(r.errors.originLateralPx.p50) << std::setw(10)
+        << cell(r.errors.tMaxRelativeMax) << std::setw(9) << r.errors.nonfinite << std::setw(9)
+        << r.errors.backward << std::setw(10) << cell(r.floorAnglePx) << "\n";
+  }
+  return out.str();
+}
+
+std::string plotSvg(const std::vector<Row>& rows, Viewport size) {
+  // One point per method x precision: median ns/ray over the cases, worst angle over the cases.
+  struct Summary {
+    std::vector<double> ns;
+    double worst = 0.0;
+    bool nonfinite = false;
+  };
+  std::map<std::string, Summary> byName;
+  std::vector<std::string> order;
+  for (const Row& r : rows) {
+    const std::string name = r.method + " " + r.precision;
+    if (!byName.count(name)) order.push_back(name);
+    Summary& s = byName[name];
+    s.ns.push_back(r.nsPerRay);
+    if (r.errors.nonfinite > 0 || !std::isfinite(r.errors.anglePx.max)) s.nonfinite = true;
+    if (std::isfinite(r.errors.anglePx.max)) s.worst = std::max(s.worst, r.errors.anglePx.max);
+  }
+  LogLogPlot plot;
+  plot.title = "clipray bench: speed vs worst angular error (" + std::to_string(size.width) + "x" +
+               std::to_string(size.height) + ", " + batchCodePath() + ")";
+  plot.xLabel = "ns per ray (median over cases, one core)";
+  plot.yLabel = "worst angular error over cases (pixels)";
+  plot.yLines = {{1.0, "1 px"}, {0.01, "0.01 px"}};
+  for (const std::string& name : order) {
+    Summary& s = byName[name];
+    std::sort(s.ns.begin(), s.ns.end());
+    PlotPoint p;
+    p.label = name + (s.nonfinite ? " (non-finite rays)" : "");
+    p.x = s.ns[s.ns.size() / 2];
+    p.y = s.nonfinite ? std::numeric_limits<double>::infinity() : std::max(s.worst, 1e-12);
+    p.colour = name.find("double") != std::string::npos ? "#d62728" : "#1f77b4";
+    plot.points.push_back(p);
+  }
+  return renderSvg(plot);
+}
+
+int runBench(const BenchOptions& options) {
+  // 1. Everything the user handed us is checked before anything runs.
+  const Viewport size = parseBenchSize(options.size);
+  std::vector<std::string> methodNames;
+  for (const RayMethod m : kRayMethods) methodNames.push_back(rayMethodName(m));
+  std::vector<RayMethod> methods;
+  for (const std::string& name :
+       splitComma(options.methods.empty() ? joined(methodNames) : options.methods)) {
+    const std::optional<RayMethod> method = parseRayMethod(name);
+    if (!method) {
+      throw InputError("--methods: unknown method \"" + name +
+                       "\"; valid methods: " + joined(methodNames));
+    }
+    if (std::find(methods.begin(), methods.end(), *method) == methods.end()) {
+      methods.push_back(*method);
+    }
+  }
+  if (methods.empty()) throw InputError("--methods: expected one of: " + joined(methodNames));
+  if (options.layout != "column-major" && options.layout != "row-major") {
+    throw InputError("--layout: expected column-major or row-major, got \"" + options.layout +
+                     "\"");
+  }
+
+  std::vector<HardCase> cases;
+  if (!options.clipFromWorld.empty()) {
+    if (!options.cases.empty()) {
+      throw InputError("--cases and --clip-from-world exclude each other");
+    }
+    if (options.convention.empty()) {
+      throw InputError(
+          "--clip-from-world needs --convention no|zo|zo-reversed (the depth convention it is "
+          "drawn under)");
+    }
+    const std::optional<DepthMode> mode = DepthMode::parse(options.convention);
+    if (!mode) {
+      throw InputError("--convention: expected no, zo or zo-reversed, got \"" + options.convention +
+                       "\"");
+    }
+    HardCase user;
+    user.name = "user";
+    user.description = "--clip-from-world";
+    user.viewport = size;
+    user.inputs.clipFromWorld = parseMatrix(options.clipFromWorld, options.layout);
+    user.inputs.mode = *mode;
+    const ProjectionCheck check = describeProjection(user.inputs.clipFromWorld, *mode);
+    if (!check.facts) throw InputError("--clip-from-world: " + check.problem);
+    if (!check.facts->parallel) user.fovYDegrees = check.facts->fovYDegrees;
+    cases.push_back(user);
+  } else {
+    if (!options.convention.empty()) {
+      throw InputError("--convention applies to --clip-from-world only");
+    }
+    const std::vector<HardCase> all = hardCases(size);
+    const std::vector<std::string> names = hardCaseNames();
+    if (options.cases.empty()) {
+      cases = all;
+    } else {
+      for (const std::string& name : splitComma(options.cases)) {
+        if (std::find(names.begin(), names.end(), name) == names.end()) {
+          throw InputError("--cases: unknown case \"" + name + "\"; valid cases: " + joined(names));
+        }
+      }
+      const std::vector<std::string> wanted = splitComma(options.cases);
+      for (const HardCase& c : all) {
+        if (std::find(wanted.begin(), wanted.end(), c.name) != wanted.end()) cases.push_back(c);
+      }
+    }
+  }
+
+  // 2. The measurements: a progress line on stderr while the reference runs (when a person
+  //    watches stderr).
+  const bool progress = isatty(STDERR_FILENO) != 0;
+  std::vector<Row> rows;
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const std::string tag = "[" + std::to_string(k + 1) + "/" + std::to_string(cases.size()) + "]";
+    std::vector<Row> caseRows = measureCase({cases[k], methods}, progress, tag);
+    rows.insert(rows.end(), caseRows.begin(), caseRows.end());
+  }
+  if (progress) std::cerr << "\x1b[K" << std::flush;
+
+  // 3. Outputs.
+  std::cout << "clipray bench: " << cpuName() << ", batch code path " << batchCodePath()
+            << ", one core for timings\n";
+  std::cout << "errors in pixels (angle: pixel angles; org: lateral origin error in near-plane "
+               "pixel footprints); floor: the float floor\n";
+  std::cout << table(rows);
+  if (!options.json.empty()) {
+    nlohmann::json json;
+    json["tool"] = "clipray";
+    json["machine"] = {{"cpu", cpuName()}, {"batch_code_path", batchCodePath()}};
+    json["size"] = {{"width", size.width}, {"height", size.height}};
+    json["rows"] = nlohmann::json::array();
+    for (const Row& r : rows) {
+      json["rows"].push_back({
+          {"case", r.caseName},
+          {"convention", r.convention},
+          {"method", r.method},
+          {"precision", r.precision},
+          {"ns_per_ray", number(r.nsPerRay)},
+          {"angle_err_px",
+           {{"max", number(r.errors.anglePx.max)}, {"p50", number(r.errors.anglePx.p50)}}},
+          {"origin_lateral_err_px",
+           {{"max", number(r.errors.originLateralPx.max)},
+            {"p50", number(r.errors.originLateralPx.p50)}}},
+          {"tmax_rel_err", {{"max", number(r.errors.tMaxRelativeMax)}}},
+          {"nonfinite", r.errors.nonfinite},
+          {"backward", r.errors.backward},
+          {"floor_angle_px", number(r.floorAnglePx)},
+      });
+    }
+    writeFileAtomically(options.json, json.dump(2) + "\n");
+    std::cout << "json: " << options.json << "\n";
+  }
+  if (!options.plot.empty()) {
+    writeFileAtomically(options.plot, plotSvg(rows, size));
+    std::cout << "plot: " << options.plot << "\n";
+  }
+  return 0;
+}
+
+CommandRunner addBenchOptions(CLI::App& app) {
+  auto options = std::make_shared<BenchOptions>();
+  std::string caseList = joined(hardCaseNames());
+  app.add_option("--cases", options->cases,
+                 "Comma-separated hard cases (default: all): " + caseList);
+  app.add_option("--methods", options->methods,
+                 "Comma-separated methods (default: all): unproject_glm, two_point, inverse_pv, "
+                 "fov_tangent, plane_cross, plane_cross_pre, full, robust");
+  app.add_option("--size", options->size, "WxH of the pixel grid")->capture_default_str();
+  app.add_option("--clip-from-world", options->clipFromWorld,
+                 "Bench your own matrix: \"16 numbers\" (with --convention)");
+  app.add_option("--layout", options->layout, "Order of the 16 numbers: column-major, row-major")
+      ->capture_default_str();
+  app.add_option("--convention", options->convention,
+                 "Convention the matrix is drawn under: no, zo, zo-reversed");
+  app.add_option("--json", options->json, "Write the rows as JSON to FILE");
+  app.add_option("--plot", options->plot, "Write speed vs worst error as an SVG to FILE.svg");
+  return [options] { return runBench(*options); };
+}
+
+const bool registered = registerCommand(
+    {"bench",
+     "Time every ray method and measure its error against a __float128 reference on hard cases", 20,
+     addBenchOptions});
+
+}  // namespace
+}  // namespace clipray::cli

@@ -1,0 +1,109 @@
+#pragma once
+// The reference every ray method is measured against: the exact camera ray of a matrix's entries
+// (as stored: pass float entries widened to double), evaluated in __float128 (113-bit mantissa,
+// software arithmetic from libgcc/libquadmath). Rounding in the reference is ~1e-34 relative, far
+// below any error a float or double method can make, so "error" means the method's own error.
+//
+// Results are handed out as double-double (hi + lo) so the metrics can subtract a double result
+// from them without losing the bits that a double method's 1e-16 errors live in.
+
+#include <optional>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "clipray/math/Conventions.hpp"
+
+namespace clipray {
+
+__extension__ typedef __float128 Quad;  // __extension__: a GNU type, keeps -Wpedantic quiet
+
+// Column-major like glm: m[column][row].
+struct QuadMat4 {
+  Quad m[4][4];
+};
+struct QuadVec3 {
+  Quad x, y, z;
+};
+struct QuadVec4 {
+  Quad x, y, z, w;
+};
+
+QuadMat4 toQuad(const glm::dmat4& matrix);
+// Gauss-Jordan with partial pivoting; nullopt when a pivot is exactly zero (singular).
+std::optional<QuadMat4> inverseQuad(const QuadMat4& matrix);
+QuadVec4 quadRow(const QuadMat4& matrix, int row);
+QuadVec4 quadColumn(const QuadMat4& matrix, int column);
+QuadVec3 cross(const QuadVec3& a, const QuadVec3& b);
+Quad dot(const QuadVec3& a, const QuadVec3& b);
+Quad dot(const QuadVec4& a, const QuadVec4& b);
+inline QuadVec3 xyz(const QuadVec4& v) {
+  return {v.x, v.y, v.z};
+}
+inline double toDouble(Quad q) {
+  return static_cast<double>(q);
+}
+glm::dvec3 toDouble(const QuadVec3& v);
+
+// The camera a clipFromWorld matrix describes, derived in quad from the matrix alone
+// (DESIGN.md section 2: "the projection type, eye, near/far and fov follow from the matrix").
+struct ProjectionFacts {
+  bool parallel = false;      // row 3 has no xyz part: w is constant (orthographic-like)
+  glm::dvec3 eye{0.0};        // perspective: the null vector of rows 0, 1, 3
+  glm::dvec3 forward{0.0};    // unit direction of the centre ray (clip xy = 0, 0)
+  double nearDistance = 0.0;  // along the centre ray, from the eye (perspective) or signed
+  double farDistance = 0.0;   // +inf for an infinite far plane
+  double fovYDegrees = 0.0;   // angle between the rays at clip y = -1 and y = +1 (x = 0)
+  bool mirrored = false;      // det(clipFromWorld) < 0: the image is mirrored
+  double determinant = 0.0;
+};
+
+// Describes the camera, or returns the reason the matrix is not a usable projection under `mode`
+// (singular, a pixel ray that never meets the near plane, a near plane behind the eye, ...).
+struct ProjectionCheck {
+  std::optional<ProjectionFacts> facts;
+  std::string problem;  // set when facts is empty
+};
+ProjectionCheck describeProjection(const glm::dmat4& clipFromWorld, DepthMode mode);
+
+// A double-double number: value = hi + lo, |lo| <= ulp(hi) / 2.
+struct DoubleDouble {
+  double hi = 0.0;
+  double lo = 0.0;
+};
+
+struct ReferenceRay {
+  DoubleDouble origin[3];
+  DoubleDouble direction[3];  // unit length to ~1e-32
+  double tMax = 0.0;          // +inf for an infinite far plane
+  // Units the errors are reported in, at this pixel (DESIGN.md section 2):
+  double pixelAngle = 0.0;      // radians between this pixel's ray and its nearer neighbour's;
+                                // parallel projections: footprint / depth of the view volume
+  double pixelFootprint = 0.0;  // one pixel's width on the near plane, across the ray
+};
+
+class QuadReference {
+ public:
+  // clipFromWorld holds the exact entries to be referenced (float entries widened to double for
+  // the float methods). It must describe a projection (describeProjection succeeded).
+  QuadReference(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport);
+
+  // The exact rays of row j (pixel centres, lower-left origin), width() entries.
+  void row(int j, std::vector<ReferenceRay>& out) const;
+  Viewport viewport() const { return viewport_; }
+  bool parallel() const { return parallel_; }
+
+ private:
+  Viewport viewport_;
+  DepthMode mode_;
+  bool parallel_ = false;
+  // d(x', y') = x' P + y' Q + R (plane-cross, seed 002 listing 3), exact in quad.
+  QuadVec3 p_, q_, r_;
+  QuadVec3 nearNormal_;  // xyz of rowZ - z_near rowW: d must enter through the near plane
+  Quad nearSign_;        // +1, or -1 for reversed-Z
+  QuadVec3 farNormal_;   // xyz of rowZ - z_far rowW
+  // Near-plane point N(x', y') = worldFromClip (x', y', z_near, 1) = x' c0 + y' c1 + c23.
+  QuadVec4 c0_, c1_, c23_;
+};
+
+}  // namespace clipray

@@ -1,0 +1,101 @@
+// `clipray bench` as a user meets it: table, JSON rows, SVG, and bad input (exit 2).
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include "support/RunCommand.hpp"
+
+namespace clipray {
+namespace {
+
+using testing::runClipray;
+using testing::TempFolder;
+
+TEST(BenchCli, WritesTableJsonAndSvg) {
+  TempFolder folder;
+  const auto result = runClipray(
+      "bench --size 32x18 --cases standard,infinite_far_eye_mmm --methods robust,full "
+      "--json rows.json --plot plot.svg",
+      folder.path());
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_NE(result.out.find("ns/ray"), std::string::npos) << result.out;
+  const auto json = nlohmann::json::parse(testing::readText(folder.path() / "rows.json"));
+  ASSERT_EQ(json["rows"].size(), 2u * 2u * 2u * 2u);  // cases x conventions x methods x precisions
+  for (const auto& row : json["rows"]) {
+    for (const char* field :
+         {"case", "convention", "method", "precision", "ns_per_ray", "angle_err_px",
+          "origin_lateral_err_px", "tmax_rel_err", "nonfinite", "backward", "floor_angle_px"}) {
+      EXPECT_TRUE(row.contains(field)) << field;
+    }
+    EXPECT_TRUE(row["angle_err_px"].contains("max"));
+    EXPECT_TRUE(row["angle_err_px"].contains("p50"));
+    if (row["method"] == "robust") {
+      EXPECT_EQ(row["backward"], 0);
+    }
+    if (row["method"] == "full" && row["case"] == "infinite_far_eye_mmm") {
+      EXPECT_EQ(row["backward"], 32 * 18);
+    }
+  }
+  const std::string svg = testing::readText(folder.path() / "plot.svg");
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  EXPECT_NE(svg.find("robust float"), std::string::npos);
+}
+
+TEST(BenchCli, BenchesAUsersOwnMatrix) {
+  TempFolder folder;
+  // glm::perspectiveRH_NO(60 deg, 16/9, 0.1, 100), column-major.
+  const auto result = runClipray(
+      "bench --size 16x9 --methods robust,two_point --convention no --clip-from-world "
+      "'0.974279 0 0 0  0 1.732051 0 0  0 0 -1.002002 -1  0 0 -0.2002002 0' --json r.json",
+      folder.path());
+  ASSERT_EQ(result.status, 0) << result.err;
+  const auto json = nlohmann::json::parse(testing::readText(folder.path() / "r.json"));
+  ASSERT_EQ(json["rows"].size(), 4u);
+  EXPECT_EQ(json["rows"][0]["case"], "user");
+}
+
+struct BadInput {
+  const char* arguments;
+  const char* message;
+};
+
+TEST(BenchCli, BadInputExitsTwoWithAClearMessage) {
+  TempFolder folder;
+  const BadInput cases[] = {
+      {"--convention zo --clip-from-world '1 0 0 0 0 1 0 0 0 0 1 0 0 0 0'",
+       "clipray: --clip-from-world: expected 16 numbers, got 15\n"},
+      {"--convention zo --clip-from-world '1 0 0 0 0 1 0 0 0 0 nan 0 0 0 0 1'",
+       "clipray: --clip-from-world: number 11 is nan; every element must be finite\n"},
+      {"--convention zo --clip-from-world '1 0 0 0 0 1 0 0 0 0 0 0 0 0 0 1'",
+       "clipray: --clip-from-world: the matrix is singular (it has no inverse)\n"},
+      {"--clip-from-world '1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1'",
+       "clipray: --clip-from-world needs --convention no|zo|zo-reversed (the depth convention "
+       "it is drawn under)\n"},
+      {"--cases nope",
+       "clipray: --cases: unknown case \"nope\"; valid cases: standard, seed002_renderer, "
+       "eye_1e5, eye_1e7, infinite_far_eye_ppp, infinite_far_eye_mmm, telephoto, mirrored, "
+       "aspect_32_9, viewport_7x3, ortho_far, ortho_symmetric_depth, ortho_negative_near, "
+       "off_axis, oblique_near, reversed_z_infinite, no_matrix_under_zo\n"},
+      {"--methods robust,fast",
+       "clipray: --methods: unknown method \"fast\"; valid methods: unproject_glm, two_point, "
+       "inverse_pv, fov_tangent, plane_cross, plane_cross_pre, full, robust\n"},
+      {"--size 0x10",
+       "clipray: --size: expected WxH with positive integers (e.g. 1920x1080), got \"0x10\"\n"},
+  };
+  for (const BadInput& bad : cases) {
+    const auto result = runClipray(std::string("bench ") + bad.arguments, folder.path());
+    EXPECT_EQ(result.status, 2) << bad.arguments;
+    EXPECT_EQ(result.err, bad.message) << bad.arguments;
+  }
+  // Invertible, but its NO near plane (row 2 + row 3) has no normal: not a projection.
+  const auto result =
+      runClipray("bench --convention no --clip-from-world '1 0 0 0  0 1 0 0  0 0 -1 1  0 0 1 0'",
+                 folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_NE(result.err.find("clipray: --clip-from-world: not a projection"), std::string::npos)
+      << result.err;
+}
+
+}  // namespace
+}  // namespace clipray
