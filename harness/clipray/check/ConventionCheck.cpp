@@ -7,6 +7,9 @@
 #include <sstream>
 
 #include "clipray/math/Projections.hpp"
+#include "clipray/rays/QuadReference.hpp"
+#include "clipray/rays/RayErrors.hpp"
+#include "clipray/rays/RayMethods.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/scene/InputError.hpp"
 
@@ -28,15 +31,33 @@ std::string vec(const glm::dvec3& v) {
   return buffer;
 }
 
-// Significant decimal digits needed to write v to within the float precision its matrix entries
-// had (1e-6 relative): the build whose near plane is the "rounder" number is the one the app wrote.
-int decimalDigits(double v) {
+// Significant decimal digits needed to write v to within the precision it was recovered with: the
+// build whose near plane is the "rounder" number is the one the app wrote.
+int decimalDigits(double v, double relativeTolerance) {
   for (int digits = 1; digits <= 12; ++digits) {
     char buffer[40];
     std::snprintf(buffer, sizeof buffer, "%.*e", digits - 1, v);
-    if (std::abs(std::strtod(buffer, nullptr) - v) <= 1e-6 * std::abs(v)) return digits;
+    if (std::abs(std::strtod(buffer, nullptr) - v) <= relativeTolerance * std::abs(v))
+      return digits;
   }
   return 13;
+}
+
+// Relative precision the matrix entries carry: float values (2^-24), decimals printed with d
+// significant digits (half a unit in the d-th digit), or full doubles (2^-53).
+double entryPrecision(const glm::dmat4& m) {
+  bool allFloat = true;
+  int mostDigits = 0;
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      const double v = m[c][r];
+      allFloat = allFloat && static_cast<double>(static_cast<float>(v)) == v;
+      if (v != 0.0) mostDigits = std::max(mostDigits, decimalDigits(v, 1e-16));
+    }
+  }
+  if (allFloat) return std::ldexp(1.0, -24);
+  if (mostDigits >= 15) return std::ldexp(1.0, -53);
+  return 0.5 * std::pow(10.0, 1 - mostDigits);
 }
 
 void requireFinite(const glm::dmat4& m, const std::string& what) {
@@ -102,6 +123,64 @@ glm::dvec3 unproject(const glm::dmat4& worldFromClip, const glm::dvec3& ndc) {
 
 std::string conventionName(DepthConvention c) {
   return c == DepthConvention::ZeroToOne ? "ZERO_TO_ONE" : "NEGATIVE_ONE_TO_ONE";
+}
+
+// Every ray method in float at this camera against the exact rays of the float matrix, over five
+// rows of the viewport at full width (enough to find the worst corner and the centre).
+std::vector<MethodPrediction> predictMethodErrors(const CheckInput& input, DepthMode mode) {
+  CameraInputs inputs;
+  inputs.clipFromWorld = input.clipFromWorld;
+  inputs.mode = mode;
+  if (input.projection && input.view) {
+    inputs.clipFromView = *input.projection;
+    inputs.viewFromWorld = *input.view;
+  }
+  const Viewport viewport = input.viewport;
+  std::vector<MethodPrediction> predictions;
+  if (!describeProjection(input.clipFromWorld, mode).facts) return predictions;
+  const QuadReference reference(glm::dmat4(glm::mat4(input.clipFromWorld)), mode, viewport);
+  const QuadReference doubleReference(input.clipFromWorld, mode, viewport);
+  std::vector<int> rows = {0, viewport.height / 4, viewport.height / 2, 3 * viewport.height / 4,
+                           viewport.height - 1};
+  rows.erase(std::unique(rows.begin(), rows.end()), rows.end());
+  std::vector<std::vector<ReferenceRay>> referenceRows(rows.size()), doubleRows(rows.size());
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    reference.row(rows[k], referenceRows[k]);
+    doubleReference.row(rows[k], doubleRows[k]);
+  }
+  RayBuffer<float> buffer(static_cast<std::size_t>(viewport.width));
+  RayBuffer<double> doubleBuffer(static_cast<std::size_t>(viewport.width));
+  for (const RayMethod method : kRayMethods) {
+    MethodPrediction prediction;
+    prediction.method = rayMethodName(method);
+    prediction.unavailable = missingInputs(method, inputs);
+    const auto generator = prediction.unavailable.empty()
+                               ? makeRayGenerator<float>(method, inputs, viewport)
+                               : nullptr;
+    if (generator) {
+      ErrorAccumulator errors(methodProvidesTMax(method));
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        generator->generateRow(rows[k], buffer.span(0, viewport.width));
+        errors.addRow(referenceRows[k], buffer.span(0, viewport.width));
+      }
+      const auto doubleGenerator = makeRayGenerator<double>(method, inputs, viewport);
+      ErrorAccumulator doubleErrors(false);
+      for (std::size_t k = 0; k < rows.size() && doubleGenerator; ++k) {
+        doubleGenerator->generateRow(rows[k], doubleBuffer.span(0, viewport.width));
+        doubleErrors.addRow(doubleRows[k], doubleBuffer.span(0, viewport.width));
+      }
+      prediction.angleErrorPxDouble = doubleErrors.result().anglePx.max;
+      const MethodErrors result = errors.result();
+      prediction.angleErrorPx = result.anglePx.max;
+      prediction.originLateralErrorPx = result.originLateralPx.max;
+      prediction.nonfinite = result.nonfinite;
+      prediction.backward = result.backward;
+    } else if (prediction.unavailable.empty()) {
+      prediction.unavailable = "cannot run on this matrix";
+    }
+    predictions.push_back(prediction);
+  }
+  return predictions;
 }
 
 }  // namespace
@@ -191,8 +270,16 @@ CheckReport checkConventions(const CheckInput& input) {
       } else if (!p.nearIfBuiltForNo && p.nearIfBuiltForZo) {
         p.builtFor = "zo";
       } else {
-        const int digitsNo = decimalDigits(*p.nearIfBuiltForNo),
-                  digitsZo = decimalDigits(*p.nearIfBuiltForZo);
+        // Near is recovered through r2 . (eye, 1), which cancels when the eye is far from the
+        // origin: float entries carry u = 2^-24 relative error, amplified by sum |r2_i e_i| / |r2 .
+        // e|.
+        const glm::dvec4 e(*p.eye, 1.0);
+        const double cancellation = (std::abs(rowZ.x * e.x) + std::abs(rowZ.y * e.y) +
+                                     std::abs(rowZ.z * e.z) + std::abs(rowZ.w)) /
+                                    std::abs(glm::dot(rowZ, e));
+        const double tolerance = 4.0 * entryPrecision(m) * cancellation;
+        const int digitsNo = decimalDigits(*p.nearIfBuiltForNo, tolerance);
+        const int digitsZo = decimalDigits(*p.nearIfBuiltForZo, tolerance);
         p.builtFor = digitsNo < digitsZo ? "no" : digitsZo < digitsNo ? "zo" : "ambiguous";
       }
       const DepthMode drawn{declared, false};
@@ -227,7 +314,7 @@ CheckReport checkConventions(const CheckInput& input) {
         const double zo = glm::dot(unproject(worldFromClip, {0, 0, 0}) - origin, p.viewDirection);
         p.nearIfBuiltForNo = no;
         p.nearIfBuiltForZo = zo;
-        const int digitsNo = decimalDigits(no), digitsZo = decimalDigits(zo);
+        const int digitsNo = decimalDigits(no, 1e-6), digitsZo = decimalDigits(zo, 1e-6);
         p.builtFor = digitsNo < digitsZo ? "no" : digitsZo < digitsNo ? "zo" : "ambiguous";
       } else {
         p.builtFor = "zo-reversed";
@@ -371,6 +458,45 @@ CheckReport checkConventions(const CheckInput& input) {
          "build picking rays from the plane cross product with the sign fixed by the near plane "
          "(clipray's robust method); t_max = +inf"});
   }
+  // Float precision: what each ray method errs by at this camera, from the ray library.
+  report.methods = predictMethodErrors(input, mode);
+  {
+    double worstClassic = 0.0;
+    std::string table;
+    for (const MethodPrediction& prediction : report.methods) {
+      if (!prediction.unavailable.empty()) continue;
+      // Float precision risk: the classic methods err in float where they would not in double
+      // (non-finite rays and structural failures belong to other findings).
+      if ((prediction.method == "two_point" || prediction.method == "unproject_glm") &&
+          prediction.nonfinite == 0 && prediction.angleErrorPxDouble < 0.01) {
+        worstClassic = std::max(worstClassic, prediction.angleErrorPx);
+      }
+      table += (table.empty() ? "" : "; ") + prediction.method + " " +
+               (prediction.nonfinite ? std::string("non-finite")
+                                     : number(prediction.angleErrorPx) + " / " +
+                                           number(prediction.originLateralErrorPx)) +
+               (prediction.backward ? " (backward)" : "");
+    }
+    if (worstClassic > 0.5) {
+      const std::string where = p.perspective && p.eye && p.nearDistance
+                                    ? "the eye is " + number(glm::length(*p.eye)) +
+                                          " units from the origin with near " +
+                                          number(*p.nearDistance) + " (ratio " +
+                                          number(glm::length(*p.eye) / *p.nearDistance) + ")"
+                                    : "at this camera";
+      findings.push_back(
+          {"warning", "float-precision-risk",
+           where +
+               "; float picking rays from this matrix err by up to (direction / origin, in "
+               "pixels): " +
+               table,
+           "build rays with plane-cross directions and near-plane origins (clipray's robust "
+           "method), "
+           "and make the matrix camera-relative (remove the eye's translation in double before "
+           "rounding to float)"});
+    }
+  }
+
   // Depth precision over the scene: two surfaces 1% apart are separable while the depth they map
   // to differs by more than one stored quantum; dz ~ z^2 (1/n - 1/f) dd for perspective.
   if (input.sceneExtent && p.perspective && p.nearDistance) {
@@ -440,6 +566,18 @@ nlohmann::json checkReportJson(const CheckReport& report, const CheckInput& inpu
     properties["extent_y"] = p.extentY;
     properties["depth_extent"] = p.depthExtent;
   }
+  nlohmann::json methods = nlohmann::json::array();
+  for (const MethodPrediction& m : report.methods) {
+    if (!m.unavailable.empty()) {
+      methods.push_back({{"method", m.method}, {"unavailable", m.unavailable}});
+      continue;
+    }
+    methods.push_back({{"method", m.method},
+                       {"angle_err_px", m.angleErrorPx},
+                       {"origin_lateral_err_px", m.originLateralErrorPx},
+                       {"nonfinite", m.nonfinite},
+                       {"backward", m.backward}});
+  }
   nlohmann::json findings = nlohmann::json::array();
   for (const Finding& f : report.findings) {
     findings.push_back(
@@ -456,6 +594,7 @@ nlohmann::json checkReportJson(const CheckReport& report, const CheckInput& inpu
             {"viewport", {input.viewport.width, input.viewport.height}},
             {"depth_bits", depthFormatName(input.depthFormat)}}},
           {"properties", properties},
+          {"ray_methods_float", methods},
           {"findings", findings},
           {"verdict", report.hasErrors() ? "errors" : "ok"}};
 }
@@ -487,6 +626,16 @@ std::string checkReportText(const CheckReport& report, const CheckInput& input) 
         << " if ZO)";
   }
   out << "\n";
+  if (!report.methods.empty()) {
+    out << "float picking rays at this camera, max error in pixels (direction / origin):\n";
+    for (const MethodPrediction& m : report.methods) {
+      if (!m.unavailable.empty()) continue;
+      out << "  " << m.method << " "
+          << (m.nonfinite ? std::string("non-finite")
+                          : number(m.angleErrorPx) + " / " + number(m.originLateralErrorPx))
+          << (m.backward ? " (backward)" : "") << "\n";
+    }
+  }
   if (report.findings.empty()) out << "findings: none\n";
   for (const Finding& f : report.findings) {
     out << f.severity << " [" << f.code << "] " << f.message << "\n  fix: " << f.fix << "\n";

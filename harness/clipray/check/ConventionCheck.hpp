@@ -4,6 +4,7 @@
 // the eye is the null vector of rows 0, 1, 3; a w row without xyz is a parallel projection; where
 // the clip planes land along the view direction gives near, far and the convention built for.
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -55,6 +56,19 @@ struct MatrixProperties {
   bool likelyTransposed = false;  // the transpose looks like a projection, the matrix does not
 };
 
+// What each ray method errs by at this camera in float, against the exact ray of the float matrix
+// (the ray library's __float128 reference), sampled over five rows of the viewport.
+struct MethodPrediction {
+  std::string method;       // "two_point", ...
+  std::string unavailable;  // why the method cannot run on these inputs (then no figures)
+  double angleErrorPx = 0.0;
+  double originLateralErrorPx = 0.0;
+  double angleErrorPxDouble = 0.0;  // the same method in double: large here means the method
+                                    // itself fails on this camera, not float precision
+  std::uint64_t nonfinite = 0;
+  std::uint64_t backward = 0;
+};
+
 struct Finding {
   std::string severity;  // "error", "warning", "info"
   std::string code;
@@ -64,6 +78,7 @@ struct Finding {
 
 struct CheckReport {
   MatrixProperties properties;
+  std::vector<MethodPrediction> methods;
   std::vector<Finding> findings;
   bool hasErrors() const;
 };
