@@ -254,27 +254,47 @@ glm::dvec3 PickDemo::teleportOffset() const {
   return teleported_ ? glm::dvec3(kTeleportDistance, 0.0, 0.0) : glm::dvec3(0.0);
 }
 
-glm::dmat4 PickDemo::clipFromWorld(Viewport viewport) const {
+CameraInputs PickDemo::cameraInputs(Viewport viewport) const {
   // The teleport moves the camera with the scene: the view gains a translation by -offset.
   const glm::dmat4 offset = translation(-teleportOffset());
-  Camera camera = camera_;
-  if (camera.rawClipFromWorld) {
-    const glm::dmat4 clip = camera.clipFromWorld(settings_.mode, viewport);
-    return teleported_ ? clip * offset : clip;
+  CameraInputs inputs;
+  inputs.mode = settings_.mode;
+  if (camera_.rawClipFromWorld) {
+    // A raw matrix: no projection, view or scalars to hand over (inverse_pv, fov_tangent: n/a).
+    const glm::dmat4 clip = camera_.clipFromWorld(settings_.mode, viewport);
+    inputs.clipFromWorld = teleported_ ? clip * offset : clip;
+    return inputs;
   }
+  Camera camera = camera_;
   camera.viewFromWorld = teleported_ ? viewFromWorld_ * offset : viewFromWorld_;
-  return camera.clipFromWorld(settings_.mode, viewport);
+  inputs.clipFromWorld = camera.clipFromWorld(settings_.mode, viewport);  // projection * view
+  Camera projection = camera_;
+  projection.viewFromWorld = glm::dmat4(1.0);
+  inputs.clipFromView = projection.clipFromWorld(settings_.mode, viewport);
+  inputs.viewFromWorld = camera.viewFromWorld;
+  if (const auto* p = std::get_if<PerspectiveProjection>(&camera_.projection)) {
+    PerspectiveScalars scalars;
+    scalars.fovYRadians = glm::radians(p->fovYDegrees);
+    scalars.aspect = p->aspect.value_or(static_cast<double>(viewport.width) / viewport.height);
+    scalars.nearDistance = p->nearDistance;
+    scalars.farDistance = p->farDistance.value_or(std::numeric_limits<double>::infinity());
+    // inverse(view * offset) = translation(+offset) * inverse(view), without a 4x4 inverse of
+    // a matrix with 1e5 in it.
+    scalars.worldFromView = translation(teleportOffset()) * glm::inverse(viewFromWorld_);
+    inputs.perspective = scalars;
+  }
+  return inputs;
 }
 
 void PickDemo::updateRaster() {
   const WindowGeometry geometry = window_->geometry();
   const Viewport viewport{geometry.framebufferSize.x, geometry.framebufferSize.y};
   if (!rasterDirty_ && raster_.viewport == viewport) return;
-  rasterClipFromWorld_ = clipFromWorld(viewport);
-  const glm::dvec3 reference = gl::nearPlaneCentre(rasterClipFromWorld_, settings_.mode);
+  rasterCamera_ = cameraInputs(viewport);
+  const glm::dvec3 reference = gl::nearPlaneCentre(rasterCamera_.clipFromWorld, settings_.mode);
   gl::RenderRequest request;
   request.scene = &shownScene_;
-  request.clipFromWorld = rasterClipFromWorld_;
+  request.clipFromWorld = rasterCamera_.clipFromWorld;
   request.mode = settings_.mode;
   request.depthFormat = settings_.depthFormat;
   request.vertexMode = settings_.vertexMode;
@@ -303,17 +323,15 @@ void PickDemo::repick() {
   updateRaster();
   const glm::ivec2 pixel = glm::min(
       lastPick_->pixel, glm::ivec2(raster_.viewport.width - 1, raster_.viewport.height - 1));
-  const PickView view{&shownScene_, rasterClipFromWorld_, settings_.mode, settings_.depthFormat,
-                      &raster_,     &*intersector_};
-  lastPick_ = pick(view, settings_.method, pixel);
+  const PickView view{&shownScene_, rasterCamera_, settings_.depthFormat, &raster_, &*intersector_};
+  lastPick_ = pick(view, settings_.ray, pixel);
 }
 
 void PickDemo::onClick(glm::dvec2 cursor) {
   updateRaster();
   const glm::ivec2 pixel = window_->geometry().pixelFromCursor(cursor);
-  const PickView view{&shownScene_, rasterClipFromWorld_, settings_.mode, settings_.depthFormat,
-                      &raster_,     &*intersector_};
-  lastPick_ = pick(view, settings_.method, pixel);
+  const PickView view{&shownScene_, rasterCamera_, settings_.depthFormat, &raster_, &*intersector_};
+  lastPick_ = pick(view, settings_.ray, pixel);
   pickLines_ << pickJson(*lastPick_, shownScene_, teleported_).dump() << std::endl;
 }
 
@@ -378,8 +396,7 @@ void PickDemo::onKey(char key) {
                                   : DepthFormat::Unorm16;
       break;
     case 'm':
-      settings_.method =
-          settings_.method == RayMethod::Robust ? RayMethod::TwoPoint : RayMethod::Robust;
+      settings_.ray = nextRayChoice(settings_.ray);
       break;
     case 'v':
       settings_.vertexMode = settings_.vertexMode == VertexMode::World ? VertexMode::CameraRelative
@@ -420,8 +437,7 @@ void PickDemo::drawPanel() {
               teleported_ ? "TELEPORTED 1e5 from the origin" : "at the origin");
   ImGui::Text("convention %s   depth %s   vertices %s   rays %s", settings_.mode.name().c_str(),
               depthFormatName(settings_.depthFormat).c_str(),
-              vertexModeName(settings_.vertexMode).c_str(),
-              rayMethodName(settings_.method).c_str());
+              vertexModeName(settings_.vertexMode).c_str(), rayChoiceName(settings_.ray).c_str());
   ImGui::Text("framebuffer %dx%d   window %.0fx%.0f", geometry.framebufferSize.x,
               geometry.framebufferSize.y, geometry.windowSize.x, geometry.windowSize.y);
   ImGui::Separator();
@@ -430,9 +446,14 @@ void PickDemo::drawPanel() {
   } else {
     const PickResult& p = *lastPick_;
     ImGui::Text("pixel (%d, %d)", p.pixel.x, p.pixel.y);
-    ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s",
-                       objectName(shownScene_, p.rayObject).c_str(),
-                       formatPoint(p.rayPoint).c_str());
+    if (p.rayUnavailable.empty()) {
+      ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s",
+                         objectName(shownScene_, p.rayObject).c_str(),
+                         formatPoint(p.rayPoint).c_str());
+    } else {
+      ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s", "n/a",
+                         p.rayUnavailable.c_str());
+    }
     ImGui::TextColored(ImVec4(1.0f, 0.65f, 0.2f, 1.0f), "2 depth %-12s %s", "",
                        formatPoint(p.depthPoint).c_str());
     ImGui::TextColored(ImVec4(0.4f, 0.9f, 1.0f, 1.0f), "3 id    %s",
@@ -442,7 +463,9 @@ void PickDemo::drawPanel() {
     } else {
       ImGui::TextUnformatted("gap 1-2: -");
     }
-    if (p.agree()) {
+    if (!p.rayUnavailable.empty()) {
+      ImGui::TextUnformatted("1 and 3: n/a (no ray)");
+    } else if (p.agree()) {
       ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 and 3 agree");
     } else {
       ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.35f, 1.0f), "1 and 3 DISAGREE");
@@ -460,7 +483,9 @@ void PickDemo::drawPanel() {
     ImGui::TextUnformatted(
         "left-click pick   left-drag orbit   right-drag pan   wheel zoom\n"
         "C convention (no / zo / zo-reversed)   D depth format (16 / 24 / 32f)\n"
-        "M ray method (robust / two_point)   V vertex mode   T teleport 1e5\n"
+        "M ray method: unproject_glm / two_point / inverse_pv / fov_tangent / plane_cross /\n"
+        "  plane_cross_pre / full / robust (float), then robust double\n"
+        "V vertex mode (world / camera-relative / pretransformed)   T teleport 1e5\n"
         "R reset view   H this help   Esc quit");
     ImGui::End();
   }
@@ -479,12 +504,14 @@ void PickDemo::drawPanel() {
     draw->AddRect(ImVec2(c.x - half, c.y - half), ImVec2(c.x + half, c.y + half),
                   IM_COL32(100, 230, 255, 255), 0.0f, 0, 1.5f);
     if (lastPick_->rayPoint) {
-      if (auto f = framebufferFromWorld(rasterClipFromWorld_, viewport, *lastPick_->rayPoint)) {
+      if (auto f =
+              framebufferFromWorld(rasterCamera_.clipFromWorld, viewport, *lastPick_->rayPoint)) {
         draw->AddCircle(toScreen(*f), 9.0f, IM_COL32(100, 255, 100, 255), 20, 2.0f);
       }
     }
     if (lastPick_->depthPoint) {
-      if (auto f = framebufferFromWorld(rasterClipFromWorld_, viewport, *lastPick_->depthPoint)) {
+      if (auto f =
+              framebufferFromWorld(rasterCamera_.clipFromWorld, viewport, *lastPick_->depthPoint)) {
         const ImVec2 p = toScreen(*f);
         draw->AddLine(ImVec2(p.x - 7, p.y - 7), ImVec2(p.x + 7, p.y + 7),
                       IM_COL32(255, 165, 50, 255), 2.0f);

@@ -24,7 +24,7 @@ struct DemoSettings {
   DepthMode mode = kZeroToOne;
   DepthFormat depthFormat = DepthFormat::Unorm24;
   VertexMode vertexMode = VertexMode::World;
-  RayMethod method = RayMethod::Robust;
+  RayChoice ray;  // robust float
   glm::ivec2 windowSize{960, 640};
 };
 
@@ -57,7 +57,9 @@ class PickDemo {
   void drawFrame();
   void updateRaster();
   void repick();
-  glm::dmat4 clipFromWorld(Viewport viewport) const;
+  // What the demo's camera hands the ray methods: clipFromWorld, and for a parametric camera the
+  // projection and view separately, and for a perspective one the fov scalars too.
+  CameraInputs cameraInputs(Viewport viewport) const;
   glm::dvec3 teleportOffset() const;
   void drawPanel();
   void resetView();
@@ -78,7 +80,7 @@ class PickDemo {
   std::unique_ptr<Gpu> gpu_;
   bool rasterDirty_ = true;
   RasterFrame raster_;
-  glm::dmat4 rasterClipFromWorld_{1.0};
+  CameraInputs rasterCamera_;  // the camera the raster was drawn with
   std::optional<SceneIntersector> intersector_;
   std::optional<PickResult> lastPick_;
 

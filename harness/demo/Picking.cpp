@@ -1,44 +1,53 @@
 #include "Picking.hpp"
 
 #include <cmath>
-
-#include "clipray/rays/RobustRays.hpp"
+#include <iterator>
+#include <memory>
 
 namespace clipray::demo {
 
-std::string rayMethodName(RayMethod method) {
-  return method == RayMethod::Robust ? "robust" : "two_point";
+std::string rayChoiceName(RayChoice choice) {
+  return rayMethodName(choice.method) + " " + precisionName(choice.precision);
 }
 
-std::optional<RayMethod> parseRayMethod(std::string_view text) {
-  for (const RayMethod method : kRayMethods) {
-    if (rayMethodName(method) == text) return method;
+RayChoice nextRayChoice(RayChoice choice) {
+  constexpr std::size_t count = std::size(kDemoRayChoices);
+  for (std::size_t k = 0; k < count; ++k) {
+    if (kDemoRayChoices[k] == choice) return kDemoRayChoices[(k + 1) % count];
   }
-  return std::nullopt;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (kDemoRayChoices[k].method == choice.method) return kDemoRayChoices[(k + 1) % count];
+  }
+  return kDemoRayChoices[0];
 }
 
 namespace {
 
-// two_point as apps write it (seed 003, GLU): everything in float, the matrix inverted once.
-std::optional<Ray> twoPointFloat(const glm::dmat4& clipFromWorld, DepthMode mode,
-                                 glm::dvec2 clipXY) {
-  const glm::mat4 worldFromClip = glm::inverse(glm::mat4(clipFromWorld));
-  const float x = static_cast<float>(clipXY.x), y = static_cast<float>(clipXY.y);
-  const glm::vec4 nearH = worldFromClip * glm::vec4(x, y, static_cast<float>(mode.nearNdcZ()), 1);
-  const glm::vec4 farH = worldFromClip * glm::vec4(x, y, static_cast<float>(mode.farNdcZ()), 1);
-  const glm::vec3 nearPoint = glm::vec3(nearH) / nearH.w;
-  const glm::vec3 farPoint = glm::vec3(farH) / farH.w;
-  const glm::vec3 span = farPoint - nearPoint;
-  const float length = glm::length(span);
-  if (!std::isfinite(length) || !(length > 0.0f) || !std::isfinite(nearPoint.x) ||
-      !std::isfinite(nearPoint.y) || !std::isfinite(nearPoint.z)) {
-    return std::nullopt;
+template <typename T>
+PickRay libraryRay(RayMethod method, const CameraInputs& camera, Viewport viewport,
+                   glm::ivec2 pixel) {
+  PickRay result;
+  const std::unique_ptr<RayGenerator<T>> generator = makeRayGenerator<T>(method, camera, viewport);
+  if (!generator) {
+    result.unavailable = missingInputs(method, camera);
+    if (result.unavailable.empty()) result.unavailable = "cannot run on this camera";
+    return result;
   }
+  const CameraRay<T> r = generator->pixelRay(pixel.x, pixel.y);
   Ray ray;
-  ray.origin = glm::dvec3(nearPoint);
-  ray.direction = glm::normalize(glm::dvec3(span / length));
-  ray.tMax = static_cast<double>(length);
-  return ray;
+  ray.origin = glm::dvec3(r.origin);
+  ray.direction = glm::dvec3(r.direction);
+  ray.tMax = static_cast<double>(r.tMax);
+  const bool finite = std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) &&
+                      std::isfinite(ray.origin.z) && std::isfinite(ray.direction.x) &&
+                      std::isfinite(ray.direction.y) && std::isfinite(ray.direction.z);
+  // t_max may be +inf (infinite far plane, direction-only methods) but not NaN or negative.
+  if (!finite || !(glm::length(ray.direction) > 0.0) || !(ray.tMax > 0.0)) {
+    result.unavailable = "non-finite ray";
+    return result;
+  }
+  result.ray = ray;
+  return result;
 }
 
 glm::dvec3 unproject(const glm::dmat4& worldFromClip, const glm::dvec3& ndc) {
@@ -63,10 +72,10 @@ nlohmann::json optionalJson(const std::optional<double>& value) {
 
 }  // namespace
 
-std::optional<Ray> pickRay(RayMethod method, const glm::dmat4& clipFromWorld, DepthMode mode,
-                           glm::dvec2 clipXY) {
-  if (method == RayMethod::TwoPoint) return twoPointFloat(clipFromWorld, mode, clipXY);
-  return RobustRayGenerator(clipFromWorld, mode).generate(clipXY);
+PickRay pickRay(RayChoice choice, const CameraInputs& camera, Viewport viewport, glm::ivec2 pixel) {
+  return choice.precision == Precision::Float
+             ? libraryRay<float>(choice.method, camera, viewport, pixel)
+             : libraryRay<double>(choice.method, camera, viewport, pixel);
 }
 
 std::optional<glm::dvec2> framebufferFromWorld(const glm::dmat4& clipFromWorld, Viewport viewport,
@@ -77,7 +86,7 @@ std::optional<glm::dvec2> framebufferFromWorld(const glm::dmat4& clipFromWorld, 
   return glm::dvec2((ndc.x + 1.0) * 0.5 * viewport.width, (ndc.y + 1.0) * 0.5 * viewport.height);
 }
 
-PickResult pick(const PickView& view, RayMethod method, glm::ivec2 pixel) {
+PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
   const Scene& scene = *view.scene;
   const RasterFrame& raster = *view.raster;
   const Viewport viewport = raster.viewport;
@@ -85,18 +94,21 @@ PickResult pick(const PickView& view, RayMethod method, glm::ivec2 pixel) {
   PickResult result;
   result.pixel = pixel;
   result.framebuffer = viewport;
-  result.method = method;
-  result.mode = view.mode;
+  result.ray = ray;
+  result.mode = view.camera.mode;
   result.depthFormat = view.depthFormat;
   const glm::dvec2 clipXY = clipXYOfPixelCentre(pixel.x, pixel.y, viewport);
 
   // 1. The analytic ray through the pixel centre.
-  if (const std::optional<Ray> ray = pickRay(method, view.clipFromWorld, view.mode, clipXY)) {
-    const Hit hit = view.intersector->closestHit(*ray);
+  const PickRay analytic = pickRay(ray, view.camera, viewport, pixel);
+  if (analytic.ray) {
+    const Hit hit = view.intersector->closestHit(*analytic.ray);
     if (hit.hit()) {
       result.rayObject = ids.decode(hit.primitiveId).object;
-      result.rayPoint = ray->origin + hit.t * ray->direction;
+      result.rayPoint = analytic.ray->origin + hit.t * analytic.ray->direction;
     }
+  } else {
+    result.rayUnavailable = analytic.unavailable;
   }
 
   // 2. and 3. What the raster stored at that pixel.
@@ -104,17 +116,17 @@ PickResult pick(const PickView& view, RayMethod method, glm::ivec2 pixel) {
   result.windowDepth = raster.depth[index];
   result.primitiveId = raster.ids[index];
   result.idObject = ids.decode(result.primitiveId).object;
-  const glm::dmat4 worldFromClip = glm::inverse(view.clipFromWorld);
-  const float clearDepth = view.mode.reversed ? 0.0f : 1.0f;
+  const glm::dmat4 worldFromClip = glm::inverse(view.camera.clipFromWorld);
+  const float clearDepth = view.camera.mode.reversed ? 0.0f : 1.0f;
   if (result.windowDepth != clearDepth) {
-    const double zNdc = ndcFromWindowDepth(result.windowDepth, view.mode.convention);
+    const double zNdc = ndcFromWindowDepth(result.windowDepth, view.camera.mode.convention);
     result.depthPoint = unproject(worldFromClip, glm::dvec3(clipXY, zNdc));
   }
 
   if (result.rayPoint && result.depthPoint) {
     result.gapWorld = glm::distance(*result.rayPoint, *result.depthPoint);
     // One pixel's footprint at the depth point: the next pixel centre at the same NDC depth.
-    const double zNdc = ndcFromWindowDepth(result.windowDepth, view.mode.convention);
+    const double zNdc = ndcFromWindowDepth(result.windowDepth, view.camera.mode.convention);
     const glm::dvec3 neighbour =
         unproject(worldFromClip, glm::dvec3(clipXY.x + 2.0 / viewport.width, clipXY.y, zNdc));
     const double footprint = glm::distance(neighbour, *result.depthPoint);
@@ -128,18 +140,27 @@ nlohmann::json pickJson(const PickResult& result, const Scene& scene, bool telep
   nlohmann::json line;
   line["pixel"] = {result.pixel.x, result.pixel.y};
   line["framebuffer"] = {result.framebuffer.width, result.framebuffer.height};
-  line["method"] = rayMethodName(result.method);
+  line["method"] = rayMethodName(result.ray.method);
+  line["precision"] = precisionName(result.ray.precision);
   line["convention"] = result.mode.name();
   line["depth_format"] = depthFormatName(result.depthFormat);
   line["teleported"] = teleported;
-  line["ray"] = {{"object", objectJson(scene, result.rayObject)},
-                 {"point", pointJson(result.rayPoint)}};
+  if (result.rayUnavailable.empty()) {
+    line["ray"] = {{"object", objectJson(scene, result.rayObject)},
+                   {"point", pointJson(result.rayPoint)}};
+  } else {
+    line["ray"] = nullptr;
+  }
   line["depth"] = {{"point", pointJson(result.depthPoint)},
                    {"window_depth", static_cast<double>(result.windowDepth)}};
   line["id"] = {{"object", objectJson(scene, result.idObject)}};
   line["gap_world"] = optionalJson(result.gapWorld);
   line["gap_px"] = optionalJson(result.gapPixels);
-  line["agree"] = result.agree();
+  if (result.rayUnavailable.empty()) {
+    line["agree"] = result.agree();
+  } else {
+    line["agree"] = nullptr;
+  }
   return line;
 }
 

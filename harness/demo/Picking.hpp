@@ -17,28 +17,44 @@
 #include "clipray/intersect/SceneIntersector.hpp"
 #include "clipray/math/Conventions.hpp"
 #include "clipray/rays/Ray.hpp"
+#include "clipray/rays/RayMethods.hpp"
 #include "clipray/scene/Scene.hpp"
 
 namespace clipray::demo {
 
-// The ray methods the demo offers: clipray's `robust`, and `two_point` as most apps write it
-// (worldFromClip inverted in float, near and far point, normalize(far - near)), which drifts when
-// the camera is far from the origin.
-enum class RayMethod { Robust, TwoPoint };
-std::string rayMethodName(RayMethod method);  // "robust", "two_point"
-std::optional<RayMethod> parseRayMethod(std::string_view text);
-inline constexpr RayMethod kRayMethods[] = {RayMethod::Robust, RayMethod::TwoPoint};
+// The rays the demo offers: every method of clipray's ray library (RayMethods.hpp) in float, as
+// most apps run them, plus robust in double. The M key cycles through kDemoRayChoices.
+struct RayChoice {
+  RayMethod method = RayMethod::Robust;
+  Precision precision = Precision::Float;
+  bool operator==(const RayChoice&) const = default;
+};
+inline constexpr RayChoice kDemoRayChoices[] = {
+    {RayMethod::UnprojectGlm, Precision::Float}, {RayMethod::TwoPoint, Precision::Float},
+    {RayMethod::InversePv, Precision::Float},    {RayMethod::FovTangent, Precision::Float},
+    {RayMethod::PlaneCross, Precision::Float},   {RayMethod::PlaneCrossPre, Precision::Float},
+    {RayMethod::Full, Precision::Float},         {RayMethod::Robust, Precision::Float},
+    {RayMethod::Robust, Precision::Double}};
+// "two_point float", "robust double", ...
+std::string rayChoiceName(RayChoice choice);
+// The choice after `choice` in kDemoRayChoices (a choice not in the list, e.g. two_point double,
+// continues after its float entry).
+RayChoice nextRayChoice(RayChoice choice);
 
-// The ray through clip-space xy. two_point returns nullopt where it fails outright (an infinite far
-// plane puts its far point at infinity). Never throws.
-std::optional<Ray> pickRay(RayMethod method, const glm::dmat4& clipFromWorld, DepthMode mode,
-                           glm::dvec2 clipXY);
+// A ray for a pick, or why there is none.
+struct PickRay {
+  std::optional<Ray> ray;   // the method's ray, widened exactly to double
+  std::string unavailable;  // empty when `ray` is set; otherwise why not (missing inputs,
+                            // a non-finite ray: e.g. two_point's far point at infinity)
+};
+
+// The ray through the centre of pixel (lower-left origin) by `choice` on `camera`. Never throws.
+PickRay pickRay(RayChoice choice, const CameraInputs& camera, Viewport viewport, glm::ivec2 pixel);
 
 // What the screen showed when the user clicked.
 struct PickView {
   const Scene* scene = nullptr;
-  glm::dmat4 clipFromWorld{1.0};
-  DepthMode mode;
+  CameraInputs camera;  // clipFromWorld and mode always; projection, view, fov where known
   DepthFormat depthFormat = DepthFormat::Float32;
   const RasterFrame* raster = nullptr;            // depth and ids read back from the same frame
   const SceneIntersector* intersector = nullptr;  // over the same (possibly teleported) scene
@@ -47,11 +63,12 @@ struct PickView {
 struct PickResult {
   glm::ivec2 pixel{0};  // lower-left origin, framebuffer pixels
   Viewport framebuffer;
-  RayMethod method = RayMethod::Robust;
+  RayChoice ray;
   DepthMode mode;
   DepthFormat depthFormat = DepthFormat::Float32;
   // 1. analytic ray
-  int rayObject = -1;  // object index, -1: background (or no ray)
+  std::string rayUnavailable;  // not empty: the method could not run here ("n/a"); why
+  int rayObject = -1;          // object index, -1: background (or no ray)
   std::optional<glm::dvec3> rayPoint;
   // 2. depth readback
   float windowDepth = 0.0f;
@@ -62,19 +79,20 @@ struct PickResult {
   // gaps between 1 and 2 (where both exist)
   std::optional<double> gapWorld;
   std::optional<double> gapPixels;  // gapWorld / one pixel's footprint at the depth point
-  bool agree() const { return rayObject == idObject; }
+  bool agree() const { return rayObject == idObject; }  // meaningful only with a ray
 };
 
 // pixel must lie inside the raster frame.
-PickResult pick(const PickView& view, RayMethod method, glm::ivec2 pixel);
+PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel);
 
 // Projects a world point to continuous framebuffer coordinates (lower-left origin; pixel (i, j)
 // covers [i, i+1) x [j, j+1)). nullopt behind the camera.
 std::optional<glm::dvec2> framebufferFromWorld(const glm::dmat4& clipFromWorld, Viewport viewport,
                                                const glm::dvec3& world);
 
-// {pixel, framebuffer, method, convention, depth_format, ray:{object, point}, depth:{point,
-// window_depth}, id:{object}, gap_world, gap_px, agree}; absent values are null.
+// {pixel, framebuffer, method, precision, convention, depth_format, teleported, ray:{object,
+// point}, depth:{point, window_depth}, id:{object}, gap_world, gap_px, agree}; absent values are
+// null; "ray" (and "agree") are null where the method could not run.
 nlohmann::json pickJson(const PickResult& result, const Scene& scene, bool teleported);
 
 }  // namespace clipray::demo

@@ -44,12 +44,19 @@ int main(int argc, char** argv) {
       "clipray-pick: click on a scene and see the analytic ray, the depth readback and "
       "the id buffer answer side by side"};
   std::string scenePath;
-  std::string convention = "zo", depthFormat = "24", method = "robust", vertexMode = "world";
+  std::string convention = "zo", depthFormat = "24", method = "robust", precision = "float";
+  std::string vertexMode = "world";
   std::string size = "960x640", scriptPath, screenshotPath;
   app.add_option("scene", scenePath, "Scene file (default: scenes/standard.json)");
   app.add_option("--convention", convention, "no, zo or zo-reversed")->capture_default_str();
   app.add_option("--depth-format", depthFormat, "16, 24 or 32f")->capture_default_str();
-  app.add_option("--method", method, "Ray method: robust or two_point")->capture_default_str();
+  app.add_option("--method", method,
+                 "Ray method (clipray's ray library): unproject_glm, two_point, inverse_pv, "
+                 "fov_tangent, plane_cross, plane_cross_pre, full or robust; the M key cycles "
+                 "through all of them in float, then robust double")
+      ->capture_default_str();
+  app.add_option("--precision", precision, "Precision of the ray method: float or double")
+      ->capture_default_str();
   app.add_option("--vertex-mode", vertexMode, "world, camera-relative or pretransformed")
       ->capture_default_str();
   app.add_option("--size", size, "Window size WxH in screen units")->capture_default_str();
@@ -80,12 +87,20 @@ int main(int argc, char** argv) {
                        "\"; expected one of: 16, 24, 32f");
     }
     settings.depthFormat = *format;
-    const auto rayMethod = demo::parseRayMethod(method);
+    const auto rayMethod = parseRayMethod(method);
     if (!rayMethod) {
-      throw InputError("--method: unknown value \"" + method +
-                       "\"; expected one of: robust, two_point");
+      std::string names;
+      for (const RayMethod known : kRayMethods) {
+        names += (names.empty() ? "" : ", ") + rayMethodName(known);
+      }
+      throw InputError("--method: unknown value \"" + method + "\"; expected one of: " + names);
     }
-    settings.method = *rayMethod;
+    settings.ray.method = *rayMethod;
+    if (precision != "float" && precision != "double") {
+      throw InputError("--precision: unknown value \"" + precision +
+                       "\"; expected one of: float, double");
+    }
+    settings.ray.precision = precision == "float" ? Precision::Float : Precision::Double;
     const auto vertices = parseVertexMode(vertexMode);
     if (!vertices) {
       throw InputError("--vertex-mode: unknown value \"" + vertexMode +

@@ -6,7 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "GlfwBackend.hpp"
@@ -16,6 +19,7 @@
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/gl/Renderer.hpp"
+#include "clipray/rays/RayMethods.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/scene/InputError.hpp"
 #include "support/RunCommand.hpp"
@@ -156,9 +160,9 @@ TEST_F(PickDemoUnderX, ScriptedPicksAgreeWithTheLibraryAndTheIdBuffer) {
   const glm::ivec2 boxCentre{160, 119}, background{5, 234};
   const glm::ivec2 edge = reference.boxEdgePixel();
   ASSERT_GE(edge.x, 0) << "no box/ground edge found";
-  const auto result =
-      run("'" + kStandard + "' --size 320x240 --convention zo --depth-format 32f",
-          clickInside(boxCentre, 240) + clickInside(edge, 240) + clickInside(background, 240));
+  const auto result = run(
+      "'" + kStandard + "' --size 320x240 --convention zo --depth-format 32f --precision double",
+      clickInside(boxCentre, 240) + clickInside(edge, 240) + clickInside(background, 240));
   ASSERT_EQ(result.status, 0) << result.err;
   const std::vector<nlohmann::json> picks = jsonLines(result.out);
   ASSERT_EQ(picks.size(), 3u) << result.out;
@@ -171,6 +175,7 @@ TEST_F(PickDemoUnderX, ScriptedPicksAgreeWithTheLibraryAndTheIdBuffer) {
     EXPECT_EQ(p["pixel"], nlohmann::json::array({pixels[k].x, pixels[k].y}));
     EXPECT_EQ(p["framebuffer"], nlohmann::json::array({320, 240}));
     EXPECT_EQ(p["method"], "robust");
+    EXPECT_EQ(p["precision"], "double");
     EXPECT_EQ(p["convention"], "zo");
     EXPECT_EQ(p["depth_format"], "32f");
     EXPECT_EQ(p["ray"]["object"], reference.name(e.rayObject));
@@ -201,8 +206,10 @@ TEST_F(PickDemoUnderX, ScriptedPicksAgreeWithTheLibraryAndTheIdBuffer) {
 
 TEST_F(PickDemoUnderX, TeleportMakesTwoPointDriftWhileRobustHolds) {
   // Camera-relative vertices keep the raster honest 1e5 from the origin; only the rays differ.
-  const auto result = run("'" + kStandard + "' --size 320x240 --vertex-mode camera-relative",
-                          "click 160 120\nkey t\nclick 160 120\nkey m\nclick 160 120\n");
+  // robust double, then M twice: unproject_glm float, two_point float.
+  const auto result =
+      run("'" + kStandard + "' --size 320x240 --vertex-mode camera-relative --precision double",
+          "click 160 120\nkey t\nclick 160 120\nkey m\nkey m\nclick 160 120\n");
   ASSERT_EQ(result.status, 0) << result.err;
   const std::vector<nlohmann::json> picks = jsonLines(result.out);
   ASSERT_EQ(picks.size(), 3u) << result.out;
@@ -210,12 +217,89 @@ TEST_F(PickDemoUnderX, TeleportMakesTwoPointDriftWhileRobustHolds) {
   EXPECT_EQ(picks[1]["teleported"], true);
   EXPECT_EQ(picks[1]["method"], "robust");
   EXPECT_EQ(picks[2]["method"], "two_point");
+  EXPECT_EQ(picks[2]["precision"], "float");
   for (const auto& p : picks) EXPECT_EQ(p["ray"]["object"], "box") << p.dump();
   EXPECT_NEAR(picks[1]["ray"]["point"][0].get<double>(), 1e5, 10.0);
   // robust: the same sub-pixel gap at the origin and 1e5 away; two_point: pixels off.
   EXPECT_LT(picks[0]["gap_px"].get<double>(), 0.1);
   EXPECT_LT(picks[1]["gap_px"].get<double>(), 0.1);
   EXPECT_GT(picks[2]["gap_px"].get<double>(), 1.0);
+}
+
+// M cycles through every method of the ray library in float, then robust double, and wraps.
+TEST_F(PickDemoUnderX, KeyMCyclesEveryLibraryMethod) {
+  const StandardSceneReference reference;
+  const glm::ivec2 boxCentre{160, 119};
+  ASSERT_EQ(reference.idObjectAt(boxCentre), 1);  // the box
+  std::string script = clickInside(boxCentre, 240);
+  for (std::size_t k = 0; k < std::size(demo::kDemoRayChoices); ++k) {
+    script += "key m\n" + clickInside(boxCentre, 240);
+  }
+  const auto result = run("'" + kStandard +
+                              "' --size 320x240 --convention zo --depth-format 32f "
+                              "--method unproject_glm",
+                          script);
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  const std::size_t count = std::size(demo::kDemoRayChoices);
+  ASSERT_EQ(picks.size(), count + 1) << result.out;
+  const char* const expected[] = {"unproject_glm", "two_point",   "inverse_pv",
+                                  "fov_tangent",   "plane_cross", "plane_cross_pre",
+                                  "full",          "robust",      "robust"};
+  ASSERT_EQ(std::size(expected), count);
+  for (std::size_t k = 0; k <= count; ++k) {
+    const nlohmann::json& p = picks[k];
+    SCOPED_TRACE(p.dump());
+    EXPECT_EQ(p["method"], expected[k % count]);
+    EXPECT_EQ(p["precision"], k % count == count - 1 ? "double" : "float");
+    EXPECT_EQ(p["pixel"], nlohmann::json::array({boxCentre.x, boxCentre.y}));
+    EXPECT_EQ(p["id"]["object"], "box");
+    // The standard camera supplies projection, view and fov scalars: every method runs.
+    ASSERT_TRUE(p["ray"].is_object());
+    if (p["method"] == "plane_cross" || p["method"] == "plane_cross_pre") {
+      // Seed 002's listings 2 and 3 have no sign fix: for a right-handed camera mx x my points
+      // backwards, so the ray leaves the scene behind the camera and hits nothing.
+      EXPECT_TRUE(p["ray"]["object"].is_null());
+      EXPECT_EQ(p["agree"], false);
+    } else {
+      EXPECT_EQ(p["ray"]["object"], p["id"]["object"]);
+      EXPECT_EQ(p["agree"], true);
+      EXPECT_LT(p["gap_px"].get<double>(), 0.1);
+    }
+  }
+}
+
+TEST_F(PickDemoUnderX, TeleportedTwoPointFloatDriftsWhileRobustFloatHolds) {
+  // From two_point, M six times reaches robust (float), once more robust double.
+  const auto result =
+      run("'" + kStandard +
+              "' --size 320x240 --convention zo --depth-format 32f --vertex-mode camera-relative "
+              "--method two_point",
+          "key t\nclick 160 120\nkey m\nkey m\nkey m\nkey m\nkey m\nkey m\nclick 160 120\n"
+          "key m\nclick 160 120\n");
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 3u) << result.out;
+  const nlohmann::json &twoPoint = picks[0], &robust = picks[1], &robustDouble = picks[2];
+  EXPECT_EQ(twoPoint["method"], "two_point");
+  EXPECT_EQ(robust["method"], "robust");
+  EXPECT_EQ(robust["precision"], "float");
+  EXPECT_EQ(robustDouble["precision"], "double");
+  for (const auto& p : picks) {
+    EXPECT_EQ(p["teleported"], true);
+    EXPECT_EQ(p["ray"]["object"], "box") << p.dump();
+  }
+  // two_point inverts a float matrix with 1e5 in it: the ray lands pixels off the surface.
+  EXPECT_GT(twoPoint["gap_px"].get<double>(), 1.0);
+  // robust float is as good as float allows 1e5 from the origin: float spacing there is
+  // u = 2^-7; the matrix handed over in float and the float origin each place the ray within half
+  // a spacing per coordinate, so the hit moves by at most sqrt(3) u (about 0.0135 world units,
+  // half a pixel's footprint here). robust double removes even that.
+  const double u = std::ldexp(1.0, -7);
+  EXPECT_LT(robust["gap_world"].get<double>(), std::sqrt(3.0) * u);
+  EXPECT_LT(robust["gap_px"].get<double>(), 1.0);
+  EXPECT_LT(robust["gap_px"].get<double>(), twoPoint["gap_px"].get<double>());
+  EXPECT_LT(robustDouble["gap_px"].get<double>(), 0.1);
 }
 
 TEST_F(PickDemoUnderX, KeysSwitchConventionAndDepthFormat) {
@@ -306,6 +390,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadPick{"UnknownDepthFormat", "'" + kStandard + "' --depth-format 32", "",
                 "clipray-pick: --depth-format: unknown value \"32\"; expected one of: 16, 24, "
                 "32f\n"},
+        BadPick{"UnknownMethod", "'" + kStandard + "' --method robust-double", "",
+                "clipray-pick: --method: unknown value \"robust-double\"; expected one of: "
+                "unproject_glm, two_point, inverse_pv, fov_tangent, plane_cross, "
+                "plane_cross_pre, full, robust\n"},
+        BadPick{"UnknownPrecision", "'" + kStandard + "' --precision half", "",
+                "clipray-pick: --precision: unknown value \"half\"; expected one of: float, "
+                "double\n"},
         BadPick{"ScreenshotFolder", "'" + kStandard + "' --screenshot no/such/shot.png", "",
                 "clipray-pick: --screenshot: no/such/shot.png: folder no/such does not exist\n"},
         BadPick{"NoDisplay", "'" + kStandard + "'", "",
@@ -375,22 +466,31 @@ TEST(PickScript, BadLinesNameFileAndLine) {
   EXPECT_EQ(message("scroll nan"), "s.txt:1: steps: expected a number, got \"nan\"");
 }
 
+CameraInputs standardInputs(const Camera& camera, Viewport viewport, const glm::dmat4& move) {
+  CameraInputs inputs;
+  inputs.mode = kZeroToOne;
+  inputs.clipFromWorld = camera.clipFromWorld(kZeroToOne, viewport) * move;
+  return inputs;
+}
+
 TEST(PickRays, RobustAndTwoPointAgreeNearTheOriginAndPartFarFromIt) {
   const Scene scene = loadScene(kStandard);
   const Viewport viewport{320, 240};
-  const glm::dmat4 clipFromWorld = scene.cameras[0].clipFromWorld(kZeroToOne, viewport);
-  const glm::dvec2 xy = clipXYOfPixelCentre(160, 119, viewport);
-  const auto robust = demo::pickRay(demo::RayMethod::Robust, clipFromWorld, kZeroToOne, xy);
-  const auto twoPoint = demo::pickRay(demo::RayMethod::TwoPoint, clipFromWorld, kZeroToOne, xy);
+  const glm::ivec2 pixel{160, 119};
+  const demo::RayChoice robustFloat{RayMethod::Robust, Precision::Float};
+  const demo::RayChoice twoPointFloat{RayMethod::TwoPoint, Precision::Float};
+  const CameraInputs near = standardInputs(scene.cameras[0], viewport, glm::dmat4(1.0));
+  const auto robust = demo::pickRay(robustFloat, near, viewport, pixel).ray;
+  const auto twoPoint = demo::pickRay(twoPointFloat, near, viewport, pixel).ray;
   ASSERT_TRUE(robust && twoPoint);
   EXPECT_GT(glm::dot(robust->direction, twoPoint->direction), 1.0 - 1e-9);
   // 1e5 away, the float inverse loses the near plane: the directions part by far more than a
   // pixel's angle (about 60 deg / 240).
   glm::dmat4 offset(1.0);
   offset[3] = glm::dvec4(-1e5, 0.0, 0.0, 1.0);
-  const glm::dmat4 far = clipFromWorld * offset;
-  const auto robustFar = demo::pickRay(demo::RayMethod::Robust, far, kZeroToOne, xy);
-  const auto twoPointFar = demo::pickRay(demo::RayMethod::TwoPoint, far, kZeroToOne, xy);
+  const CameraInputs far = standardInputs(scene.cameras[0], viewport, offset);
+  const auto robustFar = demo::pickRay(robustFloat, far, viewport, pixel).ray;
+  const auto twoPointFar = demo::pickRay(twoPointFloat, far, viewport, pixel).ray;
   ASSERT_TRUE(robustFar);
   EXPECT_GT(glm::dot(robustFar->direction, robust->direction), 1.0 - 1e-12);
   if (twoPointFar) {
@@ -398,11 +498,45 @@ TEST(PickRays, RobustAndTwoPointAgreeNearTheOriginAndPartFarFromIt) {
         std::acos(std::min(1.0, glm::dot(twoPointFar->direction, robust->direction)));
     EXPECT_GT(angle, glm::radians(60.0) / 240.0);
   }
+  // plane_cross has no sign fix: on this right-handed camera it points straight backwards.
+  const auto planeCross =
+      demo::pickRay({RayMethod::PlaneCross, Precision::Float}, near, viewport, pixel).ray;
+  ASSERT_TRUE(planeCross);
+  EXPECT_LT(glm::dot(planeCross->direction, robust->direction), -1.0 + 1e-6);
   // An infinite far plane puts two_point's far point at infinity: no ray at all.
   const Scene infinite = loadScene(kSource + "/scenes/infinite_far.json");
-  const glm::dmat4 infiniteClip = infinite.cameras[0].clipFromWorld(kZeroToOne, viewport);
-  EXPECT_TRUE(demo::pickRay(demo::RayMethod::Robust, infiniteClip, kZeroToOne, xy));
-  EXPECT_FALSE(demo::pickRay(demo::RayMethod::TwoPoint, infiniteClip, kZeroToOne, xy));
+  const CameraInputs infiniteInputs = standardInputs(infinite.cameras[0], viewport, glm::dmat4(1));
+  EXPECT_TRUE(demo::pickRay(robustFloat, infiniteInputs, viewport, pixel).ray);
+  const demo::PickRay none = demo::pickRay(twoPointFloat, infiniteInputs, viewport, pixel);
+  EXPECT_FALSE(none.ray);
+  EXPECT_EQ(none.unavailable, "non-finite ray");
+  // Without projection, view or scalars, inverse_pv and fov_tangent cannot run: n/a, and why.
+  const demo::PickRay noScalars =
+      demo::pickRay({RayMethod::FovTangent, Precision::Float}, near, viewport, pixel);
+  EXPECT_FALSE(noScalars.ray);
+  EXPECT_EQ(noScalars.unavailable, missingInputs(RayMethod::FovTangent, near));
+  EXPECT_FALSE(noScalars.unavailable.empty());
+}
+
+TEST(PickRays, MCyclesThroughEveryLibraryMethodInFloatThenRobustDouble) {
+  demo::RayChoice choice{RayMethod::UnprojectGlm, Precision::Float};
+  std::vector<std::string> names;
+  for (std::size_t k = 0; k < std::size(demo::kDemoRayChoices); ++k) {
+    names.push_back(demo::rayChoiceName(choice));
+    choice = demo::nextRayChoice(choice);
+  }
+  EXPECT_EQ(choice, (demo::RayChoice{RayMethod::UnprojectGlm, Precision::Float}));  // wrapped
+  const std::vector<std::string> expected = {
+      "unproject_glm float", "two_point float",   "inverse_pv float",
+      "fov_tangent float",   "plane_cross float", "plane_cross_pre float",
+      "full float",          "robust float",      "robust double"};
+  EXPECT_EQ(names, expected);
+  for (const RayMethod method : kRayMethods) {
+    EXPECT_NE(std::find(names.begin(), names.end(), rayMethodName(method) + " float"), names.end());
+  }
+  // A choice off the cycle (--method two_point --precision double) continues after its float one.
+  EXPECT_EQ(demo::nextRayChoice({RayMethod::TwoPoint, Precision::Double}),
+            (demo::RayChoice{RayMethod::InversePv, Precision::Float}));
 }
 
 }  // namespace
