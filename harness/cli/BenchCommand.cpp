@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "Commands.hpp"
+#include "Parsing.hpp"
 #include "clipray/rays/HardCases.hpp"
 #include "clipray/rays/QuadReference.hpp"
 #include "clipray/rays/RayErrors.hpp"
@@ -39,72 +40,6 @@ struct BenchOptions {
   std::string json;
   std::string plot;
 };
-
-std::vector<std::string> splitComma(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    const auto first = item.find_first_not_of(' ');
-    if (first == std::string::npos) continue;
-    items.push_back(item.substr(first, item.find_last_not_of(' ') - first + 1));
-  }
-  return items;
-}
-
-std::string joined(const std::vector<std::string>& names) {
-  std::string out;
-  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
-  return out;
-}
-
-Viewport parseBenchSize(const std::string& text) {
-  int width = 0, height = 0;
-  char x = 0;
-  std::istringstream stream(text);
-  if (!(stream >> width >> x >> height) || x != 'x' || !stream.eof() || width <= 0 || height <= 0) {
-    throw InputError("--size: expected WxH with positive integers (e.g. 1920x1080), got \"" + text +
-                     "\"");
-  }
-  return {width, height};
-}
-
-// Sixteen numbers separated by spaces and/or commas.
-glm::dmat4 parseMatrix(const std::string& text, const std::string& layout) {
-  std::string spaced = text;
-  std::replace(spaced.begin(), spaced.end(), ',', ' ');
-  std::istringstream stream(spaced);
-  std::vector<double> values;
-  std::string word;
-  while (stream >> word) {
-    char* end = nullptr;
-    const double value = std::strtod(word.c_str(), &end);
-    if (end == word.c_str() || *end != '\0') {
-      throw InputError("--clip-from-world: \"" + word + "\" is not a number");
-    }
-    values.push_back(value);
-  }
-  if (values.size() != 16) {
-    throw InputError("--clip-from-world: expected 16 numbers, got " +
-                     std::to_string(values.size()));
-  }
-  for (std::size_t k = 0; k < values.size(); ++k) {
-    if (!std::isfinite(values[k])) {
-      std::ostringstream message;
-      message << "--clip-from-world: number " << (k + 1) << " is " << values[k]
-              << "; every element must be finite";
-      throw InputError(message.str());
-    }
-  }
-  glm::dmat4 m;
-  const bool rowMajor = layout == "row-major";
-  for (int k = 0; k < 16; ++k) {
-    // column-major: element 4 * column + row (as glm::value_ptr writes it).
-    const int column = rowMajor ? k % 4 : k / 4, row = rowMajor ? k / 4 : k % 4;
-    m[column][row] = values[static_cast<std::size_t>(k)];
-  }
-  return m;
-}
 
 struct Row {
   std::string caseName, convention, method, precision;
@@ -313,22 +248,22 @@ std::string plotSvg(const std::vector<Row>& rows, Viewport size) {
 
 int runBench(const BenchOptions& options) {
   // 1. Everything the user handed us is checked before anything runs.
-  const Viewport size = parseBenchSize(options.size);
+  const Viewport size = parseViewportOption(options.size, "--size");
   std::vector<std::string> methodNames;
   for (const RayMethod m : kRayMethods) methodNames.push_back(rayMethodName(m));
   std::vector<RayMethod> methods;
   for (const std::string& name :
-       splitComma(options.methods.empty() ? joined(methodNames) : options.methods)) {
+       splitCommaList(options.methods.empty() ? joinNames(methodNames) : options.methods)) {
     const std::optional<RayMethod> method = parseRayMethod(name);
     if (!method) {
       throw InputError("--methods: unknown method \"" + name +
-                       "\"; valid methods: " + joined(methodNames));
+                       "\"; valid methods: " + joinNames(methodNames));
     }
     if (std::find(methods.begin(), methods.end(), *method) == methods.end()) {
       methods.push_back(*method);
     }
   }
-  if (methods.empty()) throw InputError("--methods: expected one of: " + joined(methodNames));
+  if (methods.empty()) throw InputError("--methods: expected one of: " + joinNames(methodNames));
   if (options.layout != "column-major" && options.layout != "row-major") {
     throw InputError("--layout: expected column-major or row-major, got \"" + options.layout +
                      "\"");
@@ -353,7 +288,8 @@ int runBench(const BenchOptions& options) {
     user.name = "user";
     user.description = "--clip-from-world";
     user.viewport = size;
-    user.inputs.clipFromWorld = parseMatrix(options.clipFromWorld, options.layout);
+    user.inputs.clipFromWorld = parseMatrixOption(
+        options.clipFromWorld, options.layout == "row-major", "--clip-from-world");
     user.inputs.mode = *mode;
     const ProjectionCheck check = describeProjection(user.inputs.clipFromWorld, *mode);
     if (!check.facts) throw InputError("--clip-from-world: " + check.problem);
@@ -368,12 +304,13 @@ int runBench(const BenchOptions& options) {
     if (options.cases.empty()) {
       cases = all;
     } else {
-      for (const std::string& name : splitComma(options.cases)) {
+      for (const std::string& name : splitCommaList(options.cases)) {
         if (std::find(names.begin(), names.end(), name) == names.end()) {
-          throw InputError("--cases: unknown case \"" + name + "\"; valid cases: " + joined(names));
+          throw InputError("--cases: unknown case \"" + name +
+                           "\"; valid cases: " + joinNames(names));
         }
       }
-      const std::vector<std::string> wanted = splitComma(options.cases);
+      const std::vector<std::string> wanted = splitCommaList(options.cases);
       for (const HardCase& c : all) {
         if (std::find(wanted.begin(), wanted.end(), c.name) != wanted.end()) cases.push_back(c);
       }
@@ -433,7 +370,7 @@ int runBench(const BenchOptions& options) {
 
 CommandRunner addBenchOptions(CLI::App& app) {
   auto options = std::make_shared<BenchOptions>();
-  std::string caseList = joined(hardCaseNames());
+  std::string caseList = joinNames(hardCaseNames());
   app.add_option("--cases", options->cases,
                  "Comma-separated hard cases (default: all): " + caseList);
   app.add_option("--methods", options->methods,

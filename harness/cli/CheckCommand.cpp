@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "Commands.hpp"
+#include "Parsing.hpp"
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/VerifyCheck.hpp"
@@ -32,38 +33,13 @@ struct CheckOptions {
   std::string backend = "osmesa";
 };
 
-std::vector<double> parseNumbers(const std::string& text, const std::string& what) {
-  std::vector<double> numbers;
-  std::string token;
-  std::istringstream stream(text);
-  while (stream >> token) {
-    std::istringstream pieces(token);
-    std::string piece;
-    while (std::getline(pieces, piece, ',')) {
-      if (piece.empty()) continue;
-      char* end = nullptr;
-      const double value = std::strtod(piece.c_str(), &end);
-      if (end == piece.c_str() || *end != '\0') {
-        throw InputError(what + ": \"" + piece + "\" is not a number");
-      }
-      numbers.push_back(value);
-    }
-  }
-  return numbers;
-}
-
-glm::dmat4 parseMatrixOption(const std::string& text, bool rowMajor, const std::string& what) {
-  return parseMatrix16(parseNumbers(text, what), rowMajor, what);
-}
-
 std::string requireOneOf(const std::string& value, const std::string& what,
                          const std::vector<std::string>& valid) {
   for (const std::string& v : valid) {
     if (v == value) return value;
   }
-  std::string list;
-  for (const std::string& v : valid) list += (list.empty() ? "" : ", ") + v;
-  throw InputError(what + ": unknown value \"" + value + "\"; expected one of: " + list);
+  throw InputError(what + ": unknown value \"" + value +
+                   "\"; expected one of: " + joinNames(valid));
 }
 
 // The same fields from a JSON file (keys in camelCase, matrices as arrays of 16 numbers).
@@ -162,7 +138,7 @@ int runCheck(CheckOptions options) {
   }
   input.declaredReversed = options.reversed;
   if (!options.depthRange.empty()) {
-    const std::vector<double> range = parseNumbers(options.depthRange, where + "--depth-range");
+    const std::vector<double> range = parseNumberList(options.depthRange, where + "--depth-range");
     if (range.size() != 2 || range[0] < 0 || range[0] > 1 || range[1] < 0 || range[1] > 1) {
       throw InputError(where + "--depth-range: expected NEAR,FAR in [0, 1], got \"" +
                        options.depthRange + "\"");
@@ -175,21 +151,11 @@ int runCheck(CheckOptions options) {
                        ? WindowOrigin::UpperLeft
                        : WindowOrigin::LowerLeft;
   }
-  {
-    int width = 0, height = 0;
-    char x = 0;
-    std::istringstream stream(options.viewport);
-    if (!(stream >> width >> x >> height) || x != 'x' || !stream.eof() || width <= 0 ||
-        height <= 0) {
-      throw InputError(where + "--viewport: expected WxH with positive integers, got \"" +
-                       options.viewport + "\"");
-    }
-    input.viewport = {width, height};
-  }
+  input.viewport = parseViewportOption(options.viewport, where + "--viewport");
   input.depthFormat = *parseDepthFormat(
       requireOneOf(options.depthBits, where + "--depth-bits", {"16", "24", "32f"}));
   if (!options.sceneExtent.empty()) {
-    const std::vector<double> e = parseNumbers(options.sceneExtent, where + "--scene-extent");
+    const std::vector<double> e = parseNumberList(options.sceneExtent, where + "--scene-extent");
     if (e.size() != 6 || e[0] > e[3] || e[1] > e[4] || e[2] > e[5]) {
       throw InputError(
           where +

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "Commands.hpp"
+#include "Parsing.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/gl/Renderer.hpp"
@@ -20,19 +21,11 @@ namespace clipray::cli {
 
 namespace {
 
-std::vector<std::string> splitList(const std::string& text) {
-  std::vector<std::string> items;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) items.push_back(item);
-  return items;
-}
-
 template <typename T, typename Parse>
 std::vector<T> parseList(const std::string& option, const std::string& text, Parse parse,
                          const std::string& valid) {
   std::vector<T> values;
-  for (const std::string& item : splitList(text)) {
+  for (const std::string& item : splitCommaList(text)) {
     const std::optional<T> value = parse(item);
     if (!value) {
       throw InputError(option + ": unknown value \"" + item +
@@ -42,17 +35,6 @@ std::vector<T> parseList(const std::string& option, const std::string& text, Par
   }
   if (values.empty()) throw InputError(option + ": expected at least one of: " + valid);
   return values;
-}
-
-Viewport parseSize(const std::string& text) {
-  int width = 0, height = 0;
-  char x = 0;
-  std::istringstream stream(text);
-  if (!(stream >> width >> x >> height) || x != 'x' || !stream.eof() || width <= 0 || height <= 0) {
-    throw InputError("--size: expected WxH with positive integers (e.g. 1920x1080), got \"" + text +
-                     "\"");
-  }
-  return {width, height};
 }
 
 struct ReconcileOptions {
@@ -80,7 +62,8 @@ int runReconcile(const ReconcileOptions& options) {
                                        "no, zo, zo-reversed");
   }
   const std::optional<Viewport> sizeOverride =
-      options.size.empty() ? std::nullopt : std::optional<Viewport>(parseSize(options.size));
+      options.size.empty() ? std::nullopt
+                           : std::optional<Viewport>(parseViewportOption(options.size, "--size"));
 
   std::vector<std::string> scenePaths = options.scenes;
   if (scenePaths.empty()) {

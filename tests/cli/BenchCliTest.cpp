@@ -66,7 +66,7 @@ TEST(BenchCli, BadInputExitsTwoWithAClearMessage) {
       {"--convention zo --clip-from-world '1 0 0 0 0 1 0 0 0 0 1 0 0 0 0'",
        "clipray: --clip-from-world: expected 16 numbers, got 15\n"},
       {"--convention zo --clip-from-world '1 0 0 0 0 1 0 0 0 0 nan 0 0 0 0 1'",
-       "clipray: --clip-from-world: number 11 is nan; every element must be finite\n"},
+       "clipray: --clip-from-world: number 11 is nan; expected finite numbers\n"},
       {"--convention zo --clip-from-world '1 0 0 0 0 1 0 0 0 0 0 0 0 0 0 1'",
        "clipray: --clip-from-world: the matrix is singular (it has no inverse)\n"},
       {"--clip-from-world '1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 1'",

@@ -1,0 +1,25 @@
+#pragma once
+// Option-value parsing shared by the subcommands; every failure is an InputError naming the option
+// and the value (exit status 2).
+
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "clipray/math/Conventions.hpp"
+
+namespace clipray::cli {
+
+// "a, b,c" -> {"a", "b", "c"} (spaces around items trimmed, empty items dropped).
+std::vector<std::string> splitCommaList(const std::string& text);
+// {"a", "b"} -> "a, b"
+std::string joinNames(const std::vector<std::string>& names);
+// "WxH" with positive integers.
+Viewport parseViewportOption(const std::string& text, const std::string& option);
+// Numbers separated by spaces and/or commas.
+std::vector<double> parseNumberList(const std::string& text, const std::string& option);
+// Sixteen numbers, column-major (GL) or row-major (D3D), all finite.
+glm::dmat4 parseMatrixOption(const std::string& text, bool rowMajor, const std::string& option);
+
+}  // namespace clipray::cli
