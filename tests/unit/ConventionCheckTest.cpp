@@ -259,6 +259,27 @@ TEST(ConventionCheck, FloatPrecisionRiskFarFromTheOrigin) {
   EXPECT_TRUE(checkConventions(combined(near, NO)).findings.empty());
 }
 
+TEST(ConventionCheck, ReviewedEdgeCases) {
+  // A camera 1000 units from the origin with near 0.01 is a projection, not a singular matrix.
+  const glm::dmat4 far =
+      glm::perspectiveRH_NO(kFov, 1.5, 0.01, 1000.0) *
+      glm::lookAtRH(glm::dvec3(1000, 0, 0), glm::dvec3(0, 0, 0), glm::dvec3(0, 1, 0));
+  EXPECT_FALSE(checkConventions(combined(far, NO)).properties.likelyTransposed);
+  // An oblique near plane at the origin (no view transform) is not a transposed matrix.
+  glm::dmat4 oblique = glm::perspectiveRH_NO(kFov, 1.5, 0.1, 100.0);
+  oblique[1][2] = 0.2;  // row 2 gains a y term: the near plane tilts
+  const CheckReport obliqueReport = checkConventions(combined(oblique, NO));
+  EXPECT_FALSE(obliqueReport.properties.likelyTransposed);
+  EXPECT_TRUE(obliqueReport.properties.oblique);
+  // glDepthRange(1, 0) with a classic matrix puts near at the larger depth: GL_LESS picks the
+  // farthest.
+  CheckInput range = combined(glm::perspectiveRH_ZO(kFov, 1.5, 0.1, 100.0) * kViewRH, ZO);
+  range.depthRange = {1.0, 0.0};
+  EXPECT_EQ(codes(checkConventions(range)), std::vector<std::string>{"error:reversed-z-mismatch"});
+  range.declaredReversed = true;
+  EXPECT_TRUE(checkConventions(range).findings.empty());
+}
+
 TEST(ConventionCheck, BadInput) {
   auto message = [](auto&& call) {
     try {

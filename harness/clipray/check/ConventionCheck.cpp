@@ -34,13 +34,13 @@ std::string vec(const glm::dvec3& v) {
 // Significant decimal digits needed to write v to within the precision it was recovered with: the
 // build whose near plane is the "rounder" number is the one the app wrote.
 int decimalDigits(double v, double relativeTolerance) {
-  for (int digits = 1; digits <= 12; ++digits) {
+  for (int digits = 1; digits <= 17; ++digits) {
     char buffer[40];
     std::snprintf(buffer, sizeof buffer, "%.*e", digits - 1, v);
     if (std::abs(std::strtod(buffer, nullptr) - v) <= relativeTolerance * std::abs(v))
       return digits;
   }
-  return 13;
+  return 18;
 }
 
 // Relative precision the matrix entries carry: float values (2^-24), decimals printed with d
@@ -52,11 +52,11 @@ double entryPrecision(const glm::dmat4& m) {
     for (int r = 0; r < 4; ++r) {
       const double v = m[c][r];
       allFloat = allFloat && static_cast<double>(static_cast<float>(v)) == v;
-      if (v != 0.0) mostDigits = std::max(mostDigits, decimalDigits(v, 1e-16));
+      if (v != 0.0) mostDigits = std::max(mostDigits, decimalDigits(v, 0.0));
     }
   }
   if (allFloat) return std::ldexp(1.0, -24);
-  if (mostDigits >= 15) return std::ldexp(1.0, -53);
+  if (mostDigits >= 16) return std::ldexp(1.0, -53);
   return 0.5 * std::pow(10.0, 1 - mostDigits);
 }
 
@@ -70,13 +70,6 @@ void requireFinite(const glm::dmat4& m, const std::string& what) {
       }
     }
   }
-}
-
-// |det| relative to the product of the row lengths: 1 for orthogonal rows, 0 for dependent ones.
-double relativeDeterminant(const glm::dmat4& m) {
-  double product = 1.0;
-  for (int r = 0; r < 4; ++r) product *= glm::length(matrixRow(m, r));
-  return product == 0.0 ? 0.0 : std::abs(glm::determinant(m)) / product;
 }
 
 void requireProjection(const glm::dmat4& m, const std::string& what) {
@@ -93,23 +86,35 @@ void requireProjection(const glm::dmat4& m, const std::string& what) {
     throw InputError(what + ": row 3 (w) is (0, 0, 0, " + number(w.w) +
                      "): w <= 0 everywhere, so GL clips every point");
   }
-  if (relativeDeterminant(m) < 1e-12) {
-    throw InputError(what + ": the matrix is singular (relative determinant " +
-                     number(relativeDeterminant(m)) + "); a projection must be invertible");
+  if (scaledDeterminant(m) < 1e-12) {
+    throw InputError(what + ": the matrix is singular (scaled determinant " +
+                     number(scaledDeterminant(m)) + "); a projection must be invertible");
   }
 }
 
-// A projection's structure: w has no xyz (orthographic) and is positive, or rows 2 and 3 share
-// their xyz direction (perspective with the near plane perpendicular to the view).
-bool looksLikeProjection(const glm::dmat4& m) {
-  const glm::dvec4 z = matrixRow(m, 2), w = matrixRow(m, 3);
-  const double wLength = glm::length(glm::dvec3(w));
-  if (wLength <= 1e-12 * (glm::length(glm::dvec3(matrixRow(m, 0))) +
-                          glm::length(glm::dvec3(matrixRow(m, 1))))) {
-    return w.w > 0.0;
-  }
-  return glm::length(glm::cross(glm::dvec3(z), glm::dvec3(w))) <=
-         1e-6 * glm::length(glm::dvec3(z)) * wLength;
+// How much a matrix looks like clipFromView * viewFromWorld: (a) rows 2 and 3 share their xyz
+// direction (near plane perpendicular to the view), (b, c) screen x and y are perpendicular to the
+// view direction (on-axis), (d) screen x is perpendicular to screen y, (e) w > 0 somewhere.
+// An oblique matrix loses (a), an off-axis one (b) and/or (c); a transposed matrix with a camera
+// translation keeps at most three points while its transpose scores all five.
+int projectionStructureScore(const glm::dmat4& m) {
+  const glm::dvec3 x(matrixRow(m, 0)), y(matrixRow(m, 1)), z(matrixRow(m, 2));
+  const glm::dvec4 w = matrixRow(m, 3);
+  const glm::dvec3 w3(w);
+  auto parallel = [](const glm::dvec3& a, const glm::dvec3& b) {
+    return glm::length(glm::cross(a, b)) <= 1e-6 * glm::length(a) * glm::length(b);
+  };
+  auto perpendicular = [](const glm::dvec3& a, const glm::dvec3& b) {
+    return std::abs(glm::dot(a, b)) <= 1e-6 * glm::length(a) * glm::length(b);
+  };
+  const bool orthographic = glm::length(w3) <= 1e-12 * (glm::length(x) + glm::length(y));
+  int score = 0;
+  score += orthographic ? 1 : parallel(z, w3);
+  score += orthographic ? 1 : perpendicular(x, w3);
+  score += orthographic ? 1 : perpendicular(y, w3);
+  score += perpendicular(x, y);
+  score += orthographic ? w.w > 0.0 : 1;
+  return score;
 }
 
 double angleDegrees(const glm::dvec3& a, const glm::dvec3& b) {
@@ -235,7 +240,8 @@ CheckReport checkConventions(const CheckInput& input) {
   const glm::dmat4 worldFromClip = glm::inverse(m);
   const glm::dvec4 rowZ = matrixRow(m, 2), rowW = matrixRow(m, 3);
 
-  p.likelyTransposed = !looksLikeProjection(m) && looksLikeProjection(glm::transpose(m));
+  p.likelyTransposed =
+      projectionStructureScore(glm::transpose(m)) == 5 && projectionStructureScore(m) <= 3;
   p.perspective =
       glm::length(glm::dvec3(rowW)) >
       1e-12 * (glm::length(glm::dvec3(matrixRow(m, 0))) + glm::length(glm::dvec3(matrixRow(m, 1))));
@@ -402,7 +408,10 @@ CheckReport checkConventions(const CheckInput& input) {
          "glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE) with a 32F depth buffer, depth test "
          "GL_GREATER, clear depth 0"});
   }
-  if (p.perspective && p.reversed != input.declaredReversed && !reversedRange) {
+  // glDepthRange(1, 0) reverses once more: what matters is whether near ends up at the larger
+  // window depth, and whether the depth test says so.
+  const bool nearIsDeeper = p.reversed != reversedRange;
+  if (p.perspective && nearIsDeeper != input.declaredReversed) {
     findings.push_back(
         {"error", "reversed-z-mismatch",
          p.reversed ? "the matrix is reversed-Z (near maps to 1, far to 0) but the app declares a "
@@ -508,13 +517,14 @@ CheckReport checkConventions(const CheckInput& input) {
     }
     const double wLength = glm::length(glm::dvec3(rowW));
     const double a = glm::dot(rowZ, glm::dvec4(*p.eye, 1.0)) / wLength;
-    const double windowScale =
-        std::abs(input.depthRange.y - input.depthRange.x) / (1.0 - mode.clipVolumeMinZ());
+    // Window depth under the convention the app actually draws with (not the matrix's own).
+    const double zn = DepthMode{declared, false}.clipVolumeMinZ();
+    const double windowScale = std::abs(input.depthRange.y - input.depthRange.x) / (1.0 - zn);
     auto separable = [&](double s) {
       const double zNdc = glm::dot(glm::dvec3(rowZ), p.viewDirection) / wLength + a / s;
       const double windowDepth =
-          input.depthRange.x + (zNdc - mode.clipVolumeMinZ()) * windowScale *
-                                   (input.depthRange.y > input.depthRange.x ? 1 : -1);
+          input.depthRange.x +
+          (zNdc - zn) * windowScale * (input.depthRange.y > input.depthRange.x ? 1 : -1);
       const double slope = std::abs(a) / (s * s) * windowScale;  // |d window depth / ds|
       return slope * 0.01 * s > depthQuantum(input.depthFormat, windowDepth);
     };
@@ -526,9 +536,13 @@ CheckReport checkConventions(const CheckInput& input) {
       }
       findings.push_back(
           {"warning", "near-plane-precision",
-           "with " + depthFormatName(input.depthFormat) + "-bit depth and near " +
-               number(*p.nearDistance) + ", surfaces 1% apart stop being separable beyond " +
-               number(low) + " units from the eye; the scene reaches " + number(farthest),
+           "with " +
+               std::string(input.depthFormat == DepthFormat::Float32
+                               ? "32F"
+                               : depthFormatName(input.depthFormat) + "-bit") +
+               " depth and near " + number(*p.nearDistance) +
+               ", surfaces 1% apart stop being separable beyond " + number(low) +
+               " units from the eye; the scene reaches " + number(farthest),
            "move the near plane out, or use reversed-Z with a 32F depth buffer under ZERO_TO_ONE "
            "(relative depth precision then stays ~2^-24 at every distance)"});
     }

@@ -44,7 +44,6 @@ using PickRayFunction = std::function<std::optional<Ray>(int x, int y, const Pic
 PickRayFunction robustPickRays();
 
 // A pixel whose ray function returned nullopt holds this ray: tMax < 0 never hits anything.
-inline constexpr double kNoRayTMax = -1.0;
 
 // Pass 1: one ray per pixel from the ray function, multi-threaded over rows (frame.hits empty).
 AnalyticFrame generateRays(const PickingCamera& camera, const PickRayFunction& rayFunction,

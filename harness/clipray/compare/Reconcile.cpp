@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <stdexcept>
 
 #include "clipray/math/Projections.hpp"
 
@@ -242,6 +243,11 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                                unsigned threadCount) {
   const Viewport viewport = raster.viewport;
   const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;
+  if (analytic.viewport != viewport || raster.depth.size() != count || raster.ids.size() != count ||
+      analytic.rays.size() != count || analytic.hits.size() != count) {
+    throw std::invalid_argument("compareFrames: raster and analytic frames differ in size");
+  }
+  const std::uint32_t primitiveCount = static_cast<std::uint32_t>(intersector.triangleCount());
   const ToleranceModel model(intersector, setup, viewport);
   const glm::dmat4& m = setup.clipFromWorld;
   const glm::dmat4 worldFromClip = glm::inverse(m);
@@ -291,6 +297,11 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
         PixelClass& cls = pixels.classes[i];
         if (rasterId == 0 && rayId == 0) {
           cls = PixelClass::Background;
+        } else if (rasterId > primitiveCount || ray.tMax < 0.0) {
+          // An id no primitive has (a renderer bug) or a pixel without a ray: nothing explains it.
+          ++local.coverageMismatch.total;
+          ++local.coverageMismatch.unexplained;
+          cls = PixelClass::CoverageUnexplained;
         } else if (rasterId == 0 || rayId == 0) {
           const std::uint32_t only = rasterId != 0 ? rasterId : rayId;
           ++local.coverageMismatch.total;
@@ -322,7 +333,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
           localRelative.push_back(std::abs(tRaster - hit.t) / scale);
           localRatios.push_back(ratio);
           pixels.toleranceRatio[i] = static_cast<float>(ratio);
-          if (ratio > 1.0) {
+          if (!(ratio <= 1.0)) {  // NaN counts as beyond tolerance
             ++local.depthBeyondTolerance;
             cls = PixelClass::DepthBeyondTolerance;
           } else {

@@ -1,6 +1,7 @@
 #include "clipray/gl/ReconcileRun.hpp"
 
 #include <chrono>
+#include <cmath>
 
 namespace clipray::gl {
 
@@ -12,8 +13,15 @@ double millisecondsSince(Clock::time_point start) {
 }  // namespace
 
 glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode) {
-  const glm::dvec4 p = glm::inverse(clipFromWorld) * glm::dvec4(0.0, 0.0, mode.nearNdcZ(), 1.0);
-  return glm::dvec3(p) / p.w;
+  const glm::dmat4 worldFromClip = glm::inverse(clipFromWorld);
+  const glm::dvec4 p = worldFromClip * glm::dvec4(0.0, 0.0, mode.nearNdcZ(), 1.0);
+  const glm::dvec3 centre = glm::dvec3(p) / p.w;
+  if (p.w > 0.0 && std::isfinite(centre.x + centre.y + centre.z)) return centre;
+  // A matrix drawn under conventions that put its near plane behind the eye or at infinity: fall
+  // back to the eye (perspective) or the world origin, so both passes still measure from a point.
+  const glm::dvec4 e = worldFromClip * glm::dvec4(0.0, 0.0, 1.0, 0.0);
+  const glm::dvec3 eye = glm::dvec3(e) / e.w;
+  return std::isfinite(eye.x + eye.y + eye.z) ? eye : glm::dvec3(0.0);
 }
 
 namespace {

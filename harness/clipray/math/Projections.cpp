@@ -1,5 +1,6 @@
 #include "clipray/math/Projections.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -63,6 +64,33 @@ glm::dmat4 orthographicClipFromView(double left, double right, double bottom, do
     m[3][2] = -(f + n) / (f - n);
   }
   return m;
+}
+
+namespace {
+template <int N>
+double scaledDeterminantOf(glm::mat<N, N, double> m) {
+  for (int c = 0; c < N; ++c) {
+    double largest = 0.0;
+    for (int r = 0; r < N; ++r) largest = std::max(largest, std::fabs(m[c][r]));
+    if (largest == 0.0) return 0.0;
+    m[c] /= largest;
+  }
+  for (int r = 0; r < N; ++r) {
+    double sum = 0.0;
+    for (int c = 0; c < N; ++c) sum += m[c][r] * m[c][r];
+    if (sum == 0.0) return 0.0;
+    const double norm = std::sqrt(sum);
+    for (int c = 0; c < N; ++c) m[c][r] /= norm;
+  }
+  return std::fabs(glm::determinant(m));
+}
+}  // namespace
+
+double scaledDeterminant(glm::dmat4 m) {
+  return scaledDeterminantOf<4>(m);
+}
+double scaledDeterminant(glm::dmat3 m) {
+  return scaledDeterminantOf<3>(m);
 }
 
 glm::dmat4 viewFromWorldLookAt(const glm::dvec3& eye, const glm::dvec3& target,

@@ -23,6 +23,12 @@ glm::dmat4 orthographicClipFromView(double left, double right, double bottom, do
 glm::dmat4 viewFromWorldLookAt(const glm::dvec3& eye, const glm::dvec3& target,
                                const glm::dvec3& up);
 
+// |det| after scaling each column to a largest magnitude of 1 and then each row to unit length:
+// 1 for an orthogonal matrix, 0 for a singular one. Scaling the columns first keeps a camera far
+// from the origin (whose translation column dwarfs the rest) from looking singular.
+double scaledDeterminant(glm::dmat4 m);
+double scaledDeterminant(glm::dmat3 m);
+
 // Row r of a column-major matrix (rows are the clip-space planes: row 3 is w).
 inline glm::dvec4 matrixRow(const glm::dmat4& m, int r) {
   return {m[0][r], m[1][r], m[2][r], m[3][r]};

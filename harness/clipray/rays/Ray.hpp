@@ -12,4 +12,8 @@ struct Ray {
   double tMax = 0.0;
 };
 
+// tMax of a pixel that has no ray (the ray function declined, or the matrix puts that pixel's
+// near point behind the eye): a negative tMax never hits anything.
+inline constexpr double kNoRayTMax = -1.0;
+
 }  // namespace clipray

@@ -41,6 +41,14 @@ Ray RobustRayGenerator::generate(glm::dvec2 clipXY) const noexcept {
   Ray ray;
   ray.origin = glm::dvec3(nearPointWorld) / nearPointWorld.w;
   ray.direction = d;
+  // The near point must lie in front of the eye (clip w = 1 / w_world > 0) and be finite. It does
+  // not when a matrix is drawn under conventions it was not built for in the reversed sense (a
+  // reversed-Z matrix under NO puts z = -1 behind the eye, a NO infinite matrix under reversed-Z
+  // puts z = 1 at infinity): no ray, rather than one from behind the camera.
+  if (!(nearPointWorld.w > 0.0) || !std::isfinite(ray.origin.x + ray.origin.y + ray.origin.z)) {
+    ray.tMax = kNoRayTMax;
+    return ray;
+  }
 
   // Far plane: F . (o + t d, 1) = 0. A zero denominator or a non-positive / non-finite t means the
   // far plane lies at infinity (an infinite-far matrix makes F's xyz exactly zero).

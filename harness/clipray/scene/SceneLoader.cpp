@@ -227,23 +227,6 @@ json parseJson(const std::string& text, const std::string& file) {
 // orthogonal matrix, 0 for a singular one. Column scaling (right-multiplying by a positive
 // diagonal matrix, which keeps the rank) removes the dependence on large translations, so a camera
 // far from the origin is not called singular.
-template <int N>
-double scaledDeterminant(glm::mat<N, N, double> m) {
-  for (int c = 0; c < N; ++c) {
-    double largest = 0.0;
-    for (int r = 0; r < N; ++r) largest = std::max(largest, std::fabs(m[c][r]));
-    if (largest == 0.0) return 0.0;
-    m[c] /= largest;
-  }
-  for (int r = 0; r < N; ++r) {
-    double sum = 0.0;
-    for (int c = 0; c < N; ++c) sum += m[c][r] * m[c][r];
-    if (sum == 0.0) return 0.0;
-    const double norm = std::sqrt(sum);
-    for (int c = 0; c < N; ++c) m[c][r] /= norm;
-  }
-  return std::fabs(glm::determinant(m));
-}
 
 bool allFinite(const glm::dmat4& m) {
   for (int c = 0; c < 4; ++c) {
