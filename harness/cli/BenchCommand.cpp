@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <iostream>
@@ -317,6 +318,17 @@ int runBench(const BenchOptions& options) {
     }
   }
 
+  // Output files: their folders must exist before minutes of measuring are spent.
+  for (const auto& [option, path] : {std::pair<std::string, std::string>{"--json", options.json},
+                                     std::pair<std::string, std::string>{"--plot", options.plot}}) {
+    if (path.empty()) continue;
+    const std::filesystem::path parent = std::filesystem::absolute(path).parent_path();
+    if (!std::filesystem::is_directory(parent)) {
+      throw InputError(option + ": folder " + parent.string() + " does not exist");
+    }
+    if (std::filesystem::is_directory(path))
+      throw InputError(option + ": " + path + " is a folder");
+  }
   // 2. The measurements: a progress line on stderr while the reference runs (when a person
   //    watches stderr).
   const bool progress = isatty(STDERR_FILENO) != 0;

@@ -1,5 +1,6 @@
 // `clipray check`: a convention checker for GL apps' matrices.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -31,6 +32,8 @@ struct CheckOptions {
   bool json = false;
   bool verify = false;
   std::string backend = "osmesa";
+  std::size_t optionsGiven =
+      0;  // field options on the command line (not --json/--verify/--backend)
 };
 
 std::string requireOneOf(const std::string& value, const std::string& what,
@@ -105,7 +108,13 @@ void readCheckFile(CheckOptions& options) {
 }
 
 int runCheck(CheckOptions options) {
-  if (!options.file.empty()) readCheckFile(options);
+  if (!options.file.empty()) {
+    // One source of truth: a file's fields are not silently overridden or mixed with options.
+    if (options.optionsGiven > 0) {
+      throw InputError(options.file + ": give the fields in the file or as options, not both");
+    }
+    readCheckFile(options);
+  }
   const std::string where = options.file.empty() ? "" : options.file + ": ";
   if (options.clipFromWorld.empty() == options.projection.empty()) {
     throw InputError(
@@ -139,7 +148,8 @@ int runCheck(CheckOptions options) {
   input.declaredReversed = options.reversed;
   if (!options.depthRange.empty()) {
     const std::vector<double> range = parseNumberList(options.depthRange, where + "--depth-range");
-    if (range.size() != 2 || range[0] < 0 || range[0] > 1 || range[1] < 0 || range[1] > 1) {
+    // Written so that NaN fails too.
+    if (range.size() != 2 || !(range[0] >= 0 && range[0] <= 1 && range[1] >= 0 && range[1] <= 1)) {
       throw InputError(where + "--depth-range: expected NEAR,FAR in [0, 1], got \"" +
                        options.depthRange + "\"");
     }
@@ -156,10 +166,11 @@ int runCheck(CheckOptions options) {
       requireOneOf(options.depthBits, where + "--depth-bits", {"16", "24", "32f"}));
   if (!options.sceneExtent.empty()) {
     const std::vector<double> e = parseNumberList(options.sceneExtent, where + "--scene-extent");
-    if (e.size() != 6 || e[0] > e[3] || e[1] > e[4] || e[2] > e[5]) {
+    const bool finite = std::all_of(e.begin(), e.end(), [](double v) { return std::isfinite(v); });
+    if (e.size() != 6 || !finite || e[0] > e[3] || e[1] > e[4] || e[2] > e[5]) {
       throw InputError(
           where +
-          "--scene-extent: expected \"minx miny minz maxx maxy maxz\" with min <= max, got \"" +
+          "--scene-extent: expected \"minx miny minz maxx maxy maxz\", finite, min <= max, got \"" +
           options.sceneExtent + "\"");
     }
     input.sceneExtent = std::make_pair(glm::dvec3(e[0], e[1], e[2]), glm::dvec3(e[3], e[4], e[5]));
@@ -223,7 +234,14 @@ CommandRunner addCheckOptions(CLI::App& app) {
       "Render a probe scene with the matrix under the declared conventions and reconcile it");
   app.add_option("--backend", options->backend, "GL backend for --verify: osmesa, egl")
       ->capture_default_str();
-  return [options] { return runCheck(*options); };
+  return [options, &app] {
+    for (const char* name : {"--clip-from-world", "--projection", "--view", "--layout",
+                             "--declared-depth", "--reversed", "--depth-range", "--origin",
+                             "--viewport", "--depth-bits", "--scene-extent"}) {
+      options->optionsGiven += app.count(name);
+    }
+    return runCheck(*options);
+  };
 }
 
 const bool registered = registerCommand(

@@ -4,7 +4,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -20,6 +22,18 @@
 namespace clipray::cli {
 
 namespace {
+
+// MemAvailable from /proc/meminfo in bytes; 0 when unknown (then no memory check is made).
+double availableMemoryBytes() {
+  std::ifstream meminfo("/proc/meminfo");
+  std::string key;
+  double kilobytes = 0.0;
+  std::string unit;
+  while (meminfo >> key >> kilobytes >> unit) {
+    if (key == "MemAvailable:") return kilobytes * 1024.0;
+  }
+  return 0.0;
+}
 
 template <typename T, typename Parse>
 std::vector<T> parseList(const std::string& option, const std::string& text, Parse parse,
@@ -65,6 +79,11 @@ int runReconcile(const ReconcileOptions& options) {
       options.size.empty() ? std::nullopt
                            : std::optional<Viewport>(parseViewportOption(options.size, "--size"));
 
+  // The output folder must be usable before any work is done (it is written only at the end).
+  if (std::filesystem::exists(options.out) && !std::filesystem::is_directory(options.out)) {
+    throw InputError("--out: " + options.out + " exists and is not a folder");
+  }
+
   std::vector<std::string> scenePaths = options.scenes;
   if (scenePaths.empty()) {
     if (!std::filesystem::is_directory("scenes")) {
@@ -85,11 +104,23 @@ int runReconcile(const ReconcileOptions& options) {
   std::unique_ptr<gl::GlContext> context = gl::createContext(options.backend);
   gl::Renderer renderer(*context);
   const Viewport maxViewport = renderer.maxViewport();
+  const double availableBytes = availableMemoryBytes();
   auto checkViewport = [&](Viewport v, const std::string& where) {
+    const std::string size = std::to_string(v.width) + "x" + std::to_string(v.height);
     if (v.width > maxViewport.width || v.height > maxViewport.height) {
-      throw InputError(where + ": " + std::to_string(v.width) + "x" + std::to_string(v.height) +
-                       " exceeds GL_MAX_VIEWPORT_DIMS " + std::to_string(maxViewport.width) + "x" +
+      throw InputError(where + ": " + size + " exceeds GL_MAX_VIEWPORT_DIMS " +
+                       std::to_string(maxViewport.width) + "x" +
                        std::to_string(maxViewport.height) + " of " + renderer.info().renderer);
+    }
+    // One run holds the rays and hits (72 B), the raster frame (8 B), the per-pixel comparison
+    // and its statistics (~40 B) and the images being encoded: measured ~128 B per pixel.
+    const double needed = 160.0 * v.width * v.height;
+    if (availableBytes > 0.0 && needed > availableBytes) {
+      char text[160];
+      std::snprintf(text, sizeof text,
+                    ": %s needs about %.1f GiB of memory for one run; %.1f GiB available",
+                    size.c_str(), needed / 1073741824.0, availableBytes / 1073741824.0);
+      throw InputError(where + text);
     }
   };
   if (sizeOverride) checkViewport(*sizeOverride, "--size");
@@ -135,9 +166,15 @@ int runReconcile(const ReconcileOptions& options) {
 
   // 4. Outputs, all at the end and each atomically.
   writeReport(options.out, runs, renderer.info());
-  std::cout << textSummary(runs);
-  std::cout << "report: " << (std::filesystem::path(options.out) / "report.json").string() << "\n";
-  if (options.json) std::cout << reportJson(runs, renderer.info()).dump(2) << "\n";
+  // With --json, stdout carries only the report (parseable); the summary goes to stderr.
+  std::ostream& summary = options.json ? std::cerr : std::cout;
+  summary << textSummary(runs);
+  summary << "report: " << (std::filesystem::path(options.out) / "report.json").string() << "\n";
+  if (options.json) {
+    std::cout << reportJson(runs, renderer.info())
+                     .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
+              << "\n";
+  }
   const bool consistent = std::all_of(runs.begin(), runs.end(),
                                       [](const RunRecord& r) { return r.metrics.consistent(); });
   return consistent ? 0 : 1;
@@ -159,6 +196,7 @@ CommandRunner addReconcileOptions(CLI::App& app) {
       ->capture_default_str();
   app.add_flag("--json", options->json, "Also print report.json to stdout");
   app.add_option("--threads", options->threads, "Threads for the analytic pass (0: all cores)")
+      ->check(CLI::Range(0u, 256u))
       ->capture_default_str();
   return [options] { return runReconcile(*options); };
 }

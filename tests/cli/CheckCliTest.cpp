@@ -57,6 +57,15 @@ TEST(CheckCli, ReadsTheSameFieldsFromAFile) {
   EXPECT_EQ(report["findings"][1]["code"], "window-origin-upper-left");
 }
 
+TEST(CheckCli, AFileAndFieldOptionsTogetherAreRefused) {
+  TempFolder folder;
+  std::ofstream(folder.path() / "app.json")
+      << R"({"clipFromWorld": ")" << kPerspectiveNo << R"("})";
+  const auto result = runClipray("check app.json --declared-depth no", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err, "clipray: app.json: give the fields in the file or as options, not both\n");
+}
+
 struct BadCheck {
   const char* name;
   std::string arguments;
@@ -114,8 +123,19 @@ INSTANTIATE_TEST_SUITE_P(
                  "--depth-range: near and far are both 0.5; every depth would be equal"},
         BadCheck{"BadExtent",
                  "check --clip-from-world '" + kPerspectiveNo + "' --scene-extent '1 1 1 0 0 0'",
-                 "--scene-extent: expected \"minx miny minz maxx maxy maxz\" with min <= max, got "
-                 "\"1 1 1 0 0 0\""},
+                 "--scene-extent: expected \"minx miny minz maxx maxy maxz\", finite, min <= max, "
+                 "got \"1 1 1 0 0 0\""},
+        BadCheck{"NanExtent",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --scene-extent 'nan 0 0 1 1 1'",
+                 "--scene-extent: expected \"minx miny minz maxx maxy maxz\", finite, min <= max, "
+                 "got \"nan 0 0 1 1 1\""},
+        BadCheck{"NanDepthRange",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --depth-range nan,1",
+                 "--depth-range: expected NEAR,FAR in [0, 1], got \"nan,1\""},
+        BadCheck{"Overflow",
+                 "check --clip-from-world '1e300 0 0 0 0 1e300 0 0 0 0 -1 -1 0 0 -0.2 0'",
+                 "--clip-from-world: element (row 0, column 0) is 1e+300, beyond float range: a GL "
+                 "uniform cannot hold it"},
         BadCheck{"MissingFile", "check nope.json", "nope.json: cannot open file"}),
     [](const ::testing::TestParamInfo<BadCheck>& param) { return std::string(param.param.name); });
 

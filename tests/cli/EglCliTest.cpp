@@ -37,8 +37,9 @@ TEST(EglCli, ReconcilesWithEgl) {
   EXPECT_NE(report["gl"]["version"].get<std::string>().find("4.5"), std::string::npos);
   ASSERT_EQ(report["runs"].size(), 4u);
   for (const auto& run : report["runs"]) EXPECT_EQ(run["verdict"], "consistent");
-  EXPECT_NE(result.out.find("4 runs: 4 consistent, 0 inconsistent"), std::string::npos)
-      << result.out;
+  // With --json the summary goes to stderr and stdout holds only the report.
+  EXPECT_NE(result.err.find("4 runs: 4 consistent, 0 inconsistent"), std::string::npos)
+      << result.err;
 }
 
 // Every shipped scene under all three conventions: the reports agree field for field (timings

@@ -55,10 +55,10 @@ TEST(ReconcileCli, WritesTheReportAndExitsZeroWhenConsistent) {
   }
   EXPECT_EQ(conventions, (std::set<std::string>{"no", "zo"}));
   EXPECT_EQ(formats, (std::set<std::string>{"24", "32f"}));
-  // --json prints the same report after the summary.
-  EXPECT_NE(result.out.find("\"tool\": \"clipray\""), std::string::npos);
-  EXPECT_NE(result.out.find("4 runs: 4 consistent, 0 inconsistent"), std::string::npos)
-      << result.out;
+  // --json prints only the report on stdout (parseable); the summary goes to stderr.
+  EXPECT_EQ(nlohmann::json::parse(result.out)["tool"], "clipray");
+  EXPECT_NE(result.err.find("4 runs: 4 consistent, 0 inconsistent"), std::string::npos)
+      << result.err;
 }
 
 TEST(ReconcileCli, DefaultsToEveryShippedScene) {

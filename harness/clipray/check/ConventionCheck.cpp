@@ -74,6 +74,15 @@ void requireFinite(const glm::dmat4& m, const std::string& what) {
 
 void requireProjection(const glm::dmat4& m, const std::string& what) {
   requireFinite(m, what);
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      if (std::abs(m[c][r]) > static_cast<double>(std::numeric_limits<float>::max())) {
+        throw InputError(what + ": element (row " + std::to_string(r) + ", column " +
+                         std::to_string(c) + ") is " + number(m[c][r]) +
+                         ", beyond float range: a GL uniform cannot hold it");
+      }
+    }
+  }
   bool allZero = true;
   for (int c = 0; c < 4; ++c) allZero = allZero && m[c] == glm::dvec4(0.0);
   if (allZero) throw InputError(what + ": the matrix is all zero");
@@ -238,6 +247,9 @@ CheckReport checkConventions(const CheckInput& input) {
   std::vector<Finding>& findings = report.findings;
   const DepthConvention declared = input.declaredDepth.value_or(DepthConvention::NegativeOneToOne);
   const glm::dmat4 worldFromClip = glm::inverse(m);
+  requireFinite(worldFromClip,
+                std::string(input.projection ? "--projection * --view" : "--clip-from-world") +
+                    " (its inverse)");
   const glm::dvec4 rowZ = matrixRow(m, 2), rowW = matrixRow(m, 3);
 
   p.likelyTransposed =

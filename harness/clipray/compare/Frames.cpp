@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <memory>
+#include <system_error>
 #include <thread>
 
 #include "clipray/rays/RobustRays.hpp"
@@ -23,7 +24,11 @@ void parallelForRows(int rows, unsigned threadCount, const std::function<void(in
     }
   };
   std::vector<std::thread> threads;
-  for (unsigned k = 1; k < threadCount; ++k) threads.emplace_back(worker);
+  try {
+    for (unsigned k = 1; k < threadCount; ++k) threads.emplace_back(worker);
+  } catch (const std::system_error&) {
+    // The system refused a thread (process limits): carry on with those that started.
+  }
   worker();
   for (std::thread& t : threads) t.join();
 }

@@ -3,6 +3,7 @@
 #include <glad/gl.h>
 
 #include <chrono>
+#include <cstdio>
 #include <string>
 #include <vector>
 
@@ -227,8 +228,10 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
                                  state_->depthBuffer);
   const GLenum status = glCheckNamedFramebufferStatus(state_->framebuffer, GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
-    throw GlError("GL: framebuffer incomplete (status 0x" + std::to_string(status) +
-                  ") for depth format " + depthFormatName(request.depthFormat));
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "0x%04X", status);
+    throw GlError(std::string("GL: framebuffer incomplete (status ") + hex + ") for depth format " +
+                  depthFormatName(request.depthFormat));
   }
   checkGl("framebuffer set-up");
 

@@ -220,7 +220,10 @@ std::string textSummary(const std::vector<RunRecord>& runs) {
   return out;
 }
 
-void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes) {
+namespace {
+
+// Writes bytes to a fresh temp file beside `path` and returns its name; throws naming `path`.
+std::filesystem::path writeTempBeside(const std::filesystem::path& path, const std::string& bytes) {
   static std::atomic<unsigned long long> counter{0};
   std::filesystem::path temp = path;
   temp += ".tmp-" + std::to_string(static_cast<long long>(::getpid())) + "-" +
@@ -229,7 +232,6 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& b
     if (removeTemp) ::unlink(temp.c_str());
     throw std::runtime_error("cannot " + what + " " + path.string() + ": " + errnoText(error));
   };
-
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) fail("create", errno, false);
   const char* data = bytes.data();
@@ -246,6 +248,13 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& b
     left -= static_cast<std::size_t>(written);
   }
   if (::close(fd) != 0) fail("write", errno, true);
+  return temp;
+}
+
+}  // namespace
+
+void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes) {
+  const std::filesystem::path temp = writeTempBeside(path, bytes);
   std::error_code ec;
   std::filesystem::rename(temp, path, ec);
   if (ec) {
@@ -256,25 +265,60 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& b
 
 void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecord>& runs,
                  const GlInfo& gl) {
-  const auto makeFolder = [](const std::filesystem::path& folder) {
+  // Two phases, so a failure (disk full, a clashing name) leaves nothing half-written: every file
+  // goes to a temp name first; only when all are written are they renamed, report.json last.
+  std::vector<std::filesystem::path> createdFolders;  // the topmost folders this call created
+  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;  // temp -> final
+  const auto undo = [&] {
+    for (const auto& [temp, final] : staged) ::unlink(temp.c_str());
+    std::error_code ignored;
+    for (auto it = createdFolders.rbegin(); it != createdFolders.rend(); ++it) {
+      std::filesystem::remove_all(*it, ignored);
+    }
+  };
+  const auto makeFolder = [&](const std::filesystem::path& folder) {
+    std::filesystem::path top;
+    for (std::filesystem::path f = folder; !f.empty() && !std::filesystem::exists(f);
+         f = f.parent_path()) {
+      top = f;
+      if (f == f.parent_path()) break;
+    }
     std::error_code ec;
     std::filesystem::create_directories(folder, ec);
     if (ec)
       throw std::runtime_error("cannot create folder " + folder.string() + ": " + ec.message());
+    if (!top.empty()) createdFolders.push_back(top);
   };
-  makeFolder(outDir);
-  for (const RunRecord& run : runs) {
-    for (const EncodedImage& image : run.images) {
-      const std::filesystem::path path = outDir / std::filesystem::path(image.relativePath);
-      makeFolder(path.parent_path());
-      writeFileAtomically(path, image.pngBytes);
+  const auto stage = [&](const std::filesystem::path& path, const std::string& bytes) {
+    makeFolder(path.parent_path());
+    staged.emplace_back(writeTempBeside(path, bytes), path);
+  };
+  try {
+    makeFolder(outDir);
+    for (const RunRecord& run : runs) {
+      for (const EncodedImage& image : run.images) {
+        stage(outDir / std::filesystem::path(image.relativePath), image.pngBytes);
+      }
     }
+    stage(outDir / "summary.txt", textSummary(runs));
+    stage(
+        outDir / "report.json",
+        reportJson(runs, gl).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+    // A report.json from an earlier run must not describe the files about to change.
+    std::filesystem::remove(outDir / "report.json");
+    for (std::size_t k = 0; k < staged.size(); ++k) {
+      std::error_code ec;
+      std::filesystem::rename(staged[k].first, staged[k].second, ec);
+      if (ec) {
+        staged.erase(staged.begin(), staged.begin() + static_cast<std::ptrdiff_t>(k));
+        throw std::runtime_error("cannot write " + staged.front().second.string() + ": " +
+                                 ec.message());
+      }
+    }
+  } catch (...) {
+    undo();
+    throw;
   }
-  writeFileAtomically(outDir / "summary.txt", textSummary(runs));
-  // Last: a report.json means every other file is complete.
-  const std::string json =
-      reportJson(runs, gl).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
-  writeFileAtomically(outDir / "report.json", json);
 }
 
 }  // namespace clipray
