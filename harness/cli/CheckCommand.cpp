@@ -91,8 +91,14 @@ void readCheckFile(CheckOptions& options) {
       options.origin = value.get<std::string>();
     else if (key == "viewport" && value.is_string())
       options.viewport = value.get<std::string>();
+    else if (key == "viewport" && value.is_array() && value.size() == 2 &&
+             value[0].is_number_integer() &&
+             value[1].is_number_integer())  // [W, H], as scene files write it
+      options.viewport = value[0].dump() + "x" + value[1].dump();
     else if (key == "depthBits" && value.is_string())
       options.depthBits = value.get<std::string>();
+    else if (key == "depthBits" && value.is_number_integer())  // 16 or 24 as a number
+      options.depthBits = value.dump();
     else if (key == "reversed" && value.is_boolean())
       options.reversed = value.get<bool>();
     else if (key == "comment")

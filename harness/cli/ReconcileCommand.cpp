@@ -98,7 +98,16 @@ int runReconcile(const ReconcileOptions& options) {
     if (scenePaths.empty()) throw InputError("scenes/: no *.json scene files");
   }
   std::vector<Scene> scenes;
-  for (const std::string& path : scenePaths) scenes.push_back(loadScene(path));
+  for (const std::string& path : scenePaths) {
+    scenes.push_back(loadScene(path));
+    // Reports are filed under the scene's file stem: two scenes with one stem would share a folder.
+    for (std::size_t k = 0; k + 1 < scenes.size(); ++k) {
+      if (scenes[k].name == scenes.back().name) {
+        throw InputError(path + ": reports are filed by file name, and " + scenes[k].path +
+                         " is also named \"" + scenes.back().name + "\"; rename one of them");
+      }
+    }
+  }
 
   // 2. The backend, and the limits only it knows.
   std::unique_ptr<gl::GlContext> context = gl::createContext(options.backend);

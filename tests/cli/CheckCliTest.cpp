@@ -57,6 +57,17 @@ TEST(CheckCli, ReadsTheSameFieldsFromAFile) {
   EXPECT_EQ(report["findings"][1]["code"], "window-origin-upper-left");
 }
 
+TEST(CheckCli, FileFieldsTakeTheSceneFormsToo) {
+  TempFolder folder;
+  std::ofstream(folder.path() / "app.json") << R"({"clipFromWorld": ")" << kPerspectiveNo
+                                            << R"(", "viewport": [640, 480], "depthBits": 16})";
+  const auto result = runClipray("check app.json --json", folder.path());
+  EXPECT_EQ(result.status, 0) << result.err;
+  const auto report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report["declared"]["viewport"], nlohmann::json::array({640, 480}));
+  EXPECT_EQ(report["declared"]["depth_bits"], "16");
+}
+
 TEST(CheckCli, AFileAndFieldOptionsTogetherAreRefused) {
   TempFolder folder;
   std::ofstream(folder.path() / "app.json")

@@ -94,6 +94,21 @@ TEST(ReconcileCli, ABadSceneAmongGoodOnesStopsEverythingBeforeAnyOutput) {
             1);
 }
 
+TEST(ReconcileCli, TwoScenesWithOneFileNameAreRefused) {
+  TempFolder folder;
+  std::filesystem::create_directories(folder.path() / "a");
+  std::filesystem::create_directories(folder.path() / "b");
+  std::filesystem::copy_file(kSource + "/scenes/standard.json", folder.path() / "a/x.json");
+  std::filesystem::copy_file(kSource + "/scenes/standard.json", folder.path() / "b/x.json");
+  const auto result = runClipray("reconcile a/x.json b/x.json", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err,
+            "clipray: b/x.json: reports are filed by file name, and a/x.json is also named \"x\"; "
+            "rename one of "
+            "them\n");
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "report"));
+}
+
 struct BadInvocation {
   const char* name;
   std::string arguments;
