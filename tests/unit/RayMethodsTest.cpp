@@ -11,6 +11,7 @@
 #include "clipray/rays/QuadReference.hpp"
 #include "clipray/rays/RayErrors.hpp"
 #include "clipray/rays/RayMethods.hpp"
+#include "support/Conditioning.hpp"
 
 namespace clipray {
 namespace {
@@ -19,19 +20,7 @@ constexpr Viewport kSmall{32, 18};
 template <typename T>
 constexpr double kUnitRoundoff = std::numeric_limits<T>::epsilon() / 2;
 
-// Condition number of the matrix in the max-row-sum norm (computed in double: a bound needs a
-// few digits only).
-double conditionNumber(const glm::dmat4& m) {
-  auto norm = [](const glm::dmat4& a) {
-    double best = 0.0;
-    for (int r = 0; r < 4; ++r) {
-      best = std::max(
-          best, std::abs(a[0][r]) + std::abs(a[1][r]) + std::abs(a[2][r]) + std::abs(a[3][r]));
-    }
-    return best;
-  };
-  return norm(m) * norm(glm::inverse(m));
-}
+using testing::conditionNumber;
 
 template <typename T>
 glm::dmat4 entriesOf(const glm::dmat4& m) {

@@ -5,6 +5,7 @@
 
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/RobustRays.hpp"
+#include "support/Conditioning.hpp"
 
 namespace clipray {
 namespace {
@@ -16,19 +17,7 @@ glm::dvec3 clipNdc(const glm::dmat4& m, const glm::dvec3& p) {
   return glm::dvec3(c) / c.w;
 }
 
-// Condition number of the matrix in the max-row-sum norm: the error of anything computed through
-// worldFromClip is bounded by a small multiple of kappa * eps (relative).
-double conditionNumber(const glm::dmat4& m) {
-  auto norm = [](const glm::dmat4& a) {
-    double best = 0.0;
-    for (int r = 0; r < 4; ++r) {
-      best = std::max(
-          best, std::abs(a[0][r]) + std::abs(a[1][r]) + std::abs(a[2][r]) + std::abs(a[3][r]));
-    }
-    return best;
-  };
-  return norm(m) * norm(glm::inverse(m));
-}
+using testing::conditionNumber;
 
 struct CameraCase {
   const char* name;
