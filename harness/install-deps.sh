@@ -7,6 +7,7 @@ packages=(
   libosmesa6-dev libegl-dev libgl-dev libglfw3-dev libglm-dev python3-glad libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
   libembree-dev
+  libtinygltf-dev libtinyobjloader-dev clang-14 libclang-rt-14-dev
   libimgui-dev xvfb xauth
 )
 missing=()

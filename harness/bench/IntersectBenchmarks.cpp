@@ -29,6 +29,7 @@
 
 #include "clipray/compare/Frames.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
+#include "clipray/scene/Terrain.hpp"
 
 #if CLIPRAY_HAVE_EMBREE
 #include <embree3/rtcore.h>
@@ -55,8 +56,7 @@ double peakRssMiB() {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Terrain: a fixed-seed heightfield of at least `triangles` triangles over [-50, 50]^2, with
-// rolling hills (sines) and value noise from a 64-bit LCG, so it is the same on every platform.
+// Terrain: the suite's fixed-seed heightfield (clipray/scene/Terrain.hpp), seed 0.
 
 struct Terrain {
   MeshObject mesh;
@@ -65,44 +65,9 @@ struct Terrain {
 
 Terrain makeTerrain(std::size_t triangles) {
   Terrain terrain;
-  terrain.cells = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(triangles) / 2.0)));
-  const int n = terrain.cells + 1;
-  std::uint64_t state = 0x9E3779B97F4A7C15ull;
-  auto random01 = [&state] {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    return static_cast<double>(state >> 11) * 0x1p-53;
-  };
-  std::vector<double> noise(static_cast<std::size_t>(17 * 17));
-  for (double& x : noise) x = random01();
-  auto noiseAt = [&](double u, double v) {  // bilinear value noise on a 16x16 lattice
-    const double fu = u * 16.0, fv = v * 16.0;
-    const int i = std::min(15, static_cast<int>(fu)), j = std::min(15, static_cast<int>(fv));
-    const double su = fu - i, sv = fv - j;
-    auto at = [&](int a, int b) { return noise[static_cast<std::size_t>(b * 17 + a)]; };
-    return (at(i, j) * (1 - su) + at(i + 1, j) * su) * (1 - sv) +
-           (at(i, j + 1) * (1 - su) + at(i + 1, j + 1) * su) * sv;
-  };
-  terrain.mesh.name = "terrain";
-  terrain.mesh.worldPositions.reserve(static_cast<std::size_t>(n) * n);
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      const double u = static_cast<double>(i) / terrain.cells;
-      const double v = static_cast<double>(j) / terrain.cells;
-      const double x = -50.0 + 100.0 * u, z = -50.0 + 100.0 * v;
-      const double h = 3.0 * std::sin(x * 0.11) * std::cos(z * 0.07) +
-                       1.5 * std::sin(x * 0.31 + 1.0) + 6.0 * noiseAt(u, v) + 0.3 * random01();
-      terrain.mesh.worldPositions.emplace_back(x, h, z);
-    }
-  }
-  terrain.mesh.triangles.reserve(static_cast<std::size_t>(terrain.cells) * terrain.cells * 2);
-  for (int j = 0; j < terrain.cells; ++j) {
-    for (int i = 0; i < terrain.cells; ++i) {
-      const auto k = static_cast<std::uint32_t>(j * n + i);
-      const auto row = static_cast<std::uint32_t>(n);
-      terrain.mesh.triangles.emplace_back(k, k + row, k + 1);
-      terrain.mesh.triangles.emplace_back(k + 1, k + row, k + row + 1);
-    }
-  }
+  terrain.mesh = makeTerrainMesh(triangles, 0, "terrain");
+  terrain.cells = static_cast<int>(
+      std::lround(std::sqrt(static_cast<double>(terrain.mesh.triangles.size()) / 2.0)));
   return terrain;
 }
 

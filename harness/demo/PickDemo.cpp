@@ -94,7 +94,7 @@ std::string formatPoint(const std::optional<glm::dvec3>& p) {
 }
 
 std::string objectName(const Scene& scene, int object) {
-  return object < 0 ? "background" : scene.objects[static_cast<std::size_t>(object)].name;
+  return surfaceName(scene, object);
 }
 
 }  // namespace
@@ -179,7 +179,13 @@ PickDemo::PickDemo(Scene scene, const DemoSettings& settings, std::ostream& pick
 
   // One flat-shaded colour per primitive id (a fixed light, two-sided), index 0 unused.
   const PrimitiveIdTable ids(baseScene_);
-  std::vector<glm::vec4> colours(baseScene_.triangleCount() + 1, glm::vec4(0.0f));
+  std::vector<glm::vec4> colours(baseScene_.triangleCount() + baseScene_.primitives.size() + 1,
+                                 glm::vec4(0.0f));
+  // Analytic primitives: one colour each (no per-pixel normal in the id buffer), after the meshes.
+  for (std::size_t p = 0; p < baseScene_.primitives.size(); ++p) {
+    const int surface = static_cast<int>(baseScene_.objects.size() + p);
+    colours[ids.firstAnalyticId + p] = glm::vec4(objectColour(surface) * 0.8f, 1);
+  }
   const glm::dvec3 light = glm::normalize(glm::dvec3(0.4, 1.0, 0.6));
   for (std::size_t k = 0; k < baseScene_.objects.size(); ++k) {
     const MeshObject& object = baseScene_.objects[k];

@@ -60,9 +60,26 @@ nlohmann::json pointJson(const std::optional<glm::dvec3>& point) {
   return nlohmann::json::array({point->x, point->y, point->z});
 }
 
+}  // namespace
+
+int surfaceIndex(const Scene& scene, const PrimitiveIdTable& ids, std::uint32_t primitiveId) {
+  const PrimitiveIdTable::Decoded decoded = ids.decode(primitiveId);
+  if (decoded.analytic >= 0) return static_cast<int>(scene.objects.size()) + decoded.analytic;
+  return decoded.object;
+}
+
+std::string surfaceName(const Scene& scene, int surface) {
+  if (surface < 0) return "background";
+  const auto index = static_cast<std::size_t>(surface);
+  return index < scene.objects.size() ? scene.objects[index].name
+                                      : scene.primitives[index - scene.objects.size()].name;
+}
+
+namespace {
+
 nlohmann::json objectJson(const Scene& scene, int object) {
   if (object < 0) return nullptr;
-  return scene.objects[static_cast<std::size_t>(object)].name;
+  return surfaceName(scene, object);
 }
 
 nlohmann::json optionalJson(const std::optional<double>& value) {
@@ -104,7 +121,7 @@ PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
   if (analytic.ray) {
     const Hit hit = view.intersector->closestHit(*analytic.ray);
     if (hit.hit()) {
-      result.rayObject = ids.decode(hit.primitiveId).object;
+      result.rayObject = surfaceIndex(scene, ids, hit.primitiveId);
       result.rayPoint = analytic.ray->origin + hit.t * analytic.ray->direction;
     }
   } else {
@@ -115,7 +132,7 @@ PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
   const std::size_t index = static_cast<std::size_t>(pixel.y) * viewport.width + pixel.x;
   result.windowDepth = raster.depth[index];
   result.primitiveId = raster.ids[index];
-  result.idObject = ids.decode(result.primitiveId).object;
+  result.idObject = surfaceIndex(scene, ids, result.primitiveId);
   const glm::dmat4 worldFromClip = glm::inverse(view.camera.clipFromWorld);
   const float clearDepth = view.camera.mode.reversed ? 0.0f : 1.0f;
   if (result.windowDepth != clearDepth) {

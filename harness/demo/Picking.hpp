@@ -68,7 +68,7 @@ struct PickResult {
   DepthFormat depthFormat = DepthFormat::Float32;
   // 1. analytic ray
   std::string rayUnavailable;  // not empty: the method could not run here ("n/a"); why
-  int rayObject = -1;          // object index, -1: background (or no ray)
+  int rayObject = -1;          // surface index (see surfaceIndex), -1: background (or no ray)
   std::optional<glm::dvec3> rayPoint;
   // 2. depth readback
   float windowDepth = 0.0f;
@@ -84,6 +84,11 @@ struct PickResult {
 
 // pixel must lie inside the raster frame.
 PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel);
+
+// Surfaces are numbered mesh objects first, then analytic primitives: the index of the surface a
+// primitive id belongs to (-1 for background), and its name ("background" for -1).
+int surfaceIndex(const Scene& scene, const PrimitiveIdTable& ids, std::uint32_t primitiveId);
+std::string surfaceName(const Scene& scene, int surface);
 
 // Projects a world point to continuous framebuffer coordinates (lower-left origin; pixel (i, j)
 // covers [i, i+1) x [j, j+1)). nullopt behind the camera.

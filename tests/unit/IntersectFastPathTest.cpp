@@ -203,6 +203,94 @@ TEST_F(FastPath, IntersectFrameMatchesClosestHitPerPixel) {
   }
 }
 
+// The same scene with analytic primitives: the packets trace the triangles, then each ray tests
+// the primitives; every path must still give the linear scan's (t, id) bit for bit.
+Scene testSceneWithPrimitives() {
+  Scene scene = testScene();
+  auto add = [&](PrimitiveKind kind, const glm::dmat4& worldFromLocal) {
+    AnalyticPrimitive p;
+    p.name = primitiveKindName(kind);
+    p.kind = kind;
+    p.worldFromLocal = worldFromLocal;
+    p.localFromWorld = glm::inverse(worldFromLocal);
+    scene.primitives.push_back(p);
+  };
+  auto placed = [](glm::dvec3 position, glm::dvec3 scale) {
+    glm::dmat4 m(1.0);
+    m[0][0] = scale.x;
+    m[1][1] = scale.y;
+    m[2][2] = scale.z;
+    m[3] = glm::dvec4(position, 1.0);
+    return m;
+  };
+  glm::dmat4 upright(0.0);  // local z -> world y, local y -> world -z
+  upright[0] = {1, 0, 0, 0};
+  upright[1] = {0, 0, -1, 0};
+  upright[2] = {0, 1, 0, 0};
+  upright[3] = {0, 0, 0, 1};
+  add(PrimitiveKind::Sphere, placed({-2.0, 0.5, 1.0}, {1.0, 1.0, 1.0}));  // half sunk in terrain
+  add(PrimitiveKind::Box, placed({2.5, 0.0, -2.0}, {0.7, 1.2, 0.5}));
+  // A disk on the decals' plane (y = 2): ties with both decals, which must keep winning.
+  glm::dmat4 disk = upright * placed({0, 0, 0}, {0.8, 0.8, 1.0});
+  disk[3] = {0.0, 2.0, 0.0, 1.0};
+  add(PrimitiveKind::Disk, disk);
+  glm::dmat4 quad = upright * placed({0, 0, 0}, {0.5, 0.5, 1.0});
+  quad[3] = {-3.0, 1.5, -3.0, 1.0};
+  add(PrimitiveKind::Quad, quad);
+  add(PrimitiveKind::Plane, placed({0, 0, -4.5}, {1, 1, 1}));  // a wall behind the terrain
+  return scene;
+}
+
+TEST(FastPathPrimitives, PacketsWithAnalyticPrimitivesMatchTheLinearScan) {
+  const Scene scene = testSceneWithPrimitives();
+  const glm::dvec3 eye{0.3, 6.0, 9.0};
+  const SceneIntersector intersector(scene, eye);
+  ASSERT_TRUE(intersector.usesBvh());
+  const PrimitiveIdTable ids(scene);
+  std::vector<Ray> rays;
+  for (int y = 0; y < 48; ++y) {
+    for (int x = 0; x < 64; ++x) {
+      const glm::dvec3 target(-5.0 + 10.0 * (x + 0.5) / 64, 0.0, -6.0 + 10.0 * (y + 0.5) / 48);
+      Ray ray{eye, glm::normalize(target - eye), (x + y) % 3 == 0 ? 11.0 : kInf};
+      if ((x + 5 * y) % 29 == 0) ray.tMax = kNoRayTMax;
+      rays.push_back(ray);
+    }
+  }
+  // Rays the packets hand to the one-ray path: zero direction components, non-finite.
+  rays.push_back({{0.1, 5.0, 0.2}, {0, -1, 0}, kInf});
+  rays.push_back({{-2.0, 5.0, 1.0}, {0, -1, 0}, kInf});
+  rays.push_back({{2.5, 0.0, 8.0}, {0, 0, -1}, kInf});
+  rays.push_back({{0.0, std::nan(""), 0.0}, {0, -1, 0}, kInf});
+  expectIdentical(intersector, rays, "primitives");
+  int analytic = 0;
+  for (const Ray& ray : rays)
+    analytic += intersector.isAnalytic(intersector.closestHit(ray).primitiveId);
+  EXPECT_GT(analytic, 100);
+  // Straight down through the decals and the disk: the first decal wins the three-way tie.
+  const Hit tie = intersector.closestHit({{0.25, 4.0, -0.25}, {0, -1, 0}, kInf});
+  EXPECT_EQ(tie.t, 2.0);
+  EXPECT_EQ(ids.decode(tie.primitiveId).object, 2);
+  EXPECT_EQ(
+      intersector.intersectOne(ids.firstAnalyticId + 2, {{0.25, 4.0, -0.25}, {0, -1, 0}, kInf}).t,
+      2.0);
+
+  // intersectFrame (8 x 8 tiles through closestHitsTile) agrees per pixel.
+  AnalyticFrame frame;
+  frame.viewport = {37, 29};
+  for (int y = 0; y < 29; ++y) {
+    for (int x = 0; x < 37; ++x) {
+      const glm::dvec3 target(-4.0 + 8.0 * x / 37, 0.0, -5.0 + 8.0 * y / 29);
+      frame.rays.push_back({eye, glm::normalize(target - eye), kInf});
+    }
+  }
+  intersectFrame(frame, intersector, 2);
+  for (std::size_t i = 0; i < frame.rays.size(); ++i) {
+    const Hit expected = intersector.closestHitLinear(frame.rays[i]);
+    ASSERT_EQ(frame.hits[i].primitiveId, expected.primitiveId) << i;
+    ASSERT_EQ(frame.hits[i].t, expected.t) << i;
+  }
+}
+
 TEST(FastPathWatertight, NoPacketRayLeaksThroughAClosedMesh) {
   // Packets of rays from inside a closed icosphere aimed at its vertices and edges: every ray
   // must hit (a miss would be a crack between neighbours).

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <variant>
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
@@ -387,8 +388,10 @@ TEST(SceneLoaderErrors, Conventions) {
 }
 
 TEST(SceneLoaderErrors, CamerasAndObjectsArrays) {
-  EXPECT_EQ(errorOf(R"({"version": 1, "cameras": [], "objects": []})"),
-            "scenes/a.json: /cameras: expected a non-empty array of cameras, got []");
+  EXPECT_EQ(
+      errorOf(R"({"version": 1, "cameras": [], "objects": []})"),
+      "scenes/a.json: /cameras: expected a non-empty array of cameras, got [] (and no meshFile "
+      "object with \"useCameras\": true)");
   EXPECT_EQ(errorOf(R"({"version": 1, "cameras": [)" + std::string(kCamera) + "]}"),
             "scenes/a.json: /: missing required field \"objects\"");
   EXPECT_EQ(
@@ -562,8 +565,9 @@ TEST(SceneLoaderErrors, LookAt) {
 // Bad input: objects
 
 TEST(SceneLoaderErrors, ObjectType) {
-  EXPECT_EQ(errorOf(withObject(R"({"name": "ball", "type": "sphere", "radius": 1})")),
-            "scenes/a.json: /objects/0/type: expected one of \"mesh\", got \"sphere\"");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "ball", "type": "ball", "radius": 1})")),
+            "scenes/a.json: /objects/0/type: expected one of \"mesh\", \"meshFile\", \"terrain\", "
+            "\"sphere\", \"disk\", \"quad\", \"box\", \"plane\", got \"ball\"");
   EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "positions": [], "indices": []})")),
             "scenes/a.json: /objects/0: missing required field \"type\"");
 }
@@ -654,6 +658,163 @@ TEST(SceneLoaderErrors, LongValuesAreCut) {
             "scenes/a.json: /objects/0/positions: expected a flat array of x, y, z coordinates of "
             "at least 3 vertices, got "
             "[0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20,21,22,23,24,25,26,27,28...");
+}
+
+// ------------------------------------------------------------------------------------------------
+// Analytic primitives, terrain and mesh files
+
+// The local point of a primitive mapped to world.
+glm::dvec3 worldOf(const AnalyticPrimitive& primitive, glm::dvec3 local) {
+  return glm::dvec3(primitive.worldFromLocal * glm::dvec4(local, 1.0));
+}
+
+TEST(SceneLoaderPrimitives, EveryKindMapsItsCanonicalShapeOntoTheGivenOne) {
+  const Scene scene = parseScene(R"({"version": 1, "cameras": [)" + std::string(kCamera) +
+                                     R"(], "objects": [
+    {"name": "ball", "type": "sphere", "centre": [1, 2, 3], "radius": 0.5},
+    {"name": "disk", "type": "disk", "centre": [0, 1, 0], "normal": [0, 2, 0], "radius": 2},
+    {"name": "card", "type": "quad", "centre": [0, 0, -1], "halfEdges": [[2, 0, 0], [0, 3, 0]]},
+    {"name": "crate", "type": "box", "min": [-1, 0, -2], "max": [3, 1, 2]},
+    {"name": "cube", "type": "box", "centre": [0, 0, 0], "halfExtents": [1, 1, 1],
+     "transform": {"translate": [10, 0, 0], "rotateDegrees": {"axis": [0, 1, 0], "angle": 90}}},
+    {"name": "ground", "type": "plane", "point": [0, -1, 0], "normal": [0, 1, 0]}]})",
+                                 kFile);
+  ASSERT_EQ(scene.primitives.size(), 6u);
+  EXPECT_EQ(scene.triangleCount(), 0u);
+  const auto& p = scene.primitives;
+  EXPECT_EQ(p[0].kind, PrimitiveKind::Sphere);
+  EXPECT_EQ(worldOf(p[0], {0, 0, 0}), glm::dvec3(1, 2, 3));
+  EXPECT_EQ(worldOf(p[0], {1, 0, 0}), glm::dvec3(1.5, 2, 3));
+  // Disk: local z is the (normalized) normal, local xy spans the disk at the radius.
+  EXPECT_EQ(p[1].kind, PrimitiveKind::Disk);
+  EXPECT_EQ(worldOf(p[1], {0, 0, 1}), glm::dvec3(0, 3, 0));
+  EXPECT_NEAR(glm::length(worldOf(p[1], {1, 0, 0}) - glm::dvec3(0, 1, 0)), 2.0, 1e-15);
+  EXPECT_EQ(worldOf(p[1], {1, 0, 0}).y, 1.0);
+  // Quad: the half edges are the local x and y axes.
+  EXPECT_EQ(worldOf(p[2], {1, 1, 0}), glm::dvec3(2, 3, -1));
+  EXPECT_EQ(worldOf(p[2], {-1, 1, 0}), glm::dvec3(-2, 3, -1));
+  // Box from min/max: corners map onto the corners.
+  EXPECT_EQ(worldOf(p[3], {-1, -1, -1}), glm::dvec3(-1, 0, -2));
+  EXPECT_EQ(worldOf(p[3], {1, 1, 1}), glm::dvec3(3, 1, 2));
+  // Oriented box: a quarter turn about y takes local +x to world -z (exact for 90 degrees).
+  EXPECT_EQ(worldOf(p[4], {1, 0, 0}), glm::dvec3(10, 0, -1));
+  EXPECT_EQ(p[5].kind, PrimitiveKind::Plane);
+  EXPECT_EQ(worldOf(p[5], {0, 0, 0}), glm::dvec3(0, -1, 0));
+  EXPECT_EQ(worldOf(p[5], {0, 0, 1}), glm::dvec3(0, 0, 0));
+  for (const AnalyticPrimitive& primitive : p) {
+    const glm::dmat4 identity = primitive.localFromWorld * primitive.worldFromLocal;
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 4; ++r) EXPECT_NEAR(identity[c][r], c == r ? 1.0 : 0.0, 1e-15);
+    }
+  }
+  // Ids follow every triangle: here there are none, so the sphere is id 1.
+  const PrimitiveIdTable ids(scene);
+  EXPECT_EQ(ids.firstAnalyticId, 1u);
+  EXPECT_EQ(ids.decode(3).analytic, 2);
+  EXPECT_EQ(ids.decode(7).analytic, -1);
+}
+
+TEST(SceneLoaderPrimitives, IdsOfPrimitivesFollowTheTriangles) {
+  const Scene scene = parseScene(R"({"version": 1, "cameras": [)" + std::string(kCamera) +
+                                     R"(], "objects": [
+    {"name": "ball", "type": "sphere", "centre": [1, 2, 3], "radius": 0.5}, )" +
+                                     kObject + "]}",
+                                 kFile);
+  const PrimitiveIdTable ids(scene);
+  EXPECT_EQ(ids.firstAnalyticId, 2u);
+  EXPECT_EQ(ids.decode(1).object, 0);
+  EXPECT_EQ(ids.decode(2).analytic, 0);
+  EXPECT_EQ(ids.decode(2).object, -1);
+}
+
+TEST(SceneLoaderPrimitives, TerrainIsReproducible) {
+  const std::string text = withObject(
+      R"({"name": "hills", "type": "terrain", "triangles": 1000, "seed": 7,
+          "transform": {"translate": [0, 5, 0]}})");
+  const Scene a = parseScene(text, kFile);
+  const Scene b = parseScene(text, kFile);
+  // ceil(sqrt(1000 / 2)) = 23 cells a side: 2 * 23^2 triangles on 24^2 vertices.
+  ASSERT_EQ(a.triangleCount(), 1058u);
+  EXPECT_EQ(a.objects[0].worldPositions.size(), 576u);
+  EXPECT_EQ(a.objects[0].worldPositions, b.objects[0].worldPositions);
+  EXPECT_EQ(a.objects[0].worldPositions[0].x, -50.0);
+  const Scene other = parseScene(withObject(R"({"name": "hills", "type": "terrain",
+                                                "triangles": 1000, "seed": 8})"),
+                                 kFile);
+  EXPECT_NE(a.objects[0].worldPositions[5].y, other.objects[0].worldPositions[5].y + 5.0);
+}
+
+TEST(SceneLoaderErrors, Primitives) {
+  EXPECT_EQ(errorOf(withObject(R"({"name": "b", "type": "sphere", "centre": [0, 0, 0],
+                                   "radius": 0})")),
+            "scenes/a.json: /objects/0/radius: expected a positive number, got 0");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "b", "type": "sphere", "centre": [0, 0, 0]})")),
+            "scenes/a.json: /objects/0: missing required field \"radius\"");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "d", "type": "disk", "centre": [0, 0, 0],
+                                   "normal": [0, 0, 0], "radius": 1})")),
+            "scenes/a.json: /objects/0/normal: expected a non-zero direction, got [0,0,0]");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "q", "type": "quad", "centre": [0, 0, 0],
+                                   "halfEdges": [[1, 0, 0], [2, 0, 0]]})")),
+            "scenes/a.json: /objects/0/halfEdges: expected two non-zero, non-parallel half edges, "
+            "got [[1,0,0],[2,0,0]]");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "q", "type": "quad", "centre": [0, 0, 0],
+                                   "halfEdges": [[1, 0, 0]]})")),
+            "scenes/a.json: /objects/0/halfEdges: expected an array of 2 vectors [[ux, uy, uz], "
+            "[vx, vy, vz]], got [[1,0,0]]");
+  EXPECT_EQ(
+      errorOf(withObject(R"({"name": "c", "type": "box", "min": [0, 0, 0],
+                                   "max": [1, 0, 1]})")),
+      "scenes/a.json: /objects/0/max/1: expected a number greater than \"min\"[1] (0), got 0");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "c", "type": "box", "min": [0, 0, 0],
+                                   "centre": [1, 0, 1]})")),
+            "scenes/a.json: /objects/0: expected either \"min\" and \"max\" or \"centre\" and "
+            "\"halfExtents\", got both");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "c", "type": "box", "centre": [0, 0, 0],
+                                   "halfExtents": [1, -1, 1]})")),
+            "scenes/a.json: /objects/0/halfExtents/1: expected a positive number, got -1");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "c", "type": "box"})")),
+            "scenes/a.json: /objects/0: missing required fields \"min\" and \"max\" (or \"centre\" "
+            "and \"halfExtents\")");
+  // A singular worldFromObject flattens the sphere: its local frame has no inverse.
+  EXPECT_EQ(errorOf(withObject(R"({"name": "b", "type": "sphere", "centre": [0, 0, 0],
+    "radius": 1, "worldFromObject": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1]})")),
+            "scenes/a.json: /objects/0/worldFromObject: expected an invertible matrix, got a "
+            "singular one (scaled determinant 0)");
+  // Sizes that are valid alone but whose product leaves no finite inverse.
+  EXPECT_EQ(errorOf(withObject(R"({"name": "b", "type": "sphere", "centre": [0, 0, 0],
+    "radius": 1e-300, "transform": {"scale": [1e300, 1, 1]}})")),
+            "scenes/a.json: /objects/0: the sphere has a placement whose inverse overflows double");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "t", "type": "terrain", "triangles": 1})")),
+            "scenes/a.json: /objects/0/triangles: expected an integer in [2, 20000000], got 1");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "t", "type": "terrain", "triangles": 10,
+                                   "seed": -1})")),
+            "scenes/a.json: /objects/0/seed: expected an unsigned integer, got -1");
+}
+
+TEST(SceneLoaderErrors, MeshFileReferences) {
+  EXPECT_EQ(errorOf(withObject(R"({"name": "m", "type": "meshFile", "path": "missing.glb"})")),
+            "scenes/a.json: /objects/0/path: cannot open mesh file \"missing.glb\" (looked for "
+            "\"scenes/missing.glb\")");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "m", "type": "meshFile", "path": ""})")),
+            "scenes/a.json: /objects/0/path: expected a non-empty path, got \"\"");
+}
+
+TEST(SceneLoaderMeshFiles, AGltfAssetBringsItsCamerasAndObjects) {
+  const Scene scene = loadScene(std::string(CLIPRAY_SOURCE_DIR) + "/scenes/gltf_asset.json");
+  ASSERT_EQ(scene.cameras.size(), 2u);
+  EXPECT_EQ(scene.cameras[0].name, "lantern/perspective_camera");
+  EXPECT_EQ(scene.cameras[1].name, "lantern/orthographic_camera");
+  const auto* perspective = std::get_if<PerspectiveProjection>(&scene.cameras[0].projection);
+  ASSERT_NE(perspective, nullptr);
+  EXPECT_FALSE(perspective->farDistance.has_value());  // no zfar: infinite far plane
+  EXPECT_TRUE(std::holds_alternative<OrthographicProjection>(scene.cameras[1].projection));
+  ASSERT_EQ(scene.objects.size(), 2u);
+  EXPECT_EQ(scene.objects[0].name.rfind("lantern/", 0), 0u);
+  // The same asset loaded on its own is the same geometry seen from the same cameras.
+  const Scene alone = loadScene(std::string(CLIPRAY_SOURCE_DIR) + "/scenes/assets/lantern.gltf");
+  ASSERT_EQ(alone.objects.size(), 2u);
+  EXPECT_EQ(alone.objects[0].worldPositions, scene.objects[0].worldPositions);
+  EXPECT_EQ(alone.cameras[0].viewFromWorld, scene.cameras[0].viewFromWorld);
 }
 
 }  // namespace

@@ -80,7 +80,11 @@ const char* pixelClassName(PixelClass value) {
 
 ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup,
                                Viewport viewport)
-    : setup_(setup), viewport_(viewport), polygons_(intersector.triangleCount() + 1) {
+    : setup_(setup),
+      viewport_(viewport),
+      intersector_(intersector),
+      rays_(setup.clipFromWorld, setup.mode),
+      polygons_(intersector.triangleCount() + 1) {
   const glm::dmat4& m = setup.clipFromWorld;
   const double zn = setup.mode.clipVolumeMinZ();
   // The clip volume z_n w <= z <= w, -w <= x, y <= w as six planes (>= 0 inside).
@@ -95,6 +99,7 @@ ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const Raster
   const double subpixel = std::ldexp(1.0, -setup.subpixelBits);
 
   for (std::uint32_t id = 1; id < polygons_.size(); ++id) {
+    if (intersector.isAnalytic(id)) continue;
     ScreenPolygon& polygon = polygons_[id];
     const std::array<glm::dvec3, 3> world = intersector.worldTriangle(id);
 
@@ -169,6 +174,128 @@ ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const Raster
       }
     }
   }
+}
+
+namespace {
+
+// Outward normal of the canonical shape at a local point on it (unnormalized; see Scene.hpp).
+glm::dvec3 localNormal(PrimitiveKind kind, const glm::dvec3& p) {
+  if (kind == PrimitiveKind::Sphere) return p;
+  if (kind == PrimitiveKind::Box) {
+    const glm::dvec3 a = glm::abs(p);
+    const int axis = a.x >= a.y && a.x >= a.z ? 0 : (a.y >= a.z ? 1 : 2);
+    glm::dvec3 n(0.0);
+    n[axis] = p[axis] >= 0.0 ? 1.0 : -1.0;
+    return n;
+  }
+  return {0.0, 0.0, 1.0};
+}
+
+// Hit state of a ray on one primitive: 0 miss, +1 entering the surface, -1 leaving it (the ray
+// starts inside a sphere or box, so the far side is what both sides draw).
+int analyticHitState(const SceneIntersector& intersector, std::uint32_t id, const Ray& ray) {
+  const Hit hit = intersector.intersectOne(id, ray);
+  if (!hit.hit()) return 0;
+  const AnalyticPrimitive& primitive = intersector.analyticPrimitive(id);
+  const glm::dvec3 origin(primitive.localFromWorld * glm::dvec4(ray.origin, 1.0));
+  const glm::dvec3 direction(glm::dmat3(primitive.localFromWorld) * ray.direction);
+  const glm::dvec3 p = origin + hit.t * direction;
+  const double facing = glm::dot(localNormal(primitive.kind, p), direction);
+  if (primitive.kind == PrimitiveKind::Sphere || primitive.kind == PrimitiveKind::Box) {
+    return facing <= 0.0 ? 1 : -1;
+  }
+  return 1;  // flat shapes are seen from either side
+}
+
+}  // namespace
+
+double ToleranceModel::analyticDepthTolerance(std::uint32_t primitiveId, const Ray& ray,
+                                              double t) const {
+  const AnalyticPrimitive& primitive = intersector_.analyticPrimitive(primitiveId);
+  const double u = kFloatUnitRoundoff;
+  const glm::dmat4& m = setup_.clipFromWorld;
+  const glm::dvec3 hitWorld = ray.origin + t * ray.direction;
+  const glm::dvec4 c = m * glm::dvec4(hitWorld, 1.0);
+  const double zNdc = c.z / c.w;
+  const double depth = windowDepthFromNdc(zNdc, setup_.mode.convention);
+  const double toWindow = 1.0 / (1.0 - setup_.mode.clipVolumeMinZ());
+
+  // The shader works in the local frame with clipFromLocal rounded to float.
+  const glm::dmat4 clipFromLocal = m * primitive.worldFromLocal;
+  const glm::dvec3 origin(primitive.localFromWorld * glm::dvec4(ray.origin, 1.0));
+  const glm::dvec3 direction(glm::dmat3(primitive.localFromWorld) * ray.direction);
+  const glm::dvec3 p = origin + t * direction;
+
+  // 1. Storage: one quantum of the depth format.
+  const double storage = depthQuantum(setup_.depthFormat, depth);
+  // 2. Depth of the hit evaluated in float: z and w are 4-term dot products of float rows with
+  //    the float point (6u sum |M_ri p_i|, as for a vertex), then the divide and the mapping (2u).
+  double magnitudeZ = 0.0, magnitudeW = 0.0;
+  for (int i = 0; i < 4; ++i) {
+    const double coordinate = i < 3 ? std::abs(p[i]) : 1.0;
+    magnitudeZ += std::abs(matrixRow(clipFromLocal, 2)[i]) * coordinate;
+    magnitudeW += std::abs(matrixRow(clipFromLocal, 3)[i]) * coordinate;
+  }
+  const double evaluation =
+      6.0 * u * (magnitudeZ + std::abs(zNdc) * magnitudeW) / std::abs(c.w) * toWindow +
+      2.0 * u * std::abs(depth);
+  // 3. Where the float ray meets the surface. The ray (plane crosses, a 3-plane solve) and the
+  //    intersection are a few dozen float operations on quantities of size |o| + t|d|: the local
+  //    hit point moves by delta = 32 u (|o| + t |d|) across the ray, hence by delta / cos(theta)
+  //    along it (theta between ray and normal). Near a tangent the error grows like sqrt(delta)
+  //    instead (the shapes have unit size locally), so cos is floored at sqrt(delta).
+  const double delta = 32.0 * u * (glm::length(origin) + t * glm::length(direction));
+  const glm::dvec3 normal = localNormal(primitive.kind, p);
+  const double cosine = std::abs(glm::dot(glm::normalize(normal), glm::normalize(direction)));
+  const double alongRay = delta / (glm::length(direction) * std::max(cosine, std::sqrt(delta)));
+  // d(window depth)/dt along the world ray: (z' w - z w') / w^2.
+  const double zRate = glm::dot(glm::dvec3(matrixRow(m, 2)), ray.direction);
+  const double wRate = glm::dot(glm::dvec3(matrixRow(m, 3)), ray.direction);
+  const double depthRate = std::abs(zRate * c.w - c.z * wRate) / (c.w * c.w) * toWindow;
+  return storage + evaluation + depthRate * alongRay;
+}
+
+bool ToleranceModel::analyticEdgeAmbiguous(std::uint32_t primitiveId, glm::dvec2 pixel) const {
+  const auto rayAt = [&](glm::dvec2 position) {
+    return rays_.generate(
+        {2.0 * position.x / viewport_.width - 1.0, 2.0 * position.y / viewport_.height - 1.0});
+  };
+  const int centre = analyticHitState(intersector_, primitiveId, rayAt(pixel));
+  const double e = kAnalyticEdgeEpsilonPixels;
+  for (const glm::dvec2 offset :
+       {glm::dvec2(e, 0), glm::dvec2(-e, 0), glm::dvec2(0, e), glm::dvec2(0, -e)}) {
+    if (analyticHitState(intersector_, primitiveId, rayAt(pixel + offset)) != centre) return true;
+  }
+  return false;
+}
+
+double ToleranceModel::surfaceToleranceAt(std::uint32_t primitiveId, glm::dvec2 pixel) const {
+  if (intersector_.isAnalytic(primitiveId)) {
+    const Ray ray = rays_.generate(
+        {2.0 * pixel.x / viewport_.width - 1.0, 2.0 * pixel.y / viewport_.height - 1.0});
+    const Hit hit = intersector_.intersectOne(primitiveId, ray);
+    return hit.hit() ? analyticDepthTolerance(primitiveId, ray, hit.t) : 0.0;
+  }
+  const glm::dvec4 pointClip(
+      2.0 * pixel.x / viewport_.width - 1.0, 2.0 * pixel.y / viewport_.height - 1.0,
+      ndcFromWindowDepth(planeDepthAt(primitiveId, pixel), setup_.mode.convention), 1.0);
+  const glm::dvec4 pointWorld = rays_.worldFromClip() * pointClip;
+  return depthTolerance(primitiveId, glm::dvec3(pointWorld) / pointWorld.w);
+}
+
+bool ToleranceModel::edgeAmbiguous(std::uint32_t primitiveId, glm::dvec2 pixel) const {
+  if (intersector_.isAnalytic(primitiveId)) return analyticEdgeAmbiguous(primitiveId, pixel);
+  return edgeDistancePixels(primitiveId, pixel) <= edgeEpsilonPixels(primitiveId);
+}
+
+double ToleranceModel::surfaceDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel) const {
+  if (!intersector_.isAnalytic(primitiveId)) return planeDepthAt(primitiveId, pixel);
+  const Ray ray = rays_.generate(
+      {2.0 * pixel.x / viewport_.width - 1.0, 2.0 * pixel.y / viewport_.height - 1.0});
+  const Hit hit = intersector_.intersectOne(primitiveId, ray);
+  if (!hit.hit()) return kNaN;
+  const glm::dvec4 c = setup_.clipFromWorld * glm::dvec4(ray.origin + hit.t * ray.direction, 1.0);
+  return windowDepthFromNdc(c.z / c.w, setup_.mode.convention);
 }
 
 double ToleranceModel::edgeDistancePixels(std::uint32_t primitiveId, glm::dvec2 pixel) const {
@@ -247,10 +374,21 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
       analytic.rays.size() != count || analytic.hits.size() != count) {
     throw std::invalid_argument("compareFrames: raster and analytic frames differ in size");
   }
-  const std::uint32_t primitiveCount = static_cast<std::uint32_t>(intersector.triangleCount());
+  const std::uint32_t primitiveCount = intersector.primitiveIdCount();
   const ToleranceModel model(intersector, setup, viewport);
   const glm::dmat4& m = setup.clipFromWorld;
   const glm::dmat4 worldFromClip = glm::inverse(m);
+  // Figures per surface kind: 0 triangles, 1 + PrimitiveKind for analytic primitives.
+  constexpr std::size_t kKinds = 1 + static_cast<std::size_t>(PrimitiveKind::Plane) + 1;
+  const auto kindOf = [&](std::uint32_t id) -> std::size_t {
+    return intersector.isAnalytic(id)
+               ? 1 + static_cast<std::size_t>(intersector.analyticPrimitive(id).kind)
+               : 0;
+  };
+  struct KindSamples {
+    std::vector<double> quanta, relative, ratios;
+  };
+  std::array<KindSamples, kKinds> kindSamples;
   const glm::dvec4 rowZ = matrixRow(m, 2), rowW = matrixRow(m, 3);
   const bool parallel = glm::dvec3(rowW) == glm::dvec3(0.0);
   const glm::dvec4 eyeHomogeneous = worldFromClip * glm::dvec4(0.0, 0.0, 1.0, 0.0);
@@ -272,6 +410,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
   parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
     RunMetrics local;
     std::vector<double> localQuanta, localRelative, localRatios;
+    std::array<KindSamples, kKinds> localKinds;
     for (int y = rowBegin; y < rowEnd; ++y) {
       for (int x = 0; x < viewport.width; ++x) {
         const std::size_t i = static_cast<std::size_t>(y) * viewport.width + x;
@@ -305,7 +444,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
         } else if (rasterId == 0 || rayId == 0) {
           const std::uint32_t only = rasterId != 0 ? rasterId : rayId;
           ++local.coverageMismatch.total;
-          if (model.edgeDistancePixels(only, centre) <= model.edgeEpsilonPixels(only)) {
+          if (model.edgeAmbiguous(only, centre)) {
             ++local.coverageMismatch.edgeAmbiguous;
             cls = PixelClass::CoverageEdgeAmbiguous;
           } else {
@@ -315,7 +454,9 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
         } else if (rasterId == rayId) {
           const double rasterDepth = raster.depth[i];
           const double error = std::abs(rasterDepth - rayDepth);
-          const double tolerance = model.depthTolerance(rayId, hitPoint);
+          const double tolerance = intersector.isAnalytic(rayId)
+                                       ? model.analyticDepthTolerance(rayId, ray, hit.t)
+                                       : model.depthTolerance(rayId, hitPoint);
           const double ratio = error / tolerance;
           // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1 t).
           const double zRaster = ndcFromWindowDepth(rasterDepth, convention);
@@ -332,6 +473,10 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
           localQuanta.push_back(error / depthQuantum(setup.depthFormat, rayDepth));
           localRelative.push_back(std::abs(tRaster - hit.t) / scale);
           localRatios.push_back(ratio);
+          KindSamples& kind = localKinds[kindOf(rayId)];
+          kind.quanta.push_back(localQuanta.back());
+          kind.relative.push_back(localRelative.back());
+          kind.ratios.push_back(ratio);
           pixels.toleranceRatio[i] = static_cast<float>(ratio);
           if (!(ratio <= 1.0)) {  // NaN counts as beyond tolerance
             ++local.depthBeyondTolerance;
@@ -341,22 +486,17 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
           }
         } else {
           ++local.idMismatch.total;
-          // Where does the raster's primitive lie along this pixel? Its plane depth at the centre,
-          // and the world point of that depth for its tolerance.
-          const double rasterPlaneDepth = model.planeDepthAt(rasterId, centre);
-          const glm::dvec4 rasterPointClip(2.0 * centre.x / viewport.width - 1.0,
-                                           2.0 * centre.y / viewport.height - 1.0,
-                                           ndcFromWindowDepth(rasterPlaneDepth, convention), 1.0);
-          const glm::dvec4 rasterPointWorld = worldFromClip * rasterPointClip;
-          const double tolerance =
-              model.depthTolerance(rayId, hitPoint) +
-              model.depthTolerance(rasterId, glm::dvec3(rasterPointWorld) / rasterPointWorld.w);
+          // Where does the raster's primitive lie along this pixel? Its depth at the centre
+          // (plane or analytic surface) and the tolerance there.
+          const double rasterPlaneDepth = model.surfaceDepthAt(rasterId, centre);
+          const double rayTolerance = intersector.isAnalytic(rayId)
+                                          ? model.analyticDepthTolerance(rayId, ray, hit.t)
+                                          : model.depthTolerance(rayId, hitPoint);
+          const double tolerance = rayTolerance + model.surfaceToleranceAt(rasterId, centre);
           if (std::abs(rasterPlaneDepth - rayDepth) <= tolerance) {
             ++local.idMismatch.depthAmbiguous;
             cls = PixelClass::IdDepthAmbiguous;
-          } else if (model.edgeDistancePixels(rasterId, centre) <=
-                         model.edgeEpsilonPixels(rasterId) ||
-                     model.edgeDistancePixels(rayId, centre) <= model.edgeEpsilonPixels(rayId)) {
+          } else if (model.edgeAmbiguous(rasterId, centre) || model.edgeAmbiguous(rayId, centre)) {
             ++local.idMismatch.edgeAmbiguous;
             cls = PixelClass::IdEdgeAmbiguous;
           } else {
@@ -382,7 +522,25 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
     quanta.insert(quanta.end(), localQuanta.begin(), localQuanta.end());
     relative.insert(relative.end(), localRelative.begin(), localRelative.end());
     ratios.insert(ratios.end(), localRatios.begin(), localRatios.end());
+    for (std::size_t k = 0; k < kKinds; ++k) {
+      KindSamples& into = kindSamples[k];
+      const KindSamples& from = localKinds[k];
+      into.quanta.insert(into.quanta.end(), from.quanta.begin(), from.quanta.end());
+      into.relative.insert(into.relative.end(), from.relative.begin(), from.relative.end());
+      into.ratios.insert(into.ratios.end(), from.ratios.begin(), from.ratios.end());
+    }
   });
+  for (std::size_t k = 0; k < kKinds; ++k) {
+    KindSamples& samples = kindSamples[k];
+    if (samples.quanta.empty()) continue;
+    RunMetrics::KindFigures figures;
+    figures.kind = k == 0 ? "triangle" : primitiveKindName(static_cast<PrimitiveKind>(k - 1));
+    figures.depthCompared = static_cast<std::int64_t>(samples.quanta.size());
+    figures.depthErrorQuanta = distributionOf(samples.quanta);
+    figures.distanceRelError = distributionOf(samples.relative);
+    figures.toleranceRatio = distributionOf(samples.ratios);
+    total.byKind.push_back(std::move(figures));
+  }
   total.depthErrorQuanta = distributionOf(quanta);
   total.distanceRelError = distributionOf(relative);
   total.toleranceRatio = distributionOf(ratios);

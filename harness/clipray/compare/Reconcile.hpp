@@ -13,6 +13,7 @@
 
 #include "clipray/compare/Frames.hpp"
 #include "clipray/math/Conventions.hpp"
+#include "clipray/rays/RobustRays.hpp"
 #include "clipray/scene/Scene.hpp"
 
 namespace clipray {
@@ -61,6 +62,14 @@ struct RunMetrics {
   Distribution depthErrorQuanta;          // |d_r - d_a| / quantum(d_a)
   Distribution distanceRelError;          // |t_r - t_a| / distance from the eye
   Distribution toleranceRatio;  // |d_r - d_a| / predicted tolerance (p50 unused in report)
+  // The same depth figures split by surface kind: "triangle" or an analytic primitive kind
+  // (GLSL float rays against CPU double rays). Only kinds with compared pixels are listed.
+  struct KindFigures {
+    std::string kind;
+    std::int64_t depthCompared = 0;
+    Distribution depthErrorQuanta, distanceRelError, toleranceRatio;
+  };
+  std::vector<KindFigures> byKind;
   bool consistent() const {
     return coverageMismatch.unexplained == 0 && idMismatch.unexplained == 0 &&
            depthBeyondTolerance == 0;
@@ -102,6 +111,24 @@ class ToleranceModel {
   // Window depth of the primitive's plane at a window position (NaN if it has no screen polygon).
   double planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel) const;
 
+  // Analytic primitives (drawn by a fragment shader that intersects the surface in float):
+  // window-depth tolerance for the hit at parameter t of a (double, robust) ray.
+  double analyticDepthTolerance(std::uint32_t primitiveId, const Ray& ray, double t) const;
+  // Whether the primitive's coverage (hit or miss, and entering or leaving the surface) changes
+  // within kAnalyticEdgeEpsilonPixels of the pixel position: the float ray of the shader may
+  // then legitimately land on the other side.
+  bool analyticEdgeAmbiguous(std::uint32_t primitiveId, glm::dvec2 pixel) const;
+  // Window depth where the primitive (triangle plane or analytic surface) lies along the robust
+  // ray of a pixel position (NaN: misses), and the tolerance of that depth.
+  double surfaceDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel) const;
+  double surfaceToleranceAt(std::uint32_t primitiveId, glm::dvec2 pixel) const;
+  // Coverage of the primitive is ambiguous at this pixel position (any primitive kind).
+  bool edgeAmbiguous(std::uint32_t primitiveId, glm::dvec2 pixel) const;
+  // The float rays of primitive.frag differ from the double robust rays by far less than this
+  // (issue #3: robust float rays are within 0.01 px of the exact ray for fov >= 1 deg; the
+  // shader's construction is the same, evaluated in the primitive's local frame).
+  static constexpr double kAnalyticEdgeEpsilonPixels = 1.0 / 64.0;
+
  private:
   // A triangle clipped against the six clip planes has at most 3 + 6 vertices.
   static constexpr int kMaxPolygonVertices = 9;
@@ -117,7 +144,9 @@ class ToleranceModel {
   const ScreenPolygon& polygon(std::uint32_t primitiveId) const { return polygons_[primitiveId]; }
   RasterSetup setup_;
   Viewport viewport_;
-  std::vector<ScreenPolygon> polygons_;  // indexed by primitive id
+  const SceneIntersector& intersector_;
+  RobustRayGenerator rays_;
+  std::vector<ScreenPolygon> polygons_;  // indexed by primitive id (triangles only)
 };
 
 }  // namespace clipray

@@ -14,6 +14,10 @@ extern const char* const raster_vert;
 extern const char* const raster_vert_file;
 extern const char* const raster_frag;
 extern const char* const raster_frag_file;
+extern const char* const camera_rays_glsl;
+extern const char* const camera_rays_glsl_file;
+extern const char* const primitive_frag;
+extern const char* const primitive_frag_file;
 }  // namespace clipray::shaders
 
 namespace clipray::gl {
@@ -66,6 +70,64 @@ GLuint compileShader(GLenum kind, const char* source, const char* file) {
   return shader;
 }
 
+// A shader assembled from several files: the main file's #version line, the included files,
+// then the rest of the main file. Each file is its own source string opened by `#line <l> <n>`
+// (GLSL numbers source strings with n: 1 for the main file, 2... for the includes), so the info
+// log's "n:line(column)" prefixes can be turned back into file names.
+struct ShaderFile {
+  const char* text;
+  const char* name;
+};
+
+GLuint compileShaderFiles(GLenum kind, const std::vector<ShaderFile>& files) {
+  std::vector<std::string> parts;
+  const std::string main = files.front().text;
+  const std::size_t versionEnd = main.find('\n') + 1;
+  parts.push_back(main.substr(0, versionEnd));
+  for (std::size_t n = 1; n < files.size(); ++n) {
+    parts.push_back("#line 1 " + std::to_string(n + 1) + "\n" + files[n].text);
+  }
+  // The main file's body starts on its line 2 (line 1 was #version).
+  parts.push_back("#line 2 1\n" + main.substr(versionEnd));
+  std::vector<const char*> sources;
+  for (const std::string& part : parts) sources.push_back(part.c_str());
+  const GLuint shader = glCreateShader(kind);
+  glShaderSource(shader, static_cast<GLsizei>(sources.size()), sources.data(), nullptr);
+  glCompileShader(shader);
+  GLint ok = GL_FALSE;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    GLint length = 0;
+    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
+    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
+    glGetShaderInfoLog(shader, length, nullptr, log.data());
+    glDeleteShader(shader);
+    std::string named;
+    std::size_t begin = 0;
+    const std::string text = log.c_str();
+    while (begin < text.size()) {
+      std::size_t end = text.find('\n', begin);
+      if (end == std::string::npos) end = text.size();
+      std::string line = text.substr(begin, end - begin);
+      const std::size_t colon = line.find(':');
+      if (colon != std::string::npos && colon > 0 &&
+          line.find_first_not_of("0123456789") == colon) {
+        const std::size_t number = std::stoul(line.substr(0, colon));
+        if (number >= 1 && number <= files.size()) {
+          line = std::string(files[number - 1].name) + line.substr(colon);
+        }
+      }
+      named += line + "\n";
+      begin = end + 1;
+    }
+    std::string names;
+    for (const ShaderFile& file : files)
+      names += (names.empty() ? "" : " + ") + std::string(file.name);
+    throw GlError("GL: " + names + " does not compile:\n" + named);
+  }
+  return shader;
+}
+
 GLuint linkProgram(GLuint vertex, GLuint fragment, const char* name) {
   const GLuint program = glCreateProgram();
   glAttachShader(program, vertex);
@@ -113,6 +175,12 @@ struct Renderer::State {
   GLuint framebuffer = 0;
   GLuint colorBuffer = 0;
   GLuint depthBuffer = 0;
+  // Analytic primitives: raster.vert on a proxy + primitive.frag (camera_rays.glsl).
+  GLuint primitiveProgram = 0;
+  struct {
+    GLint clipFromInput = -1, clipFromLocal = -1, viewportSize = -1, nearNdcZ = -1, nearSign = -1,
+          clipMinZ = -1, kind = -1, primitiveId = -1;
+  } primitiveUniforms;
 };
 
 Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
@@ -144,6 +212,25 @@ Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
   state_->clipFromInputLocation = glGetUniformLocation(state_->program, "uClipFromInput");
   state_->firstIdLocation = glGetUniformLocation(state_->program, "uFirstId");
 
+  const GLuint proxyVertex =
+      compileShader(GL_VERTEX_SHADER, shaders::raster_vert, shaders::raster_vert_file);
+  const GLuint primitiveFragment = compileShaderFiles(
+      GL_FRAGMENT_SHADER, {{shaders::primitive_frag, shaders::primitive_frag_file},
+                           {shaders::camera_rays_glsl, shaders::camera_rays_glsl_file}});
+  state_->primitiveProgram = linkProgram(proxyVertex, primitiveFragment, "primitive");
+  glDeleteShader(proxyVertex);
+  glDeleteShader(primitiveFragment);
+  auto& uniforms = state_->primitiveUniforms;
+  const GLuint primitiveProgram = state_->primitiveProgram;
+  uniforms.clipFromInput = glGetUniformLocation(primitiveProgram, "uClipFromInput");
+  uniforms.clipFromLocal = glGetUniformLocation(primitiveProgram, "uClipFromLocal");
+  uniforms.viewportSize = glGetUniformLocation(primitiveProgram, "uViewportSize");
+  uniforms.nearNdcZ = glGetUniformLocation(primitiveProgram, "uNearNdcZ");
+  uniforms.nearSign = glGetUniformLocation(primitiveProgram, "uNearSign");
+  uniforms.clipMinZ = glGetUniformLocation(primitiveProgram, "uClipMinZ");
+  uniforms.kind = glGetUniformLocation(primitiveProgram, "uKind");
+  uniforms.primitiveId = glGetUniformLocation(primitiveProgram, "uPrimitiveId");
+
   glCreateVertexArrays(1, &state_->vertexArray);
   glCreateBuffers(1, &state_->vertexBuffer);
   glCreateBuffers(1, &state_->indexBuffer);
@@ -163,6 +250,7 @@ Renderer::~Renderer() {
   glDeleteBuffers(1, &state_->indexBuffer);
   glDeleteVertexArrays(1, &state_->vertexArray);
   glDeleteProgram(state_->program);
+  glDeleteProgram(state_->primitiveProgram);
 }
 
 RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timings) {
@@ -204,6 +292,48 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
                      indices.size() * sizeof(std::uint32_t), baseVertex});
     for (const glm::u32vec3& t : object.triangles) {
       indices.insert(indices.end(), {t.x, t.y, t.z});
+    }
+  }
+  // Analytic primitives: a proxy that covers each one, in its local frame. Bounded shapes get a
+  // box 1/16 larger than their canonical extent (flat ones a slab 1/16 thick), so the proxy's
+  // outline lies strictly outside the shape's and float vertex error cannot uncover a pixel the
+  // shape covers. The infinite plane gets a full-screen triangle in clip space instead: w = 0
+  // vertices would need the rasterizer's clipping to reach the horizon exactly, while the
+  // full-screen proxy simply asks every pixel's ray (the shader discards misses).
+  struct PrimitiveDraw {
+    std::uint32_t id;
+    int kind;
+    glm::dmat4 clipFromLocal;
+    bool fullScreen;
+    std::size_t indexOffset;
+    GLint baseVertex;
+  };
+  std::vector<PrimitiveDraw> primitiveDraws;
+  constexpr std::uint32_t kBoxTriangles[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5},
+                                                  {0, 4, 5}, {0, 5, 1}, {2, 3, 7}, {2, 7, 6},
+                                                  {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+  for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
+    const AnalyticPrimitive& primitive = scene.primitives[p];
+    const GLint baseVertex = static_cast<GLint>(vertices.size() / 4);
+    const bool fullScreen = primitive.kind == PrimitiveKind::Plane;
+    primitiveDraws.push_back({ids.firstAnalyticId + static_cast<std::uint32_t>(p),
+                              static_cast<int>(primitive.kind),
+                              clipFromWorld * primitive.worldFromLocal, fullScreen,
+                              indices.size() * sizeof(std::uint32_t), baseVertex});
+    if (fullScreen) {
+      vertices.insert(vertices.end(), {-1, -1, 0, 1, 3, -1, 0, 1, -1, 3, 0, 1});
+      indices.insert(indices.end(), {0, 1, 2});
+      continue;
+    }
+    const bool flat =
+        primitive.kind == PrimitiveKind::Disk || primitive.kind == PrimitiveKind::Quad;
+    const float extent = 1.0625f, thickness = flat ? 0.0625f : extent;
+    for (int corner = 0; corner < 8; ++corner) {
+      vertices.insert(vertices.end(), {corner & 1 ? extent : -extent, corner & 2 ? extent : -extent,
+                                       corner & 4 ? thickness : -thickness, 1.0f});
+    }
+    for (const auto& triangle : kBoxTriangles) {
+      indices.insert(indices.end(), {triangle[0], triangle[1], triangle[2]});
     }
   }
   glNamedBufferData(state_->vertexBuffer, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
@@ -263,6 +393,29 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
     glUniform1ui(state_->firstIdLocation, draw.firstId);
     glDrawElementsBaseVertex(GL_TRIANGLES, draw.indexCount, GL_UNSIGNED_INT,
                              reinterpret_cast<const void*>(draw.indexOffset), draw.baseVertex);
+  }
+  if (!primitiveDraws.empty()) {
+    const auto& uniforms = state_->primitiveUniforms;
+    glUseProgram(state_->primitiveProgram);
+    glUniform2f(uniforms.viewportSize, static_cast<float>(viewport.width),
+                static_cast<float>(viewport.height));
+    glUniform1f(uniforms.nearNdcZ, static_cast<float>(request.mode.nearNdcZ()));
+    glUniform1f(uniforms.nearSign, request.mode.reversed ? -1.0f : 1.0f);
+    glUniform1f(uniforms.clipMinZ, static_cast<float>(request.mode.clipVolumeMinZ()));
+    // The proxy must not be cut by the near or far plane where the surface inside it is not:
+    // depth clamping turns that clipping off; the shader decides depth range itself.
+    glEnable(GL_DEPTH_CLAMP);
+    for (const PrimitiveDraw& draw : primitiveDraws) {
+      const glm::mat4 clipFromLocal(draw.clipFromLocal);  // rounded to float once
+      const glm::mat4 clipFromProxy = draw.fullScreen ? glm::mat4(1.0f) : clipFromLocal;
+      glUniformMatrix4fv(uniforms.clipFromLocal, 1, GL_FALSE, &clipFromLocal[0][0]);
+      glUniformMatrix4fv(uniforms.clipFromInput, 1, GL_FALSE, &clipFromProxy[0][0]);
+      glUniform1i(uniforms.kind, draw.kind);
+      glUniform1ui(uniforms.primitiveId, draw.id);
+      glDrawElementsBaseVertex(GL_TRIANGLES, draw.fullScreen ? 3 : 36, GL_UNSIGNED_INT,
+                               reinterpret_cast<const void*>(draw.indexOffset), draw.baseVertex);
+    }
+    glDisable(GL_DEPTH_CLAMP);
   }
   glFinish();
   checkGl("drawing");

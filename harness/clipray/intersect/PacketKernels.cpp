@@ -1,4 +1,5 @@
-// Packet traversal for coherent rays (a tile of primary rays), bit-identical to closestHit.
+// Packet traversal for coherent rays (a tile of primary rays), bit-identical to closestHit's
+// triangle part (SceneIntersector::closestHitsTile then adds the analytic primitives).
 //
 // Rays are grouped by their watertight axis permutation (kx, ky, kz); each group is one packet,
 // stored as structure-of-arrays and processed four rays per AVX2 instruction. The BVH is walked
@@ -267,7 +268,7 @@ void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* h
       const glm::dvec3 o = ray.origin - reference;
       if (ray.direction.x == 0.0 || ray.direction.y == 0.0 || ray.direction.z == 0.0 ||
           maxAbs(o) * 0x1p-30 > scene.boxPad_) {
-        hits[offset] = scene.closestHit(ray);
+        hits[offset] = scene.closestTriangleHit(ray);  // primitives: by the caller
         continue;
       }
       Prepared* slot =
@@ -343,9 +344,14 @@ void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* h
 bool PacketKernels::available() {
   return false;
 }
-void PacketKernels::trace(const SceneIntersector& scene, std::span<const Ray> rays,
-                          std::span<Hit> hits) noexcept {
-  for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = scene.closestHit(rays[i]);
+void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* hits,
+                          std::size_t rowStride, int width, int height) noexcept {
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * rowStride + x;
+      hits[i] = scene.closestTriangleHit(rays[i]);
+    }
+  }
 }
 
 #endif

@@ -5,6 +5,7 @@
 #include <numeric>
 
 #include "clipray/intersect/PacketKernels.hpp"
+#include "clipray/intersect/Primitives.hpp"
 #include "clipray/intersect/Watertight.hpp"
 
 namespace clipray {
@@ -26,8 +27,9 @@ bool finiteRay(const Ray& ray) {
 }  // namespace
 
 SceneIntersector::SceneIntersector(const Scene& scene, const glm::dvec3& reference)
-    : reference_(reference) {
+    : reference_(reference), primitives_(scene.primitives) {
   const PrimitiveIdTable ids(scene);
+  firstAnalyticId_ = ids.firstAnalyticId;
   triangles_.reserve(scene.triangleCount());
   double extent = 0.0;
   for (std::size_t k = 0; k < scene.objects.size(); ++k) {
@@ -61,8 +63,15 @@ std::array<glm::dvec3, 3> SceneIntersector::worldTriangle(std::uint32_t primitiv
 }
 
 std::size_t SceneIntersector::memoryBytes() const {
-  return triangles_.capacity() * sizeof(Triangle) + nodes_.capacity() * sizeof(Node) +
-         slotOfPrimitive_.capacity() * sizeof(std::uint32_t);
+  std::size_t bytes = triangles_.capacity() * sizeof(Triangle) + nodes_.capacity() * sizeof(Node) +
+                      slotOfPrimitive_.capacity() * sizeof(std::uint32_t) +
+                      primitives_.capacity() * sizeof(AnalyticPrimitive);
+  // Names longer than the small-string buffer live on the heap.
+  for (const AnalyticPrimitive& primitive : primitives_) {
+    if (primitive.name.capacity() > std::string().capacity())
+      bytes += primitive.name.capacity() + 1;
+  }
+  return bytes;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -257,12 +266,28 @@ inline void testTriangle(const WatertightRay& ray, const Triangle& tri, Hit& bes
 }
 }  // namespace
 
+void SceneIntersector::closestAnalytic(const Ray& worldRay, Hit& best) const noexcept {
+  Ray bounded = worldRay;
+  for (std::size_t p = 0; p < primitives_.size(); ++p) {
+    bounded.tMax = best.t;
+    const double t = intersectPrimitive(primitives_[p], bounded);
+    // A miss is +inf, which an infinite bound would let through; a hit is within the bound.
+    if (!(t < kInf)) continue;
+    const auto id = firstAnalyticId_ + static_cast<std::uint32_t>(p);
+    if (t < best.t || best.primitiveId == 0 || id < best.primitiveId) {
+      best.t = t;
+      best.primitiveId = id;
+    }
+  }
+}
+
 Hit SceneIntersector::closestHitLinear(const Ray& worldRay) const noexcept {
   if (!finiteRay(worldRay)) return Hit{};
   const WatertightRay ray(worldRay.origin - reference_, worldRay.direction);
   Hit best;
   best.t = worldRay.tMax;
   for (const Triangle& tri : triangles_) testTriangle(ray, tri, best);
+  closestAnalytic(worldRay, best);
   if (best.primitiveId == 0) best.t = kInf;
   return best;
 }
@@ -271,14 +296,46 @@ Hit SceneIntersector::closestHit(const Ray& worldRay) const noexcept {
   // A ray function may hand us a non-finite ray (e.g. a near point unprojected at infinity):
   // it hits nothing, rather than producing a NaN "hit" from comparisons that are all false.
   if (!finiteRay(worldRay)) return Hit{};
-  const glm::dvec3 origin = worldRay.origin - reference_;
-  const WatertightRay ray(origin, worldRay.direction);
   Hit best;
   best.t = worldRay.tMax;
+  // Analytic primitives first: a hit there shortens the BVH walk (every t is computed before it
+  // is compared with the bound, so the visiting order never changes the answer).
+  closestAnalytic(worldRay, best);
+  closestTriangle(worldRay, best);
+  if (best.primitiveId == 0) best.t = kInf;
+  return best;
+}
+
+Hit SceneIntersector::closestTriangleHit(const Ray& worldRay) const noexcept {
+  if (!finiteRay(worldRay)) return Hit{};
+  Hit best;
+  best.t = worldRay.tMax;
+  closestTriangle(worldRay, best);
+  if (best.primitiveId == 0) best.t = kInf;
+  return best;
+}
+
+Hit SceneIntersector::intersectOne(std::uint32_t primitiveId, const Ray& worldRay) const noexcept {
+  if (primitiveId == 0 || !finiteRay(worldRay)) return Hit{};
+  Hit best;
+  best.t = worldRay.tMax;
+  if (primitiveId <= triangles_.size()) {
+    const WatertightRay ray(worldRay.origin - reference_, worldRay.direction);
+    testTriangle(ray, triangles_[slotOfPrimitive_[primitiveId - 1]], best);
+  } else if (isAnalytic(primitiveId)) {
+    const double t = intersectPrimitive(analyticPrimitive(primitiveId), worldRay);
+    if (t < kInf) best = Hit{t, primitiveId};
+  }
+  if (best.primitiveId == 0) best.t = kInf;
+  return best;
+}
+
+void SceneIntersector::closestTriangle(const Ray& worldRay, Hit& best) const noexcept {
+  const glm::dvec3 origin = worldRay.origin - reference_;
+  const WatertightRay ray(origin, worldRay.direction);
   if (nodes_.empty()) {
     for (const Triangle& tri : triangles_) testTriangle(ray, tri, best);
-    if (best.primitiveId == 0) best.t = kInf;
-    return best;
+    return;
   }
   // Rays starting far outside the scene get extra padding (rounding grows with |origin|).
   const double extraPad = std::max(0.0, maxAbs(origin) * 0x1p-30 - boxPad_);
@@ -333,8 +390,6 @@ Hit SceneIntersector::closestHit(const Ray& worldRay) const noexcept {
       stack[top++] = right;
     }
   }
-  if (best.primitiveId == 0) best.t = kInf;
-  return best;
 }
 
 void SceneIntersector::closestHits(std::span<const Ray> rays, std::span<Hit> hits) const noexcept {
@@ -347,7 +402,21 @@ void SceneIntersector::closestHits(std::span<const Ray> rays, std::span<Hit> hit
 void SceneIntersector::closestHitsTile(const Ray* rays, Hit* hits, std::size_t rowStride, int width,
                                        int height) const noexcept {
   if (!nodes_.empty() && packetKernelsAvailable() && width * height <= int{kMaxPacket}) {
+    // Triangles by packets, then the few analytic primitives one ray at a time, continuing from
+    // the triangles' answer with closestHit's update rule: the same minimum, bit for bit.
     detail::PacketKernels::trace(*this, rays, hits, rowStride, width, height);
+    if (primitives_.empty()) return;
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * rowStride + x;
+        if (!finiteRay(rays[i])) continue;  // closestHit answers Hit{}, as trace did
+        Hit best = hits[i];
+        if (!best.hit()) best.t = rays[i].tMax;
+        closestAnalytic(rays[i], best);
+        if (!best.hit()) best.t = kInf;
+        hits[i] = best;
+      }
+    }
     return;
   }
   for (int y = 0; y < height; ++y) {

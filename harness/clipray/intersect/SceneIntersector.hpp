@@ -1,10 +1,13 @@
 #pragma once
-// Closest-hit queries against every triangle of a scene, in double and camera-relative: vertices
-// are stored relative to a reference point (near the camera) so that ray origins and vertices
-// carry small coordinates. A BVH (binned SAH, double bounds) is built only when the triangle
-// count makes it pay. Every query answers exactly what closestHitLinear answers: the smallest
-// (t, primitive id) over all triangles, with each triangle's t computed by the same watertight
-// arithmetic; BVH culling is conservative (padded boxes, widened ranges), never decisive.
+// Closest-hit queries against every primitive of a scene, in double: triangles and analytic
+// primitives (spheres, disks, quads, boxes, planes; Primitives.hpp).
+// Triangles are stored camera-relative: vertices are relative to a reference point (near the
+// camera) so that ray origins and vertices carry small coordinates. A BVH over the triangles
+// (binned SAH, double bounds) is built only when the triangle count makes it pay; analytic
+// primitives are few and are tested one after the other. Every query answers exactly what
+// closestHitLinear answers: the smallest (t, primitive id) over all primitives, with each
+// primitive's t computed by the same arithmetic (watertight for triangles); BVH culling is
+// conservative (padded boxes, widened ranges), never decisive.
 
 #include <array>
 #include <cmath>
@@ -54,7 +57,7 @@ class SceneIntersector {
 
   // Closest hit with t in (0, ray.tMax]; ties go to the smaller primitive id. Never throws.
   Hit closestHit(const Ray& worldRay) const noexcept;
-  // The same query by a linear scan of every triangle (the reference the BVH must match exactly).
+  // The same query by a linear scan of every primitive (the reference the BVH must match exactly).
   Hit closestHitLinear(const Ray& worldRay) const noexcept;
   // closestHit for many rays at once: hits[i] is bit-identical to closestHit(rays[i]). Fastest
   // for coherent rays (a tile of neighbouring primary rays): traced as SIMD packets of up to
@@ -65,13 +68,31 @@ class SceneIntersector {
   void closestHitsTile(const Ray* rays, Hit* hits, std::size_t rowStride, int width,
                        int height) const noexcept;
 
-  // World-space vertices of a primitive (id from PrimitiveIdTable); id must be valid.
+  // Closest hit of the ray with the one primitive `primitiveId` (a triangle or an analytic
+  // primitive), t in (0, ray.tMax]: the t that closestHit would see for that primitive, bit for
+  // bit. Hit{} when it misses or the id is not a valid primitive id. Never throws.
+  Hit intersectOne(std::uint32_t primitiveId, const Ray& worldRay) const noexcept;
+
+  // World-space vertices of a triangle (id from PrimitiveIdTable); id must be a triangle's.
   std::array<glm::dvec3, 3> worldTriangle(std::uint32_t primitiveId) const;
+  // Triangles only (analytic primitives are counted by analyticCount).
   std::size_t triangleCount() const { return triangles_.size(); }
+  std::size_t analyticCount() const { return primitives_.size(); }
+  // Valid primitive ids are 1..primitiveIdCount(): triangles first, then analytic primitives.
+  std::uint32_t primitiveIdCount() const {
+    return static_cast<std::uint32_t>(triangles_.size() + primitives_.size());
+  }
+  bool isAnalytic(std::uint32_t primitiveId) const {
+    return primitiveId >= firstAnalyticId_ && primitiveId - firstAnalyticId_ < primitives_.size();
+  }
+  // The analytic primitive with that id; isAnalytic(primitiveId) must hold.
+  const AnalyticPrimitive& analyticPrimitive(std::uint32_t primitiveId) const {
+    return primitives_[primitiveId - firstAnalyticId_];
+  }
   bool usesBvh() const { return !nodes_.empty(); }
   const glm::dvec3& reference() const { return reference_; }
   std::size_t nodeCount() const { return nodes_.size(); }
-  // Bytes held by the triangle copies, the BVH and the id map.
+  // Bytes held by the triangle copies, the BVH, the id map and the analytic primitives.
   std::size_t memoryBytes() const;
   // Whether closestHits runs the AVX2 packet kernels on this CPU (else one ray at a time).
   static bool packetKernelsAvailable();
@@ -81,12 +102,21 @@ class SceneIntersector {
   using Triangle = detail::BvhTriangle;
   using Node = detail::BvhNode;
   void buildBvh();
+  // Triangles only, by the BVH when there is one; best.t is the current bound (the ray's tMax when
+  // best.primitiveId == 0), updated in place.
+  void closestTriangle(const Ray& worldRay, Hit& best) const noexcept;
+  // The analytic primitives, linearly, with the same update rule.
+  void closestAnalytic(const Ray& worldRay, Hit& best) const noexcept;
+  // closestHit without the analytic primitives (the packet kernels' one-ray fallback).
+  Hit closestTriangleHit(const Ray& worldRay) const noexcept;
 
   glm::dvec3 reference_;
   double boxPad_ = 0.0;
   std::vector<Triangle> triangles_;             // in BVH leaf order when a BVH is built
   std::vector<std::uint32_t> slotOfPrimitive_;  // primitiveId - 1 -> index in triangles_
   std::vector<Node> nodes_;                     // depth-first: the first child follows its parent
+  std::vector<AnalyticPrimitive> primitives_;   // primitive p has id firstAnalyticId_ + p
+  std::uint32_t firstAnalyticId_ = 1;
 };
 
 }  // namespace clipray

@@ -11,25 +11,25 @@ namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
-Quad quadAbs(Quad q) {
+Float128 quadAbs(Float128 q) {
   return q < 0 ? -q : q;
 }
 
-DoubleDouble split(Quad q) {
+DoubleDouble split(Float128 q) {
   DoubleDouble result;
   result.hi = static_cast<double>(q);
   result.lo =
-      std::isfinite(result.hi) ? static_cast<double>(q - static_cast<Quad>(result.hi)) : 0.0;
+      std::isfinite(result.hi) ? static_cast<double>(q - static_cast<Float128>(result.hi)) : 0.0;
   return result;
 }
 
-QuadVec3 scale(const QuadVec3& v, Quad s) {
+QuadVec3 scale(const QuadVec3& v, Float128 s) {
   return {v.x * s, v.y * s, v.z * s};
 }
 QuadVec3 add(const QuadVec3& a, const QuadVec3& b) {
   return {a.x + b.x, a.y + b.y, a.z + b.z};
 }
-QuadVec4 scale(const QuadVec4& v, Quad s) {
+QuadVec4 scale(const QuadVec4& v, Float128 s) {
   return {v.x * s, v.y * s, v.z * s, v.w * s};
 }
 QuadVec4 add(const QuadVec4& a, const QuadVec4& b) {
@@ -45,10 +45,10 @@ double acrossLength(const glm::dvec3& v, const glm::dvec3& u) {
 }
 
 // 3x3 determinant of the xyz columns selected from three 4-vectors.
-Quad minor3(const QuadVec4& a, const QuadVec4& b, const QuadVec4& c, int skip) {
-  Quad ra[3], rb[3], rc[3];
-  const Quad va[4] = {a.x, a.y, a.z, a.w}, vb[4] = {b.x, b.y, b.z, b.w},
-             vc[4] = {c.x, c.y, c.z, c.w};
+Float128 minor3(const QuadVec4& a, const QuadVec4& b, const QuadVec4& c, int skip) {
+  Float128 ra[3], rb[3], rc[3];
+  const Float128 va[4] = {a.x, a.y, a.z, a.w}, vb[4] = {b.x, b.y, b.z, b.w},
+                 vc[4] = {c.x, c.y, c.z, c.w};
   int k = 0;
   for (int col = 0; col < 4; ++col) {
     if (col == skip) continue;
@@ -73,7 +73,7 @@ QuadMat4 toQuad(const glm::dmat4& matrix) {
 
 std::optional<QuadMat4> inverseQuad(const QuadMat4& matrix) {
   // Row-major working copy [A | I].
-  Quad a[4][8];
+  Float128 a[4][8];
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 4; ++c) {
       a[r][c] = matrix.m[c][r];
@@ -89,11 +89,11 @@ std::optional<QuadMat4> inverseQuad(const QuadMat4& matrix) {
     if (pivot != col) {
       for (int c = 0; c < 8; ++c) std::swap(a[pivot][c], a[col][c]);
     }
-    const Quad inv = 1 / a[col][col];
+    const Float128 inv = 1 / a[col][col];
     for (int c = 0; c < 8; ++c) a[col][c] *= inv;
     for (int r = 0; r < 4; ++r) {
       if (r == col || a[r][col] == 0) continue;
-      const Quad f = a[r][col];
+      const Float128 f = a[r][col];
       for (int c = 0; c < 8; ++c) a[r][c] -= f * a[col][c];
     }
   }
@@ -113,10 +113,10 @@ QuadVec4 quadColumn(const QuadMat4& matrix, int column) {
 QuadVec3 cross(const QuadVec3& a, const QuadVec3& b) {
   return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
-Quad dot(const QuadVec3& a, const QuadVec3& b) {
+Float128 dot(const QuadVec3& a, const QuadVec3& b) {
   return a.x * b.x + a.y * b.y + a.z * b.z;
 }
-Quad dot(const QuadVec4& a, const QuadVec4& b) {
+Float128 dot(const QuadVec4& a, const QuadVec4& b) {
   return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w;
 }
 glm::dvec3 toDouble(const QuadVec3& v) {
@@ -145,10 +145,10 @@ ProjectionCheck describeProjection(const glm::dmat4& clipFromWorld, DepthMode mo
   const QuadVec4 rowX = quadRow(m, 0), rowY = quadRow(m, 1), rowZ = quadRow(m, 2),
                  rowW = quadRow(m, 3);
   const QuadVec3 mx = xyz(rowX), my = xyz(rowY), mw = xyz(rowW);
-  const Quad zNear = mode.nearNdcZ(), zFar = mode.farNdcZ();
+  const Float128 zNear = mode.nearNdcZ(), zFar = mode.farNdcZ();
   const QuadVec3 p = cross(my, mw), q = cross(mw, mx), r = cross(mx, my);
   const QuadVec3 nearNormal = xyz(sub(rowZ, scale(rowW, zNear)));
-  const Quad nearSign = mode.reversed ? -1 : 1;
+  const Float128 nearSign = mode.reversed ? -1 : 1;
   const QuadVec4 c0 = quadColumn(*inverse, 0), c1 = quadColumn(*inverse, 1);
   const QuadVec4 c23 = add(scale(quadColumn(*inverse, 2), zNear), quadColumn(*inverse, 3));
 
@@ -156,12 +156,12 @@ ProjectionCheck describeProjection(const glm::dmat4& clipFromWorld, DepthMode mo
   facts.parallel = mw.x == 0 && mw.y == 0 && mw.z == 0;
   // Every pixel ray must cross the near plane, all the same way, at a finite point. Checking
   // the four viewport corners suffices: both quantities are linear in (x', y').
-  Quad orientation = 0, nearW = 0;
-  for (const Quad x : {Quad(-1), Quad(1)}) {
-    for (const Quad y : {Quad(-1), Quad(1)}) {
+  Float128 orientation = 0, nearW = 0;
+  for (const Float128 x : {Float128(-1), Float128(1)}) {
+    for (const Float128 y : {Float128(-1), Float128(1)}) {
       const QuadVec3 d = add(add(scale(p, x), scale(q, y)), r);
-      const Quad g = dot(nearNormal, d);
-      const Quad w = x * c0.w + y * c1.w + c23.w;
+      const Float128 g = dot(nearNormal, d);
+      const Float128 w = x * c0.w + y * c1.w + c23.w;
       if (g == 0 || (orientation != 0 && (g > 0) != (orientation > 0))) {
         check.problem =
             "not a projection: some pixel rays run parallel to the near plane or cross it in "
@@ -176,17 +176,17 @@ ProjectionCheck describeProjection(const glm::dmat4& clipFromWorld, DepthMode mo
       nearW = w;
     }
   }
-  const Quad flip = orientation * nearSign > 0 ? 1 : -1;
+  const Float128 flip = orientation * nearSign > 0 ? 1 : -1;
   const QuadVec3 centre = scale(r, flip);
-  const Quad centreLength = std::sqrt(toDouble(dot(centre, centre)));
+  const Float128 centreLength = std::sqrt(toDouble(dot(centre, centre)));
   facts.forward = toDouble(centre) / toDouble(centreLength);
   facts.forward /= glm::length(facts.forward);
   const glm::dvec3 nearCentre = toDouble(QuadVec3{c23.x / c23.w, c23.y / c23.w, c23.z / c23.w});
 
   // The far plane along the centre ray: t = (z_far - z_near) / (N.w * F.d) (seed 002).
   const QuadVec3 farNormal = xyz(sub(rowZ, scale(rowW, zFar)));
-  const Quad farDot = dot(farNormal, centre) / centreLength;
-  const Quad tFar = farDot == 0 ? Quad(-1) : (zFar - zNear) / (c23.w * farDot);
+  const Float128 farDot = dot(farNormal, centre) / centreLength;
+  const Float128 tFar = farDot == 0 ? Float128(-1) : (zFar - zNear) / (c23.w * farDot);
   const double tCentre = tFar > 0 ? toDouble(tFar) : kInfinity;
 
   facts.determinant = glm::determinant(clipFromWorld);
@@ -198,8 +198,8 @@ ProjectionCheck describeProjection(const glm::dmat4& clipFromWorld, DepthMode mo
     facts.farDistance = tCentre;
   } else {
     // The eye: the null vector of rows 0, 1, 3 (every pixel plane and the w = 0 plane meet there).
-    const Quad e[4] = {minor3(rowX, rowY, rowW, 0), -minor3(rowX, rowY, rowW, 1),
-                       minor3(rowX, rowY, rowW, 2), -minor3(rowX, rowY, rowW, 3)};
+    const Float128 e[4] = {minor3(rowX, rowY, rowW, 0), -minor3(rowX, rowY, rowW, 1),
+                           minor3(rowX, rowY, rowW, 2), -minor3(rowX, rowY, rowW, 3)};
     if (e[3] == 0) {
       check.problem = "not a projection: the x, y and w rows meet at no finite eye point";
       return check;
@@ -230,7 +230,7 @@ QuadReference::QuadReference(const glm::dmat4& clipFromWorld, DepthMode mode, Vi
   p_ = cross(my, mw);
   q_ = cross(mw, mx);
   r_ = cross(mx, my);
-  const Quad zNear = mode.nearNdcZ(), zFar = mode.farNdcZ();
+  const Float128 zNear = mode.nearNdcZ(), zFar = mode.farNdcZ();
   nearNormal_ = xyz(sub(rowZ, scale(rowW, zNear)));
   nearSign_ = mode.reversed ? -1 : 1;
   farNormal_ = xyz(sub(rowZ, scale(rowW, zFar)));
@@ -242,27 +242,27 @@ QuadReference::QuadReference(const glm::dmat4& clipFromWorld, DepthMode mode, Vi
 void QuadReference::row(int j, std::vector<ReferenceRay>& out) const {
   const int width = viewport_.width;
   out.resize(static_cast<std::size_t>(width));
-  const Quad y = Quad(2 * j + 1) / viewport_.height - 1;
+  const Float128 y = Float128(2 * j + 1) / viewport_.height - 1;
   const QuadVec3 rowD = add(scale(q_, y), r_);
   const QuadVec4 rowN = add(scale(c1_, y), c23_);
-  const Quad depthSpan = Quad(mode_.farNdcZ()) - Quad(mode_.nearNdcZ());
+  const Float128 depthSpan = Float128(mode_.farNdcZ()) - Float128(mode_.nearNdcZ());
   const glm::dvec3 pd = toDouble(p_), qd = toDouble(q_);
   const glm::dvec3 c0xyz = toDouble(xyz(c0_)), c1xyz = toDouble(xyz(c1_));
   for (int i = 0; i < width; ++i) {
-    const Quad x = Quad(2 * i + 1) / width - 1;  // exact pixel centre (to 1e-34)
+    const Float128 x = Float128(2 * i + 1) / width - 1;  // exact pixel centre (to 1e-34)
     QuadVec3 d = add(scale(p_, x), rowD);
     // Sign: d enters the frustum through the near plane (DESIGN.md section 2).
     if (nearSign_ * dot(nearNormal_, d) < 0) d = scale(d, -1);
-    const Quad length2 = dot(d, d);
+    const Float128 length2 = dot(d, d);
     const double guess = std::sqrt(toDouble(length2));
-    const Quad length = guess + (length2 - Quad(guess) * guess) / (2 * Quad(guess));
-    const Quad inverseLength = 1 / length;
+    const Float128 length = guess + (length2 - Float128(guess) * guess) / (2 * Float128(guess));
+    const Float128 inverseLength = 1 / length;
     const QuadVec3 unit = scale(d, inverseLength);
     const QuadVec4 n = add(scale(c0_, x), rowN);
-    const Quad inverseW = 1 / n.w;
+    const Float128 inverseW = 1 / n.w;
     const QuadVec3 origin = {n.x * inverseW, n.y * inverseW, n.z * inverseW};
-    const Quad farDot = dot(farNormal_, unit);
-    const Quad t = farDot == 0 ? Quad(-1) : depthSpan / (n.w * farDot);
+    const Float128 farDot = dot(farNormal_, unit);
+    const Float128 t = farDot == 0 ? Float128(-1) : depthSpan / (n.w * farDot);
 
     ReferenceRay& ray = out[static_cast<std::size_t>(i)];
     ray.origin[0] = split(origin.x);

@@ -16,17 +16,17 @@
 
 namespace clipray {
 
-__extension__ typedef __float128 Quad;  // __extension__: a GNU type, keeps -Wpedantic quiet
+__extension__ typedef __float128 Float128;  // __extension__: a GNU type, keeps -Wpedantic quiet
 
 // Column-major like glm: m[column][row].
 struct QuadMat4 {
-  Quad m[4][4];
+  Float128 m[4][4];
 };
 struct QuadVec3 {
-  Quad x, y, z;
+  Float128 x, y, z;
 };
 struct QuadVec4 {
-  Quad x, y, z, w;
+  Float128 x, y, z, w;
 };
 
 QuadMat4 toQuad(const glm::dmat4& matrix);
@@ -35,12 +35,12 @@ std::optional<QuadMat4> inverseQuad(const QuadMat4& matrix);
 QuadVec4 quadRow(const QuadMat4& matrix, int row);
 QuadVec4 quadColumn(const QuadMat4& matrix, int column);
 QuadVec3 cross(const QuadVec3& a, const QuadVec3& b);
-Quad dot(const QuadVec3& a, const QuadVec3& b);
-Quad dot(const QuadVec4& a, const QuadVec4& b);
+Float128 dot(const QuadVec3& a, const QuadVec3& b);
+Float128 dot(const QuadVec4& a, const QuadVec4& b);
 inline QuadVec3 xyz(const QuadVec4& v) {
   return {v.x, v.y, v.z};
 }
-inline double toDouble(Quad q) {
+inline double toDouble(Float128 q) {
   return static_cast<double>(q);
 }
 glm::dvec3 toDouble(const QuadVec3& v);
@@ -100,7 +100,7 @@ class QuadReference {
   // d(x', y') = x' P + y' Q + R (plane-cross, seed 002 listing 3), exact in quad.
   QuadVec3 p_, q_, r_;
   QuadVec3 nearNormal_;  // xyz of rowZ - z_near rowW: d must enter through the near plane
-  Quad nearSign_;        // +1, or -1 for reversed-Z
+  Float128 nearSign_;    // +1, or -1 for reversed-Z
   QuadVec3 farNormal_;   // xyz of rowZ - z_far rowW
   // Near-plane point N(x', y') = worldFromClip (x', y', z_near, 1) = x' c0 + y' c1 + c23.
   QuadVec4 c0_, c1_, c23_;

@@ -353,23 +353,24 @@ RobustCoefficients robustCoefficients(const glm::dmat4& entries, DepthMode mode,
                  rowW = quadRow(m, 3);
   const QuadVec3 mx = xyz(rowX), my = xyz(rowY), mw = xyz(rowW);
   const QuadVec3 p = cross(my, mw), q = cross(mw, mx), r = cross(mx, my);
-  const Quad zNear = mode.nearNdcZ(), zFar = mode.farNdcZ();
+  const Float128 zNear = mode.nearNdcZ(), zFar = mode.farNdcZ();
   const QuadVec3 nearNormal = {rowZ.x - zNear * rowW.x, rowZ.y - zNear * rowW.y,
                                rowZ.z - zNear * rowW.z};
   const QuadVec3 farNormal = {rowZ.x - zFar * rowW.x, rowZ.y - zFar * rowW.y,
                               rowZ.z - zFar * rowW.z};
-  const Quad nearSign = mode.reversed ? -1 : 1;
-  const Quad sign = nearSign * dot(nearNormal, r) < 0 ? -1 : 1;
+  const Float128 nearSign = mode.reversed ? -1 : 1;
+  const Float128 sign = nearSign * dot(nearNormal, r) < 0 ? -1 : 1;
   const QuadVec4 c0 = quadColumn(inverse, 0), c1 = quadColumn(inverse, 1),
                  c2 = quadColumn(inverse, 2), c3 = quadColumn(inverse, 3);
 
   // x' = i * (2 / W) + (1 / W - 1), likewise y'.
-  const Quad stepX = Quad(2) / viewport.width, stepY = Quad(2) / viewport.height;
-  const Quad firstX = Quad(1) / viewport.width - 1, firstY = Quad(1) / viewport.height - 1;
-  const Quad pv[3] = {p.x, p.y, p.z}, qv[3] = {q.x, q.y, q.z}, rv[3] = {r.x, r.y, r.z};
-  const Quad c0v[4] = {c0.x, c0.y, c0.z, c0.w}, c1v[4] = {c1.x, c1.y, c1.z, c1.w};
-  const Quad c23v[4] = {zNear * c2.x + c3.x, zNear * c2.y + c3.y, zNear * c2.z + c3.z,
-                        zNear * c2.w + c3.w};
+  const Float128 stepX = Float128(2) / viewport.width, stepY = Float128(2) / viewport.height;
+  const Float128 firstX = Float128(1) / viewport.width - 1,
+                 firstY = Float128(1) / viewport.height - 1;
+  const Float128 pv[3] = {p.x, p.y, p.z}, qv[3] = {q.x, q.y, q.z}, rv[3] = {r.x, r.y, r.z};
+  const Float128 c0v[4] = {c0.x, c0.y, c0.z, c0.w}, c1v[4] = {c1.x, c1.y, c1.z, c1.w};
+  const Float128 c23v[4] = {zNear * c2.x + c3.x, zNear * c2.y + c3.y, zNear * c2.z + c3.z,
+                            zNear * c2.w + c3.w};
   RobustCoefficients k;
   for (int c = 0; c < 3; ++c) {
     k.perI[c] = toDouble(sign * pv[c] * stepX);

@@ -69,6 +69,21 @@ nlohmann::json imagesJson(const RunRecord& run) {
   return out;
 }
 
+// Depth figures per surface kind ("triangle", "sphere", ...): the GLSL float rays of the
+// analytic primitives against the CPU's double rays, apart from the triangles.
+nlohmann::json byKindJson(const RunMetrics& m) {
+  nlohmann::json kinds = nlohmann::json::object();
+  for (const RunMetrics::KindFigures& figures : m.byKind) {
+    kinds[figures.kind] = {
+        {"depth_compared", figures.depthCompared},
+        {"depth_error_quanta", distribution(figures.depthErrorQuanta, true)},
+        {"distance_rel_error", distribution(figures.distanceRelError, true)},
+        {"tolerance_ratio", distribution(figures.toleranceRatio, false)},
+    };
+  }
+  return kinds;
+}
+
 nlohmann::json runJson(const RunRecord& run) {
   const RunMetrics& m = run.metrics;
   return {
@@ -95,6 +110,7 @@ nlohmann::json runJson(const RunRecord& run) {
       {"depth_error_quanta", distribution(m.depthErrorQuanta, true)},
       {"distance_rel_error", distribution(m.distanceRelError, true)},
       {"tolerance_ratio", distribution(m.toleranceRatio, false)},
+      {"by_kind", byKindJson(m)},
       {"verdict", m.consistent() ? "consistent" : "inconsistent"},
       {"timings_ms",
        {{"raster", number(run.timings.raster)},

@@ -50,6 +50,26 @@ struct MeshObject {
   std::vector<glm::u32vec3> triangles;  // indices into worldPositions
 };
 
+// An analytic surface: a canonical shape in its own local frame, placed by an affine
+// worldFromLocal (any invertible affine map, so spheres may become ellipsoids and boxes
+// parallelepipeds). Both sides intersect the canonical shape with the ray mapped to local
+// coordinates: an affine map keeps the ray parameter t, so t is the world ray's t.
+enum class PrimitiveKind : std::uint8_t {
+  Sphere,  // x^2 + y^2 + z^2 <= 1
+  Disk,    // z = 0, x^2 + y^2 <= 1
+  Quad,    // z = 0, |x| <= 1, |y| <= 1
+  Box,     // |x|, |y|, |z| <= 1 (its surface)
+  Plane,   // z = 0, unbounded
+};
+const char* primitiveKindName(PrimitiveKind kind);
+
+struct AnalyticPrimitive {
+  std::string name;
+  PrimitiveKind kind = PrimitiveKind::Sphere;
+  glm::dmat4 worldFromLocal{1.0};
+  glm::dmat4 localFromWorld{1.0};  // the inverse, computed in double at load time
+};
+
 struct Scene {
   std::string path;     // as given by the user; used in messages
   std::string name;     // file stem, used in reports
@@ -57,26 +77,36 @@ struct Scene {
   int version = 1;
   std::vector<Camera> cameras;
   std::vector<MeshObject> objects;
+  std::vector<AnalyticPrimitive> primitives;
+  // Things the loaders kept but want the user to know (degenerate triangles, ...).
+  std::vector<std::string> warnings;
   // Conventions this scene is reconciled under when the command line does not name any.
   std::vector<DepthMode> conventions;
 
   std::size_t triangleCount() const;
 };
 
-// Primitive ids: 0 is background; object k's triangle t has id firstPrimitiveId(k) + t.
+// Primitive ids: 0 is background; object k's triangle t has id firstIdOfObject[k] + t; analytic
+// primitive p has id firstAnalyticId + p (after every triangle).
 // The raster pass writes these to the R32UI attachment; the analytic pass returns the same.
 struct PrimitiveIdTable {
   std::vector<std::uint32_t> firstIdOfObject;  // one per object, starting at 1
+  std::uint32_t firstAnalyticId = 1;
+  std::uint32_t analyticCount = 0;
   explicit PrimitiveIdTable(const Scene& scene);
   struct Decoded {
-    int object = -1;  // -1: background
+    int object = -1;  // -1: background or an analytic primitive
     std::uint32_t triangle = 0;
+    int analytic = -1;  // index into Scene::primitives, or -1
   };
   Decoded decode(std::uint32_t id) const;
 };
 
-// Loads and validates a scene file; throws InputError naming file, JSON pointer and value.
+// Loads and validates a scene file; throws InputError naming file, JSON pointer and value. A
+// .gltf/.glb path loads that asset as a scene seen from its own cameras (.obj/.ply have none).
 Scene loadScene(const std::string& path);
+// Whether loadScene reads the path as a mesh file (.gltf, .glb, .obj, .ply; any case).
+bool isMeshFilePath(const std::string& path);
 // Same, from text already in memory (the path is used in messages and to resolve relative paths).
 Scene parseScene(const std::string& jsonText, const std::string& path);
 

@@ -2,6 +2,7 @@
 // JSON pointer and the offending value, and the few scene computations that belong with the data.
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -25,7 +26,9 @@
 
 #include "clipray/math/Projections.hpp"
 #include "clipray/scene/InputError.hpp"
+#include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/Scene.hpp"
+#include "clipray/scene/Terrain.hpp"
 
 namespace clipray {
 
@@ -286,6 +289,20 @@ class SceneReader {
   // Object readers, one per "type"; each appends to the scene.
   void readMesh(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
                 std::string name, Scene& scene) const;
+  void readMeshFile(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                    std::string name, Scene& scene) const;
+  void readTerrain(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                   std::string name, Scene& scene) const;
+  void readSphere(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                  std::string name, Scene& scene) const;
+  void readDisk(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                std::string name, Scene& scene) const;
+  void readQuad(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                std::string name, Scene& scene) const;
+  void readBox(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+               std::string name, Scene& scene) const;
+  void readPlane(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                 std::string name, Scene& scene) const;
 
  private:
   [[noreturn]] void fail(const Pointer& at, const std::string& message) const {
@@ -457,6 +474,9 @@ class SceneReader {
               Scene& scene) const;
   glm::dmat4 placement(const json& object, const Pointer& at) const;
   glm::dmat4 transform(const json& value, const Pointer& at) const;
+  glm::dvec3 direction(const json& value, const Pointer& at) const;
+  void addPrimitive(PrimitiveKind kind, const glm::dmat4& worldFromLocal, const Pointer& at,
+                    std::string name, Scene& scene) const;
 
   const std::string& file_;
 };
@@ -478,6 +498,13 @@ const std::vector<std::string_view>& commonObjectKeys() {
 const std::vector<ObjectType>& objectTypes() {
   static const std::vector<ObjectType> types = {
       {"mesh", {"positions", "indices"}, &SceneReader::readMesh},
+      {"meshFile", {"path", "useCameras"}, &SceneReader::readMeshFile},
+      {"terrain", {"triangles", "seed"}, &SceneReader::readTerrain},
+      {"sphere", {"centre", "radius"}, &SceneReader::readSphere},
+      {"disk", {"centre", "normal", "radius"}, &SceneReader::readDisk},
+      {"quad", {"centre", "halfEdges"}, &SceneReader::readQuad},
+      {"box", {"min", "max", "centre", "halfExtents"}, &SceneReader::readBox},
+      {"plane", {"point", "normal"}, &SceneReader::readPlane},
   };
   return types;
 }
@@ -502,7 +529,8 @@ Scene SceneReader::read(const json& root) {
   }
 
   const json& cameras = required(root, top, "cameras");
-  if (!cameras.is_array() || cameras.empty()) {
+  // Empty is allowed here when a meshFile object brings its cameras (checked below).
+  if (!cameras.is_array()) {
     fail(top / "cameras", "expected a non-empty array of cameras, got " + describe(cameras));
   }
   std::map<std::string, Pointer> cameraNames;
@@ -516,9 +544,13 @@ Scene SceneReader::read(const json& root) {
   for (std::size_t i = 0; i < objects.size(); ++i) {
     object(objects[i], top / "objects" / i, objectNames, scene);
   }
-  if (scene.triangleCount() > kMaxTriangles) {
-    fail(top / "objects",
-         "too many triangles for 32-bit primitive ids: " + std::to_string(scene.triangleCount()));
+  if (scene.cameras.empty()) {
+    fail(top / "cameras", "expected a non-empty array of cameras, got " + describe(cameras) +
+                              " (and no meshFile object with \"useCameras\": true)");
+  }
+  if (scene.triangleCount() + scene.primitives.size() > kMaxTriangles) {
+    fail(top / "objects", "too many primitives for 32-bit primitive ids: " +
+                              std::to_string(scene.triangleCount() + scene.primitives.size()));
   }
   return scene;
 }
@@ -774,6 +806,215 @@ void SceneReader::readMesh(const json& value, const Pointer& at, const glm::dmat
   scene.objects.push_back(std::move(mesh));
 }
 
+// A glTF/OBJ/PLY file, by a path relative to the scene file. Its objects are named
+// "<name>/<object>"; with "useCameras": true its cameras join the scene as "<name>/<camera>".
+void SceneReader::readMeshFile(const json& value, const Pointer& at,
+                               const glm::dmat4& worldFromObject, std::string fileName,
+                               Scene& scene) const {
+  const json& pathValue = required(value, at, "path");
+  const std::string relative = string(pathValue, at / "path");
+  if (relative.empty()) fail(at / "path", "expected a non-empty path, got \"\"");
+  const std::filesystem::path resolved =
+      std::filesystem::path(file_).parent_path() / std::filesystem::path(relative);
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(resolved, error)) {
+    fail(at / "path", "cannot open mesh file " + describe(pathValue) + " (looked for " +
+                          jsonString(resolved.string()) + ")");
+  }
+  bool useCameras = false;
+  if (const json* cameras = optional(value, "useCameras")) {
+    if (!cameras->is_boolean()) {
+      fail(at / "useCameras", "expected true or false, got " + describe(*cameras));
+    }
+    useCameras = cameras->get<bool>();
+  }
+  MeshFileContents contents = loadMeshFile(resolved.string(), worldFromObject);
+  for (MeshObject& object : contents.objects) {
+    object.name = fileName + "/" + object.name;
+    scene.objects.push_back(std::move(object));
+  }
+  if (useCameras) {
+    if (contents.cameras.empty()) {
+      fail(at / "useCameras", "the mesh file " + jsonString(relative) + " has no cameras");
+    }
+    // The file's cameras are placed in the file's frame: move them with the object.
+    const glm::dmat4 objectFromWorld = glm::inverse(worldFromObject);
+    for (Camera& camera : contents.cameras) {
+      camera.name = fileName + "/" + camera.name;
+      camera.viewFromWorld = camera.viewFromWorld * objectFromWorld;
+      scene.cameras.push_back(std::move(camera));
+    }
+  }
+  scene.warnings.insert(scene.warnings.end(), contents.warnings.begin(), contents.warnings.end());
+}
+
+// The largest terrain the format builds (32-bit ids leave room; this keeps memory sane).
+constexpr std::uint64_t kMaxTerrainTriangles = 20'000'000;
+
+void SceneReader::readTerrain(const json& value, const Pointer& at,
+                              const glm::dmat4& worldFromObject, std::string terrainName,
+                              Scene& scene) const {
+  const json& count = required(value, at, "triangles");
+  const std::optional<std::uint64_t> triangles = unsignedInteger(count);
+  if (!triangles || *triangles < 2 || *triangles > kMaxTerrainTriangles) {
+    fail(at / "triangles", "expected an integer in [2, " + std::to_string(kMaxTerrainTriangles) +
+                               "], got " + describe(count));
+  }
+  std::uint64_t seed = 0;
+  if (const json* seedValue = optional(value, "seed")) {
+    const std::optional<std::uint64_t> n = unsignedInteger(*seedValue);
+    if (!n) fail(at / "seed", "expected an unsigned integer, got " + describe(*seedValue));
+    seed = *n;
+  }
+  MeshObject mesh = makeTerrainMesh(*triangles, seed, std::move(terrainName));
+  for (glm::dvec3& p : mesh.worldPositions) p = glm::dvec3(worldFromObject * glm::dvec4(p, 1.0));
+  scene.objects.push_back(std::move(mesh));
+}
+
+glm::dvec3 SceneReader::direction(const json& value, const Pointer& at) const {
+  const glm::dvec3 v = vector3(value, at);
+  if (v == glm::dvec3(0.0)) fail(at, "expected a non-zero direction, got " + describe(value));
+  return safeNormalize(v);
+}
+
+// A right-handed orthonormal frame whose z axis is `normal` (Duff et al. 2017, branchless).
+glm::dmat4 frameAround(const glm::dvec3& normal) {
+  const double sign = std::copysign(1.0, normal.z);
+  const double a = -1.0 / (sign + normal.z);
+  const double b = normal.x * normal.y * a;
+  glm::dmat4 m(1.0);
+  m[0] = glm::dvec4(1.0 + sign * normal.x * normal.x * a, sign * b, -sign * normal.x, 0.0);
+  m[1] = glm::dvec4(b, sign + normal.y * normal.y * a, -normal.y, 0.0);
+  m[2] = glm::dvec4(normal, 0.0);
+  return m;
+}
+
+glm::dmat4 translationScale(const glm::dvec3& translation, const glm::dvec3& scale) {
+  glm::dmat4 m(1.0);
+  m[0][0] = scale.x;
+  m[1][1] = scale.y;
+  m[2][2] = scale.z;
+  m[3] = glm::dvec4(translation, 1.0);
+  return m;
+}
+
+void SceneReader::addPrimitive(PrimitiveKind kind, const glm::dmat4& worldFromLocal,
+                               const Pointer& at, std::string primitiveName, Scene& scene) const {
+  // Both sides intersect in the primitive's local frame, so the map must be invertible and its
+  // inverse finite: the same scaled-determinant test as for matrices given in the file.
+  const double scaledDet = scaledDeterminant(glm::dmat3(worldFromLocal));
+  if (!allFinite(worldFromLocal) || !(scaledDet >= kSingularThreshold)) {
+    fail(at, std::string("the ") + primitiveKindName(kind) +
+                 " has a non-invertible placement (scaled determinant " + shortNumber(scaledDet) +
+                 "); check \"transform\" / \"worldFromObject\" and the shape's sizes");
+  }
+  AnalyticPrimitive primitive;
+  primitive.name = std::move(primitiveName);
+  primitive.kind = kind;
+  primitive.worldFromLocal = worldFromLocal;
+  primitive.localFromWorld = glm::inverse(worldFromLocal);
+  if (!allFinite(primitive.localFromWorld)) {
+    fail(at, std::string("the ") + primitiveKindName(kind) +
+                 " has a placement whose inverse overflows double");
+  }
+  scene.primitives.push_back(std::move(primitive));
+}
+
+void SceneReader::readSphere(const json& value, const Pointer& at,
+                             const glm::dmat4& worldFromObject, std::string sphereName,
+                             Scene& scene) const {
+  const glm::dvec3 centre = vector3(required(value, at, "centre"), at / "centre");
+  const double radius = positiveNumber(required(value, at, "radius"), at / "radius");
+  addPrimitive(PrimitiveKind::Sphere,
+               worldFromObject * translationScale(centre, glm::dvec3(radius)), at,
+               std::move(sphereName), scene);
+}
+
+void SceneReader::readDisk(const json& value, const Pointer& at, const glm::dmat4& worldFromObject,
+                           std::string diskName, Scene& scene) const {
+  const glm::dvec3 centre = vector3(required(value, at, "centre"), at / "centre");
+  const glm::dvec3 normal = direction(required(value, at, "normal"), at / "normal");
+  const double radius = positiveNumber(required(value, at, "radius"), at / "radius");
+  addPrimitive(PrimitiveKind::Disk,
+               worldFromObject * translationScale(centre, glm::dvec3(1.0)) * frameAround(normal) *
+                   translationScale(glm::dvec3(0.0), glm::dvec3(radius)),
+               at, std::move(diskName), scene);
+}
+
+void SceneReader::readQuad(const json& value, const Pointer& at, const glm::dmat4& worldFromObject,
+                           std::string quadName, Scene& scene) const {
+  const glm::dvec3 centre = vector3(required(value, at, "centre"), at / "centre");
+  const Pointer eAt = at / "halfEdges";
+  const json& edges = required(value, at, "halfEdges");
+  if (!edges.is_array() || edges.size() != 2) {
+    fail(eAt,
+         "expected an array of 2 vectors [[ux, uy, uz], [vx, vy, vz]], got " + describe(edges));
+  }
+  const glm::dvec3 u = vector3(edges[0], eAt / 0), v = vector3(edges[1], eAt / 1);
+  const glm::dvec3 normal = glm::cross(u, v);
+  const double scale = std::sqrt(glm::length(u) * glm::length(v));
+  if (!(glm::length(normal) > kParallelThreshold * glm::length(u) * glm::length(v))) {
+    fail(eAt, "expected two non-zero, non-parallel half edges, got " + describe(edges));
+  }
+  // Local z only has to make the map invertible (the quad is z = 0): the unit normal scaled to
+  // the quad's size keeps the map well conditioned.
+  glm::dmat4 local(1.0);
+  local[0] = glm::dvec4(u, 0.0);
+  local[1] = glm::dvec4(v, 0.0);
+  local[2] = glm::dvec4(safeNormalize(normal) * scale, 0.0);
+  local[3] = glm::dvec4(centre, 1.0);
+  addPrimitive(PrimitiveKind::Quad, worldFromObject * local, at, std::move(quadName), scene);
+}
+
+void SceneReader::readBox(const json& value, const Pointer& at, const glm::dmat4& worldFromObject,
+                          std::string boxName, Scene& scene) const {
+  const json* low = optional(value, "min");
+  const json* high = optional(value, "max");
+  const json* centreValue = optional(value, "centre");
+  const json* extentValue = optional(value, "halfExtents");
+  glm::dvec3 centre, halfExtents;
+  if ((low || high) && (centreValue || extentValue)) {
+    fail(at, "expected either \"min\" and \"max\" or \"centre\" and \"halfExtents\", got both");
+  }
+  if (low || high) {
+    const glm::dvec3 lower = vector3(required(value, at, "min"), at / "min");
+    const glm::dvec3 upper = vector3(required(value, at, "max"), at / "max");
+    for (int i = 0; i < 3; ++i) {
+      if (!(upper[i] > lower[i])) {
+        fail(at / "max" / static_cast<std::size_t>(i),
+             "expected a number greater than \"min\"[" + std::to_string(i) + "] (" +
+                 describe(value["min"][static_cast<std::size_t>(i)]) + "), got " +
+                 describe(value["max"][static_cast<std::size_t>(i)]));
+      }
+    }
+    centre = 0.5 * lower + 0.5 * upper;
+    halfExtents = 0.5 * upper - 0.5 * lower;
+  } else {
+    if (!centreValue && !extentValue) {
+      fail(at, "missing required fields \"min\" and \"max\" (or \"centre\" and \"halfExtents\")");
+    }
+    centre = vector3(required(value, at, "centre"), at / "centre");
+    const json& extents = required(value, at, "halfExtents");
+    halfExtents = vector3(extents, at / "halfExtents");
+    for (std::size_t i = 0; i < 3; ++i) {
+      if (!(halfExtents[static_cast<int>(i)] > 0.0)) {
+        fail(at / "halfExtents" / i, "expected a positive number, got " + describe(extents[i]));
+      }
+    }
+  }
+  addPrimitive(PrimitiveKind::Box, worldFromObject * translationScale(centre, halfExtents), at,
+               std::move(boxName), scene);
+}
+
+void SceneReader::readPlane(const json& value, const Pointer& at, const glm::dmat4& worldFromObject,
+                            std::string planeName, Scene& scene) const {
+  const glm::dvec3 point = vector3(required(value, at, "point"), at / "point");
+  const glm::dvec3 normal = direction(required(value, at, "normal"), at / "normal");
+  addPrimitive(PrimitiveKind::Plane,
+               worldFromObject * translationScale(point, glm::dvec3(1.0)) * frameAround(normal), at,
+               std::move(planeName), scene);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -803,24 +1044,47 @@ std::size_t Scene::triangleCount() const {
   return count;
 }
 
+const char* primitiveKindName(PrimitiveKind kind) {
+  switch (kind) {
+    case PrimitiveKind::Sphere:
+      return "sphere";
+    case PrimitiveKind::Disk:
+      return "disk";
+    case PrimitiveKind::Quad:
+      return "quad";
+    case PrimitiveKind::Box:
+      return "box";
+    case PrimitiveKind::Plane:
+      return "plane";
+  }
+  return "?";
+}
+
 PrimitiveIdTable::PrimitiveIdTable(const Scene& scene) {
   std::uint64_t next = 1;  // 0 is background
   firstIdOfObject.reserve(scene.objects.size());
   for (const MeshObject& object : scene.objects) {
     firstIdOfObject.push_back(static_cast<std::uint32_t>(next));
     next += object.triangles.size();
-    if (next - 1 > kMaxTriangles) {
-      throw std::length_error("scene has too many triangles for 32-bit primitive ids");
-    }
   }
+  if (next - 1 + scene.primitives.size() > kMaxTriangles) {
+    throw std::length_error("scene has too many primitives for 32-bit primitive ids");
+  }
+  firstAnalyticId = static_cast<std::uint32_t>(next);
+  analyticCount = static_cast<std::uint32_t>(scene.primitives.size());
 }
 
 PrimitiveIdTable::Decoded PrimitiveIdTable::decode(std::uint32_t id) const {
+  if (id == 0) return {};
+  if (id >= firstAnalyticId) {
+    if (id - firstAnalyticId >= analyticCount) return {};
+    return {-1, 0, static_cast<int>(id - firstAnalyticId)};
+  }
   // The last object whose first id is <= id (objects without triangles share the next one's id).
   const auto after = std::upper_bound(firstIdOfObject.begin(), firstIdOfObject.end(), id);
-  if (id == 0 || after == firstIdOfObject.begin()) return {};
+  if (after == firstIdOfObject.begin()) return {};
   const auto object = std::prev(after);
-  return {static_cast<int>(object - firstIdOfObject.begin()), id - *object};
+  return {static_cast<int>(object - firstIdOfObject.begin()), id - *object, -1};
 }
 
 Scene parseScene(const std::string& jsonText, const std::string& path) {
@@ -831,7 +1095,32 @@ Scene parseScene(const std::string& jsonText, const std::string& path) {
   return scene;
 }
 
+bool isMeshFilePath(const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return extension == ".gltf" || extension == ".glb" || extension == ".obj" || extension == ".ply";
+}
+
 Scene loadScene(const std::string& path) {
+  if (isMeshFilePath(path)) {
+    // A mesh file on its own: its geometry seen from its own cameras (glTF), under the default
+    // conventions.
+    MeshFileContents contents = loadMeshFile(path);
+    if (contents.cameras.empty()) {
+      throw InputError(path +
+                       ": the file has no cameras; give it one (glTF) or reference it from a "
+                       "scene file with cameras (\"type\": \"meshFile\")");
+    }
+    Scene scene;
+    scene.path = path;
+    scene.name = std::filesystem::path(path).stem().string();
+    scene.comment = "mesh file " + path;
+    scene.cameras = std::move(contents.cameras);
+    scene.objects = std::move(contents.objects);
+    scene.warnings = std::move(contents.warnings);
+    return scene;
+  }
   std::ifstream in(path, std::ios::binary);
   std::error_code error;
   if (!in || std::filesystem::is_directory(path, error))

@@ -1,0 +1,723 @@
+// glTF 2.0 (.gltf with external or data: buffers, and .glb) through tinygltf, compiled in here
+// without image support: clipray needs geometry and cameras only. tinygltf parses the JSON and
+// loads the buffers but checks little of what they say, so every index, accessor range, type and
+// transform is validated here before a byte is read.
+
+#define TINYGLTF_IMPLEMENTATION
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#define TINYGLTF_NO_EXTERNAL_IMAGE
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <system_error>
+#include <utility>
+#include <vector>
+
+#include <glm/gtc/quaternion.hpp>
+
+#include "clipray/scene/loaders/MeshFileCommon.hpp"
+
+namespace clipray::meshfiles {
+
+namespace {
+
+constexpr int kDefaultViewportWidth = 320;
+constexpr int kDefaultViewportHeight = 240;
+constexpr double kMaxViewportDimension = 16384;
+// A rotation quaternion shorter than this has no direction to normalise.
+constexpr double kMinQuaternionLength = 1e-12;
+
+// ---- File access for external buffers --------------------------------------------------------
+// tinygltf's defaults would open anything (devices, FIFOs); only regular files are read here.
+
+bool regularFileExists(const std::string& path, void* /*userData*/) {
+  std::error_code error;
+  return std::filesystem::is_regular_file(path, error);
+}
+
+std::string pathUnchanged(const std::string& path, void* /*userData*/) {
+  return path;
+}
+
+bool readRegularFile(std::vector<unsigned char>* out, std::string* error, const std::string& path,
+                     void* /*userData*/) {
+  std::error_code fsError;
+  const bool regular = std::filesystem::is_regular_file(path, fsError);
+  const std::uintmax_t size = regular ? std::filesystem::file_size(path, fsError) : 0;
+  // glTF buffers are at most 2^32 bytes here (tinygltf sizes); a bigger "file" is something like
+  // /proc/kcore, which must not be read.
+  if (!regular || fsError || size > std::numeric_limits<std::uint32_t>::max()) {
+    if (error) *error += "cannot open file \"" + path + "\"\n";
+    return false;
+  }
+  std::ifstream stream(path, std::ios::binary);
+  out->resize(static_cast<std::size_t>(size));
+  if (!stream.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size))) {
+    if (error) *error += "cannot read file \"" + path + "\"\n";
+    return false;
+  }
+  return true;
+}
+
+bool writeNothing(std::string* error, const std::string& /*path*/,
+                  const std::vector<unsigned char>& /*contents*/, void* /*userData*/) {
+  if (error) *error += "clipray never writes glTF files\n";
+  return false;
+}
+
+// Images are not geometry: accept them without decoding.
+bool ignoreImage(tinygltf::Image* /*image*/, const int /*imageIndex*/, std::string* /*error*/,
+                 std::string* /*warning*/, int /*requestedWidth*/, int /*requestedHeight*/,
+                 const unsigned char* /*bytes*/, int /*size*/, void* /*userData*/) {
+  return true;
+}
+
+std::string trimmed(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  std::replace(text.begin(), text.end(), '\n', ';');
+  return text;
+}
+
+const char* modeName(int mode) {
+  switch (mode) {
+    case TINYGLTF_MODE_POINTS:
+      return "POINTS";
+    case TINYGLTF_MODE_LINE:
+      return "LINES";
+    case TINYGLTF_MODE_LINE_LOOP:
+      return "LINE_LOOP";
+    case TINYGLTF_MODE_LINE_STRIP:
+      return "LINE_STRIP";
+    case TINYGLTF_MODE_TRIANGLES:
+      return "TRIANGLES";
+    case TINYGLTF_MODE_TRIANGLE_STRIP:
+      return "TRIANGLE_STRIP";
+    case TINYGLTF_MODE_TRIANGLE_FAN:
+      return "TRIANGLE_FAN";
+    default:
+      return "unknown";
+  }
+}
+
+std::string componentTypeName(int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+      return "5120 (BYTE)";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return "5121 (UNSIGNED_BYTE)";
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+      return "5122 (SHORT)";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return "5123 (UNSIGNED_SHORT)";
+    case TINYGLTF_COMPONENT_TYPE_INT:
+      return "5124 (INT)";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+      return "5125 (UNSIGNED_INT)";
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return "5126 (FLOAT)";
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE:
+      return "5130 (DOUBLE)";
+    default:
+      return std::to_string(componentType);
+  }
+}
+
+std::string typeName(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR:
+      return "SCALAR";
+    case TINYGLTF_TYPE_VEC2:
+      return "VEC2";
+    case TINYGLTF_TYPE_VEC3:
+      return "VEC3";
+    case TINYGLTF_TYPE_VEC4:
+      return "VEC4";
+    case TINYGLTF_TYPE_MAT2:
+      return "MAT2";
+    case TINYGLTF_TYPE_MAT3:
+      return "MAT3";
+    case TINYGLTF_TYPE_MAT4:
+      return "MAT4";
+    default:
+      return std::to_string(type);
+  }
+}
+
+std::string indexText(const std::string& array, std::size_t index) {
+  return array + "[" + std::to_string(index) + "]";
+}
+
+// Bytes of one accessor, proven in bounds: element i starts at data + i * stride.
+struct AccessorBytes {
+  const unsigned char* data = nullptr;
+  std::size_t stride = 0;
+  std::size_t count = 0;
+};
+
+std::uint32_t littleEndianU32(std::string_view bytes, std::size_t offset) {
+  const auto byte = [&](std::size_t i) {
+    return static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[offset + i]));
+  };
+  return byte(0) | byte(1) << 8 | byte(2) << 16 | byte(3) << 24;
+}
+
+// The GLB container (header, JSON chunk, optional BIN chunk) is checked here before tinygltf sees
+// it, so that lengths in the file never send a reader past the end and messages name the field.
+void checkGlbContainer(std::string_view bytes, const std::string& path) {
+  constexpr std::size_t kHeaderBytes = 12;
+  constexpr std::size_t kChunkHeaderBytes = 8;
+  constexpr std::uint32_t kJsonChunk = 0x4E4F534A;  // "JSON"
+  constexpr std::uint32_t kBinChunk = 0x004E4942;   // "BIN\0"
+  if (bytes.size() < kHeaderBytes + kChunkHeaderBytes) {
+    fail(path, "glb header",
+         "a GLB needs at least 20 bytes (header and JSON chunk header), got " +
+             std::to_string(bytes.size()));
+  }
+  if (bytes.substr(0, 4) != "glTF") {
+    fail(path, "glb header", "expected the magic \"glTF\", got " + quotedText(bytes.substr(0, 4)));
+  }
+  const std::uint32_t version = littleEndianU32(bytes, 4);
+  if (version != 2) fail(path, "glb header", "version must be 2, got " + std::to_string(version));
+  const std::uint32_t length = littleEndianU32(bytes, 8);
+  if (length != bytes.size()) {
+    fail(path, "glb header",
+         "length " + std::to_string(length) + " differs from the file size " +
+             std::to_string(bytes.size()));
+  }
+  std::size_t offset = kHeaderBytes;
+  for (int chunk = 0; offset < bytes.size(); ++chunk) {
+    const std::string element = "glb chunk " + std::to_string(chunk);
+    if (bytes.size() - offset < kChunkHeaderBytes) {
+      fail(path, element,
+           "the chunk header needs 8 bytes, got " + std::to_string(bytes.size() - offset));
+    }
+    const std::uint32_t chunkLength = littleEndianU32(bytes, offset);
+    const std::uint32_t chunkType = littleEndianU32(bytes, offset + 4);
+    if (chunk == 0 && chunkType != kJsonChunk) {
+      fail(path, element, "the first chunk must be JSON, got type " + std::to_string(chunkType));
+    }
+    if (chunk == 1 && chunkType != kBinChunk) {
+      fail(path, element, "the second chunk must be BIN, got type " + std::to_string(chunkType));
+    }
+    if (chunkLength > bytes.size() - offset - kChunkHeaderBytes) {
+      fail(path, element,
+           "length " + std::to_string(chunkLength) + " exceeds the " +
+               std::to_string(bytes.size() - offset - kChunkHeaderBytes) + " bytes left");
+    }
+    offset += kChunkHeaderBytes + chunkLength;
+    if (chunk >= 1) break;  // chunks after BIN are extensions' business; tinygltf ignores them
+  }
+}
+
+class GltfReader {
+ public:
+  GltfReader(const tinygltf::Model& model, const std::string& path, const glm::dmat4& worldFromFile)
+      : model_(model), path_(path), worldFromFile_(worldFromFile) {}
+
+  MeshFileContents read() {
+    for (const std::string& extension : model_.extensionsRequired) {
+      fail(path_, "extensionsRequired",
+           "clipray supports no glTF extensions, got " + quotedText(extension));
+    }
+    meshCache_.resize(model_.meshes.size());
+    for (const auto& [node, world] : placedNodes()) {
+      const tinygltf::Node& placed = model_.nodes[node];
+      if (placed.mesh >= 0) addMeshInstance(node, world);
+      if (placed.camera >= 0) addCamera(node, world);
+    }
+    return std::move(contents_);
+  }
+
+ private:
+  // ---- Scene graph -----------------------------------------------------------------------------
+
+  void checkNodeIndex(int index, const std::string& element) const {
+    if (index < 0 || static_cast<std::size_t>(index) >= model_.nodes.size()) {
+      fail(path_, element,
+           "node index " + std::to_string(index) + " out of range for " +
+               std::to_string(model_.nodes.size()) + " nodes");
+    }
+  }
+
+  std::vector<int> rootNodes() const {
+    std::vector<int> roots;
+    if (!model_.scenes.empty()) {
+      const int scene = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+      if (static_cast<std::size_t>(scene) >= model_.scenes.size()) {
+        fail(path_, "scene",
+             "scene index " + std::to_string(scene) + " out of range for " +
+                 std::to_string(model_.scenes.size()) + " scenes");
+      }
+      const std::vector<int>& nodes = model_.scenes[static_cast<std::size_t>(scene)].nodes;
+      for (std::size_t i = 0; i < nodes.size(); ++i) {
+        checkNodeIndex(nodes[i], indexText("scenes", static_cast<std::size_t>(scene)) +
+                                     indexText(".nodes", i));
+        roots.push_back(nodes[i]);
+      }
+      return roots;
+    }
+    // No scenes: every node that is nobody's child is a root.
+    std::vector<char> isChild(model_.nodes.size(), 0);
+    for (std::size_t n = 0; n < model_.nodes.size(); ++n) {
+      const std::vector<int>& children = model_.nodes[n].children;
+      for (std::size_t c = 0; c < children.size(); ++c) {
+        checkNodeIndex(children[c], indexText("nodes", n) + indexText(".children", c));
+        isChild[static_cast<std::size_t>(children[c])] = 1;
+      }
+    }
+    for (std::size_t n = 0; n < model_.nodes.size(); ++n) {
+      if (!isChild[n]) roots.push_back(static_cast<int>(n));
+    }
+    return roots;
+  }
+
+  glm::dmat4 localMatrix(std::size_t nodeIndex) const {
+    const tinygltf::Node& node = model_.nodes[nodeIndex];
+    const std::string element = indexText("nodes", nodeIndex);
+    const bool hasTrs = !node.translation.empty() || !node.rotation.empty() || !node.scale.empty();
+    auto checkFinite = [&](const std::vector<double>& values, const char* name) {
+      for (std::size_t i = 0; i < values.size(); ++i) {
+        if (!std::isfinite(values[i])) {
+          fail(path_, element + "." + name,
+               "element " + std::to_string(i) + " is not finite, got " + formatNumber(values[i]));
+        }
+      }
+    };
+    glm::dmat4 local(1.0);
+    if (!node.matrix.empty()) {
+      if (hasTrs) fail(path_, element, "has both \"matrix\" and translation/rotation/scale");
+      if (node.matrix.size() != 16) {
+        fail(path_, element + ".matrix",
+             "expected 16 numbers, got " + std::to_string(node.matrix.size()));
+      }
+      checkFinite(node.matrix, "matrix");
+      for (int column = 0; column < 4; ++column) {
+        for (int row = 0; row < 4; ++row) {
+          local[column][row] = node.matrix[static_cast<std::size_t>(4 * column + row)];
+        }
+      }
+      const std::string why = whyNotInvertibleAffine(local);
+      if (!why.empty()) fail(path_, element + ".matrix", why);
+      return local;
+    }
+    auto checkSize = [&](const std::vector<double>& values, const char* name, std::size_t size) {
+      if (!values.empty() && values.size() != size) {
+        fail(path_, element + "." + name,
+             "expected " + std::to_string(size) + " numbers, got " + std::to_string(values.size()));
+      }
+      checkFinite(values, name);
+    };
+    checkSize(node.translation, "translation", 3);
+    checkSize(node.rotation, "rotation", 4);
+    checkSize(node.scale, "scale", 3);
+    glm::dvec3 translation(0.0);
+    glm::dvec3 scale(1.0);
+    glm::dquat rotation(1.0, 0.0, 0.0, 0.0);  // (w, x, y, z)
+    if (!node.translation.empty()) {
+      translation = {node.translation[0], node.translation[1], node.translation[2]};
+    }
+    if (!node.scale.empty()) {
+      scale = {node.scale[0], node.scale[1], node.scale[2]};
+      if (scale.x == 0.0 || scale.y == 0.0 || scale.z == 0.0) {
+        fail(path_, element + ".scale",
+             "a zero scale factor makes the transform non-invertible, got " + formatVector(scale));
+      }
+    }
+    if (!node.rotation.empty()) {
+      // glTF stores the quaternion as x, y, z, w.
+      rotation = glm::dquat(node.rotation[3], node.rotation[0], node.rotation[1], node.rotation[2]);
+      const double length = glm::length(rotation);
+      if (!(length >= kMinQuaternionLength) || !std::isfinite(length)) {
+        fail(path_, element + ".rotation",
+             "expected a unit quaternion, got length " + formatNumber(length));
+      }
+      rotation /= length;
+    }
+    glm::dmat4 translate(1.0);
+    translate[3] = glm::dvec4(translation, 1.0);
+    glm::dmat4 scaleMatrix(1.0);
+    scaleMatrix[0][0] = scale.x;
+    scaleMatrix[1][1] = scale.y;
+    scaleMatrix[2][2] = scale.z;
+    local = translate * glm::dmat4(glm::mat3_cast(rotation)) * scaleMatrix;
+    const std::string why = whyNotInvertibleAffine(local);
+    if (!why.empty()) fail(path_, element, why);
+    return local;
+  }
+
+  // Every node reachable from the roots with its world matrix (worldFromFile included), parents
+  // before children. Iterative, so a deep hierarchy cannot overflow the stack; a node reached
+  // twice (a cycle, or a child of two parents) is an error, as glTF requires a forest.
+  std::vector<std::pair<std::size_t, glm::dmat4>> placedNodes() const {
+    std::vector<std::pair<std::size_t, glm::dmat4>> placed;
+    std::vector<char> visited(model_.nodes.size(), 0);
+    std::vector<std::pair<std::size_t, glm::dmat4>> pending;
+    const std::vector<int> roots = rootNodes();
+    for (auto root = roots.rbegin(); root != roots.rend(); ++root) {
+      pending.emplace_back(static_cast<std::size_t>(*root), worldFromFile_);
+    }
+    while (!pending.empty()) {
+      const auto [nodeIndex, parentWorld] = pending.back();
+      pending.pop_back();
+      const std::string element = indexText("nodes", nodeIndex);
+      if (visited[nodeIndex]) {
+        fail(path_, element,
+             "the node is reached twice (a cycle, or a child of two parents, or listed twice)");
+      }
+      visited[nodeIndex] = 1;
+      const glm::dmat4 world = parentWorld * localMatrix(nodeIndex);
+      const std::string why = whyNotInvertibleAffine(world);
+      if (!why.empty()) fail(path_, element, "world transform: " + why);
+      placed.emplace_back(nodeIndex, world);
+      const std::vector<int>& children = model_.nodes[nodeIndex].children;
+      for (std::size_t c = children.size(); c-- > 0;) {
+        checkNodeIndex(children[c], element + indexText(".children", c));
+        pending.emplace_back(static_cast<std::size_t>(children[c]), world);
+      }
+    }
+    return placed;
+  }
+
+  // ---- Accessors -------------------------------------------------------------------------------
+
+  AccessorBytes accessorBytes(int accessorIndex, const std::string& reference, int wantedType,
+                              const std::vector<int>& wantedComponentTypes) const {
+    if (accessorIndex < 0 || static_cast<std::size_t>(accessorIndex) >= model_.accessors.size()) {
+      fail(path_, reference,
+           "accessor index " + std::to_string(accessorIndex) + " out of range for " +
+               std::to_string(model_.accessors.size()) + " accessors");
+    }
+    const auto index = static_cast<std::size_t>(accessorIndex);
+    const tinygltf::Accessor& accessor = model_.accessors[index];
+    // "accessors[2] (POSITION of meshes[0].primitives[0])"
+    const std::string element = indexText("accessors", index) + " (" + reference + ")";
+    if (accessor.sparse.isSparse) fail(path_, element, "sparse accessors are not supported");
+    if (accessor.type != wantedType) {
+      fail(path_, element,
+           "expected type " + typeName(wantedType) + ", got " + typeName(accessor.type));
+    }
+    if (std::find(wantedComponentTypes.begin(), wantedComponentTypes.end(),
+                  accessor.componentType) == wantedComponentTypes.end()) {
+      std::string wanted;
+      for (int type : wantedComponentTypes) {
+        wanted += (wanted.empty() ? "" : " or ") + componentTypeName(type);
+      }
+      fail(path_, element,
+           "expected componentType " + wanted + ", got " +
+               componentTypeName(accessor.componentType));
+    }
+    if (accessor.normalized) fail(path_, element, "normalized accessors are not supported");
+    if (accessor.count == 0) fail(path_, element, "count must be at least 1, got 0");
+    if (accessor.bufferView < 0 ||
+        static_cast<std::size_t>(accessor.bufferView) >= model_.bufferViews.size()) {
+      fail(path_, element,
+           "bufferView index " + std::to_string(accessor.bufferView) + " out of range for " +
+               std::to_string(model_.bufferViews.size()) + " bufferViews");
+    }
+    const auto viewIndex = static_cast<std::size_t>(accessor.bufferView);
+    const tinygltf::BufferView& view = model_.bufferViews[viewIndex];
+    const std::string viewElement = indexText("bufferViews", viewIndex);
+    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model_.buffers.size()) {
+      fail(path_, viewElement,
+           "buffer index " + std::to_string(view.buffer) + " out of range for " +
+               std::to_string(model_.buffers.size()) + " buffers");
+    }
+    const auto bufferIndex = static_cast<std::size_t>(view.buffer);
+    const std::vector<unsigned char>& buffer = model_.buffers[bufferIndex].data;
+    if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset) {
+      fail(path_, viewElement,
+           "byteOffset " + std::to_string(view.byteOffset) + " + byteLength " +
+               std::to_string(view.byteLength) + " exceeds " + indexText("buffers", bufferIndex) +
+               " length " + std::to_string(buffer.size()));
+    }
+    const auto componentSize = static_cast<std::size_t>(
+        tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(accessor.componentType)));
+    const auto componentCount = static_cast<std::size_t>(
+        tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(accessor.type)));
+    const std::size_t elementSize = componentSize * componentCount;
+    const std::size_t stride = view.byteStride != 0 ? view.byteStride : elementSize;
+    if (stride < elementSize) {
+      fail(path_, viewElement,
+           "byteStride " + std::to_string(stride) + " is smaller than the element size " +
+               std::to_string(elementSize) + " of " + element);
+    }
+    // offset + stride * (count - 1) + elementSize <= byteLength, without overflowing.
+    const bool fits =
+        accessor.byteOffset <= view.byteLength &&
+        elementSize <= view.byteLength - accessor.byteOffset &&
+        accessor.count - 1 <= (view.byteLength - accessor.byteOffset - elementSize) / stride;
+    if (!fits) {
+      fail(path_, element,
+           "count " + std::to_string(accessor.count) + " x stride " + std::to_string(stride) +
+               " + offset " + std::to_string(accessor.byteOffset) + " exceeds " + viewElement +
+               " length " + std::to_string(view.byteLength));
+    }
+    return {buffer.data() + view.byteOffset + accessor.byteOffset, stride, accessor.count};
+  }
+
+  // ---- Meshes ----------------------------------------------------------------------------------
+
+  // The primitives of one mesh in the mesh's own frame, validated once however often it is placed.
+  const std::vector<MeshObject>& meshPrimitives(std::size_t meshIndex) {
+    std::optional<std::vector<MeshObject>>& cached = meshCache_[meshIndex];
+    if (cached) return *cached;
+    const tinygltf::Mesh& mesh = model_.meshes[meshIndex];
+    std::vector<MeshObject> primitives;
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) {
+      primitives.push_back(readPrimitive(meshIndex, p));
+    }
+    cached = std::move(primitives);
+    return *cached;
+  }
+
+  MeshObject readPrimitive(std::size_t meshIndex, std::size_t primitiveIndex) const {
+    const tinygltf::Primitive& primitive = model_.meshes[meshIndex].primitives[primitiveIndex];
+    const std::string element =
+        indexText("meshes", meshIndex) + indexText(".primitives", primitiveIndex);
+    const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES) {
+      fail(path_, element + ".mode",
+           "mode " + std::to_string(mode) + " (" + modeName(mode) +
+               ") is not supported; only TRIANGLES (4)");
+    }
+    const auto position = primitive.attributes.find("POSITION");
+    if (position == primitive.attributes.end()) {
+      fail(path_, element + ".attributes", "missing the POSITION attribute");
+    }
+    MeshObject object;
+    const AccessorBytes positions =
+        accessorBytes(position->second, "POSITION of " + element, TINYGLTF_TYPE_VEC3,
+                      {TINYGLTF_COMPONENT_TYPE_FLOAT});
+    if (positions.count > 0xFFFFFFFFull) {
+      fail(path_, element, "more vertices than 32-bit indices can address");
+    }
+    object.worldPositions.reserve(positions.count);
+    for (std::size_t v = 0; v < positions.count; ++v) {
+      float xyz[3];
+      std::memcpy(xyz, positions.data + v * positions.stride, sizeof xyz);
+      const glm::dvec3 value(xyz[0], xyz[1], xyz[2]);
+      if (!std::isfinite(value.x) || !std::isfinite(value.y) || !std::isfinite(value.z)) {
+        fail(path_,
+             indexText("accessors", static_cast<std::size_t>(position->second)) + " (POSITION of " +
+                 element + ")",
+             "vertex " + std::to_string(v) + " is not finite, got " + formatVector(value));
+      }
+      object.worldPositions.push_back(value);
+    }
+    const std::size_t vertexCount = positions.count;
+    if (primitive.indices < 0) {
+      if (vertexCount % 3 != 0) {
+        fail(path_, element,
+             "without indices the vertex count must be a multiple of 3, got " +
+                 std::to_string(vertexCount));
+      }
+      object.triangles.reserve(vertexCount / 3);
+      for (std::size_t t = 0; t < vertexCount / 3; ++t) {
+        const auto first = static_cast<std::uint32_t>(3 * t);
+        object.triangles.emplace_back(first, first + 1, first + 2);
+      }
+      return object;
+    }
+    const std::string indicesElement = element + ".indices";
+    const AccessorBytes indices = accessorBytes(
+        primitive.indices, "indices of " + element, TINYGLTF_TYPE_SCALAR,
+        {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+         TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
+    if (indices.count % 3 != 0) {
+      fail(path_, indicesElement,
+           "the index count must be a multiple of 3, got " + std::to_string(indices.count));
+    }
+    const int componentType =
+        model_.accessors[static_cast<std::size_t>(primitive.indices)].componentType;
+    auto indexAt = [&](std::size_t i) -> std::uint32_t {
+      const unsigned char* at = indices.data + i * indices.stride;
+      if (componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) return *at;
+      if (componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+        std::uint16_t value;
+        std::memcpy(&value, at, sizeof value);
+        return value;
+      }
+      std::uint32_t value;
+      std::memcpy(&value, at, sizeof value);
+      return value;
+    };
+    object.triangles.reserve(indices.count / 3);
+    for (std::size_t i = 0; i < indices.count; i += 3) {
+      glm::u32vec3 triangle;
+      for (int corner = 0; corner < 3; ++corner) {
+        const std::uint32_t value = indexAt(i + static_cast<std::size_t>(corner));
+        if (value >= vertexCount) {
+          fail(path_, indicesElement,
+               "index " + std::to_string(i + static_cast<std::size_t>(corner)) + " is " +
+                   std::to_string(value) + ", out of range for " + std::to_string(vertexCount) +
+                   " vertices");
+        }
+        triangle[corner] = value;
+      }
+      object.triangles.push_back(triangle);
+    }
+    return object;
+  }
+
+  void addMeshInstance(std::size_t nodeIndex, const glm::dmat4& world) {
+    const tinygltf::Node& node = model_.nodes[nodeIndex];
+    if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size()) {
+      fail(path_, indexText("nodes", nodeIndex) + ".mesh",
+           "mesh index " + std::to_string(node.mesh) + " out of range for " +
+               std::to_string(model_.meshes.size()) + " meshes");
+    }
+    const auto meshIndex = static_cast<std::size_t>(node.mesh);
+    const std::vector<MeshObject>& primitives = meshPrimitives(meshIndex);
+    const std::string& meshName = model_.meshes[meshIndex].name;
+    for (std::size_t p = 0; p < primitives.size(); ++p) {
+      MeshObject object = primitives[p];
+      const std::string base = (meshName.empty() ? "mesh" + std::to_string(meshIndex) : meshName) +
+                               "/" + std::to_string(p);
+      object.name = objectNames_.claim(base);
+      const std::string element =
+          (meshName.empty() ? indexText("meshes", meshIndex) : "mesh " + quotedText(meshName)) +
+          " primitive " + std::to_string(p);
+      addObject(contents_, path_, element, std::move(object), world);
+    }
+  }
+
+  // ---- Cameras ---------------------------------------------------------------------------------
+
+  void addCamera(std::size_t nodeIndex, const glm::dmat4& world) {
+    const tinygltf::Node& node = model_.nodes[nodeIndex];
+    if (static_cast<std::size_t>(node.camera) >= model_.cameras.size()) {
+      fail(path_, indexText("nodes", nodeIndex) + ".camera",
+           "camera index " + std::to_string(node.camera) + " out of range for " +
+               std::to_string(model_.cameras.size()) + " cameras");
+    }
+    const auto cameraIndex = static_cast<std::size_t>(node.camera);
+    const tinygltf::Camera& source = model_.cameras[cameraIndex];
+    const std::string element = indexText("cameras", cameraIndex);
+    Camera camera;
+    camera.viewport = {kDefaultViewportWidth, kDefaultViewportHeight};
+    if (source.type == "perspective") {
+      const tinygltf::PerspectiveCamera& perspective = source.perspective;
+      if (!(perspective.yfov > 0.0 && perspective.yfov < std::numbers::pi)) {
+        fail(path_, element + ".perspective.yfov",
+             "expected an angle in (0, pi) radians, got " + formatNumber(perspective.yfov));
+      }
+      if (!(perspective.znear > 0.0) || !std::isfinite(perspective.znear)) {
+        fail(path_, element + ".perspective.znear",
+             "expected a positive number, got " + formatNumber(perspective.znear));
+      }
+      PerspectiveProjection projection;
+      projection.fovYDegrees = perspective.yfov * 180.0 / std::numbers::pi;
+      projection.nearDistance = perspective.znear;
+      // tinygltf reads an absent zfar (an infinite far plane) as 0.
+      if (perspective.zfar != 0.0) {
+        if (!(perspective.zfar > perspective.znear) || !std::isfinite(perspective.zfar)) {
+          fail(path_, element + ".perspective.zfar",
+               "expected a number greater than znear (" + formatNumber(perspective.znear) +
+                   "), got " + formatNumber(perspective.zfar));
+        }
+        projection.farDistance = perspective.zfar;
+      }
+      // tinygltf reads an absent aspectRatio as 0: the viewport's aspect is used then.
+      if (perspective.aspectRatio != 0.0) {
+        if (!(perspective.aspectRatio > 0.0) || !std::isfinite(perspective.aspectRatio)) {
+          fail(path_, element + ".perspective.aspectRatio",
+               "expected a positive number, got " + formatNumber(perspective.aspectRatio));
+        }
+        projection.aspect = perspective.aspectRatio;
+        const double width =
+            std::clamp(std::round(kDefaultViewportHeight * perspective.aspectRatio), 1.0,
+                       kMaxViewportDimension);
+        camera.viewport.width = static_cast<int>(width);
+      }
+      camera.projection = projection;
+    } else if (source.type == "orthographic") {
+      const tinygltf::OrthographicCamera& orthographic = source.orthographic;
+      auto checkMagnification = [&](double value, const char* name) {
+        if (value == 0.0 || !std::isfinite(value)) {
+          fail(path_, element + ".orthographic." + name,
+               "expected a finite non-zero number, got " + formatNumber(value));
+        }
+      };
+      checkMagnification(orthographic.xmag, "xmag");
+      checkMagnification(orthographic.ymag, "ymag");
+      if (!(orthographic.znear >= 0.0) || !std::isfinite(orthographic.znear)) {
+        fail(path_, element + ".orthographic.znear",
+             "expected a non-negative number, got " + formatNumber(orthographic.znear));
+      }
+      if (!(orthographic.zfar > orthographic.znear) || !std::isfinite(orthographic.zfar)) {
+        fail(path_, element + ".orthographic.zfar",
+             "expected a number greater than znear (" + formatNumber(orthographic.znear) +
+                 "), got " + formatNumber(orthographic.zfar));
+      }
+      OrthographicProjection projection;
+      projection.left = -orthographic.xmag;
+      projection.right = orthographic.xmag;
+      projection.bottom = -orthographic.ymag;
+      projection.top = orthographic.ymag;
+      projection.nearDistance = orthographic.znear;
+      projection.farDistance = orthographic.zfar;
+      camera.projection = projection;
+    } else {
+      fail(path_, element + ".type",
+           "expected \"perspective\" or \"orthographic\", got " + quotedText(source.type));
+    }
+    // glTF cameras look down -Z with +Y up, as OpenGL view space does.
+    camera.viewFromWorld = glm::inverse(world);
+    camera.name = cameraNames_.claim(
+        node.name.empty() ? "camera" + std::to_string(contents_.cameras.size()) : node.name);
+    contents_.cameras.push_back(std::move(camera));
+  }
+
+  const tinygltf::Model& model_;
+  const std::string& path_;
+  const glm::dmat4& worldFromFile_;
+  std::vector<std::optional<std::vector<MeshObject>>> meshCache_;
+  UniqueNames objectNames_;
+  UniqueNames cameraNames_;
+  MeshFileContents contents_;
+};
+
+}  // namespace
+
+MeshFileContents parseGltf(std::string_view bytes, const std::string& path, bool binary,
+                           const glm::dmat4& worldFromFile) {
+  if (bytes.size() > std::numeric_limits<unsigned int>::max()) {
+    fail(path, binary ? "glb" : "gltf",
+         "files over 4 GiB are not supported, got " + std::to_string(bytes.size()) + " bytes");
+  }
+  if (binary) checkGlbContainer(bytes, path);
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(ignoreImage, nullptr);
+  loader.SetFsCallbacks(tinygltf::FsCallbacks{regularFileExists, pathUnchanged, readRegularFile,
+                                              writeNothing, nullptr});
+  const std::string baseDirectory = std::filesystem::path(path).parent_path().string();
+  tinygltf::Model model;
+  std::string error;
+  std::string warning;
+  const auto size = static_cast<unsigned int>(bytes.size());
+  const bool loaded =
+      binary
+          ? loader.LoadBinaryFromMemory(&model, &error, &warning,
+                                        reinterpret_cast<const unsigned char*>(bytes.data()), size,
+                                        baseDirectory)
+          : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), size, baseDirectory);
+  if (!loaded) {
+    fail(path, binary ? "glb" : "gltf", "tinygltf rejected the file: " + trimmed(error));
+  }
+  return GltfReader(model, path, worldFromFile).read();
+}
+
+}  // namespace clipray::meshfiles

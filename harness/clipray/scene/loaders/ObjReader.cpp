@@ -1,0 +1,198 @@
+// Wavefront OBJ through tinyobjloader (compiled in here, in double precision), wrapped in a scan of
+// our own: tinyobjloader reads "nan" as 0, only warns about out-of-range indices and silently drops
+// faces with fewer than 3 vertices, so the scan checks every "v" and "f" line first and reports the
+// line. Polygons are fanned into triangles here (tinyobjloader's own triangulation indexes the
+// vertex array before checking the indices).
+
+#define TINYOBJLOADER_IMPLEMENTATION
+#define TINYOBJLOADER_USE_DOUBLE
+#include <tiny_obj_loader.h>
+
+#include <charconv>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "clipray/scene/loaders/MeshFileCommon.hpp"
+
+namespace clipray::meshfiles {
+
+namespace {
+
+// The checks tinyobjloader does not do, with the line each problem is on.
+class ObjScan {
+ public:
+  ObjScan(std::string_view text, const std::string& path) : text_(text), path_(path) {}
+
+  void run() {
+    const std::size_t nul = text_.find('\0');
+    if (nul != std::string_view::npos) {
+      fail(path_, "byte " + std::to_string(nul), "a NUL byte in a text file");
+    }
+    std::size_t position = 0;
+    std::uint64_t lineNumber = 0;
+    while (position < text_.size()) {
+      // tinyobjloader ends lines at "\n", "\r\n" and a lone "\r"; so does this scan.
+      std::size_t end = text_.find_first_of("\r\n", position);
+      if (end == std::string_view::npos) end = text_.size();
+      const std::string_view line = text_.substr(position, end - position);
+      position = end + 1;
+      if (end + 1 < text_.size() && text_[end] == '\r' && text_[end + 1] == '\n') ++position;
+      ++lineNumber;
+      const std::vector<std::string_view> words = splitWords(line);
+      if (words.empty()) continue;
+      if (words[0] == "v") {
+        checkVertex(words, lineNumber);
+      } else if (words[0] == "f") {
+        checkFace(words, lineNumber);
+      }
+    }
+    if (largestPositiveIndex_ > vertexCount_) {
+      fail(path_, "line " + std::to_string(lineOfLargestIndex_),
+           "vertex index " + std::to_string(largestPositiveIndex_) + " out of range for " +
+               std::to_string(vertexCount_) + " vertices");
+    }
+  }
+
+ private:
+  void checkVertex(const std::vector<std::string_view>& words, std::uint64_t lineNumber) {
+    const std::string at =
+        "line " + std::to_string(lineNumber) + ": vertex " + std::to_string(vertexCount_ + 1);
+    if (words.size() < 4) {
+      fail(path_, at, "expected \"v x y z\", got " + std::to_string(words.size() - 1) + " numbers");
+    }
+    static constexpr const char* kAxes[] = {"x", "y", "z"};
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::string_view word = words[static_cast<std::size_t>(axis) + 1];
+      double value = 0.0;
+      const NumberParse parse = parseDouble(word, value);
+      if (parse == NumberParse::NotANumber) {
+        fail(path_, at, std::string(kAxes[axis]) + " is not a number, got " + quotedText(word));
+      }
+      if (parse == NumberParse::Overflow) {
+        fail(path_, at,
+             std::string(kAxes[axis]) + " does not fit a double, got " + quotedText(word));
+      }
+      if (!std::isfinite(value)) {
+        fail(path_, at, std::string(kAxes[axis]) + " is not finite, got " + quotedText(word));
+      }
+    }
+    ++vertexCount_;
+  }
+
+  void checkFace(const std::vector<std::string_view>& words, std::uint64_t lineNumber) {
+    const std::string at =
+        "line " + std::to_string(lineNumber) + ": face " + std::to_string(faceCount_++);
+    if (words.size() < 4) {
+      fail(path_, at, "a face needs at least 3 vertices, got " + std::to_string(words.size() - 1));
+    }
+    for (std::size_t corner = 1; corner < words.size(); ++corner) {
+      const std::string_view word = words[corner];
+      const std::string_view vertexPart = word.substr(0, word.find('/'));
+      std::int64_t index = 0;
+      const auto result =
+          std::from_chars(vertexPart.data(), vertexPart.data() + vertexPart.size(), index);
+      if (result.ec != std::errc() || result.ptr != vertexPart.data() + vertexPart.size() ||
+          vertexPart.empty()) {
+        fail(path_, at, "expected a vertex index, got " + quotedText(word));
+      }
+      if (index == 0) fail(path_, at, "vertex index 0 is invalid (OBJ indices start at 1)");
+      if (index < 0) {
+        // Relative: -1 is the last vertex defined so far.
+        if (static_cast<std::uint64_t>(-(index + 1)) >= vertexCount_) {
+          fail(path_, at,
+               "relative vertex index " + std::to_string(index) + " out of range for " +
+                   std::to_string(vertexCount_) + " vertices defined so far");
+        }
+      } else if (static_cast<std::uint64_t>(index) > largestPositiveIndex_) {
+        // Positive indices may refer to vertices defined later, so they are checked at the end.
+        largestPositiveIndex_ = static_cast<std::uint64_t>(index);
+        lineOfLargestIndex_ = lineNumber;
+      }
+      // tinyobjloader keeps indices in int.
+      if (index > 0x7FFFFFFF || index < -0x7FFFFFFF) {
+        fail(path_, at, "vertex index out of range, got " + std::to_string(index));
+      }
+    }
+  }
+
+  std::string_view text_;
+  const std::string& path_;
+  std::uint64_t vertexCount_ = 0;
+  std::uint64_t faceCount_ = 0;
+  std::uint64_t largestPositiveIndex_ = 0;
+  std::uint64_t lineOfLargestIndex_ = 0;
+};
+
+}  // namespace
+
+MeshFileContents parseObj(std::string_view bytes, const std::string& path,
+                          const glm::dmat4& worldFromFile) {
+  ObjScan(bytes, path).run();
+
+  tinyobj::ObjReaderConfig config;
+  config.triangulate = false;  // its triangulation reads vertices before checking indices
+  config.vertex_color = false;
+  tinyobj::ObjReader reader;
+  // Materials are irrelevant to clipray; an empty .mtl text keeps the reader off the disk.
+  if (!reader.ParseFromString(std::string(bytes), std::string(), config)) {
+    std::string error = reader.Error();
+    while (!error.empty() && (error.back() == '\n' || error.back() == '.')) error.pop_back();
+    fail(path, "obj", "tinyobjloader rejected the file: " + error);
+  }
+  const std::vector<tinyobj::real_t>& vertices = reader.GetAttrib().vertices;
+  const std::size_t vertexCount = vertices.size() / 3;
+  const std::string stem = std::filesystem::path(path).stem().string();
+
+  MeshFileContents contents;
+  UniqueNames names;
+  std::uint64_t faceNumber = 0;
+  for (const tinyobj::shape_t& shape : reader.GetShapes()) {
+    MeshObject object;
+    object.name = names.claim(shape.name.empty() ? (stem.empty() ? "obj" : stem) : shape.name);
+    // Each object gets the vertices its faces use, in first-use order.
+    std::unordered_map<int, std::uint32_t> objectIndexOfFileVertex;
+    auto objectIndex = [&](int fileVertex) {
+      if (fileVertex < 0 || static_cast<std::size_t>(fileVertex) >= vertexCount) {
+        fail(path, "face " + std::to_string(faceNumber),
+             "vertex index " + std::to_string(fileVertex + 1) + " out of range for " +
+                 std::to_string(vertexCount) + " vertices");
+      }
+      const auto [entry, inserted] = objectIndexOfFileVertex.try_emplace(
+          fileVertex, static_cast<std::uint32_t>(object.worldPositions.size()));
+      if (inserted) {
+        const std::size_t base = 3 * static_cast<std::size_t>(fileVertex);
+        object.worldPositions.emplace_back(vertices[base], vertices[base + 1], vertices[base + 2]);
+      }
+      return entry->second;
+    };
+    std::size_t offset = 0;
+    for (const unsigned int cornerCount : shape.mesh.num_face_vertices) {
+      if (cornerCount < 3 || offset + cornerCount > shape.mesh.indices.size()) {
+        fail(path, "face " + std::to_string(faceNumber),
+             "a face needs at least 3 vertices, got " + std::to_string(cornerCount));
+      }
+      const std::uint32_t first = objectIndex(shape.mesh.indices[offset].vertex_index);
+      for (std::size_t corner = 1; corner + 1 < cornerCount; ++corner) {
+        const std::uint32_t second = objectIndex(shape.mesh.indices[offset + corner].vertex_index);
+        const std::uint32_t third =
+            objectIndex(shape.mesh.indices[offset + corner + 1].vertex_index);
+        object.triangles.emplace_back(first, second, third);
+      }
+      offset += cornerCount;
+      ++faceNumber;
+    }
+    if (object.triangles.empty()) continue;
+    const std::string element = "object " + quotedText(object.name);
+    addObject(contents, path, element, std::move(object), worldFromFile);
+  }
+  return contents;
+}
+
+}  // namespace clipray::meshfiles

@@ -1,0 +1,505 @@
+// Mesh files (glTF, GLB, OBJ, PLY): what the shipped test files turn into, exactly, and the
+// message for every kind of bad input. The files under tests/data/meshes come from generate.py.
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <numbers>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "clipray/scene/InputError.hpp"
+#include "clipray/scene/MeshFiles.hpp"
+
+namespace clipray {
+namespace {
+
+using ::testing::ElementsAre;
+using ::testing::HasSubstr;
+using ::testing::StartsWith;
+using json = nlohmann::json;
+
+const std::string kDataDir = std::string(CLIPRAY_SOURCE_DIR) + "/tests/data/meshes/";
+
+// The message of the InputError that parsing throws; fails the test when nothing is thrown.
+std::string errorOf(const std::string& bytes, const std::string& path) {
+  try {
+    parseMeshFile(bytes, path);
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  ADD_FAILURE() << "no InputError for " << path;
+  return {};
+}
+
+std::string base64(const std::string& bytes) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string text;
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    std::uint32_t group = static_cast<unsigned char>(bytes[i]) << 16;
+    if (i + 1 < bytes.size())
+      group |= static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[i + 1])) << 8;
+    if (i + 2 < bytes.size()) group |= static_cast<unsigned char>(bytes[i + 2]);
+    text += kAlphabet[(group >> 18) & 63];
+    text += kAlphabet[(group >> 12) & 63];
+    text += i + 1 < bytes.size() ? kAlphabet[(group >> 6) & 63] : '=';
+    text += i + 2 < bytes.size() ? kAlphabet[group & 63] : '=';
+  }
+  return text;
+}
+
+template <typename T>
+std::string bytesOf(const std::vector<T>& values) {
+  std::string bytes(values.size() * sizeof(T), '\0');
+  std::memcpy(bytes.data(), values.data(), bytes.size());
+  return bytes;
+}
+
+// One triangle (indexed with unsigned shorts) in an embedded buffer: tests break one field.
+json triangleGltf(const std::vector<float>& positions = {0, 0, 0, 1, 0, 0, 0, 1, 0},
+                  const std::vector<std::uint16_t>& indices = {0, 1, 2}) {
+  const std::string buffer = bytesOf(positions) + bytesOf(indices);
+  const auto positionBytes = positions.size() * sizeof(float);
+  return {
+      {"asset", {{"version", "2.0"}}},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"nodes", {{{"mesh", 0}}}},
+      {"meshes",
+       {{{"name", "Tri"}, {"primitives", {{{"attributes", {{"POSITION", 0}}}, {"indices", 1}}}}}}},
+      {"buffers",
+       {{{"uri", "data:application/octet-stream;base64," + base64(buffer)},
+         {"byteLength", buffer.size()}}}},
+      {"bufferViews",
+       {{{"buffer", 0}, {"byteOffset", 0}, {"byteLength", positionBytes}},
+        {{"buffer", 0}, {"byteOffset", positionBytes}, {"byteLength", indices.size() * 2}}}},
+      {"accessors",
+       {{{"bufferView", 0},
+         {"componentType", 5126},
+         {"count", positions.size() / 3},
+         {"type", "VEC3"}},
+        {{"bufferView", 1},
+         {"componentType", 5123},
+         {"count", indices.size()},
+         {"type", "SCALAR"}}}},
+  };
+}
+
+std::vector<glm::dvec3> positionsOf(const MeshObject& object) {
+  return object.worldPositions;
+}
+
+// ---- Good files ------------------------------------------------------------------------------
+
+TEST(MeshFileGltf, HierarchyWithExternalBufferAppliesTrsAndMatrixExactly) {
+  const MeshFileContents contents = loadMeshFile(kDataDir + "hierarchy.gltf");
+  ASSERT_EQ(contents.objects.size(), 2u);
+  // Quad: child translate (0,0,-1) under parent T(1,2,3) * R(180 deg about z) * S(2).
+  EXPECT_EQ(contents.objects[0].name, "Quad/0");
+  EXPECT_THAT(positionsOf(contents.objects[0]),
+              ElementsAre(glm::dvec3(1, 2, 1), glm::dvec3(-1, 2, 1), glm::dvec3(-1, 0, 1),
+                          glm::dvec3(1, 0, 1)));
+  EXPECT_THAT(contents.objects[0].triangles,
+              ElementsAre(glm::u32vec3(0, 1, 2), glm::u32vec3(0, 2, 3)));
+  // Triangle: not indexed, placed by a matrix (x, y, z) -> (10 - y, 20 + x, 30 + z).
+  EXPECT_EQ(contents.objects[1].name, "Triangle/0");
+  EXPECT_THAT(positionsOf(contents.objects[1]),
+              ElementsAre(glm::dvec3(10, 20, 30), glm::dvec3(10, 22, 30), glm::dvec3(8, 20, 30)));
+  EXPECT_THAT(contents.objects[1].triangles, ElementsAre(glm::u32vec3(0, 1, 2)));
+  EXPECT_TRUE(contents.warnings.empty());
+}
+
+TEST(MeshFileGltf, CamerasKeepTheirProjectionAndViewFromWorld) {
+  const MeshFileContents contents = loadMeshFile(kDataDir + "hierarchy.gltf");
+  ASSERT_EQ(contents.cameras.size(), 3u);
+
+  const Camera& withFar = contents.cameras[0];
+  EXPECT_EQ(withFar.name, "persp");
+  EXPECT_EQ(withFar.viewport, (Viewport{320, 240}));
+  const auto& perspective = std::get<PerspectiveProjection>(withFar.projection);
+  EXPECT_DOUBLE_EQ(perspective.fovYDegrees, 0.5 * 180.0 / std::numbers::pi);
+  EXPECT_FALSE(perspective.aspect.has_value());
+  EXPECT_EQ(perspective.nearDistance, 0.25);
+  EXPECT_EQ(perspective.farDistance, 100.0);
+  EXPECT_EQ(withFar.viewFromWorld, glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, -5)));
+
+  const Camera& infinite = contents.cameras[1];
+  EXPECT_EQ(infinite.name, "camera1");                 // the node has no name
+  EXPECT_EQ(infinite.viewport, (Viewport{360, 240}));  // aspectRatio 1.5
+  const auto& infinitePerspective = std::get<PerspectiveProjection>(infinite.projection);
+  EXPECT_DOUBLE_EQ(infinitePerspective.fovYDegrees, 180.0 / std::numbers::pi);
+  EXPECT_EQ(infinitePerspective.aspect, 1.5);
+  EXPECT_EQ(infinitePerspective.nearDistance, 0.5);
+  EXPECT_FALSE(infinitePerspective.farDistance.has_value());
+  EXPECT_EQ(infinite.viewFromWorld, glm::translate(glm::dmat4(1.0), glm::dvec3(0, -1, 0)));
+
+  const Camera& ortho = contents.cameras[2];
+  EXPECT_EQ(ortho.name, "ortho");
+  const auto& box = std::get<OrthographicProjection>(ortho.projection);
+  EXPECT_EQ(box.left, -3.0);
+  EXPECT_EQ(box.right, 3.0);
+  EXPECT_EQ(box.bottom, -2.0);
+  EXPECT_EQ(box.top, 2.0);
+  EXPECT_EQ(box.nearDistance, 0.0);
+  EXPECT_EQ(box.farDistance, 16.0);
+  EXPECT_EQ(ortho.viewFromWorld, glm::translate(glm::dmat4(1.0), glm::dvec3(0, 0, -8)));
+}
+
+TEST(MeshFileGltf, WorldFromFileGoesOnTopOfNodeTransforms) {
+  const glm::dmat4 worldFromFile = glm::translate(glm::dmat4(1.0), glm::dvec3(100, 0, 0));
+  const MeshFileContents contents = loadMeshFile(kDataDir + "hierarchy.gltf", worldFromFile);
+  EXPECT_EQ(contents.objects[1].worldPositions[0], glm::dvec3(110, 20, 30));
+  EXPECT_EQ(contents.cameras[0].viewFromWorld,
+            glm::translate(glm::dmat4(1.0), glm::dvec3(-100, 0, -5)));
+}
+
+TEST(MeshFileGltf, EmbeddedBufferWithoutScenesLoadsEveryRootNode) {
+  const MeshFileContents external = loadMeshFile(kDataDir + "hierarchy.gltf");
+  const MeshFileContents embedded = loadMeshFile(kDataDir + "embedded.gltf");
+  ASSERT_EQ(embedded.objects.size(), external.objects.size());
+  for (std::size_t i = 0; i < external.objects.size(); ++i) {
+    EXPECT_EQ(embedded.objects[i].name, external.objects[i].name);
+    EXPECT_EQ(embedded.objects[i].worldPositions, external.objects[i].worldPositions);
+    EXPECT_EQ(embedded.objects[i].triangles, external.objects[i].triangles);
+  }
+  EXPECT_EQ(embedded.cameras.size(), 3u);
+}
+
+TEST(MeshFileGltf, GlbWithStrideKeepsAndReportsDegenerateTriangles) {
+  const std::string path = kDataDir + "strided.glb";
+  const MeshFileContents contents = loadMeshFile(path);
+  ASSERT_EQ(contents.objects.size(), 1u);
+  EXPECT_EQ(contents.objects[0].name, "Strided/0");
+  EXPECT_THAT(positionsOf(contents.objects[0]),
+              ElementsAre(glm::dvec3(0, 0, -2), glm::dvec3(4, 0, -2), glm::dvec3(0, 4, -2),
+                          glm::dvec3(4, 4, -2)));
+  EXPECT_THAT(contents.objects[0].triangles,
+              ElementsAre(glm::u32vec3(0, 1, 2), glm::u32vec3(1, 1, 3)));
+  EXPECT_THAT(contents.warnings,
+              ElementsAre(path + ": mesh \"Strided\" primitive 0: 1 degenerate triangle kept "
+                                 "(first: triangle 1)"));
+  EXPECT_TRUE(contents.cameras.empty());
+}
+
+TEST(MeshFileGltf, ExtensionIsCaseInsensitiveAndNamesAreUnique) {
+  json document = triangleGltf();
+  document["nodes"] = {{{"mesh", 0}}, {{"mesh", 0}, {"translation", {0, 0, 1}}}};
+  document["scenes"][0]["nodes"] = {0, 1};
+  const MeshFileContents contents = parseMeshFile(document.dump(), "twice.GLTF");
+  ASSERT_EQ(contents.objects.size(), 2u);
+  EXPECT_EQ(contents.objects[0].name, "Tri/0");
+  EXPECT_EQ(contents.objects[1].name, "Tri/0#2");
+  EXPECT_EQ(contents.objects[1].worldPositions[1], glm::dvec3(1, 0, 1));
+}
+
+TEST(MeshFileObj, QuadsAreFannedAndRelativeIndicesResolved) {
+  const MeshFileContents contents = loadMeshFile(kDataDir + "quads.obj");
+  ASSERT_EQ(contents.objects.size(), 2u);
+  EXPECT_EQ(contents.objects[0].name, "first");
+  EXPECT_THAT(positionsOf(contents.objects[0]),
+              ElementsAre(glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(1, 1, 0),
+                          glm::dvec3(0, 1, 0)));
+  EXPECT_THAT(contents.objects[0].triangles,
+              ElementsAre(glm::u32vec3(0, 1, 2), glm::u32vec3(0, 2, 3)));
+  EXPECT_EQ(contents.objects[1].name, "second");
+  EXPECT_THAT(positionsOf(contents.objects[1]),
+              ElementsAre(glm::dvec3(0, 0, 1), glm::dvec3(2, 0, 1), glm::dvec3(2, 2, 1),
+                          glm::dvec3(0, 2, 1)));
+  EXPECT_THAT(contents.objects[1].triangles,
+              ElementsAre(glm::u32vec3(0, 1, 2), glm::u32vec3(0, 2, 3)));
+  EXPECT_TRUE(contents.cameras.empty());
+}
+
+TEST(MeshFilePly, AsciiAndBothBinaryByteOrdersReadTheSameMesh) {
+  for (const char* name : {"ascii", "binary_little", "binary_big"}) {
+    SCOPED_TRACE(name);
+    const glm::dmat4 worldFromFile = glm::scale(glm::dmat4(1.0), glm::dvec3(2.0));
+    const MeshFileContents contents = loadMeshFile(kDataDir + name + ".ply", worldFromFile);
+    ASSERT_EQ(contents.objects.size(), 1u);
+    EXPECT_EQ(contents.objects[0].name, name);
+    EXPECT_THAT(positionsOf(contents.objects[0]),
+                ElementsAre(glm::dvec3(0, 0, 0), glm::dvec3(2, 0, 0), glm::dvec3(2, 2, 0),
+                            glm::dvec3(0, 2, 0), glm::dvec3(1, 1, 2)));
+    EXPECT_THAT(contents.objects[0].triangles,
+                ElementsAre(glm::u32vec3(0, 1, 2), glm::u32vec3(0, 2, 3), glm::u32vec3(0, 1, 4)));
+    EXPECT_TRUE(contents.warnings.empty());
+  }
+}
+
+// ---- Bad files: the files themselves ---------------------------------------------------------
+
+TEST(MeshFileErrors, MissingFileAndUnknownExtension) {
+  EXPECT_EQ(errorOf("", "model.stl"),
+            "model.stl: unsupported mesh file extension \".stl\"; clipray reads .gltf, .glb, .obj "
+            "and .ply");
+  const std::string missing = kDataDir + "no-such-file.ply";
+  try {
+    loadMeshFile(missing);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()), missing + ": cannot open file");
+  }
+}
+
+TEST(MeshFileErrors, NonInvertibleWorldFromFile) {
+  EXPECT_EQ(errorOf("", "a.ply"), "a.ply: line 1: expected the magic line \"ply\", got \"\"");
+  try {
+    parseMeshFile("", "a.ply", glm::dmat4(0.0));
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_THAT(error.what(), StartsWith("a.ply: worldFromFile: row 3 must be 0, 0, 0, 1"));
+  }
+}
+
+// ---- Bad files: glTF -------------------------------------------------------------------------
+
+TEST(MeshFileErrors, GltfMalformedJsonAndGlbHeader) {
+  EXPECT_THAT(errorOf("{\"asset\": ", "bad.gltf"),
+              StartsWith("bad.gltf: gltf: tinygltf rejected the file: "));
+  auto glbHeader = [](std::uint32_t version, std::uint32_t length) {
+    std::string header = "glTF";
+    const std::uint32_t fields[2] = {version, length};
+    header.append(reinterpret_cast<const char*>(fields), sizeof fields);
+    return header;
+  };
+  const std::string jsonChunk = std::string("\x04\0\0\0JSON{}  ", 12);
+  EXPECT_EQ(errorOf(glbHeader(1, 24) + jsonChunk, "bad.glb"),
+            "bad.glb: glb header: version must be 2, got 1");
+  EXPECT_EQ(errorOf(glbHeader(2, 99) + jsonChunk, "bad.glb"),
+            "bad.glb: glb header: length 99 differs from the file size 24");
+  EXPECT_EQ(errorOf(glbHeader(2, 24) + std::string("\x05\0\0\0JSON{}  ", 12), "bad.glb"),
+            "bad.glb: glb chunk 0: length 5 exceeds the 4 bytes left");
+  EXPECT_EQ(errorOf("not a glb at all", "bad.glb"),
+            "bad.glb: glb header: a GLB needs at least 20 bytes (header and JSON chunk header), "
+            "got 16");
+  EXPECT_THAT(errorOf(glbHeader(2, 24) + jsonChunk, "bad.glb"),
+              StartsWith("bad.glb: glb: tinygltf rejected the file: "));
+}
+
+TEST(MeshFileErrors, GltfMissingExternalBuffer) {
+  json document = triangleGltf();
+  document["buffers"][0]["uri"] = "missing.bin";
+  const std::string message = errorOf(document.dump(), kDataDir + "missing.gltf");
+  EXPECT_THAT(message, StartsWith(kDataDir + "missing.gltf: gltf: tinygltf rejected the file: "));
+  EXPECT_THAT(message, HasSubstr("missing.bin"));
+}
+
+TEST(MeshFileErrors, GltfBufferShorterThanItsByteLength) {
+  json document = triangleGltf();
+  document["buffers"][0]["byteLength"] = 400;
+  EXPECT_THAT(errorOf(document.dump(), "short.gltf"),
+              StartsWith("short.gltf: gltf: tinygltf rejected the file: "));
+}
+
+TEST(MeshFileErrors, GltfBufferViewBeyondItsBuffer) {
+  json document = triangleGltf();
+  document["bufferViews"][1]["byteLength"] = 60;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: bufferViews[1]: byteOffset 36 + byteLength 60 exceeds buffers[0] length 42");
+}
+
+TEST(MeshFileErrors, GltfAccessorBeyondItsBufferView) {
+  json document = triangleGltf();
+  document["accessors"][0]["count"] = 4;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: accessors[0] (POSITION of meshes[0].primitives[0]): count 4 x stride 12 + "
+            "offset 0 exceeds bufferViews[0] length 36");
+  document = triangleGltf();
+  document["accessors"][1]["byteOffset"] = 2;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: accessors[1] (indices of meshes[0].primitives[0]): count 3 x stride 2 + "
+            "offset 2 exceeds bufferViews[1] length 6");
+}
+
+TEST(MeshFileErrors, GltfWrongAccessorTypes) {
+  json document = triangleGltf();
+  document["accessors"][0]["componentType"] = 5123;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: accessors[0] (POSITION of meshes[0].primitives[0]): expected componentType "
+            "5126 (FLOAT), got 5123 (UNSIGNED_SHORT)");
+  document = triangleGltf();
+  document["accessors"][1]["componentType"] = 5122;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: accessors[1] (indices of meshes[0].primitives[0]): expected componentType "
+            "5121 (UNSIGNED_BYTE) or 5123 (UNSIGNED_SHORT) or 5125 (UNSIGNED_INT), got 5122 "
+            "(SHORT)");
+  document = triangleGltf();
+  document["meshes"][0]["primitives"][0]["indices"] = 7;
+  // tinygltf checks this index itself.
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: gltf: tinygltf rejected the file: primitive indices accessor out of bounds");
+}
+
+TEST(MeshFileErrors, GltfIndexOutOfRange) {
+  EXPECT_EQ(errorOf(triangleGltf({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 3}).dump(), "m.gltf"),
+            "m.gltf: meshes[0].primitives[0].indices: index 2 is 3, out of range for 3 vertices");
+}
+
+TEST(MeshFileErrors, GltfNonFinitePosition) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  EXPECT_EQ(errorOf(triangleGltf({0, 0, 0, 1, nan, 0, 0, 1, 0}).dump(), "m.gltf"),
+            "m.gltf: accessors[0] (POSITION of meshes[0].primitives[0]): vertex 1 is not finite, "
+            "got (1, nan, 0)");
+  EXPECT_EQ(errorOf(triangleGltf({0, 0, 0, 1, 0, 0, 0, 1, -inf}).dump(), "m.gltf"),
+            "m.gltf: accessors[0] (POSITION of meshes[0].primitives[0]): vertex 2 is not finite, "
+            "got (0, 1, -inf)");
+}
+
+TEST(MeshFileErrors, GltfUnsupportedMode) {
+  json document = triangleGltf();
+  document["meshes"][0]["primitives"][0]["mode"] = 1;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: meshes[0].primitives[0].mode: mode 1 (LINES) is not supported; only "
+            "TRIANGLES (4)");
+}
+
+TEST(MeshFileErrors, GltfNonInvertibleNodeTransforms) {
+  json document = triangleGltf();
+  document["nodes"][0]["scale"] = {1, 0, 1};
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: nodes[0].scale: a zero scale factor makes the transform non-invertible, got "
+            "(1, 0, 1)");
+  document = triangleGltf();
+  document["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 0, 0, 0, 1};
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: nodes[0].matrix: the transform is not invertible (its 3x3 part has "
+            "determinant 0)");
+}
+
+TEST(MeshFileErrors, GltfNodeCycleIsRejected) {
+  json document = triangleGltf();
+  document["nodes"] = {{{"mesh", 0}, {"children", {1}}}, {{"children", {0}}}};
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: nodes[0]: the node is reached twice (a cycle, or a child of two parents, or "
+            "listed twice)");
+}
+
+TEST(MeshFileErrors, GltfCameraChecks) {
+  json document = triangleGltf();
+  document["nodes"][0]["camera"] = 0;
+  document["cameras"] = {
+      {{"type", "perspective"}, {"perspective", {{"yfov", 1}, {"znear", 2}, {"zfar", 1}}}}};
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: cameras[0].perspective.zfar: expected a number greater than znear (2), got 1");
+}
+
+TEST(MeshFileErrors, FileWithoutTriangles) {
+  json document = triangleGltf();
+  document["nodes"][0].erase("mesh");
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"), "m.gltf: the file holds no triangles");
+}
+
+// ---- Bad files: OBJ --------------------------------------------------------------------------
+
+TEST(MeshFileErrors, ObjIndexOutOfRange) {
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 4\n", "m.obj"),
+            "m.obj: line 4: vertex index 4 out of range for 3 vertices");
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n", "m.obj"),
+            "m.obj: line 3: face 0: relative vertex index -3 out of range for 2 vertices defined "
+            "so far");
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "m.obj"),
+            "m.obj: line 4: face 0: vertex index 0 is invalid (OBJ indices start at 1)");
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nf 1 2\n", "m.obj"),
+            "m.obj: line 3: face 0: a face needs at least 3 vertices, got 2");
+}
+
+TEST(MeshFileErrors, ObjNonFinitePosition) {
+  EXPECT_EQ(errorOf("v 0 0 0\n\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n", "m.obj"),
+            "m.obj: line 3: vertex 2: y is not finite, got \"nan\"");
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\nv 0 1 -inf\nf 1 2 3\n", "m.obj"),
+            "m.obj: line 3: vertex 3: z is not finite, got \"-inf\"");
+  EXPECT_EQ(errorOf("v 0 0 1e999\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", "m.obj"),
+            "m.obj: line 1: vertex 1: z does not fit a double, got \"1e999\"");
+}
+
+TEST(MeshFileErrors, ObjLoneCarriageReturnEndsALineAsInTinyobjloader) {
+  EXPECT_EQ(errorOf("v 0 0 0\rv nan 0 0\r\nv 0 1 0\rf 1 2 3\r", "m.obj"),
+            "m.obj: line 2: vertex 2: x is not finite, got \"nan\"");
+}
+
+TEST(MeshFileErrors, ObjDegenerateTriangleIsKeptAndWarned) {
+  const MeshFileContents contents =
+      parseMeshFile("o flat\nv 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nf 1 2 4\nf 1 2 3\n", "m.obj");
+  ASSERT_EQ(contents.objects.size(), 1u);
+  EXPECT_EQ(contents.objects[0].triangles.size(), 2u);
+  EXPECT_THAT(contents.warnings,
+              ElementsAre("m.obj: object \"flat\": 1 degenerate triangle kept (first: triangle "
+                          "1)"));
+}
+
+// ---- Bad files: PLY --------------------------------------------------------------------------
+
+const std::string kPlyHeader =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+    "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+
+TEST(MeshFileErrors, PlyHeaderProblems) {
+  EXPECT_EQ(errorOf("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n", "m.ply"),
+            "m.ply: header: no \"end_header\" line before the end of the file (after line 4)");
+  EXPECT_EQ(errorOf("ply\nformat ascii 1.0\nelement vertex -3\nend_header\n", "m.ply"),
+            "m.ply: line 3: element \"vertex\": count must be a non-negative integer, got \"-3\"");
+  EXPECT_EQ(errorOf("ply\nformat ascii 1.0\nelement vertex 3x\nend_header\n", "m.ply"),
+            "m.ply: line 3: element \"vertex\": count must be a non-negative integer, got \"3x\"");
+  EXPECT_EQ(errorOf("ply\nformat binary_middle_endian 1.0\nend_header\n", "m.ply"),
+            "m.ply: line 2: unknown format \"binary_middle_endian\"; expected ascii, "
+            "binary_little_endian or binary_big_endian");
+  EXPECT_EQ(
+      errorOf("ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nend_header\n", "m.ply"),
+      "m.ply: element \"vertex\": missing property \"y\"");
+}
+
+TEST(MeshFileErrors, PlyTruncatedAndCountMismatch) {
+  EXPECT_EQ(errorOf(kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1\n", "m.ply"),
+            "m.ply: face 0: the file ends before property \"vertex_indices\" (truncated "
+            "after line 13)");
+  EXPECT_EQ(errorOf(kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 1 2\n", "m.ply"),
+            "m.ply: line 14: unexpected data after the last element, got \"3\"");
+  std::string binary = kPlyHeader;
+  binary.replace(binary.find("ascii"), 5, "binary_little_endian");
+  EXPECT_EQ(errorOf(binary + std::string(30, '\0'), "m.ply"),
+            "m.ply: vertex 2: the file ends inside property \"y\" (truncated after " +
+                std::to_string(binary.size() + 30) + " bytes)");
+}
+
+TEST(MeshFileErrors, PlyIndexOutOfRangeAndNonFinite) {
+  EXPECT_EQ(errorOf(kPlyHeader + "0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n", "m.ply"),
+            "m.ply: face 0: vertex index 3 out of range for 3 vertices");
+  EXPECT_EQ(errorOf(kPlyHeader + "0 0 0\n1 nan 0\n0 1 0\n3 0 1 2\n", "m.ply"),
+            "m.ply: line 11: vertex 1: property \"y\" is not finite, got nan");
+  std::string binary = kPlyHeader;
+  binary.replace(binary.find("ascii"), 5, "binary_big_endian");
+  const unsigned char bigEndianInfinity[4] = {0x7F, 0x80, 0, 0};
+  std::string body(36, '\0');
+  std::memcpy(body.data() + 20, bigEndianInfinity, 4);  // vertex 1, z
+  body += std::string("\3\0\0\0\0\0\0\0\1\0\0\0\2", 13);
+  EXPECT_EQ(errorOf(binary + body, "m.ply"),
+            "m.ply: vertex 1: property \"z\" is not finite, got inf");
+}
+
+TEST(MeshFilePly, ElementWithoutPropertiesTakesNoBytesWhateverItsCount) {
+  std::string header = kPlyHeader;
+  header.insert(header.find("end_header"), "element nothing 18446744073709551615\n");
+  const MeshFileContents contents =
+      parseMeshFile(header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "m.ply");
+  ASSERT_EQ(contents.objects.size(), 1u);
+  EXPECT_THAT(contents.objects[0].triangles, ElementsAre(glm::u32vec3(0, 1, 2)));
+}
+
+TEST(MeshFileErrors, PlyWithoutFacesHoldsNoTriangles) {
+  std::string empty = kPlyHeader;
+  empty.replace(empty.find("face 1"), 6, "face 0");
+  EXPECT_EQ(errorOf(empty + "0 0 0\n1 0 0\n0 1 0\n", "m.ply"),
+            "m.ply: the file holds no triangles");
+}
+
+}  // namespace
+}  // namespace clipray
