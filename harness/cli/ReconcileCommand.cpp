@@ -91,6 +91,7 @@ int runReconcile(const ReconcileOptions& options) {
           "no scene given and there is no scenes/ folder here; name scene files, e.g. clipray "
           "reconcile scenes/standard.json");
     }
+    // Scene files only: the mesh files under scenes/assets/ are referenced by them.
     for (const auto& entry : std::filesystem::directory_iterator("scenes")) {
       if (entry.path().extension() == ".json") scenePaths.push_back(entry.path().string());
     }
@@ -100,6 +101,10 @@ int runReconcile(const ReconcileOptions& options) {
   std::vector<Scene> scenes;
   for (const std::string& path : scenePaths) {
     scenes.push_back(loadScene(path));
+    // What the loaders kept but flagged (degenerate triangles, ...): worth seeing, not fatal.
+    for (const std::string& warning : scenes.back().warnings) {
+      std::cerr << "clipray: warning: " << warning << "\n";
+    }
     // Reports are filed under the scene's file stem: two scenes with one stem would share a folder.
     for (std::size_t k = 0; k + 1 < scenes.size(); ++k) {
       if (scenes[k].name == scenes.back().name) {
@@ -191,7 +196,9 @@ int runReconcile(const ReconcileOptions& options) {
 
 CommandRunner addReconcileOptions(CLI::App& app) {
   auto options = std::make_shared<ReconcileOptions>();
-  app.add_option("scenes", options->scenes, "Scene files (default: every scenes/*.json)");
+  app.add_option("scenes", options->scenes,
+                 "Scene files (.json), or glTF assets (.gltf, .glb) seen from their own cameras "
+                 "(default: every scenes/*.json)");
   app.add_option("--backend", options->backend, "GL backend: osmesa, egl")->capture_default_str();
   app.add_option("--conventions", options->conventions,
                  "Comma-separated: no, zo, zo-reversed (default: the scene's list, else no,zo)");

@@ -1,7 +1,8 @@
-# Embeds GLSL files from shaders/ into a generated C++ source as raw string literals.
-# Each file becomes `extern const char* const clipray::shaders::<name>` and is prefixed with a
-# `#line 1 <n>` directive after #version so compile errors point at the right line; the file name
-# is recorded in clipray::shaders::fileNames so the info log can name it.
+# Embeds GLSL files from shaders/ into a generated C++ source as raw string literals, verbatim.
+# Each file becomes `extern const char* const clipray::shaders::<name>` with its repository path in
+# `<name>_file`. The renderer compiles a shader from several files as separate source strings, each
+# opened by `#line <l> <n>`, and maps the info log's source numbers back to these paths, so a
+# compile error names the file and line (harness/clipray/gl/Renderer.cpp, compileShaderFiles).
 function(clipray_embed_shaders target)
   cmake_parse_arguments(ARG "" "" "SHADERS" ${ARGN})
   set(out_cpp ${CMAKE_BINARY_DIR}/generated/EmbeddedShaders.cpp)

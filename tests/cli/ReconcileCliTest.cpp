@@ -74,6 +74,23 @@ TEST(ReconcileCli, DefaultsToEveryShippedScene) {
   EXPECT_TRUE(scenes.count("reversed_z"));
 }
 
+TEST(ReconcileCli, AGltfAssetIsCheckedFromItsOwnCameras) {
+  TempFolder folder;
+  const auto result = runClipray(
+      "reconcile '" + kSource + "/scenes/assets/lantern.gltf' --depth-formats 32f --out out",
+      folder.path());
+  ASSERT_EQ(result.status, 0) << result.err << result.out;
+  const auto report = nlohmann::json::parse(testing::readText(folder.path() / "out/report.json"));
+  std::set<std::string> cameras;
+  for (const auto& run : report["runs"]) {
+    EXPECT_EQ(run["scene"], "lantern");
+    EXPECT_EQ(run["verdict"], "consistent");
+    cameras.insert(run["camera"].get<std::string>());
+  }
+  EXPECT_EQ(cameras, (std::set<std::string>{"perspective_camera", "orthographic_camera"}));
+  EXPECT_EQ(report["runs"].size(), 4u);  // 2 cameras x (no, zo) x 32f
+}
+
 TEST(ReconcileCli, ABadSceneAmongGoodOnesStopsEverythingBeforeAnyOutput) {
   TempFolder folder;
   {
@@ -167,6 +184,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadInvocation{"OsMesaUnavailable", "reconcile " + kStandard,
                       "CLIPRAY_OSMESA_LIBRARY=/nonexistent/libOSMesa.so.8",
                       "clipray: OSMesa: cannot load /nonexistent/libOSMesa.so.8"},
+        BadInvocation{"MeshFileWithoutCameras",
+                      "reconcile '" + kSource + "/tests/data/meshes/quads.obj'", "",
+                      "/tests/data/meshes/quads.obj: the file has no cameras; give it one (glTF) "
+                      "or reference it from a scene file with cameras (\"type\": \"meshFile\")"},
         BadInvocation{"NoSubcommand", "", "", "A subcommand is required"},
         BadInvocation{"UnknownOption", "reconcile --frobnicate", "", "frobnicate"}),
     [](const ::testing::TestParamInfo<BadInvocation>& param) {

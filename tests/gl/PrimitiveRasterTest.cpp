@@ -177,5 +177,17 @@ TEST_F(PrimitiveRasterCases, AWrongPickingRayIsCaughtOnASphere) {
   EXPECT_GT(run.metrics.coverageMismatch.unexplained, 500);
 }
 
+TEST(ShaderSources, CompileErrorsNameTheFileTheyAreIn) {
+  // Mesa's format; source string 2 is camera_rays.glsl, 1 the main file (see Renderer.cpp).
+  EXPECT_EQ(gl::nameShaderSources("2:14(3): error: `q' undeclared\n1:20(9): error: syntax error\n",
+                                  {"shaders/primitive.frag", "shaders/camera_rays.glsl"}),
+            "shaders/camera_rays.glsl:14(3): error: `q' undeclared\n"
+            "shaders/primitive.frag:20(9): error: syntax error\n");
+  // The "ERROR: n:line:" format of other drivers, and numbers that name no file stay as they are.
+  EXPECT_EQ(gl::nameShaderSources("ERROR: 2:7: 'x' : undeclared identifier\n0:3(1): warning\n",
+                                  {"a.frag", "b.glsl"}),
+            "ERROR: b.glsl:7: 'x' : undeclared identifier\n0:3(1): warning\n");
+}
+
 }  // namespace
 }  // namespace clipray

@@ -3,6 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <bit>
+#include <cstring>
+
 #include "clipray/compare/Reconcile.hpp"
 #include "clipray/math/Projections.hpp"
 #include "support/TestScenes.hpp"
@@ -120,6 +123,120 @@ TEST(Compare, CoarserDepthFormatsGetLargerTolerances) {
   // The difference between the two is exactly the difference of their storage quanta.
   EXPECT_DOUBLE_EQ(model16.depthTolerance(1, hit) - model24.depthTolerance(1, hit),
                    std::ldexp(1.0, -16) - std::ldexp(1.0, -24));
+}
+
+bool sameBits(double a, double b) {
+  return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
+}
+
+TEST(Compare, RobustRaysByRowsAreTheRaysOfEachPixel) {
+  // generateRobustRays hoists per-row terms and computes directions in blocks: each ray must
+  // still be generateForPixel's, bit for bit (a width that is not a multiple of the block).
+  const Viewport viewport{131, 23};
+  const glm::dmat4 view = viewFromWorldLookAt({1, 2, 3}, {0, 0, 0}, {0, 1, 0});
+  const struct {
+    glm::dmat4 clipFromView;
+    DepthMode mode;
+  } cameras[] = {
+      {perspectiveClipFromView(glm::radians(50.0), 1.7, 0.1, 100.0, kZeroToOne), kZeroToOne},
+      {perspectiveClipFromView(glm::radians(50.0), 1.7, 0.1, std::nullopt, kZeroToOneReversed),
+       kZeroToOneReversed},
+      {perspectiveClipFromView(glm::radians(80.0), 0.5, 0.01, 1e4, kNegativeOneToOne),
+       kNegativeOneToOne},
+      {orthographicClipFromView(-2, 3, -1, 1, 0.5, 20.0, kZeroToOne), kZeroToOne},
+  };
+  for (const auto& c : cameras) {
+    PickingCamera camera;
+    camera.clipFromWorld = c.clipFromView * view;
+    camera.mode = c.mode;
+    camera.viewport = viewport;
+    const RobustRayGenerator generator(camera.clipFromWorld, camera.mode);
+    const AnalyticFrame frame = generateRobustRays(camera, 2);
+    ASSERT_EQ(frame.rays.size(), std::size_t{131} * 23);
+    for (int y = 0; y < viewport.height; ++y) {
+      for (int x = 0; x < viewport.width; ++x) {
+        const Ray expected = generator.generateForPixel(x, y, viewport);
+        const Ray& got = frame.rays[static_cast<std::size_t>(y) * viewport.width + x];
+        ASSERT_EQ(std::memcmp(&expected, &got, sizeof(Ray)), 0) << "pixel " << x << ", " << y;
+      }
+    }
+  }
+}
+
+TEST(Compare, ToleranceModelOfSomeIdsAnswersAsTheFullModel) {
+  // compareFrames clips only the triangles the frames show; asked about any other primitive
+  // the model must still answer what the model of every triangle answers.
+  Fixture f({17, 13});
+  f.scene.objects.push_back(
+      testing::quad("far quad", {-3, -1, -2}, {-1, -1, -2}, {-1, 1, -2}, {-3, 1, -2}));
+  f.scene.objects.push_back(  // partly behind the camera: clipped by the near plane
+      testing::quad("crossing", {-1, -2, 5}, {1, -2, 5}, {1, -2, -5}, {-1, -2, -5}));
+  AnalyticPrimitive sphere;
+  sphere.kind = PrimitiveKind::Sphere;
+  sphere.worldFromLocal = glm::dmat4(0.5);
+  sphere.worldFromLocal[3] = glm::dvec4(1.5, 0.5, -1.0, 1.0);
+  sphere.localFromWorld = glm::inverse(sphere.worldFromLocal);
+  f.scene.primitives.push_back(sphere);
+  const SceneIntersector intersector(f.scene, glm::dvec3(0, 0, 2.9));
+  const ToleranceModel full(intersector, f.setup, f.camera.viewport);
+  const std::uint32_t some[] = {2, 5};
+  const ToleranceModel partial(intersector, f.setup, f.camera.viewport, some, 2);
+  const RobustRayGenerator rays(f.setup.clipFromWorld, f.setup.mode);
+  for (std::uint32_t id = 1; id <= intersector.primitiveIdCount(); ++id) {
+    for (const glm::dvec2 pixel : {glm::dvec2(0.5, 0.5), glm::dvec2(8.5, 6.5),
+                                   glm::dvec2(12.25, 3.75), glm::dvec2(16.5, 12.5)}) {
+      SCOPED_TRACE(::testing::Message() << "id " << id << " at " << pixel.x << ", " << pixel.y);
+      EXPECT_EQ(full.edgeAmbiguous(id, pixel), partial.edgeAmbiguous(id, pixel));
+      EXPECT_TRUE(sameBits(full.surfaceDepthAt(id, pixel), partial.surfaceDepthAt(id, pixel)));
+      EXPECT_TRUE(
+          sameBits(full.surfaceToleranceAt(id, pixel), partial.surfaceToleranceAt(id, pixel)));
+      if (intersector.isAnalytic(id)) continue;
+      EXPECT_TRUE(
+          sameBits(full.edgeDistancePixels(id, pixel), partial.edgeDistancePixels(id, pixel)));
+      EXPECT_EQ(full.insidePolygon(id, pixel), partial.insidePolygon(id, pixel));
+      EXPECT_TRUE(sameBits(full.edgeEpsilonPixels(id), partial.edgeEpsilonPixels(id)));
+      EXPECT_TRUE(sameBits(full.planeDepthAt(id, pixel), partial.planeDepthAt(id, pixel)));
+      const glm::dvec3 hit(0.25 * id, 0.5, -0.125 * id);
+      EXPECT_TRUE(sameBits(full.depthTolerance(id, hit), partial.depthTolerance(id, hit)));
+      EXPECT_TRUE(
+          sameBits(full.depthTolerance(id, hit),
+                   partial.depthToleranceAtClip(id, f.setup.clipFromWorld * glm::dvec4(hit, 1.0))));
+    }
+  }
+}
+
+TEST(Compare, FiguresDoNotDependOnTheThreadCount) {
+  // Samples are gathered per worker and their distributions read where they lie: any split of
+  // the rows gives the same figures.
+  Fixture f({61, 47});
+  for (std::size_t i = 0; i < f.raster.depth.size(); i += 7) {
+    if (f.raster.ids[i] != 0) f.raster.depth[i] = std::nextafter(f.raster.depth[i], 2.0f);
+  }
+  const RunMetrics one = compareFrames(f.raster, f.analytic, *f.intersector, f.setup, 1).metrics;
+  const RunMetrics three = compareFrames(f.raster, f.analytic, *f.intersector, f.setup, 3).metrics;
+  EXPECT_EQ(one.depthCompared, three.depthCompared);
+  for (const auto& [a, b] : {std::pair(one.depthErrorQuanta, three.depthErrorQuanta),
+                             std::pair(one.distanceRelError, three.distanceRelError),
+                             std::pair(one.toleranceRatio, three.toleranceRatio)}) {
+    EXPECT_TRUE(sameBits(a.max, b.max));
+    EXPECT_TRUE(sameBits(a.p50, b.p50));
+    EXPECT_TRUE(sameBits(a.p99, b.p99));
+  }
+  ASSERT_EQ(one.byKind.size(), 1u);
+  EXPECT_TRUE(sameBits(one.byKind[0].toleranceRatio.p99, one.toleranceRatio.p99));
+  // Every seventh depth moved by one float ulp: the largest error is about a whole quantum.
+  EXPECT_GT(one.depthErrorQuanta.max, 0.5);
+}
+
+TEST(Compare, NaNRasterDepthIsBeyondTolerance) {
+  // A NaN sample takes the distributions' general path (no bit-pattern ordering for NaN).
+  Fixture f({33, 21});
+  const std::size_t inside = f.index(25, 10);
+  f.raster.depth[inside] = std::numeric_limits<float>::quiet_NaN();
+  const ComparisonResult r = f.compare();
+  EXPECT_EQ(r.metrics.depthBeyondTolerance, 1);
+  EXPECT_EQ(r.pixels.classes[inside], PixelClass::DepthBeyondTolerance);
+  EXPECT_EQ(r.metrics.depthCompared, r.metrics.rayHits);
 }
 
 }  // namespace

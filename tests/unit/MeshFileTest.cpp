@@ -299,6 +299,24 @@ TEST(MeshFileErrors, GltfBufferShorterThanItsByteLength) {
               StartsWith("short.gltf: gltf: tinygltf rejected the file: "));
 }
 
+TEST(MeshFileErrors, GltfEmptyBufferIsRejectedBeforeTinygltfCopiesIt) {
+  // tinygltf 2.7.0 throws std::out_of_range on a GLB buffer of byteLength 0 (found by fuzz_glb).
+  json document = triangleGltf();
+  document["buffers"][0]["byteLength"] = 0;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: buffers[0].byteLength: expected an integer of at least 1, got 0");
+  std::string jsonChunk = R"({"asset":{"version":"2.0"},"buffers":[{"byteLength":0}]})";
+  jsonChunk.append(-jsonChunk.size() % 4, ' ');
+  std::string glb = "glTF";
+  const std::uint32_t header[4] = {2, static_cast<std::uint32_t>(20 + jsonChunk.size() + 12),
+                                   static_cast<std::uint32_t>(jsonChunk.size()), 0x4E4F534A};
+  glb.append(reinterpret_cast<const char*>(header), sizeof header);
+  glb += jsonChunk;
+  glb += std::string("\4\0\0\0BIN\0\0\0\0\0", 12);
+  EXPECT_EQ(errorOf(glb, "m.glb"),
+            "m.glb: buffers[0].byteLength: expected an integer of at least 1, got 0");
+}
+
 TEST(MeshFileErrors, GltfBufferViewBeyondItsBuffer) {
   json document = triangleGltf();
   document["bufferViews"][1]["byteLength"] = 60;

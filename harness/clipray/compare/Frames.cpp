@@ -2,35 +2,77 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstdlib>
 #include <memory>
 #include <system_error>
 #include <thread>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include "clipray/rays/RobustRays.hpp"
 
 namespace clipray {
 
-void parallelForRows(int rows, unsigned threadCount, const std::function<void(int, int)>& body) {
+namespace {
+// Buffers from this size on are worth huge pages (and get their own mapping from malloc anyway).
+constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
+}  // namespace
+
+void* allocateFrameBuffer(std::size_t bytes) {
+  if (bytes < kHugePageBytes) {
+    void* pointer = std::aligned_alloc(
+        kFrameBufferAlignment,
+        (bytes + kFrameBufferAlignment - 1) / kFrameBufferAlignment * kFrameBufferAlignment);
+    if (pointer == nullptr && bytes != 0) throw std::bad_alloc();
+    return pointer;
+  }
+  const std::size_t rounded = (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
+  void* pointer = std::aligned_alloc(kHugePageBytes, rounded);
+  if (pointer == nullptr) throw std::bad_alloc();
+#if defined(MADV_HUGEPAGE)
+  // Advice only: where the kernel has no huge pages to give, the buffer keeps 4 KiB pages.
+  (void)madvise(pointer, rounded, MADV_HUGEPAGE);
+#endif
+  return pointer;
+}
+
+void releaseFrameBuffer(void* pointer, std::size_t /*bytes*/) noexcept {
+  std::free(pointer);
+}
+
+unsigned parallelWorkerCount(int rows, unsigned threadCount) {
   if (threadCount == 0) threadCount = std::max(1u, std::thread::hardware_concurrency());
-  threadCount = std::min<unsigned>(threadCount, static_cast<unsigned>(std::max(rows, 1)));
+  return std::min<unsigned>(threadCount, static_cast<unsigned>(std::max(rows, 1)));
+}
+
+void parallelForRowsByWorker(int rows, unsigned threadCount,
+                             const std::function<void(unsigned, int, int)>& body) {
+  threadCount = parallelWorkerCount(rows, threadCount);
   // Rows are handed out in small chunks so that uneven rows (sky vs. geometry) balance out.
   const int chunk = std::max(1, rows / static_cast<int>(threadCount * 8));
   std::atomic<int> next{0};
-  auto worker = [&] {
+  auto worker = [&](unsigned index) {
     for (;;) {
       const int begin = next.fetch_add(chunk);
       if (begin >= rows) return;
-      body(begin, std::min(rows, begin + chunk));
+      body(index, begin, std::min(rows, begin + chunk));
     }
   };
   std::vector<std::thread> threads;
   try {
-    for (unsigned k = 1; k < threadCount; ++k) threads.emplace_back(worker);
+    for (unsigned k = 1; k < threadCount; ++k) threads.emplace_back(worker, k);
   } catch (const std::system_error&) {
     // The system refused a thread (process limits): carry on with those that started.
   }
-  worker();
+  worker(0);
   for (std::thread& t : threads) t.join();
+}
+
+void parallelForRows(int rows, unsigned threadCount, const std::function<void(int, int)>& body) {
+  parallelForRowsByWorker(rows, threadCount,
+                          [&](unsigned, int begin, int end) { body(begin, end); });
 }
 
 PickRayFunction robustPickRays() {
@@ -64,6 +106,7 @@ AnalyticFrame generateRays(const PickingCamera& camera, const PickRayFunction& r
         if (ray) {
           slot = *ray;
         } else {
+          slot = Ray{};  // resize left the slot unwritten
           slot.tMax = kNoRayTMax;
         }
       }
@@ -78,10 +121,15 @@ AnalyticFrame generateRobustRays(const PickingCamera& camera, unsigned threadCou
   AnalyticFrame frame;
   frame.viewport = viewport;
   frame.rays.resize(static_cast<std::size_t>(viewport.width) * viewport.height);
+  // clipXYOfPixelCentre's x depends on the column only and y on the row only: computed once each
+  // (the same arithmetic, so the same rays as generateForPixel), and generateRow hoists what the
+  // generator computes per row.
+  std::vector<double> clipXOfColumn(static_cast<std::size_t>(std::max(viewport.width, 0)));
+  for (int x = 0; x < viewport.width; ++x) clipXOfColumn[x] = clipXYOfPixelCentre(x, 0, viewport).x;
   parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
     for (int y = rowBegin; y < rowEnd; ++y) {
       Ray* row = frame.rays.data() + static_cast<std::size_t>(y) * viewport.width;
-      for (int x = 0; x < viewport.width; ++x) row[x] = generator.generateForPixel(x, y, viewport);
+      generator.generateRow(clipXYOfPixelCentre(0, y, viewport).y, clipXOfColumn, row);
     }
   });
   return frame;
@@ -96,7 +144,8 @@ void intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
   static_assert(kTile * kTile <= SceneIntersector::kMaxPacket);
   const Viewport viewport = frame.viewport;
   const int width = viewport.width;
-  frame.hits.assign(frame.rays.size(), Hit{});
+  // Every tile writes every hit of its pixels: no need to initialize them first.
+  frame.hits.resize(frame.rays.size());
   const int tileRows = (viewport.height + kTile - 1) / kTile;
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
     for (int y0 = tileRowBegin * kTile; y0 < std::min(viewport.height, tileRowEnd * kTile);

@@ -1,9 +1,13 @@
 #pragma once
 // The two sides of a reconcile, pixel for pixel. Row 0 is the bottom row (GL's lower-left origin).
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <new>
 #include <optional>
+#include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -13,6 +17,46 @@
 #include "clipray/rays/Ray.hpp"
 
 namespace clipray {
+
+// Allocator of the per-pixel frame buffers (a 1080p frame of rays is 112 MB). Two costs dominate
+// filling such a buffer, not the work per pixel: std::vector value-initializes every element in
+// the allocating thread before the worker threads overwrite it, and the first touch of each 4 KiB
+// page faults. So resize() leaves elements uninitialized (the passes write every element; Ray and
+// Hit are implicit-lifetime aggregates, so the storage already holds objects), and large buffers
+// ask the kernel for transparent huge pages (one fault per 2 MiB).
+inline constexpr std::size_t kFrameBufferAlignment = 64;
+void* allocateFrameBuffer(std::size_t bytes);  // throws std::bad_alloc
+void releaseFrameBuffer(void* pointer, std::size_t bytes) noexcept;
+template <class T>
+struct FrameBufferAllocator {
+  static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
+  using value_type = T;
+  FrameBufferAllocator() = default;
+  template <class U>
+  FrameBufferAllocator(const FrameBufferAllocator<U>&) noexcept {}
+  T* allocate(std::size_t count) {
+    static_assert(alignof(T) <= kFrameBufferAlignment);
+    if (count > std::size_t(-1) / sizeof(T)) throw std::bad_array_new_length();
+    return static_cast<T*>(allocateFrameBuffer(count * sizeof(T)));
+  }
+  void deallocate(T* pointer, std::size_t count) noexcept {
+    releaseFrameBuffer(pointer, count * sizeof(T));
+  }
+  // resize(n) without a value: leave the element as allocated (written later by its pass).
+  template <class U>
+  void construct(U*) noexcept {}
+  template <class U, class... Args>
+  void construct(U* pointer, Args&&... args) {
+    ::new (static_cast<void*>(pointer)) U(std::forward<Args>(args)...);
+  }
+  template <class U>
+  bool operator==(const FrameBufferAllocator<U>&) const noexcept {
+    return true;
+  }
+};
+// A per-pixel buffer: resize() does not initialize (see FrameBufferAllocator).
+template <class T>
+using FrameVector = std::vector<T, FrameBufferAllocator<T>>;
 
 // What the GL raster pass read back: window depth (GL_FLOAT) and primitive id (0 = background).
 struct RasterFrame {
@@ -24,8 +68,8 @@ struct RasterFrame {
 // What the analytic pass found: the ray of each pixel and its closest hit.
 struct AnalyticFrame {
   Viewport viewport;
-  std::vector<Ray> rays;
-  std::vector<Hit> hits;
+  FrameVector<Ray> rays;  // resize() leaves rays unwritten: every pass writes every ray
+  FrameVector<Hit> hits;
 };
 
 // The camera a ray function is asked about: the matrix the app drew with, the conventions it
@@ -57,5 +101,11 @@ void intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
 // Runs body(rowBegin, rowEnd) over [0, rows) split into chunks across threadCount threads
 // (0: hardware concurrency).
 void parallelForRows(int rows, unsigned threadCount, const std::function<void(int, int)>& body);
+// How many workers parallelForRowsByWorker runs for these arguments.
+unsigned parallelWorkerCount(int rows, unsigned threadCount);
+// parallelForRows that also tells body which worker (0 .. parallelWorkerCount - 1) runs the
+// chunk: a worker runs its chunks one after the other, so per-worker state needs no lock.
+void parallelForRowsByWorker(int rows, unsigned threadCount,
+                             const std::function<void(unsigned worker, int, int)>& body);
 
 }  // namespace clipray

@@ -1,10 +1,16 @@
 #include "clipray/compare/Reconcile.hpp"
 
 #include <algorithm>
+#include <atomic>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <mutex>
 #include <stdexcept>
+
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 #include "clipray/math/Projections.hpp"
 
@@ -36,6 +42,25 @@ double pointSegmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
   const double s =
       lengthSquared > 0.0 ? std::clamp(glm::dot(p - a, ab) / lengthSquared, 0.0, 1.0) : 0.0;
   return glm::length(p - (a + s * ab));
+}
+
+// Reserves room for count elements and asks the kernel to back it with transparent huge pages:
+// a frame-sized array then costs one page fault per 2 MiB instead of one per 4 KiB when it is
+// first written (advice only; nothing changes where the kernel has none to give).
+template <class T>
+std::vector<T>& withHugePages(std::vector<T>& values, std::size_t count) {
+  values.reserve(count);
+#if defined(MADV_HUGEPAGE)
+  constexpr std::uintptr_t kHugePage = std::uintptr_t{2} << 20;
+  const auto begin = reinterpret_cast<std::uintptr_t>(values.data());
+  const std::uintptr_t end = begin + values.capacity() * sizeof(T);
+  const std::uintptr_t alignedBegin = (begin + kHugePage - 1) & ~(kHugePage - 1);
+  const std::uintptr_t alignedEnd = end & ~(kHugePage - 1);
+  if (alignedEnd > alignedBegin) {
+    (void)madvise(reinterpret_cast<void*>(alignedBegin), alignedEnd - alignedBegin, MADV_HUGEPAGE);
+  }
+#endif
+  return values;
 }
 
 Distribution distributionOf(std::vector<double>& values) {
@@ -80,100 +105,152 @@ const char* pixelClassName(PixelClass value) {
 
 ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup,
                                Viewport viewport)
+    : ToleranceModel(intersector, setup, viewport, std::span<const std::uint32_t>()) {
+  std::vector<std::uint32_t> everyTriangle;
+  everyTriangle.reserve(intersector.triangleCount());
+  for (std::uint32_t id = 1; id <= intersector.primitiveIdCount(); ++id) {
+    if (!intersector.isAnalytic(id)) everyTriangle.push_back(id);
+  }
+  buildPolygons(everyTriangle, 0);
+}
+
+ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup,
+                               Viewport viewport, std::span<const std::uint32_t> primitiveIds,
+                               unsigned threadCount)
     : setup_(setup),
       viewport_(viewport),
       intersector_(intersector),
       rays_(setup.clipFromWorld, setup.mode),
-      polygons_(intersector.triangleCount() + 1) {
-  const glm::dmat4& m = setup.clipFromWorld;
-  const double zn = setup.mode.clipVolumeMinZ();
+      cameraRelativeMatrix_(setup.clipFromWorld *
+                            glm::dmat4(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 1, 0, 0),
+                                       glm::dvec4(0, 0, 1, 0),
+                                       glm::dvec4(setup.vertexReference, 1.0))),
+      slotOfId_(std::size_t{intersector.primitiveIdCount()} + 1, kNoSlot),
+      windowFromNdcScale_(1.0 / (1.0 - setup.mode.clipVolumeMinZ())),
+      subpixelStep_(std::ldexp(1.0, -setup.subpixelBits)) {
+  buildPolygons(primitiveIds, threadCount);
+}
+
+void ToleranceModel::buildPolygons(std::span<const std::uint32_t> primitiveIds,
+                                   unsigned threadCount) {
+  std::vector<std::uint32_t> wanted;
+  wanted.reserve(primitiveIds.size());
+  for (const std::uint32_t id : primitiveIds) {
+    if (id < slotOfId_.size() && slotOfId_[id] == kNoSlot && !intersector_.isAnalytic(id) &&
+        id != 0) {
+      slotOfId_[id] = static_cast<std::uint32_t>(polygons_.size() + wanted.size());
+      wanted.push_back(id);
+    }
+  }
+  const std::size_t first = polygons_.size();
+  if (first == 0) withHugePages(polygons_, wanted.size());
+  polygons_.resize(first + wanted.size());
+  constexpr int kIdsPerChunk = 256;
+  const int chunks = static_cast<int>((wanted.size() + kIdsPerChunk - 1) / kIdsPerChunk);
+  parallelForRows(chunks, threadCount, [&](int chunkBegin, int chunkEnd) {
+    const std::size_t end = std::min(wanted.size(), std::size_t(chunkEnd) * kIdsPerChunk);
+    for (std::size_t k = std::size_t(chunkBegin) * kIdsPerChunk; k < end; ++k) {
+      polygons_[first + k] = buildPolygon(wanted[k]);
+    }
+  });
+}
+
+const ToleranceModel::ScreenPolygon& ToleranceModel::polygon(std::uint32_t primitiveId) const {
+  const std::uint32_t slot = primitiveId < slotOfId_.size() ? slotOfId_[primitiveId] : kNoSlot;
+  if (slot != kNoSlot) return polygons_[slot];
+  // Not built up front: build it now into this thread's scratch (each query uses one polygon
+  // and is done with it before the next).
+  thread_local ScreenPolygon scratch;
+  scratch = buildPolygon(primitiveId);
+  return scratch;
+}
+
+ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primitiveId) const {
+  ScreenPolygon polygon;
+  if (primitiveId == 0 || primitiveId > intersector_.primitiveIdCount() ||
+      intersector_.isAnalytic(primitiveId)) {
+    return polygon;
+  }
+  const glm::dmat4& m = setup_.clipFromWorld;
+  const double zn = setup_.mode.clipVolumeMinZ();
   // The clip volume z_n w <= z <= w, -w <= x, y <= w as six planes (>= 0 inside).
   const glm::dvec4 planes[6] = {{0, 0, 1, -zn}, {0, 0, -1, 1}, {1, 0, 0, 1},
                                 {-1, 0, 0, 1},  {0, 1, 0, 1},  {0, -1, 0, 1}};
-
-  // The matrix and positions the GPU actually multiplies, per vertex mode (for the error bound).
-  const glm::dmat4 cameraRelativeMatrix =
-      m * glm::dmat4(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 1, 0, 0), glm::dvec4(0, 0, 1, 0),
-                     glm::dvec4(setup.vertexReference, 1.0));
   const double u = kFloatUnitRoundoff;
-  const double subpixel = std::ldexp(1.0, -setup.subpixelBits);
+  const double subpixel = std::ldexp(1.0, -setup_.subpixelBits);
+  const std::array<glm::dvec3, 3> world = intersector_.worldTriangle(primitiveId);
 
-  for (std::uint32_t id = 1; id < polygons_.size(); ++id) {
-    if (intersector.isAnalytic(id)) continue;
-    ScreenPolygon& polygon = polygons_[id];
-    const std::array<glm::dvec3, 3> world = intersector.worldTriangle(id);
-
-    // Float error of the vertex transform, bounded per clip row r by k u max_v sum_i |M_ri p_i|:
-    // World/CameraRelative: matrix and position each rounded to float (2u) plus a 4-term float
-    // dot product (gamma_4 ~ 4u): k = 6. Pretransformed: clip coordinates rounded once: k = 1.
-    glm::dvec4 bound(0.0);
-    for (const glm::dvec3& v : world) {
-      for (int r = 0; r < 4; ++r) {
-        double magnitude = 0.0;
-        if (setup.vertexMode == VertexMode::Pretransformed) {
-          magnitude = std::abs(glm::dot(matrixRow(m, r), glm::dvec4(v, 1.0)));
-        } else {
-          const glm::dmat4& gpuMatrix =
-              setup.vertexMode == VertexMode::World ? m : cameraRelativeMatrix;
-          const glm::dvec3 gpuPosition =
-              setup.vertexMode == VertexMode::World ? v : v - setup.vertexReference;
-          const glm::dvec4 row = matrixRow(gpuMatrix, r);
-          magnitude = std::abs(row.x * gpuPosition.x) + std::abs(row.y * gpuPosition.y) +
-                      std::abs(row.z * gpuPosition.z) + std::abs(row.w);
-        }
-        bound[r] = std::max(bound[r], magnitude);
+  // Float error of the vertex transform, bounded per clip row r by k u max_v sum_i |M_ri p_i|:
+  // World/CameraRelative: matrix and position each rounded to float (2u) plus a 4-term float
+  // dot product (gamma_4 ~ 4u): k = 6. Pretransformed: clip coordinates rounded once: k = 1.
+  glm::dvec4 bound(0.0);
+  for (const glm::dvec3& v : world) {
+    for (int r = 0; r < 4; ++r) {
+      double magnitude = 0.0;
+      if (setup_.vertexMode == VertexMode::Pretransformed) {
+        magnitude = std::abs(glm::dot(matrixRow(m, r), glm::dvec4(v, 1.0)));
+      } else {
+        const glm::dmat4& gpuMatrix =
+            setup_.vertexMode == VertexMode::World ? m : cameraRelativeMatrix_;
+        const glm::dvec3 gpuPosition =
+            setup_.vertexMode == VertexMode::World ? v : v - setup_.vertexReference;
+        const glm::dvec4 row = matrixRow(gpuMatrix, r);
+        magnitude = std::abs(row.x * gpuPosition.x) + std::abs(row.y * gpuPosition.y) +
+                    std::abs(row.z * gpuPosition.z) + std::abs(row.w);
       }
+      bound[r] = std::max(bound[r], magnitude);
     }
-    polygon.clipErrorBound =
-        bound * (setup.vertexMode == VertexMode::Pretransformed ? 1.0 : 6.0) * u;
-    const glm::dvec4& error = polygon.clipErrorBound;
+  }
+  polygon.clipErrorBound =
+      bound * (setup_.vertexMode == VertexMode::Pretransformed ? 1.0 : 6.0) * u;
+  const glm::dvec4& error = polygon.clipErrorBound;
 
-    glm::dvec4 bufferA[kMaxPolygonVertices + 3], bufferB[kMaxPolygonVertices + 3];
-    int count = 3;
-    for (int k = 0; k < 3; ++k) bufferA[k] = m * glm::dvec4(world[k], 1.0);
-    glm::dvec4* current = bufferA;
-    glm::dvec4* next = bufferB;
-    for (const glm::dvec4& plane : planes) {
-      count = clipPolygon(current, count, plane, next);
-      std::swap(current, next);
-      if (count == 0) break;
-    }
-    polygon.vertexCount = std::min(count, kMaxPolygonVertices);
-    double xyError = 0.0;
-    for (int k = 0; k < polygon.vertexCount; ++k) {
-      const glm::dvec4 c = current[k];
-      const double w = c.w;
-      polygon.vertices[k] = {(c.x / w + 1.0) * 0.5 * viewport.width,
-                             (c.y / w + 1.0) * 0.5 * viewport.height,
-                             windowDepthFromNdc(c.z / w, setup.mode.convention)};
-      polygon.maxDepth = std::max(polygon.maxDepth, std::abs(polygon.vertices[k].z));
-      // Vertex xy error in pixels: (dx + |x_ndc| dw) / w, scaled to the viewport.
-      const double ex = (error.x + std::abs(c.x / w) * error.w) / w * 0.5 * viewport.width;
-      const double ey = (error.y + std::abs(c.y / w) * error.w) / w * 0.5 * viewport.height;
-      xyError = std::max({xyError, ex, ey});
-    }
-    // Snapping to the subpixel grid moves each edge by at most one subpixel step; the float
-    // vertex transform moves it by the xy error (either endpoint, any direction).
-    polygon.edgeEpsilon = subpixel + std::sqrt(2.0) * xyError;
+  glm::dvec4 bufferA[kMaxPolygonVertices + 3], bufferB[kMaxPolygonVertices + 3];
+  int count = 3;
+  for (int k = 0; k < 3; ++k) bufferA[k] = m * glm::dvec4(world[k], 1.0);
+  glm::dvec4* current = bufferA;
+  glm::dvec4* next = bufferB;
+  for (const glm::dvec4& plane : planes) {
+    count = clipPolygon(current, count, plane, next);
+    std::swap(current, next);
+    if (count == 0) break;
+  }
+  polygon.vertexCount = std::min(count, kMaxPolygonVertices);
+  double xyError = 0.0;
+  for (int k = 0; k < polygon.vertexCount; ++k) {
+    const glm::dvec4 c = current[k];
+    const double w = c.w;
+    polygon.vertices[k] = {(c.x / w + 1.0) * 0.5 * viewport_.width,
+                           (c.y / w + 1.0) * 0.5 * viewport_.height,
+                           windowDepthFromNdc(c.z / w, setup_.mode.convention)};
+    polygon.maxDepth = std::max(polygon.maxDepth, std::abs(polygon.vertices[k].z));
+    // Vertex xy error in pixels: (dx + |x_ndc| dw) / w, scaled to the viewport.
+    const double ex = (error.x + std::abs(c.x / w) * error.w) / w * 0.5 * viewport_.width;
+    const double ey = (error.y + std::abs(c.y / w) * error.w) / w * 0.5 * viewport_.height;
+    xyError = std::max({xyError, ex, ey});
+  }
+  // Snapping to the subpixel grid moves each edge by at most one subpixel step; the float
+  // vertex transform moves it by the xy error (either endpoint, any direction).
+  polygon.edgeEpsilon = subpixel + std::sqrt(2.0) * xyError;
 
-    // Window depth is affine in window xy over a planar triangle: fit it from the largest-area
-    // triple of polygon vertices.
-    double bestArea = 0.0;
-    for (int a = 0; a < polygon.vertexCount; ++a) {
-      for (int b = a + 1; b < polygon.vertexCount; ++b) {
-        for (int c = b + 1; c < polygon.vertexCount; ++c) {
-          const glm::dvec3 pa = polygon.vertices[a], pb = polygon.vertices[b],
-                           pc = polygon.vertices[c];
-          const double area = (pb.x - pa.x) * (pc.y - pa.y) - (pc.x - pa.x) * (pb.y - pa.y);
-          if (std::abs(area) <= std::abs(bestArea)) continue;
-          bestArea = area;
-          const double gx = ((pb.z - pa.z) * (pc.y - pa.y) - (pc.z - pa.z) * (pb.y - pa.y)) / area;
-          const double gy = ((pc.z - pa.z) * (pb.x - pa.x) - (pb.z - pa.z) * (pc.x - pa.x)) / area;
-          polygon.depthPlane = {gx, gy, pa.z - gx * pa.x - gy * pa.y};
-        }
+  // Window depth is affine in window xy over a planar triangle: fit it from the largest-area
+  // triple of polygon vertices.
+  double bestArea = 0.0;
+  for (int a = 0; a < polygon.vertexCount; ++a) {
+    for (int b = a + 1; b < polygon.vertexCount; ++b) {
+      for (int c = b + 1; c < polygon.vertexCount; ++c) {
+        const glm::dvec3 pa = polygon.vertices[a], pb = polygon.vertices[b],
+                         pc = polygon.vertices[c];
+        const double area = (pb.x - pa.x) * (pc.y - pa.y) - (pc.x - pa.x) * (pb.y - pa.y);
+        if (std::abs(area) <= std::abs(bestArea)) continue;
+        bestArea = area;
+        const double gx = ((pb.z - pa.z) * (pc.y - pa.y) - (pc.z - pa.z) * (pb.y - pa.y)) / area;
+        const double gy = ((pc.z - pa.z) * (pb.x - pa.x) - (pb.z - pa.z) * (pc.x - pa.x)) / area;
+        polygon.depthPlane = {gx, gy, pa.z - gx * pa.x - gy * pa.y};
       }
     }
   }
+  return polygon;
 }
 
 namespace {
@@ -334,12 +411,17 @@ double ToleranceModel::planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel)
 }
 
 double ToleranceModel::depthTolerance(std::uint32_t primitiveId, const glm::dvec3& hitWorld) const {
+  return depthToleranceAtClip(primitiveId, setup_.clipFromWorld * glm::dvec4(hitWorld, 1.0));
+}
+
+double ToleranceModel::depthToleranceAtClip(std::uint32_t primitiveId,
+                                            const glm::dvec4& hitClip) const {
   const ScreenPolygon& polygon = this->polygon(primitiveId);
   const double u = kFloatUnitRoundoff;
-  const glm::dvec4 c = setup_.clipFromWorld * glm::dvec4(hitWorld, 1.0);
+  const glm::dvec4& c = hitClip;
   const double zNdc = c.z / c.w;
   const double depth = windowDepthFromNdc(zNdc, setup_.mode.convention);
-  const double toWindow = 1.0 / (1.0 - setup_.mode.clipVolumeMinZ());
+  const double toWindow = windowFromNdcScale_;
   const glm::dvec4& bound = polygon.clipErrorBound;
 
   // 1. Storage: one quantum of the depth format at this depth.
@@ -351,10 +433,9 @@ double ToleranceModel::depthTolerance(std::uint32_t primitiveId, const glm::dvec
   // 3. Vertex positions snapped to the subpixel grid and moved by the float xy error: the depth
   //    plane shifts by |gradient| times that displacement.
   const double xyShift =
-      std::ldexp(1.0, -setup_.subpixelBits) +
-      std::max((bound.x + std::abs(c.x / c.w) * bound.w) * 0.5 * viewport_.width,
-               (bound.y + std::abs(c.y / c.w) * bound.w) * 0.5 * viewport_.height) /
-          std::abs(c.w);
+      subpixelStep_ + std::max((bound.x + std::abs(c.x / c.w) * bound.w) * 0.5 * viewport_.width,
+                               (bound.y + std::abs(c.y / c.w) * bound.w) * 0.5 * viewport_.height) /
+                          std::abs(c.w);
   const double gradient = std::isfinite(polygon.depthPlane.x)
                               ? std::abs(polygon.depthPlane.x) + std::abs(polygon.depthPlane.y)
                               : 0.0;
@@ -364,6 +445,101 @@ double ToleranceModel::depthTolerance(std::uint32_t primitiveId, const glm::dvec
   const double interpolation = 8.0 * u * polygon.maxDepth;
   return storage + vertex + snap + interpolation;
 }
+
+namespace {
+
+// The triangles and primitives a frame pair can ask the tolerance model about: every valid id
+// either side shows (ascending). On a big scene far fewer than all of them.
+std::vector<std::uint32_t> idsInFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
+                                       std::uint32_t primitiveCount, unsigned threadCount) {
+  std::vector<std::uint8_t> shown(std::size_t{primitiveCount} + 1, 0);
+  const Viewport viewport = raster.viewport;
+  parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
+    const auto mark = [&](std::uint32_t id) {
+      if (id == 0 || id > primitiveCount) return;
+      // Threads may mark the same id: relaxed atomics make that well-defined (plain byte
+      // stores on x86), and checking first keeps the cache line shared while already marked.
+      std::atomic_ref<std::uint8_t> flag(shown[id]);
+      if (flag.load(std::memory_order_relaxed) == 0) flag.store(1, std::memory_order_relaxed);
+    };
+    const std::size_t begin = static_cast<std::size_t>(rowBegin) * viewport.width;
+    const std::size_t end = static_cast<std::size_t>(rowEnd) * viewport.width;
+    std::uint32_t lastRaster = 0, lastRay = 0;  // neighbours mostly repeat an id
+    for (std::size_t i = begin; i < end; ++i) {
+      const std::uint32_t rasterId = raster.ids[i];
+      const std::uint32_t rayId = analytic.hits[i].primitiveId;
+      if (rasterId != lastRaster) mark(lastRaster = rasterId);
+      if (rayId != lastRay) mark(lastRay = rayId);
+    }
+    mark(lastRaster);
+    mark(lastRay);
+  });
+  std::vector<std::uint32_t> ids;
+  for (std::uint32_t id = 1; id <= primitiveCount; ++id) {
+    if (shown[id] != 0) ids.push_back(id);
+  }
+  return ids;
+}
+
+// The same Distribution as distributionOf over the concatenation of parts, without
+// concatenating them and without sorting: for non-negative doubles (no NaN, no -0) the order of
+// the values is the order of their bit patterns, so a histogram of the top 16 bits narrows each
+// requested rank to one bucket, and nth_element runs on that bucket's few values only. The
+// values are the ones distributionOf picks (a rank's value does not depend on how ties or the
+// order of the input fall). Anything else (NaN, where nth_element's answer depends on the
+// input's order) takes distributionOf itself on the concatenation.
+Distribution distributionOfParts(const std::vector<const FrameVector<double>*>& parts) {
+  std::size_t count = 0;
+  for (const FrameVector<double>* part : parts) count += part->size();
+  Distribution result;
+  if (count == 0) return result;
+
+  constexpr int kBucketShift = 48;
+  constexpr std::uint64_t kPositiveInfinityBits = 0x7ff0000000000000ull;
+  std::vector<std::uint32_t> histogram(std::size_t{1} << (64 - kBucketShift), 0);
+  std::uint64_t maxBits = 0;
+  bool ordinary = true;  // every value is +0, positive or +inf
+  for (const FrameVector<double>* part : parts) {
+    for (const double value : *part) {
+      const auto bits = std::bit_cast<std::uint64_t>(value);
+      ordinary &= bits <= kPositiveInfinityBits;
+      maxBits = std::max(maxBits, bits);
+      ++histogram[bits >> kBucketShift];
+    }
+  }
+  if (!ordinary || count > std::numeric_limits<std::uint32_t>::max()) {
+    std::vector<double> all;
+    all.reserve(count);
+    for (const FrameVector<double>* part : parts) all.insert(all.end(), part->begin(), part->end());
+    return distributionOf(all);
+  }
+  const auto valueOfRank = [&](std::size_t rank) {
+    std::size_t bucket = 0;
+    while (rank >= histogram[bucket]) rank -= histogram[bucket++];
+    std::vector<std::uint64_t> inBucket;
+    inBucket.reserve(histogram[bucket]);
+    for (const FrameVector<double>* part : parts) {
+      for (const double value : *part) {
+        const auto bits = std::bit_cast<std::uint64_t>(value);
+        if ((bits >> kBucketShift) == bucket) inBucket.push_back(bits);
+      }
+    }
+    std::nth_element(inBucket.begin(), inBucket.begin() + static_cast<std::ptrdiff_t>(rank),
+                     inBucket.end());
+    return std::bit_cast<double>(inBucket[rank]);
+  };
+  // The ranks distributionOf reads.
+  const auto rankOf = [&](double fraction) {
+    return std::min(count - 1,
+                    static_cast<std::size_t>(fraction * static_cast<double>(count - 1) + 0.5));
+  };
+  result.p50 = valueOfRank(rankOf(0.5));
+  result.p99 = valueOfRank(rankOf(0.99));
+  result.max = std::bit_cast<double>(maxBits);
+  return result;
+}
+
+}  // namespace
 
 ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
                                const SceneIntersector& intersector, const RasterSetup& setup,
@@ -375,7 +551,11 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
     throw std::invalid_argument("compareFrames: raster and analytic frames differ in size");
   }
   const std::uint32_t primitiveCount = intersector.primitiveIdCount();
-  const ToleranceModel model(intersector, setup, viewport);
+  // Screen polygons only for the primitives the frames show (a big scene's other triangles are
+  // never asked about), clipped across the threads.
+  const ToleranceModel model(intersector, setup, viewport,
+                             idsInFrames(raster, analytic, primitiveCount, threadCount),
+                             threadCount);
   const glm::dmat4& m = setup.clipFromWorld;
   const glm::dmat4 worldFromClip = glm::inverse(m);
   // Figures per surface kind: 0 triangles, 1 + PrimitiveKind for analytic primitives.
@@ -385,10 +565,13 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                ? 1 + static_cast<std::size_t>(intersector.analyticPrimitive(id).kind)
                : 0;
   };
+  // The three figures of one kind, as gathered by one worker (kept apart until the end: the
+  // distributions read the parts where they lie).
   struct KindSamples {
-    std::vector<double> quanta, relative, ratios;
+    FrameVector<double> quanta, relative, ratios;
   };
-  std::array<KindSamples, kKinds> kindSamples;
+  const unsigned workerCount = parallelWorkerCount(viewport.height, threadCount);
+  std::vector<std::array<KindSamples, kKinds>> samplesOfWorker(workerCount);
   const glm::dvec4 rowZ = matrixRow(m, 2), rowW = matrixRow(m, 3);
   const bool parallel = glm::dvec3(rowW) == glm::dvec3(0.0);
   const glm::dvec4 eyeHomogeneous = worldFromClip * glm::dvec4(0.0, 0.0, 1.0, 0.0);
@@ -398,152 +581,190 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
   ComparisonResult result;
   PixelComparison& pixels = result.pixels;
   pixels.viewport = viewport;
-  pixels.rasterDepth.assign(count, std::numeric_limits<float>::quiet_NaN());
-  pixels.analyticDepth.assign(count, kNaN);
-  pixels.toleranceRatio.assign(count, std::numeric_limits<float>::quiet_NaN());
-  pixels.classes.assign(count, PixelClass::Background);
+  // Reserved first (address space only), so that the fill lands on huge pages.
+  withHugePages(pixels.rasterDepth, count).assign(count, std::numeric_limits<float>::quiet_NaN());
+  withHugePages(pixels.analyticDepth, count).assign(count, kNaN);
+  withHugePages(pixels.toleranceRatio, count)
+      .assign(count, std::numeric_limits<float>::quiet_NaN());
+  withHugePages(pixels.classes, count).assign(count, PixelClass::Background);
 
   std::mutex merge;
   RunMetrics& total = result.metrics;
-  std::vector<double> quanta, relative, ratios;
 
-  parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
-    RunMetrics local;
-    std::vector<double> localQuanta, localRelative, localRatios;
-    std::array<KindSamples, kKinds> localKinds;
-    for (int y = rowBegin; y < rowEnd; ++y) {
-      for (int x = 0; x < viewport.width; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * viewport.width + x;
-        const glm::dvec2 centre(x + 0.5, y + 0.5);
-        const std::uint32_t rasterId = raster.ids[i];
-        const Hit& hit = analytic.hits[i];
-        const std::uint32_t rayId = hit.primitiveId;
-        const Ray& ray = analytic.rays[i];
-        ++local.pixels;
-        if (rasterId != 0) {
-          ++local.rasterHits;
-          pixels.rasterDepth[i] = raster.depth[i];
-        }
-        glm::dvec3 hitPoint(0.0);
-        double rayDepth = kNaN;
-        if (rayId != 0) {
-          ++local.rayHits;
-          hitPoint = ray.origin + hit.t * ray.direction;
-          const glm::dvec4 c = m * glm::dvec4(hitPoint, 1.0);
-          rayDepth = windowDepthFromNdc(c.z / c.w, convention);
-          pixels.analyticDepth[i] = rayDepth;
-        }
-        PixelClass& cls = pixels.classes[i];
-        if (rasterId == 0 && rayId == 0) {
-          cls = PixelClass::Background;
-        } else if (rasterId > primitiveCount || ray.tMax < 0.0) {
-          // An id no primitive has (a renderer bug) or a pixel without a ray: nothing explains it.
-          ++local.coverageMismatch.total;
-          ++local.coverageMismatch.unexplained;
-          cls = PixelClass::CoverageUnexplained;
-        } else if (rasterId == 0 || rayId == 0) {
-          const std::uint32_t only = rasterId != 0 ? rasterId : rayId;
-          ++local.coverageMismatch.total;
-          if (model.edgeAmbiguous(only, centre)) {
-            ++local.coverageMismatch.edgeAmbiguous;
-            cls = PixelClass::CoverageEdgeAmbiguous;
-          } else {
-            ++local.coverageMismatch.unexplained;
-            cls = PixelClass::CoverageUnexplained;
+  parallelForRowsByWorker(
+      viewport.height, threadCount, [&](unsigned worker, int rowBegin, int rowEnd) {
+        RunMetrics local;
+        std::array<KindSamples, kKinds>& localKinds = samplesOfWorker[worker];
+        for (int y = rowBegin; y < rowEnd; ++y) {
+          for (int x = 0; x < viewport.width; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * viewport.width + x;
+            const glm::dvec2 centre(x + 0.5, y + 0.5);
+            const std::uint32_t rasterId = raster.ids[i];
+            const Hit& hit = analytic.hits[i];
+            const std::uint32_t rayId = hit.primitiveId;
+            const Ray& ray = analytic.rays[i];
+            ++local.pixels;
+            if (rasterId != 0) {
+              ++local.rasterHits;
+              pixels.rasterDepth[i] = raster.depth[i];
+            }
+            glm::dvec3 hitPoint(0.0);
+            glm::dvec4 hitClip(0.0);
+            double rayDepth = kNaN;
+            if (rayId != 0) {
+              ++local.rayHits;
+              hitPoint = ray.origin + hit.t * ray.direction;
+              hitClip = m * glm::dvec4(hitPoint, 1.0);
+              rayDepth = windowDepthFromNdc(hitClip.z / hitClip.w, convention);
+              pixels.analyticDepth[i] = rayDepth;
+            }
+            PixelClass& cls = pixels.classes[i];
+            if (rasterId == 0 && rayId == 0) {
+              cls = PixelClass::Background;
+            } else if (rasterId > primitiveCount || ray.tMax < 0.0) {
+              // An id no primitive has (a renderer bug) or a pixel without a ray: nothing explains
+              // it.
+              ++local.coverageMismatch.total;
+              ++local.coverageMismatch.unexplained;
+              cls = PixelClass::CoverageUnexplained;
+            } else if (rasterId == 0 || rayId == 0) {
+              const std::uint32_t only = rasterId != 0 ? rasterId : rayId;
+              ++local.coverageMismatch.total;
+              if (model.edgeAmbiguous(only, centre)) {
+                ++local.coverageMismatch.edgeAmbiguous;
+                cls = PixelClass::CoverageEdgeAmbiguous;
+              } else {
+                ++local.coverageMismatch.unexplained;
+                cls = PixelClass::CoverageUnexplained;
+              }
+            } else if (rasterId == rayId) {
+              const double rasterDepth = raster.depth[i];
+              const double error = std::abs(rasterDepth - rayDepth);
+              const double tolerance = intersector.isAnalytic(rayId)
+                                           ? model.analyticDepthTolerance(rayId, ray, hit.t)
+                                           : model.depthToleranceAtClip(rayId, hitClip);
+              const double ratio = error / tolerance;
+              // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1
+              // t).
+              const double zRaster = ndcFromWindowDepth(rasterDepth, convention);
+              const double z0 = glm::dot(rowZ, glm::dvec4(ray.origin, 1.0));
+              const double z1 = glm::dot(glm::dvec3(rowZ), ray.direction);
+              const double w0 = glm::dot(rowW, glm::dvec4(ray.origin, 1.0));
+              const double w1 = glm::dot(glm::dvec3(rowW), ray.direction);
+              const double tRaster = (z0 - zRaster * w0) / (zRaster * w1 - z1);
+              // Relative to the distance from the eye (perspective) or the view volume's depth
+              // (orthographic), so the figure reads the same at any scale.
+              const double scale = parallel ? (std::isfinite(ray.tMax) ? ray.tMax : hit.t)
+                                            : hit.t + glm::length(ray.origin - eye);
+              ++local.depthCompared;
+              KindSamples& kind = localKinds[kindOf(rayId)];
+              if (kind.quanta.capacity() == 0) {
+                // Room for this worker's share of the frame up front: growing would copy and
+                // touch fresh pages again (reserving only maps address space).
+                const std::size_t share = count / workerCount + count / 8 + 1;
+                kind.quanta.reserve(share);
+                kind.relative.reserve(share);
+                kind.ratios.reserve(share);
+              }
+              kind.quanta.push_back(error / depthQuantum(setup.depthFormat, rayDepth));
+              kind.relative.push_back(std::abs(tRaster - hit.t) / scale);
+              kind.ratios.push_back(ratio);
+              pixels.toleranceRatio[i] = static_cast<float>(ratio);
+              if (!(ratio <= 1.0)) {  // NaN counts as beyond tolerance
+                ++local.depthBeyondTolerance;
+                cls = PixelClass::DepthBeyondTolerance;
+              } else {
+                cls = PixelClass::Agree;
+              }
+            } else {
+              ++local.idMismatch.total;
+              // Where does the raster's primitive lie along this pixel? Its depth at the centre
+              // (plane or analytic surface) and the tolerance there.
+              const double rasterPlaneDepth = model.surfaceDepthAt(rasterId, centre);
+              const double rayTolerance = intersector.isAnalytic(rayId)
+                                              ? model.analyticDepthTolerance(rayId, ray, hit.t)
+                                              : model.depthToleranceAtClip(rayId, hitClip);
+              const double tolerance = rayTolerance + model.surfaceToleranceAt(rasterId, centre);
+              if (std::abs(rasterPlaneDepth - rayDepth) <= tolerance) {
+                ++local.idMismatch.depthAmbiguous;
+                cls = PixelClass::IdDepthAmbiguous;
+              } else if (model.edgeAmbiguous(rasterId, centre) ||
+                         model.edgeAmbiguous(rayId, centre)) {
+                ++local.idMismatch.edgeAmbiguous;
+                cls = PixelClass::IdEdgeAmbiguous;
+              } else {
+                ++local.idMismatch.unexplained;
+                cls = PixelClass::IdUnexplained;
+              }
+            }
           }
-        } else if (rasterId == rayId) {
-          const double rasterDepth = raster.depth[i];
-          const double error = std::abs(rasterDepth - rayDepth);
-          const double tolerance = intersector.isAnalytic(rayId)
-                                       ? model.analyticDepthTolerance(rayId, ray, hit.t)
-                                       : model.depthTolerance(rayId, hitPoint);
-          const double ratio = error / tolerance;
-          // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1 t).
-          const double zRaster = ndcFromWindowDepth(rasterDepth, convention);
-          const double z0 = glm::dot(rowZ, glm::dvec4(ray.origin, 1.0));
-          const double z1 = glm::dot(glm::dvec3(rowZ), ray.direction);
-          const double w0 = glm::dot(rowW, glm::dvec4(ray.origin, 1.0));
-          const double w1 = glm::dot(glm::dvec3(rowW), ray.direction);
-          const double tRaster = (z0 - zRaster * w0) / (zRaster * w1 - z1);
-          // Relative to the distance from the eye (perspective) or the view volume's depth
-          // (orthographic), so the figure reads the same at any scale.
-          const double scale = parallel ? (std::isfinite(ray.tMax) ? ray.tMax : hit.t)
-                                        : hit.t + glm::length(ray.origin - eye);
-          ++local.depthCompared;
-          localQuanta.push_back(error / depthQuantum(setup.depthFormat, rayDepth));
-          localRelative.push_back(std::abs(tRaster - hit.t) / scale);
-          localRatios.push_back(ratio);
-          KindSamples& kind = localKinds[kindOf(rayId)];
-          kind.quanta.push_back(localQuanta.back());
-          kind.relative.push_back(localRelative.back());
-          kind.ratios.push_back(ratio);
-          pixels.toleranceRatio[i] = static_cast<float>(ratio);
-          if (!(ratio <= 1.0)) {  // NaN counts as beyond tolerance
-            ++local.depthBeyondTolerance;
-            cls = PixelClass::DepthBeyondTolerance;
-          } else {
-            cls = PixelClass::Agree;
-          }
-        } else {
-          ++local.idMismatch.total;
-          // Where does the raster's primitive lie along this pixel? Its depth at the centre
-          // (plane or analytic surface) and the tolerance there.
-          const double rasterPlaneDepth = model.surfaceDepthAt(rasterId, centre);
-          const double rayTolerance = intersector.isAnalytic(rayId)
-                                          ? model.analyticDepthTolerance(rayId, ray, hit.t)
-                                          : model.depthTolerance(rayId, hitPoint);
-          const double tolerance = rayTolerance + model.surfaceToleranceAt(rasterId, centre);
-          if (std::abs(rasterPlaneDepth - rayDepth) <= tolerance) {
-            ++local.idMismatch.depthAmbiguous;
-            cls = PixelClass::IdDepthAmbiguous;
-          } else if (model.edgeAmbiguous(rasterId, centre) || model.edgeAmbiguous(rayId, centre)) {
-            ++local.idMismatch.edgeAmbiguous;
-            cls = PixelClass::IdEdgeAmbiguous;
-          } else {
-            ++local.idMismatch.unexplained;
-            cls = PixelClass::IdUnexplained;
-          }
         }
+        const std::lock_guard<std::mutex> lock(merge);
+        total.pixels += local.pixels;
+        total.rasterHits += local.rasterHits;
+        total.rayHits += local.rayHits;
+        total.coverageMismatch.total += local.coverageMismatch.total;
+        total.coverageMismatch.edgeAmbiguous += local.coverageMismatch.edgeAmbiguous;
+        total.coverageMismatch.unexplained += local.coverageMismatch.unexplained;
+        total.idMismatch.total += local.idMismatch.total;
+        total.idMismatch.depthAmbiguous += local.idMismatch.depthAmbiguous;
+        total.idMismatch.edgeAmbiguous += local.idMismatch.edgeAmbiguous;
+        total.idMismatch.unexplained += local.idMismatch.unexplained;
+        total.depthCompared += local.depthCompared;
+        total.depthBeyondTolerance += local.depthBeyondTolerance;
+      });
+
+  // Every distribution to compute: per kind with samples, then over all kinds. Where one kind
+  // holds every sample, the overall figures are that kind's (the same values, so the same
+  // quantiles) and are not computed twice.
+  using Parts = std::vector<const FrameVector<double>*>;
+  struct Job {
+    Parts parts;
+    Distribution* into;
+  };
+  std::vector<Job> jobs;
+  std::vector<std::size_t> kindsWithSamples;
+  for (std::size_t k = 0; k < kKinds; ++k) {
+    for (const auto& worker : samplesOfWorker) {
+      if (!worker[k].quanta.empty()) {
+        kindsWithSamples.push_back(k);
+        break;
       }
     }
-    const std::lock_guard<std::mutex> lock(merge);
-    total.pixels += local.pixels;
-    total.rasterHits += local.rasterHits;
-    total.rayHits += local.rayHits;
-    total.coverageMismatch.total += local.coverageMismatch.total;
-    total.coverageMismatch.edgeAmbiguous += local.coverageMismatch.edgeAmbiguous;
-    total.coverageMismatch.unexplained += local.coverageMismatch.unexplained;
-    total.idMismatch.total += local.idMismatch.total;
-    total.idMismatch.depthAmbiguous += local.idMismatch.depthAmbiguous;
-    total.idMismatch.edgeAmbiguous += local.idMismatch.edgeAmbiguous;
-    total.idMismatch.unexplained += local.idMismatch.unexplained;
-    total.depthCompared += local.depthCompared;
-    total.depthBeyondTolerance += local.depthBeyondTolerance;
-    quanta.insert(quanta.end(), localQuanta.begin(), localQuanta.end());
-    relative.insert(relative.end(), localRelative.begin(), localRelative.end());
-    ratios.insert(ratios.end(), localRatios.begin(), localRatios.end());
-    for (std::size_t k = 0; k < kKinds; ++k) {
-      KindSamples& into = kindSamples[k];
-      const KindSamples& from = localKinds[k];
-      into.quanta.insert(into.quanta.end(), from.quanta.begin(), from.quanta.end());
-      into.relative.insert(into.relative.end(), from.relative.begin(), from.relative.end());
-      into.ratios.insert(into.ratios.end(), from.ratios.begin(), from.ratios.end());
-    }
-  });
-  for (std::size_t k = 0; k < kKinds; ++k) {
-    KindSamples& samples = kindSamples[k];
-    if (samples.quanta.empty()) continue;
-    RunMetrics::KindFigures figures;
-    figures.kind = k == 0 ? "triangle" : primitiveKindName(static_cast<PrimitiveKind>(k - 1));
-    figures.depthCompared = static_cast<std::int64_t>(samples.quanta.size());
-    figures.depthErrorQuanta = distributionOf(samples.quanta);
-    figures.distanceRelError = distributionOf(samples.relative);
-    figures.toleranceRatio = distributionOf(samples.ratios);
-    total.byKind.push_back(std::move(figures));
   }
-  total.depthErrorQuanta = distributionOf(quanta);
-  total.distanceRelError = distributionOf(relative);
-  total.toleranceRatio = distributionOf(ratios);
+  total.byKind.resize(kindsWithSamples.size());
+  Parts allQuanta, allRelative, allRatios;
+  for (std::size_t n = 0; n < kindsWithSamples.size(); ++n) {
+    const std::size_t k = kindsWithSamples[n];
+    RunMetrics::KindFigures& figures = total.byKind[n];
+    figures.kind = k == 0 ? "triangle" : primitiveKindName(static_cast<PrimitiveKind>(k - 1));
+    Parts quanta, relative, ratios;
+    for (const auto& worker : samplesOfWorker) {
+      figures.depthCompared += static_cast<std::int64_t>(worker[k].quanta.size());
+      quanta.push_back(&worker[k].quanta);
+      relative.push_back(&worker[k].relative);
+      ratios.push_back(&worker[k].ratios);
+    }
+    allQuanta.insert(allQuanta.end(), quanta.begin(), quanta.end());
+    allRelative.insert(allRelative.end(), relative.begin(), relative.end());
+    allRatios.insert(allRatios.end(), ratios.begin(), ratios.end());
+    jobs.push_back({std::move(quanta), &figures.depthErrorQuanta});
+    jobs.push_back({std::move(relative), &figures.distanceRelError});
+    jobs.push_back({std::move(ratios), &figures.toleranceRatio});
+  }
+  if (kindsWithSamples.size() > 1) {
+    jobs.push_back({std::move(allQuanta), &total.depthErrorQuanta});
+    jobs.push_back({std::move(allRelative), &total.distanceRelError});
+    jobs.push_back({std::move(allRatios), &total.toleranceRatio});
+  }
+  parallelForRows(static_cast<int>(jobs.size()), threadCount, [&](int begin, int end) {
+    for (int j = begin; j < end; ++j) *jobs[j].into = distributionOfParts(jobs[j].parts);
+  });
+  if (kindsWithSamples.size() == 1) {
+    total.depthErrorQuanta = total.byKind[0].depthErrorQuanta;
+    total.distanceRelError = total.byKind[0].distanceRelError;
+    total.toleranceRatio = total.byKind[0].toleranceRatio;
+  }
   return result;
 }
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -99,9 +100,18 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
 // analytic hit lies on primitive `primitiveId` at window depth `windowDepth`.
 class ToleranceModel {
  public:
+  // Clips every triangle of the scene to its screen polygon up front.
   ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup, Viewport viewport);
+  // Clips up front only the triangles among primitiveIds (those a frame shows: the rest of a big
+  // scene is never asked about), across threadCount threads (0: all cores). Any other primitive
+  // may still be asked about: its polygon is then clipped on each query (same answers, slower).
+  ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup, Viewport viewport,
+                 std::span<const std::uint32_t> primitiveIds, unsigned threadCount = 0);
   // Window-depth tolerance for a hit on primitive id at a world hit point.
   double depthTolerance(std::uint32_t primitiveId, const glm::dvec3& hitWorld) const;
+  // The same, given the hit's clip coordinates clipFromWorld * (hitWorld, 1) (callers that have
+  // them already save the matrix product).
+  double depthToleranceAtClip(std::uint32_t primitiveId, const glm::dvec4& hitClip) const;
   // Distance in pixels from a window position to the boundary of the primitive's clipped screen
   // polygon (+inf for a primitive clipped away entirely).
   double edgeDistancePixels(std::uint32_t primitiveId, glm::dvec2 pixel) const;
@@ -141,12 +151,22 @@ class ToleranceModel {
     // Bounds of the float vertex-transform error in clip space, per clip row (x, y, z, w).
     glm::dvec4 clipErrorBound{0.0};
   };
-  const ScreenPolygon& polygon(std::uint32_t primitiveId) const { return polygons_[primitiveId]; }
+  static constexpr std::uint32_t kNoSlot = 0xffffffffu;
+  // The clipped screen polygon of a primitive (an empty one for analytic primitives and ids that
+  // name no primitive), as computed by buildPolygon.
+  const ScreenPolygon& polygon(std::uint32_t primitiveId) const;
+  ScreenPolygon buildPolygon(std::uint32_t primitiveId) const;
+  // Builds the polygons of the given ids (each at most once) across threads.
+  void buildPolygons(std::span<const std::uint32_t> primitiveIds, unsigned threadCount);
   RasterSetup setup_;
   Viewport viewport_;
   const SceneIntersector& intersector_;
   RobustRayGenerator rays_;
-  std::vector<ScreenPolygon> polygons_;  // indexed by primitive id (triangles only)
+  glm::dmat4 cameraRelativeMatrix_;      // the matrix the GPU multiplies in CameraRelative mode
+  std::vector<std::uint32_t> slotOfId_;  // primitive id -> index in polygons_, or kNoSlot
+  std::vector<ScreenPolygon> polygons_;  // the polygons built up front
+  double windowFromNdcScale_;            // 1 / (1 - z_n): NDC depth to window depth
+  double subpixelStep_;                  // 2^-subpixelBits pixels
 };
 
 }  // namespace clipray

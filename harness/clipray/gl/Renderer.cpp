@@ -2,6 +2,7 @@
 
 #include <glad/gl.h>
 
+#include <cctype>
 #include <chrono>
 #include <cstdio>
 #include <string>
@@ -102,24 +103,9 @@ GLuint compileShaderFiles(GLenum kind, const std::vector<ShaderFile>& files) {
     std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
     glGetShaderInfoLog(shader, length, nullptr, log.data());
     glDeleteShader(shader);
-    std::string named;
-    std::size_t begin = 0;
-    const std::string text = log.c_str();
-    while (begin < text.size()) {
-      std::size_t end = text.find('\n', begin);
-      if (end == std::string::npos) end = text.size();
-      std::string line = text.substr(begin, end - begin);
-      const std::size_t colon = line.find(':');
-      if (colon != std::string::npos && colon > 0 &&
-          line.find_first_not_of("0123456789") == colon) {
-        const std::size_t number = std::stoul(line.substr(0, colon));
-        if (number >= 1 && number <= files.size()) {
-          line = std::string(files[number - 1].name) + line.substr(colon);
-        }
-      }
-      named += line + "\n";
-      begin = end + 1;
-    }
+    std::vector<std::string> fileNames;
+    for (const ShaderFile& file : files) fileNames.emplace_back(file.name);
+    const std::string named = nameShaderSources(log.c_str(), fileNames);
     std::string names;
     for (const ShaderFile& file : files)
       names += (names.empty() ? "" : " + ") + std::string(file.name);
@@ -164,6 +150,35 @@ std::string glString(GLenum name) {
 }
 
 }  // namespace
+
+std::string nameShaderSources(const std::string& log, const std::vector<std::string>& files) {
+  std::string named;
+  std::size_t begin = 0;
+  while (begin < log.size()) {
+    std::size_t end = log.find('\n', begin);
+    if (end == std::string::npos) end = log.size();
+    std::string line = log.substr(begin, end - begin);
+    // Mesa writes "n:line(column): error: ...", others "ERROR: n:line: ..."; either way the
+    // source-string number is the digits before the first colon of a "n:line" pair.
+    std::size_t digits = line.find_first_of("0123456789");
+    while (digits != std::string::npos) {
+      const std::size_t colon = line.find_first_not_of("0123456789", digits);
+      const bool startsWord = digits == 0 || line[digits - 1] == ' ';
+      if (startsWord && colon != std::string::npos && line[colon] == ':' &&
+          colon + 1 < line.size() && std::isdigit(static_cast<unsigned char>(line[colon + 1]))) {
+        const std::size_t number = std::stoul(line.substr(digits, colon - digits));
+        if (number >= 1 && number <= files.size()) {
+          line = line.substr(0, digits) + files[number - 1] + line.substr(colon);
+        }
+        break;
+      }
+      digits = line.find_first_of("0123456789", colon == std::string::npos ? line.size() : colon);
+    }
+    named += line + "\n";
+    begin = end + 1;
+  }
+  return named;
+}
 
 struct Renderer::State {
   GLuint program = 0;

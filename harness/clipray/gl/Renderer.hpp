@@ -4,6 +4,8 @@
 
 #include <memory>
 #include <stdexcept>
+#include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -19,6 +21,10 @@ class GlError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
+
+// A shader info log with its source-string numbers ("2:14(3): error ...") replaced by the file
+// names of those strings (files[n - 1]): how a compile error names the GLSL file it is in.
+std::string nameShaderSources(const std::string& log, const std::vector<std::string>& files);
 
 struct RenderRequest {
   const Scene* scene = nullptr;

@@ -39,7 +39,6 @@ namespace {
 #define CLIPRAY_AVX2 __attribute__((target("avx2")))
 
 constexpr std::size_t kMax = SceneIntersector::kMaxPacket;
-constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNoId = 0x1p40;  // larger than any primitive id: "no hit yet"
 
 double maxAbs(const glm::dvec3& p) {

@@ -4,6 +4,8 @@
 // the rasterizer clips at, tMax at the far plane or +inf. Works for perspective, orthographic,
 // oblique, mirrored, reversed-Z and infinite far without per-case switches from the caller.
 
+#include <span>
+
 #include <glm/glm.hpp>
 
 #include "clipray/math/Conventions.hpp"
@@ -21,6 +23,9 @@ class RobustRayGenerator {
   Ray generateForPixel(int i, int j, Viewport viewport) const noexcept {
     return generate(clipXYOfPixelCentre(i, j, viewport));
   }
+  // rays[k] = generate({clipX[k], clipY}) for a whole row, bit for bit, with the terms that only
+  // depend on the row computed once (and the direction's FMAs in SIMD where the CPU has FMA).
+  void generateRow(double clipY, std::span<const double> clipX, Ray* rays) const noexcept;
 
   const glm::dmat4& clipFromWorld() const { return clipFromWorld_; }
   const glm::dmat4& worldFromClip() const { return worldFromClip_; }
@@ -29,6 +34,9 @@ class RobustRayGenerator {
   bool isParallel() const { return parallel_; }
 
  private:
+  // The rest of generate() once the direction d and the near point in world space (homogeneous)
+  // are known.
+  Ray finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld) const noexcept;
   glm::dmat4 clipFromWorld_;
   glm::dmat4 worldFromClip_;
   DepthMode mode_;

@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -219,6 +220,27 @@ void checkGlbContainer(std::string_view bytes, const std::string& path) {
     }
     offset += kChunkHeaderBytes + chunkLength;
     if (chunk >= 1) break;  // chunks after BIN are extensions' business; tinygltf ignores them
+  }
+}
+
+// tinygltf 2.7.0 copies a GLB buffer with `data.at(0)`, which throws std::out_of_range for a
+// buffer whose byteLength is 0 (found by fuzz_glb). glTF requires byteLength >= 1, so that is
+// checked on the JSON before tinygltf sees it. The JSON is parsed the way tinygltf parses it
+// (nlohmann, later duplicate keys win), so both see the same buffers.
+void checkBufferLengths(std::string_view jsonText, const std::string& path) {
+  const nlohmann::json document = nlohmann::json::parse(jsonText, nullptr, false);
+  if (!document.is_object()) return;  // tinygltf reports malformed JSON with its own message
+  const auto buffers = document.find("buffers");
+  if (buffers == document.end() || !buffers->is_array()) return;
+  for (std::size_t i = 0; i < buffers->size(); ++i) {
+    const nlohmann::json& buffer = (*buffers)[i];
+    if (!buffer.is_object()) continue;
+    const auto length = buffer.find("byteLength");
+    if (length == buffer.end() || !length->is_number()) continue;  // tinygltf requires a number
+    if (!(length->get<double>() >= 1.0)) {
+      fail(path, indexText("buffers", i) + ".byteLength",
+           "expected an integer of at least 1, got " + length->dump());
+    }
   }
 }
 
@@ -698,7 +720,12 @@ MeshFileContents parseGltf(std::string_view bytes, const std::string& path, bool
     fail(path, binary ? "glb" : "gltf",
          "files over 4 GiB are not supported, got " + std::to_string(bytes.size()) + " bytes");
   }
-  if (binary) checkGlbContainer(bytes, path);
+  if (binary) {
+    checkGlbContainer(bytes, path);
+    checkBufferLengths(bytes.substr(20, littleEndianU32(bytes, 12)), path);
+  } else {
+    checkBufferLengths(bytes, path);
+  }
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(ignoreImage, nullptr);
   loader.SetFsCallbacks(tinygltf::FsCallbacks{regularFileExists, pathUnchanged, readRegularFile,
@@ -708,12 +735,27 @@ MeshFileContents parseGltf(std::string_view bytes, const std::string& path, bool
   std::string error;
   std::string warning;
   const auto size = static_cast<unsigned int>(bytes.size());
-  const bool loaded =
-      binary
-          ? loader.LoadBinaryFromMemory(&model, &error, &warning,
-                                        reinterpret_cast<const unsigned char*>(bytes.data()), size,
-                                        baseDirectory)
-          : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), size, baseDirectory);
+  auto load = [&] {
+    return binary ? loader.LoadBinaryFromMemory(
+                        &model, &error, &warning,
+                        reinterpret_cast<const unsigned char*>(bytes.data()), size, baseDirectory)
+                  : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), size,
+                                               baseDirectory);
+  };
+  bool loaded = false;
+#ifdef FUZZING_BUILD_MODE_UNSAFE_FOR_PRODUCTION
+  // The fuzzers want library exceptions to surface as findings, not as messages.
+  loaded = load();
+#else
+  // A library exception is a tinygltf bug that the checks above did not foresee; the user still
+  // gets a message naming the file instead of a crash.
+  try {
+    loaded = load();
+  } catch (const std::exception& libraryError) {
+    fail(path, binary ? "glb" : "gltf",
+         std::string("tinygltf failed on this file: ") + libraryError.what());
+  }
+#endif
   if (!loaded) {
     fail(path, binary ? "glb" : "gltf", "tinygltf rejected the file: " + trimmed(error));
   }

@@ -17,6 +17,8 @@ namespace clipray::meshfiles {
 
 // Primitive ids are 32-bit and 0 is background, so no file may hold more triangles than this.
 inline constexpr std::uint64_t kMaxTriangles = 0xFFFFFFFFull - 1u;
+// tinygltf takes sizes as unsigned int; the other readers share the limit.
+inline constexpr std::uint64_t kMaxFileBytes = 0xFFFFFFFFull;
 
 // Shortest text that reads back as the same double; "nan", "inf" and "-inf" spelled out.
 std::string formatNumber(double value);

@@ -1,8 +1,8 @@
 // Wavefront OBJ through tinyobjloader (compiled in here, in double precision), wrapped in a scan of
 // our own: tinyobjloader reads "nan" as 0, only warns about out-of-range indices and silently drops
-// faces with fewer than 3 vertices, so the scan checks every "v" and "f" line first and reports the
-// line. Polygons are fanned into triangles here (tinyobjloader's own triangulation indexes the
-// vertex array before checking the indices).
+// faces with fewer than 3 vertices, so the scan checks every "v" and "f" line first, reports the
+// line, and hands tinyobjloader only the lines clipray needs. Polygons are fanned into triangles
+// here (tinyobjloader's own triangulation indexes the vertex array before checking the indices).
 
 #define TINYOBJLOADER_IMPLEMENTATION
 #define TINYOBJLOADER_USE_DOUBLE
@@ -28,7 +28,14 @@ namespace {
 // The checks tinyobjloader does not do, with the line each problem is on.
 class ObjScan {
  public:
-  ObjScan(std::string_view text, const std::string& path) : text_(text), path_(path) {}
+  ObjScan(std::string_view text, const std::string& path) : text_(text), path_(path) {
+    sanitized_.reserve(text.size() + 1);
+  }
+
+  // The file as tinyobjloader gets it: only "v x y z", "f v1 v2 v3 ..." (vertex indices only),
+  // "o" and "g" lines, every other line emptied. clipray needs nothing else, and tinyobjloader's
+  // other paths are where fuzzing found trouble (its "vw" extension casts any float to int).
+  const std::string& sanitized() const { return sanitized_; }
 
   void run() {
     const std::size_t nul = text_.find('\0');
@@ -46,12 +53,20 @@ class ObjScan {
       if (end + 1 < text_.size() && text_[end] == '\r' && text_[end + 1] == '\n') ++position;
       ++lineNumber;
       const std::vector<std::string_view> words = splitWords(line);
-      if (words.empty()) continue;
-      if (words[0] == "v") {
+      if (!words.empty() && words[0] == "v") {
         checkVertex(words, lineNumber);
-      } else if (words[0] == "f") {
+        sanitized_.append("v ").append(words[1]).append(" ").append(words[2]).append(" ");
+        sanitized_.append(words[3]);
+      } else if (!words.empty() && words[0] == "f") {
         checkFace(words, lineNumber);
+        sanitized_.append("f");
+        for (std::size_t corner = 1; corner < words.size(); ++corner) {
+          sanitized_.append(" ").append(words[corner].substr(0, words[corner].find('/')));
+        }
+      } else if (!words.empty() && (words[0] == "o" || words[0] == "g")) {
+        sanitized_.append(line);
       }
+      sanitized_.append("\n");  // every line stays, so tinyobjloader's line numbers match
     }
     if (largestPositiveIndex_ > vertexCount_) {
       fail(path_, "line " + std::to_string(lineOfLargestIndex_),
@@ -62,6 +77,7 @@ class ObjScan {
 
  private:
   void checkVertex(const std::vector<std::string_view>& words, std::uint64_t lineNumber) {
+    // Vertices are numbered from 1, as OBJ face indices count them.
     const std::string at =
         "line " + std::to_string(lineNumber) + ": vertex " + std::to_string(vertexCount_ + 1);
     if (words.size() < 4) {
@@ -128,20 +144,22 @@ class ObjScan {
   std::uint64_t faceCount_ = 0;
   std::uint64_t largestPositiveIndex_ = 0;
   std::uint64_t lineOfLargestIndex_ = 0;
+  std::string sanitized_;
 };
 
 }  // namespace
 
 MeshFileContents parseObj(std::string_view bytes, const std::string& path,
                           const glm::dmat4& worldFromFile) {
-  ObjScan(bytes, path).run();
+  ObjScan scan(bytes, path);
+  scan.run();
 
   tinyobj::ObjReaderConfig config;
   config.triangulate = false;  // its triangulation reads vertices before checking indices
   config.vertex_color = false;
   tinyobj::ObjReader reader;
   // Materials are irrelevant to clipray; an empty .mtl text keeps the reader off the disk.
-  if (!reader.ParseFromString(std::string(bytes), std::string(), config)) {
+  if (!reader.ParseFromString(scan.sanitized(), std::string(), config)) {
     std::string error = reader.Error();
     while (!error.empty() && (error.back() == '\n' || error.back() == '.')) error.pop_back();
     fail(path, "obj", "tinyobjloader rejected the file: " + error);
