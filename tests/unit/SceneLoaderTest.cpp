@@ -799,6 +799,60 @@ TEST(SceneLoaderErrors, MeshFileReferences) {
             "scenes/a.json: /objects/0/path: expected a non-empty path, got \"\"");
 }
 
+TEST(SceneLoaderErrors, MeshFileProblemsNameTheSceneObjectAndTheFile) {
+  // Paths resolve against the scene file's folder: here the test meshes.
+  const std::string folder = std::string(CLIPRAY_SOURCE_DIR) + "/tests/data/meshes";
+  const auto errorIn = [&](const std::string& object) {
+    try {
+      parseScene(sceneWith(kCamera, object), folder + "/scene.json");
+    } catch (const InputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(errorIn(R"({"name": "m", "type": "meshFile", "path": "quads.obj",
+                       "useCameras": true})"),
+            folder +
+                "/scene.json: /objects/0/useCameras: the mesh file \"quads.obj\" has no "
+                "cameras");
+  EXPECT_EQ(errorIn(R"({"name": "m", "type": "meshFile", "path": "generate.py"})"),
+            folder + "/scene.json: /objects/0/path: " + folder +
+                "/generate.py: unsupported mesh file extension \".py\"; clipray reads .gltf, "
+                ".glb, .obj and .ply");
+  EXPECT_EQ(errorIn(R"({"name": "m", "type": "meshFile", "path": "quads.obj",
+                       "useCameras": 1})"),
+            folder + "/scene.json: /objects/0/useCameras: expected true or false, got 1");
+  // A good reference: the OBJ's objects join the scene under the object's name.
+  const Scene scene =
+      parseScene(sceneWith(kCamera, R"({"name": "m", "type": "meshFile", "path": "quads.obj"})"),
+                 folder + "/scene.json");
+  ASSERT_FALSE(scene.objects.empty());
+  EXPECT_EQ(scene.objects[0].name.rfind("m/", 0), 0u);
+}
+
+TEST(SceneLoaderErrors, TerrainsAreBoundedBeforeTheyAreBuilt) {
+  // 1.1e7 asks for ceil(sqrt(5.5e6)) = 2346 cells a side: 2 * 2346^2 = 11,007,432 triangles;
+  // two of them exceed the scene's 2e7 (+1% for the rounding up) before the second is built.
+  EXPECT_EQ(errorOf(withObject(R"({"name": "a", "type": "terrain", "triangles": 11000000},
+                                  {"name": "b", "type": "terrain", "triangles": 11000000})")),
+            "scenes/a.json: /objects/1/triangles: the scene's terrains would hold 22014864 "
+            "triangles; at most 20000000 in all");
+}
+
+TEST(SceneLoaderPrimitives, HugeButFiniteQuadEdgesAreNotCalledParallel) {
+  // |u| |v| = 1e320 overflows, but the edges are perpendicular: the parallel test works on unit
+  // vectors, and such a placement is refused for what it is (its determinant overflows).
+  EXPECT_EQ(errorOf(withObject(R"({"name": "q", "type": "quad", "centre": [0, 0, 0],
+                                   "halfEdges": [[1e160, 0, 0], [0, 1e160, 0]]})")),
+            "scenes/a.json: /objects/0: the quad has a non-invertible placement (scaled "
+            "determinant 0); check \"transform\" / \"worldFromObject\" and the shape's sizes");
+  const Scene scene = parseScene(withObject(R"({"name": "q", "type": "quad",
+      "centre": [0, 0, 0], "halfEdges": [[1e100, 0, 0], [0, 1e100, 0]]})"),
+                                 kFile);
+  ASSERT_EQ(scene.primitives.size(), 1u);
+  EXPECT_EQ(worldOf(scene.primitives[0], {1, 1, 0}), glm::dvec3(1e100, 1e100, 0));
+}
+
 TEST(SceneLoaderMeshFiles, AGltfAssetBringsItsCamerasAndObjects) {
   const Scene scene = loadScene(std::string(CLIPRAY_SOURCE_DIR) + "/scenes/gltf_asset.json");
   ASSERT_EQ(scene.cameras.size(), 2u);

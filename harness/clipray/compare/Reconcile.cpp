@@ -637,6 +637,19 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                 ++local.coverageMismatch.unexplained;
                 cls = PixelClass::CoverageUnexplained;
               }
+            } else if (rasterId == rayId && [&] {
+                         // The same sphere or box, but one side entered the surface where the
+                         // other started inside it (the near plane cuts the shape within float
+                         // error of this pixel): the front surface's coverage is ambiguous here,
+                         // not the depth of either surface.
+                         if (!intersector.isAnalytic(rayId)) return false;
+                         const double error = std::abs(raster.depth[i] - rayDepth);
+                         return !(error <= model.analyticDepthTolerance(rayId, ray, hit.t)) &&
+                                model.analyticEdgeAmbiguous(rayId, centre);
+                       }()) {
+              ++local.coverageMismatch.total;
+              ++local.coverageMismatch.edgeAmbiguous;
+              cls = PixelClass::CoverageEdgeAmbiguous;
             } else if (rasterId == rayId) {
               const double rasterDepth = raster.depth[i];
               const double error = std::abs(rasterDepth - rayDepth);

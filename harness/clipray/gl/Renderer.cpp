@@ -164,7 +164,7 @@ std::string nameShaderSources(const std::string& log, const std::vector<std::str
     while (digits != std::string::npos) {
       const std::size_t colon = line.find_first_not_of("0123456789", digits);
       const bool startsWord = digits == 0 || line[digits - 1] == ' ';
-      if (startsWord && colon != std::string::npos && line[colon] == ':' &&
+      if (startsWord && colon != std::string::npos && colon - digits <= 6 && line[colon] == ':' &&
           colon + 1 < line.size() && std::isdigit(static_cast<unsigned char>(line[colon + 1]))) {
         const std::size_t number = std::stoul(line.substr(digits, colon - digits));
         if (number >= 1 && number <= files.size()) {

@@ -479,6 +479,7 @@ class SceneReader {
                     std::string name, Scene& scene) const;
 
   const std::string& file_;
+  mutable std::uint64_t terrainTriangles_ = 0;  // generated so far (see readTerrain)
 };
 
 // The object types of the format. To add one (sphere, disk, quad, box): list its keys and reader.
@@ -828,7 +829,13 @@ void SceneReader::readMeshFile(const json& value, const Pointer& at,
     }
     useCameras = cameras->get<bool>();
   }
-  MeshFileContents contents = loadMeshFile(resolved.string(), worldFromObject);
+  MeshFileContents contents;
+  try {
+    contents = loadMeshFile(resolved.string(), worldFromObject);
+  } catch (const InputError& meshFileError) {
+    fail(at / "path",
+         meshFileError.what());  // which object of the scene, then the file's own message
+  }
   for (MeshObject& object : contents.objects) {
     object.name = fileName + "/" + object.name;
     scene.objects.push_back(std::move(object));
@@ -865,6 +872,16 @@ void SceneReader::readTerrain(const json& value, const Pointer& at,
     const std::optional<std::uint64_t> n = unsignedInteger(*seedValue);
     if (!n) fail(at / "seed", "expected an unsigned integer, got " + describe(*seedValue));
     seed = *n;
+  }
+  // The generator rounds up to 2 n^2 triangles; bound what every terrain of the scene builds
+  // before building it, so a small file cannot ask for gigabytes.
+  const std::uint64_t cells =
+      static_cast<std::uint64_t>(std::ceil(std::sqrt(static_cast<double>(*triangles) / 2.0)));
+  terrainTriangles_ += 2 * cells * cells;
+  if (terrainTriangles_ > kMaxTerrainTriangles + kMaxTerrainTriangles / 100) {
+    fail(at / "triangles", "the scene's terrains would hold " + std::to_string(terrainTriangles_) +
+                               " triangles; at most " + std::to_string(kMaxTerrainTriangles) +
+                               " in all");
   }
   MeshObject mesh = makeTerrainMesh(*triangles, seed, std::move(terrainName));
   for (glm::dvec3& p : mesh.worldPositions) p = glm::dvec3(worldFromObject * glm::dvec4(p, 1.0));
@@ -951,9 +968,12 @@ void SceneReader::readQuad(const json& value, const Pointer& at, const glm::dmat
          "expected an array of 2 vectors [[ux, uy, uz], [vx, vy, vz]], got " + describe(edges));
   }
   const glm::dvec3 u = vector3(edges[0], eAt / 0), v = vector3(edges[1], eAt / 1);
-  const glm::dvec3 normal = glm::cross(u, v);
-  const double scale = std::sqrt(glm::length(u) * glm::length(v));
-  if (!(glm::length(normal) > kParallelThreshold * glm::length(u) * glm::length(v))) {
+  // Unit vectors for the test, so that huge (finite) edges cannot overflow it.
+  const bool nonZero = u != glm::dvec3(0.0) && v != glm::dvec3(0.0);
+  const glm::dvec3 normal =
+      nonZero ? glm::cross(safeNormalize(u), safeNormalize(v)) : glm::dvec3(0.0);
+  const double scale = std::sqrt(glm::length(u)) * std::sqrt(glm::length(v));
+  if (!(glm::length(normal) > kParallelThreshold)) {
     fail(eAt, "expected two non-zero, non-parallel half edges, got " + describe(edges));
   }
   // Local z only has to make the map invertible (the quad is z = 0): the unit normal scaled to
