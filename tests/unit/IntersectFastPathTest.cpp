@@ -168,6 +168,26 @@ TEST_F(FastPath, AdversarialRaysMatchTheLinearScan) {
   expectIdentical(intersector, rays, "adversarial");
 }
 
+TEST_F(FastPath, TinyDirectionComponentsMatchTheLinearScan) {
+  // Packets whose inverse directions are huge or infinite on one axis (subnormal and tiny
+  // components of either sign, next to ordinary rays): the packet's interval bounds must still
+  // cull conservatively.
+  const double tiny[] = {4.9e-324, -4.9e-324, 1e-310, -1e-310, 1e-300, -1e-300, 1e-200, 0x1p-1022};
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::vector<Ray> rays;
+  for (int packet = 0; packet < 48; ++packet) {
+    const int axis = packet % 3;
+    for (int k = 0; k < 64; ++k) {
+      glm::dvec3 target(unit(rng) * 5.0, 0.0, unit(rng) * 5.0);
+      glm::dvec3 direction = glm::normalize(target - eye);
+      if ((k + packet) % 3 != 0) direction[axis] = tiny[(k + packet) % 8];
+      rays.push_back({eye, direction, packet % 4 == 0 ? 9.0 : kInf});
+    }
+  }
+  expectIdentical(intersector, rays, "tiny components");
+}
+
 TEST_F(FastPath, CoplanarTiesGoToTheSmallerIdInPackets) {
   std::vector<Ray> rays;
   for (int k = 0; k < 64; ++k) {

@@ -4,22 +4,26 @@
 // Rays are grouped by their watertight axis permutation (kx, ky, kz); each group is one packet,
 // stored as structure-of-arrays and processed four rays per AVX2 instruction. The BVH is walked
 // once per packet:
-// - inner nodes: one interval-arithmetic slab test for the whole packet (origins and inverse
-//   directions bounded per axis), conservative by construction, plus the packet's largest
-//   current best t;
-// - leaves: an exact-or-wider slab test per group of four rays, then the watertight triangle
-//   test of Watertight.hpp for each group that may hit, operation for operation as the scalar
-//   code does it (separate multiplies and adds; the AVX2 target has no FMA to contract into).
+// - every node: one interval-arithmetic slab test for the whole packet (origins and inverse
+//   directions bounded per axis, the three axes in one AVX2 register), conservative by
+//   construction, plus the packet's largest current best t;
+// - leaves: an exact-or-wider slab test per group of four rays (all groups first, a bit mask of
+//   those that may hit), then the watertight triangle test of Watertight.hpp for each such
+//   group, operation for operation as the scalar code does it (separate multiplies and adds;
+//   the AVX2 target has no FMA to contract into).
+// The per-ray divisions (shear and inverse direction) are done four lanes at a time: IEEE
+// division is correctly rounded, so they equal WatertightRay's.
 // Hits keep the smallest (t, primitive id), so the visiting order never changes the answer; the
 // rare lanes whose edge function is exactly zero take the scalar path for that triangle.
 
 #include "clipray/intersect/PacketKernels.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
-#include <new>
+#include <utility>
 
 #include "clipray/intersect/Watertight.hpp"
 
@@ -58,6 +62,13 @@ struct alignas(32) Packet {
   // the axis share it, 0 when they do not (the axis is then not used to cull).
   double oMin[3], oMax[3], invMin[3], invMax[3];
   int sign[3];
+  // The same bounds laid out for slabPacket (lane k: axis k; lane 3 unused): the origin bound at
+  // which each plane's distance is smallest (entry) or largest (exit), and which floats of the
+  // node are the entry (indices 0-3) and exit (4-7) planes. useAxis: all ones where the axis
+  // culls (its inverse directions share a sign and are finite).
+  alignas(32) double oEnter[4], oExit[4], invLo[4], invHi[4];
+  alignas(32) std::int64_t useAxis[4];
+  alignas(32) std::int32_t planeIndex[8];
 };
 
 using Triangle = BvhTriangle;
@@ -77,8 +88,22 @@ CLIPRAY_AVX2 inline __m256d bcast(double x) {
   return _mm256_set1_pd(x);
 }
 
+// A triangle's vertices in the packet's permuted axes (x: kx, y: ky, z: kz), broadcast once for
+// all the groups that test it.
+struct WideTriangle {
+  __m256d ax, ay, az, bx, by, bz, cx, cy, cz, id;
+};
+
+CLIPRAY_AVX2 inline WideTriangle wideTriangle(const Packet& p, const Triangle& tri) {
+  return {bcast(tri.a[p.kx]), bcast(tri.a[p.ky]),
+          bcast(tri.a[p.kz]), bcast(tri.b[p.kx]),
+          bcast(tri.b[p.ky]), bcast(tri.b[p.kz]),
+          bcast(tri.c[p.kx]), bcast(tri.c[p.ky]),
+          bcast(tri.c[p.kz]), bcast(static_cast<double>(tri.primitiveId))};
+}
+
 // The watertight test of one triangle against four lanes of the packet.
-CLIPRAY_AVX2 inline void testGroup(Packet& p, int g, const Triangle& tri,
+CLIPRAY_AVX2 inline void testGroup(Packet& p, int g, const WideTriangle& wt, const Triangle& tri,
                                    const glm::dvec3& reference, const Ray* rays) {
   const int base = g * 4;
   const __m256d okx = _mm256_load_pd(p.o[p.kx] + base);
@@ -86,15 +111,15 @@ CLIPRAY_AVX2 inline void testGroup(Packet& p, int g, const Triangle& tri,
   const __m256d okz = _mm256_load_pd(p.o[p.kz] + base);
   const __m256d sx = _mm256_load_pd(p.shearX + base);
   const __m256d sy = _mm256_load_pd(p.shearY + base);
-  const __m256d Akz = _mm256_sub_pd(bcast(tri.a[p.kz]), okz);
-  const __m256d Bkz = _mm256_sub_pd(bcast(tri.b[p.kz]), okz);
-  const __m256d Ckz = _mm256_sub_pd(bcast(tri.c[p.kz]), okz);
-  const __m256d ax = _mm256_add_pd(_mm256_sub_pd(bcast(tri.a[p.kx]), okx), _mm256_mul_pd(sx, Akz));
-  const __m256d ay = _mm256_add_pd(_mm256_sub_pd(bcast(tri.a[p.ky]), oky), _mm256_mul_pd(sy, Akz));
-  const __m256d bx = _mm256_add_pd(_mm256_sub_pd(bcast(tri.b[p.kx]), okx), _mm256_mul_pd(sx, Bkz));
-  const __m256d by = _mm256_add_pd(_mm256_sub_pd(bcast(tri.b[p.ky]), oky), _mm256_mul_pd(sy, Bkz));
-  const __m256d cx = _mm256_add_pd(_mm256_sub_pd(bcast(tri.c[p.kx]), okx), _mm256_mul_pd(sx, Ckz));
-  const __m256d cy = _mm256_add_pd(_mm256_sub_pd(bcast(tri.c[p.ky]), oky), _mm256_mul_pd(sy, Ckz));
+  const __m256d Akz = _mm256_sub_pd(wt.az, okz);
+  const __m256d Bkz = _mm256_sub_pd(wt.bz, okz);
+  const __m256d Ckz = _mm256_sub_pd(wt.cz, okz);
+  const __m256d ax = _mm256_add_pd(_mm256_sub_pd(wt.ax, okx), _mm256_mul_pd(sx, Akz));
+  const __m256d ay = _mm256_add_pd(_mm256_sub_pd(wt.ay, oky), _mm256_mul_pd(sy, Akz));
+  const __m256d bx = _mm256_add_pd(_mm256_sub_pd(wt.bx, okx), _mm256_mul_pd(sx, Bkz));
+  const __m256d by = _mm256_add_pd(_mm256_sub_pd(wt.by, oky), _mm256_mul_pd(sy, Bkz));
+  const __m256d cx = _mm256_add_pd(_mm256_sub_pd(wt.cx, okx), _mm256_mul_pd(sx, Ckz));
+  const __m256d cy = _mm256_add_pd(_mm256_sub_pd(wt.cy, oky), _mm256_mul_pd(sy, Ckz));
   const __m256d u = _mm256_sub_pd(_mm256_mul_pd(cx, by), _mm256_mul_pd(cy, bx));
   const __m256d v = _mm256_sub_pd(_mm256_mul_pd(ax, cy), _mm256_mul_pd(ay, cx));
   const __m256d w = _mm256_sub_pd(_mm256_mul_pd(bx, ay), _mm256_mul_pd(by, ax));
@@ -123,7 +148,7 @@ CLIPRAY_AVX2 inline void testGroup(Packet& p, int g, const Triangle& tri,
     const __m256d t = _mm256_div_pd(tScaled, det);
     const __m256d bestT = _mm256_load_pd(p.bestT + base);
     const __m256d bestId = _mm256_load_pd(p.bestId + base);
-    const __m256d id = bcast(static_cast<double>(tri.primitiveId));
+    const __m256d id = wt.id;
     const __m256d better = _mm256_or_pd(
         _mm256_cmp_pd(t, bestT, _CMP_LT_OQ),
         _mm256_and_pd(_mm256_cmp_pd(t, bestT, _CMP_EQ_OQ), _mm256_cmp_pd(id, bestId, _CMP_LT_OQ)));
@@ -146,16 +171,30 @@ CLIPRAY_AVX2 inline void testGroup(Packet& p, int g, const Triangle& tri,
   }
 }
 
+// A leaf's box, broadcast once for all the groups of the packet.
+struct WideBox {
+  __m256d lower[3], upper[3];
+};
+
+CLIPRAY_AVX2 inline WideBox wideBox(const BvhNode& node) {
+  WideBox box;
+  for (int k = 0; k < 3; ++k) {
+    box.lower[k] = bcast(static_cast<double>(node.lower[k]));
+    box.upper[k] = bcast(static_cast<double>(node.upper[k]));
+  }
+  return box;
+}
+
 // Slab test of one box against four lanes: a bit per lane that may hit it before its best t.
-CLIPRAY_AVX2 inline int slabGroup(const Packet& p, int g, const BvhNode& node) {
+CLIPRAY_AVX2 inline int slabGroup(const Packet& p, int g, const WideBox& box) {
   const int base = g * 4;
   __m256d tNear = _mm256_setzero_pd();
   __m256d tFar = _mm256_mul_pd(_mm256_load_pd(p.bestT + base), bcast(1.0 + 0x1p-30));
   for (int k = 0; k < 3; ++k) {
     const __m256d o = _mm256_load_pd(p.o[k] + base);
     const __m256d inv = _mm256_load_pd(p.inv[k] + base);
-    const __m256d t0 = _mm256_mul_pd(_mm256_sub_pd(bcast(node.lower[k]), o), inv);
-    const __m256d t1 = _mm256_mul_pd(_mm256_sub_pd(bcast(node.upper[k]), o), inv);
+    const __m256d t0 = _mm256_mul_pd(_mm256_sub_pd(box.lower[k], o), inv);
+    const __m256d t1 = _mm256_mul_pd(_mm256_sub_pd(box.upper[k], o), inv);
     // Directions have no zero component here (those rays take the scalar path): no NaN.
     tNear = _mm256_max_pd(tNear, _mm256_min_pd(t0, t1));
     tFar = _mm256_min_pd(tFar, _mm256_mul_pd(_mm256_max_pd(t0, t1), bcast(1.0 + 0x1p-40)));
@@ -163,29 +202,41 @@ CLIPRAY_AVX2 inline int slabGroup(const Packet& p, int g, const BvhNode& node) {
   return _mm256_movemask_pd(_mm256_cmp_pd(tNear, tFar, _CMP_LE_OQ));
 }
 
-// Interval slab test of a box against the whole packet (inner nodes).
-inline bool slabPacket(const Packet& p, const BvhNode& node, double tLimit) {
-  double tNear = 0.0, tFar = tLimit;
-  for (int k = 0; k < 3; ++k) {
-    if (p.sign[k] == 0) continue;
-    const double enterPlane = p.sign[k] > 0 ? node.lower[k] : node.upper[k];
-    const double exitPlane = p.sign[k] > 0 ? node.upper[k] : node.lower[k];
-    // (plane - o) * inv over o in [oMin, oMax], inv in [invMin, invMax]: the extremes are at
-    // the interval corners.
-    const double e0 = (enterPlane - p.oMax[k]) * p.invMin[k];
-    const double e1 = (enterPlane - p.oMax[k]) * p.invMax[k];
-    const double e2 = (enterPlane - p.oMin[k]) * p.invMin[k];
-    const double e3 = (enterPlane - p.oMin[k]) * p.invMax[k];
-    const double x0 = (exitPlane - p.oMax[k]) * p.invMin[k];
-    const double x1 = (exitPlane - p.oMax[k]) * p.invMax[k];
-    const double x2 = (exitPlane - p.oMin[k]) * p.invMin[k];
-    const double x3 = (exitPlane - p.oMin[k]) * p.invMax[k];
-    const double enter = std::min(std::min(e0, e1), std::min(e2, e3));
-    const double exit = std::max(std::max(x0, x1), std::max(x2, x3)) * (1.0 + 0x1p-40);
-    tNear = std::max(tNear, enter);
-    tFar = std::min(tFar, exit);
-  }
-  return tNear <= tFar;
+// Interval slab test of a box against the whole packet, all three axes at once.
+// (plane - o) * inv over o in [oMin, oMax], inv in [invMin, invMax] (one sign) has its extremes at
+// the interval corners; rounding is monotone, so the corners of the rounded products are the
+// extremes of every lane's rounded slab distance. For a fixed sign of inv the distance is monotone
+// in o, so the smallest entry is at one origin bound and the largest exit at the other: two
+// corners each. A NaN distance (only from non-finite node bounds) does not cull.
+CLIPRAY_AVX2 inline bool slabPacket(const Packet& p, const BvhNode& node, double tLimit) {
+  static_assert(sizeof(BvhNode) == 32);
+  const __m256 raw = _mm256_loadu_ps(reinterpret_cast<const float*>(&node));
+  const __m256 planes = _mm256_permutevar8x32_ps(
+      raw, _mm256_load_si256(reinterpret_cast<const __m256i*>(p.planeIndex)));
+  const __m256d enterPlane = _mm256_cvtps_pd(_mm256_castps256_ps128(planes));
+  const __m256d exitPlane = _mm256_cvtps_pd(_mm256_extractf128_ps(planes, 1));
+  const __m256d invLo = _mm256_load_pd(p.invLo);
+  const __m256d invHi = _mm256_load_pd(p.invHi);
+  const __m256d a = _mm256_sub_pd(enterPlane, _mm256_load_pd(p.oEnter));
+  const __m256d b = _mm256_sub_pd(exitPlane, _mm256_load_pd(p.oExit));
+  const __m256d enter = _mm256_min_pd(_mm256_mul_pd(a, invLo), _mm256_mul_pd(a, invHi));
+  const __m256d exit = _mm256_mul_pd(
+      _mm256_max_pd(_mm256_mul_pd(b, invLo), _mm256_mul_pd(b, invHi)), bcast(1.0 + 0x1p-40));
+  const __m256d use = _mm256_load_pd(reinterpret_cast<const double*>(p.useAxis));
+  const __m256d infinity = bcast(std::numeric_limits<double>::infinity());
+  const __m256d enterUsed =
+      _mm256_blendv_pd(_mm256_xor_pd(infinity, bcast(-0.0)), enter,
+                       _mm256_and_pd(use, _mm256_cmp_pd(enter, enter, _CMP_ORD_Q)));
+  const __m256d exitUsed =
+      _mm256_blendv_pd(infinity, exit, _mm256_and_pd(use, _mm256_cmp_pd(exit, exit, _CMP_ORD_Q)));
+  // Largest entry, smallest exit over the lanes.
+  __m256d tNear = _mm256_max_pd(enterUsed, _mm256_permute2f128_pd(enterUsed, enterUsed, 1));
+  tNear = _mm256_max_pd(tNear, _mm256_permute_pd(tNear, 5));
+  __m256d tFar = _mm256_min_pd(exitUsed, _mm256_permute2f128_pd(exitUsed, exitUsed, 1));
+  tFar = _mm256_min_pd(tFar, _mm256_permute_pd(tFar, 5));
+  const double entry = std::max(0.0, _mm256_cvtsd_f64(tNear));
+  const double leave = std::min(tLimit, _mm256_cvtsd_f64(tFar));
+  return entry <= leave;
 }
 
 CLIPRAY_AVX2 double maxBest(const Packet& p) {
@@ -211,6 +262,8 @@ CLIPRAY_AVX2 void tracePacket(const SceneIntersector& scene, const std::vector<B
     if (node.count == 0) {
       const std::uint32_t first = static_cast<std::uint32_t>(&node - nodes.data()) + 1;
       const std::uint32_t second = node.first;
+      // The second child is far from its parent in memory: start loading it now.
+      __builtin_prefetch(&nodes[second]);
       // Near child first (pushed last): the first child holds the smaller centroids.
       if (p.sign[node.axis] < 0) {
         stack[top++] = first;
@@ -221,15 +274,126 @@ CLIPRAY_AVX2 void tracePacket(const SceneIntersector& scene, const std::vector<B
       }
       continue;
     }
-    bool any = false;
+    // The leaf's triangles load while its box is tested against the groups.
+    {
+      const auto* begin = reinterpret_cast<const char*>(&triangles[node.first]);
+      const auto bytes = static_cast<std::ptrdiff_t>(node.count * sizeof(Triangle));
+      for (std::ptrdiff_t at = 0; at < bytes; at += 64) __builtin_prefetch(begin + at);
+    }
+    // The groups that may hit the box, without a branch per group (a group's triangle tests
+    // change only its own lanes, so testing every box first gives the same masks).
+    const WideBox box = wideBox(node);
+    std::uint32_t hitGroups = 0;
     for (int g = 0; g < groups; ++g) {
-      if (slabGroup(p, g, node) == 0) continue;
-      any = true;
-      for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-        testGroup(p, g, triangles[i], reference, rays);
+      hitGroups |= static_cast<std::uint32_t>(slabGroup(p, g, box) != 0) << g;
+    }
+    if (hitGroups == 0) continue;
+    for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
+      const Triangle& tri = triangles[i];
+      const WideTriangle wt = wideTriangle(p, tri);
+      for (std::uint32_t left = hitGroups; left != 0; left &= left - 1) {
+        testGroup(p, std::countr_zero(left), wt, tri, reference, rays);
       }
     }
-    if (any) tLimit = maxBest(p) * (1.0 + 0x1p-30);
+    tLimit = maxBest(p) * (1.0 + 0x1p-30);
+  }
+}
+
+// Rays of a tile before they are sorted into packets (structure of arrays).
+struct alignas(32) Staged {
+  double o[3][kMax];
+  double d[3][kMax];
+  double tMax[kMax];
+  std::uint32_t offset[kMax];
+};
+
+// Divisions of WatertightRay and the inverse directions, four lanes at a time (IEEE division is
+// correctly rounded, so the same values as the scalar code), then the packet's bounds. On entry
+// p.inv holds the directions; padding lanes copy lane 0, so the bounds are those of the rays.
+CLIPRAY_AVX2 void preparePacket(Packet& p) {
+  const __m256d one = bcast(1.0);
+  const __m256d signBit = bcast(-0.0);
+  __m256d oMin[3], oMax[3], invMin[3], invMax[3];
+  for (int base = 0; base < p.lanes; base += 4) {
+    const __m256d dkx = _mm256_load_pd(p.inv[p.kx] + base);
+    const __m256d dky = _mm256_load_pd(p.inv[p.ky] + base);
+    const __m256d dkz = _mm256_load_pd(p.inv[p.kz] + base);
+    // shearX = -d[kx] / d[kz] (negation is exact), shearZ = 1 / d[kz] = inv[kz].
+    _mm256_store_pd(p.shearX + base, _mm256_div_pd(_mm256_xor_pd(dkx, signBit), dkz));
+    _mm256_store_pd(p.shearY + base, _mm256_div_pd(_mm256_xor_pd(dky, signBit), dkz));
+    for (int k = 0; k < 3; ++k) {
+      const __m256d inv = _mm256_div_pd(one, _mm256_load_pd(p.inv[k] + base));
+      _mm256_store_pd(p.inv[k] + base, inv);
+      const __m256d o = _mm256_load_pd(p.o[k] + base);
+      if (base == 0) {
+        oMin[k] = oMax[k] = o;
+        invMin[k] = invMax[k] = inv;
+      } else {
+        oMin[k] = _mm256_min_pd(oMin[k], o);
+        oMax[k] = _mm256_max_pd(oMax[k], o);
+        invMin[k] = _mm256_min_pd(invMin[k], inv);
+        invMax[k] = _mm256_max_pd(invMax[k], inv);
+      }
+    }
+    _mm256_store_pd(p.shearZ + base, _mm256_load_pd(p.inv[p.kz] + base));
+  }
+  alignas(32) double lo[4], hi[4], ilo[4], ihi[4];
+  for (int k = 0; k < 3; ++k) {
+    _mm256_store_pd(lo, oMin[k]);
+    _mm256_store_pd(hi, oMax[k]);
+    _mm256_store_pd(ilo, invMin[k]);
+    _mm256_store_pd(ihi, invMax[k]);
+    p.oMin[k] = std::min(std::min(lo[0], lo[1]), std::min(lo[2], lo[3]));
+    p.oMax[k] = std::max(std::max(hi[0], hi[1]), std::max(hi[2], hi[3]));
+    p.invMin[k] = std::min(std::min(ilo[0], ilo[1]), std::min(ilo[2], ilo[3]));
+    p.invMax[k] = std::max(std::max(ihi[0], ihi[1]), std::max(ihi[2], ihi[3]));
+    p.sign[k] = p.invMin[k] > 0.0 ? 1 : (p.invMax[k] < 0.0 ? -1 : 0);
+    const bool positive = p.sign[k] >= 0;
+    const bool finite = std::isfinite(p.invMin[k]) && std::isfinite(p.invMax[k]);
+    p.oEnter[k] = positive ? p.oMax[k] : p.oMin[k];
+    p.oExit[k] = positive ? p.oMin[k] : p.oMax[k];
+    p.invLo[k] = p.invMin[k];
+    p.invHi[k] = p.invMax[k];
+    p.useAxis[k] = p.sign[k] != 0 && finite ? -1 : 0;
+    p.planeIndex[k] = positive ? k : 3 + k;  // BvhNode: lower[3], then upper[3]
+    p.planeIndex[4 + k] = positive ? 3 + k : k;
+  }
+  p.oEnter[3] = p.oExit[3] = p.invLo[3] = p.invHi[3] = 0.0;
+  p.useAxis[3] = 0;
+  p.planeIndex[3] = p.planeIndex[7] = 0;
+}
+
+// Traces the packet's first `used` lanes (rays of permutation class cls: p.o, directions in
+// p.inv, bestT = tMax, bestId = kNoId, rayIndex) and writes their hits.
+void runPacket(const SceneIntersector& scene, const std::vector<BvhNode>& nodes,
+               const std::vector<Triangle>& triangles, Packet& p, int cls, int used,
+               const Ray* rays, Hit* hits) {
+  p.kz = cls / 2;
+  p.kx = (p.kz + 1) % 3;
+  p.ky = (p.kx + 1) % 3;
+  if (cls % 2 != 0) std::swap(p.kx, p.ky);
+  int lanes = used;
+  while (lanes % 4 != 0) {  // padding lanes: a copy of lane 0 that never hits
+    for (int k = 0; k < 3; ++k) {
+      p.o[k][lanes] = p.o[k][0];
+      p.inv[k][lanes] = p.inv[k][0];
+    }
+    p.bestT[lanes] = -1.0;
+    p.bestId[lanes] = kNoId;
+    p.rayIndex[lanes] = p.rayIndex[0];
+    ++lanes;
+  }
+  p.lanes = lanes;
+  preparePacket(p);
+  tracePacket(scene, nodes, triangles, p, rays);
+  for (int l = 0; l < used; ++l) {
+    Hit& hit = hits[p.rayIndex[l]];
+    if (p.bestId[l] == kNoId) {
+      hit = Hit{};
+    } else {
+      hit.t = p.bestT[l];
+      hit.primitiveId = static_cast<std::uint32_t>(p.bestId[l]);
+    }
   }
 }
 
@@ -244,13 +408,10 @@ void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* h
                           std::size_t rowStride, int width, int height) noexcept {
   // Six permutation classes (kz, and whether kx/ky are swapped); rays outside every class
   // (non-finite, zero direction component, origin far outside the scene) go one at a time.
-  struct Prepared {
-    WatertightRay ray;
-    std::uint32_t offset;  // of the ray in rays / hits
-    int cls;
-  };
-  alignas(64) unsigned char storage[kMax * sizeof(Prepared)];
-  auto* prepared = reinterpret_cast<Prepared*>(storage);
+  // Rays in scan order, straight into the packet: most tiles are one class, and then this is the
+  // packet; otherwise the classes are gathered from a copy.
+  Packet p;
+  std::uint8_t classOf[kMax];
   int count = 0;
   int classCount[6] = {};
   const glm::dvec3 reference = scene.reference();
@@ -265,76 +426,57 @@ void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* h
         continue;
       }
       const glm::dvec3 o = ray.origin - reference;
-      if (ray.direction.x == 0.0 || ray.direction.y == 0.0 || ray.direction.z == 0.0 ||
-          maxAbs(o) * 0x1p-30 > scene.boxPad_) {
+      const glm::dvec3 d = ray.direction;
+      if (d.x == 0.0 || d.y == 0.0 || d.z == 0.0 || maxAbs(o) * 0x1p-30 > scene.boxPad_) {
         hits[offset] = scene.closestTriangleHit(ray);  // primitives: by the caller
         continue;
       }
-      Prepared* slot =
-          new (&prepared[count++]) Prepared{WatertightRay(o, ray.direction), offset, 0};
-      slot->cls = slot->ray.kz * 2 + (slot->ray.kx == (slot->ray.kz + 1) % 3 ? 0 : 1);
-      ++classCount[slot->cls];
+      // WatertightRay's permutation: kz, then kx/ky swapped when d[kz] < 0.
+      const glm::dvec3 absD = glm::abs(d);
+      const int kz = absD.x > absD.y ? (absD.x > absD.z ? 0 : 2) : (absD.y > absD.z ? 1 : 2);
+      const int cls = kz * 2 + (d[kz] < 0.0 ? 1 : 0);
+      for (int k = 0; k < 3; ++k) {
+        p.o[k][count] = o[k];
+        p.inv[k][count] = d[k];  // the direction until preparePacket divides
+      }
+      p.bestT[count] = ray.tMax;
+      p.bestId[count] = kNoId;
+      p.rayIndex[count] = offset;
+      classOf[count] = static_cast<std::uint8_t>(cls);
+      ++classCount[cls];
+      ++count;
     }
   }
-  Packet p;
+  if (count == 0) return;
+  const int first = classOf[0];
+  if (classCount[first] == count) {
+    runPacket(scene, scene.nodes_, scene.triangles_, p, first, count, rays, hits);
+    return;
+  }
+  Staged s;
+  for (int i = 0; i < count; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      s.o[k][i] = p.o[k][i];
+      s.d[k][i] = p.inv[k][i];
+    }
+    s.tMax[i] = p.bestT[i];
+    s.offset[i] = p.rayIndex[i];
+  }
   for (int cls = 0; cls < 6; ++cls) {
     if (classCount[cls] == 0) continue;
     int lanes = 0;
     for (int i = 0; i < count; ++i) {
-      const Prepared& r = prepared[i];
-      if (r.cls != cls) continue;
-      const Ray& ray = rays[r.offset];
-      p.kx = r.ray.kx;
-      p.ky = r.ray.ky;
-      p.kz = r.ray.kz;
+      if (classOf[i] != cls) continue;
       for (int k = 0; k < 3; ++k) {
-        p.o[k][lanes] = r.ray.origin[k];
-        p.inv[k][lanes] = 1.0 / ray.direction[k];
+        p.o[k][lanes] = s.o[k][i];
+        p.inv[k][lanes] = s.d[k][i];
       }
-      p.shearX[lanes] = r.ray.shearX;
-      p.shearY[lanes] = r.ray.shearY;
-      p.shearZ[lanes] = r.ray.shearZ;
-      p.bestT[lanes] = ray.tMax;
+      p.bestT[lanes] = s.tMax[i];
       p.bestId[lanes] = kNoId;
-      p.rayIndex[lanes] = r.offset;
+      p.rayIndex[lanes] = s.offset[i];
       ++lanes;
     }
-    const int used = lanes;
-    for (int k = 0; k < 3; ++k) {
-      p.oMin[k] = p.oMax[k] = p.o[k][0];
-      p.invMin[k] = p.invMax[k] = p.inv[k][0];
-      for (int l = 1; l < used; ++l) {
-        p.oMin[k] = std::min(p.oMin[k], p.o[k][l]);
-        p.oMax[k] = std::max(p.oMax[k], p.o[k][l]);
-        p.invMin[k] = std::min(p.invMin[k], p.inv[k][l]);
-        p.invMax[k] = std::max(p.invMax[k], p.inv[k][l]);
-      }
-      p.sign[k] = p.invMin[k] > 0.0 ? 1 : (p.invMax[k] < 0.0 ? -1 : 0);
-    }
-    while (lanes % 4 != 0) {  // padding lanes: a copy of lane 0 that never hits
-      for (int k = 0; k < 3; ++k) {
-        p.o[k][lanes] = p.o[k][0];
-        p.inv[k][lanes] = p.inv[k][0];
-      }
-      p.shearX[lanes] = p.shearX[0];
-      p.shearY[lanes] = p.shearY[0];
-      p.shearZ[lanes] = p.shearZ[0];
-      p.bestT[lanes] = -1.0;
-      p.bestId[lanes] = kNoId;
-      p.rayIndex[lanes] = p.rayIndex[0];
-      ++lanes;
-    }
-    p.lanes = lanes;
-    tracePacket(scene, scene.nodes_, scene.triangles_, p, rays);
-    for (int l = 0; l < used; ++l) {
-      Hit& hit = hits[p.rayIndex[l]];
-      if (p.bestId[l] == kNoId) {
-        hit = Hit{};
-      } else {
-        hit.t = p.bestT[l];
-        hit.primitiveId = static_cast<std::uint32_t>(p.bestId[l]);
-      }
-    }
+    runPacket(scene, scene.nodes_, scene.triangles_, p, cls, lanes, rays, hits);
   }
 }
 
