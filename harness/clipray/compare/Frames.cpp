@@ -8,10 +8,10 @@
 #include <thread>
 
 #if defined(__linux__)
-#include <sys/mman.h>
 #endif
 
 #include "clipray/rays/RobustRays.hpp"
+#include "clipray/util/HugePages.hpp"
 
 namespace clipray {
 
@@ -31,10 +31,7 @@ void* allocateFrameBuffer(std::size_t bytes) {
   const std::size_t rounded = (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
   void* pointer = std::aligned_alloc(kHugePageBytes, rounded);
   if (pointer == nullptr) throw std::bad_alloc();
-#if defined(MADV_HUGEPAGE)
-  // Advice only: where the kernel has no huge pages to give, the buffer keeps 4 KiB pages.
-  (void)madvise(pointer, rounded, MADV_HUGEPAGE);
-#endif
+  adviseHugePages(pointer, rounded);
   return pointer;
 }
 

@@ -9,10 +9,10 @@
 #include <stdexcept>
 
 #if defined(__linux__)
-#include <sys/mman.h>
 #endif
 
 #include "clipray/math/Projections.hpp"
+#include "clipray/util/HugePages.hpp"
 
 namespace clipray {
 
@@ -42,25 +42,6 @@ double pointSegmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
   const double s =
       lengthSquared > 0.0 ? std::clamp(glm::dot(p - a, ab) / lengthSquared, 0.0, 1.0) : 0.0;
   return glm::length(p - (a + s * ab));
-}
-
-// Reserves room for count elements and asks the kernel to back it with transparent huge pages:
-// a frame-sized array then costs one page fault per 2 MiB instead of one per 4 KiB when it is
-// first written (advice only; nothing changes where the kernel has none to give).
-template <class T>
-std::vector<T>& withHugePages(std::vector<T>& values, std::size_t count) {
-  values.reserve(count);
-#if defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kHugePage = std::uintptr_t{2} << 20;
-  const auto begin = reinterpret_cast<std::uintptr_t>(values.data());
-  const std::uintptr_t end = begin + values.capacity() * sizeof(T);
-  const std::uintptr_t alignedBegin = (begin + kHugePage - 1) & ~(kHugePage - 1);
-  const std::uintptr_t alignedEnd = end & ~(kHugePage - 1);
-  if (alignedEnd > alignedBegin) {
-    (void)madvise(reinterpret_cast<void*>(alignedBegin), alignedEnd - alignedBegin, MADV_HUGEPAGE);
-  }
-#endif
-  return values;
 }
 
 Distribution distributionOf(std::vector<double>& values) {
@@ -143,7 +124,7 @@ void ToleranceModel::buildPolygons(std::span<const std::uint32_t> primitiveIds,
     }
   }
   const std::size_t first = polygons_.size();
-  if (first == 0) withHugePages(polygons_, wanted.size());
+  if (first == 0) reserveOnHugePages(polygons_, wanted.size());
   polygons_.resize(first + wanted.size());
   constexpr int kIdsPerChunk = 256;
   const int chunks = static_cast<int>((wanted.size() + kIdsPerChunk - 1) / kIdsPerChunk);
@@ -582,11 +563,12 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
   PixelComparison& pixels = result.pixels;
   pixels.viewport = viewport;
   // Reserved first (address space only), so that the fill lands on huge pages.
-  withHugePages(pixels.rasterDepth, count).assign(count, std::numeric_limits<float>::quiet_NaN());
-  withHugePages(pixels.analyticDepth, count).assign(count, kNaN);
-  withHugePages(pixels.toleranceRatio, count)
+  reserveOnHugePages(pixels.rasterDepth, count)
       .assign(count, std::numeric_limits<float>::quiet_NaN());
-  withHugePages(pixels.classes, count).assign(count, PixelClass::Background);
+  reserveOnHugePages(pixels.analyticDepth, count).assign(count, kNaN);
+  reserveOnHugePages(pixels.toleranceRatio, count)
+      .assign(count, std::numeric_limits<float>::quiet_NaN());
+  reserveOnHugePages(pixels.classes, count).assign(count, PixelClass::Background);
 
   std::mutex merge;
   RunMetrics& total = result.metrics;

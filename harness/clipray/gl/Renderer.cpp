@@ -54,23 +54,6 @@ void checkGl(const char* stage) {
   }
 }
 
-GLuint compileShader(GLenum kind, const char* source, const char* file) {
-  const GLuint shader = glCreateShader(kind);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = GL_FALSE;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetShaderInfoLog(shader, length, nullptr, log.data());
-    glDeleteShader(shader);
-    throw GlError(std::string("GL: ") + file + " does not compile:\n" + log.c_str());
-  }
-  return shader;
-}
-
 // A shader assembled from several files: the main file's #version line, the included files,
 // then the rest of the main file. Each file is its own source string opened by `#line <l> <n>`
 // (GLSL numbers source strings with n: 1 for the main file, 2... for the includes), so the info
@@ -112,6 +95,11 @@ GLuint compileShaderFiles(GLenum kind, const std::vector<ShaderFile>& files) {
     throw GlError("GL: " + names + " does not compile:\n" + named);
   }
   return shader;
+}
+
+// A shader from one file (compiled as its own source string too, so errors name it).
+GLuint compileShader(GLenum kind, const char* source, const char* file) {
+  return compileShaderFiles(kind, {{source, file}});
 }
 
 GLuint linkProgram(GLuint vertex, GLuint fragment, const char* name) {

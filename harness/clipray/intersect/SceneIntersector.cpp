@@ -9,12 +9,12 @@
 #include <thread>
 
 #if defined(__linux__)
-#include <sys/mman.h>
 #endif
 
 #include "clipray/intersect/PacketKernels.hpp"
 #include "clipray/intersect/Primitives.hpp"
 #include "clipray/intersect/Watertight.hpp"
+#include "clipray/util/HugePages.hpp"
 
 namespace clipray {
 
@@ -24,24 +24,6 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 double maxAbs(const glm::dvec3& p) {
   return std::max(std::abs(p.x), std::max(std::abs(p.y), std::abs(p.z)));
-}
-
-// Reserves room for count elements and asks for transparent huge pages: the triangle copies
-// and build arrays of a big scene (tens of MB) then cost one page fault per 2 MiB instead of one
-// per 4 KiB when first written (advice only; no effect where the kernel has none to give).
-template <class T>
-void reserveOnHugePages(std::vector<T>& values, std::size_t count) {
-  values.reserve(count);
-#if defined(MADV_HUGEPAGE)
-  constexpr std::uintptr_t kHugePage = std::uintptr_t{2} << 20;
-  const auto begin = reinterpret_cast<std::uintptr_t>(values.data());
-  const std::uintptr_t end = begin + values.capacity() * sizeof(T);
-  const std::uintptr_t alignedBegin = (begin + kHugePage - 1) & ~(kHugePage - 1);
-  const std::uintptr_t alignedEnd = end & ~(kHugePage - 1);
-  if (alignedEnd > alignedBegin) {
-    (void)madvise(reinterpret_cast<void*>(alignedBegin), alignedEnd - alignedBegin, MADV_HUGEPAGE);
-  }
-#endif
 }
 
 bool finiteRay(const Ray& ray) {
