@@ -280,9 +280,15 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
   const std::size_t tris = intersector.triangleCount();
   add("rays: generateRobustRays", tris, viewport, 2,
       [&] { frame = generateRobustRays(camera, 2); });
-  add("clipray fast path (8x8 packets, AVX2)", tris, viewport, 2,
+  AnalyticFrame binnedFrame = frame;
+  std::size_t binnedTiles = 0;
+  add("clipray fast path (screen bins + 8x8 packets)", tris, viewport, 2,
+      [&] { binnedTiles = intersectFrame(binnedFrame, intersector, camera, 2); });
+  add("clipray fast path (screen bins + 8x8 packets)", tris, viewport, 1,
+      [&] { binnedTiles = intersectFrame(binnedFrame, intersector, camera, 1); });
+  add("clipray BVH packets (8x8 packets, AVX2)", tris, viewport, 2,
       [&] { intersectFrame(frame, intersector, 2); });
-  add("clipray fast path (8x8 packets, AVX2)", tris, viewport, 1,
+  add("clipray BVH packets (8x8 packets, AVX2)", tris, viewport, 1,
       [&] { intersectFrame(frame, intersector, 1); });
   AnalyticFrame single = frame;
   add("clipray closestHit (one ray at a time)", tris, viewport, 2, [&] {
@@ -312,7 +318,7 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
       });
   AnalyticFrame smallFast = smallFrame;
   add("clipray fast path, small", smallIntersector.triangleCount(), smallViewport, 2,
-      [&] { intersectFrame(smallFast, smallIntersector, 2); });
+      [&] { intersectFrame(smallFast, smallIntersector, smallCamera, 2); });
 #if CLIPRAY_HAVE_EMBREE
   const EmbreeScene embree(terrain.mesh, reference, 2);
   std::vector<std::uint32_t> embreeIds1(frame.rays.size()), embreeIds16(frame.rays.size());
@@ -353,14 +359,26 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
   std::printf("Embree build (2 threads): %.2f ms\n", embree.buildMs);
 #endif
 
-  // Agreement: fast path vs closestHit on every ray, vs closestHitLinear on a sample.
+  // Agreement: the binned fast path vs the BVH packets and closestHit on every ray, vs
+  // closestHitLinear on a sample.
   intersectFrame(frame, intersector, 2);
+  std::size_t packetDiffer = 0;
+  for (std::size_t i = 0; i < frame.rays.size(); ++i) {
+    packetDiffer += binnedFrame.hits[i].primitiveId != frame.hits[i].primitiveId ||
+                    binnedFrame.hits[i].t != frame.hits[i].t;
+  }
+  frame.hits = binnedFrame.hits;
   std::size_t differ = 0, hits = 0;
   for (std::size_t i = 0; i < frame.rays.size(); ++i) {
     const Hit h = intersector.closestHit(frame.rays[i]);
     hits += h.hit();
     differ += h.primitiveId != frame.hits[i].primitiveId || h.t != frame.hits[i].t;
   }
+  std::printf(
+      "screen bins: %zu of %zu tiles traced from the bins; binned vs BVH packets: %zu "
+      "differ\n",
+      binnedTiles, static_cast<std::size_t>((viewport.width + 7) / 8) * ((viewport.height + 7) / 8),
+      packetDiffer);
   std::size_t linearDiffer = 0, sampled = 0;
   for (std::size_t i = 0; i < frame.rays.size(); i += frame.rays.size() / 1500 + 1, ++sampled) {
     const Hit h = intersector.closestHitLinear(frame.rays[i]);
@@ -409,7 +427,7 @@ void scalingCase(std::size_t triangleTarget, Viewport viewport, int runs) {
     AnalyticFrame frame = generateRobustRays(camera, 2);
     rays.push_back(msSince(t0));
     t0 = Clock::now();
-    intersectFrame(frame, intersector, 2);
+    intersectFrame(frame, intersector, camera, 2);
     intersect.push_back(msSince(t0));
   }
   std::printf("%9zu %10s %10.1f %9.1f %13.1f %14.1f %10.0f\n", scene.triangleCount(),

@@ -46,7 +46,8 @@ struct Row {
   std::string caseName, convention, method, precision;
   double nsPerRay = 0.0;
   MethodErrors errors;
-  double floorAnglePx = 0.0;
+  double floorAnglePx = 0.0;        // what the matrix stored in float costs
+  double outputFloorAnglePx = 0.0;  // what storing the exact ray in this precision costs
   std::optional<double> fovYDegrees;
   bool parallel = false;
 };
@@ -121,6 +122,7 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
   struct Partial {
     std::vector<ErrorAccumulator> floatErrors, doubleErrors;
     double floorMax = 0.0;
+    double outputFloorFloat = 0.0, outputFloorDouble = 0.0;
   };
   std::vector<Partial> partials(threads);
   auto work = [&](unsigned t) {
@@ -137,6 +139,10 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
       floatReference.row(j, floatRow);
       doubleReference.row(j, doubleRow);
       partial.floorMax = std::max(partial.floorMax, floorAngleRowMax(floatRow, doubleRow));
+      partial.outputFloorFloat =
+          std::max(partial.outputFloorFloat, outputFloorAngleRowMax<float>(floatRow));
+      partial.outputFloorDouble =
+          std::max(partial.outputFloorDouble, outputFloorAngleRowMax<double>(doubleRow));
       for (std::size_t m = 0; m < floats.size(); ++m) {
         floats[m]->generateRow(j, floatRays.span(0, v.width));
         partial.floatErrors[m].addRow(floatRow, floatRays.span(0, v.width));
@@ -149,8 +155,12 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
   for (unsigned t = 1; t < threads; ++t) pool.emplace_back(work, t);
   work(0);
   for (std::thread& thread : pool) thread.join();
-  double floorMax = 0.0;
-  for (const Partial& p : partials) floorMax = std::max(floorMax, p.floorMax);
+  double floorMax = 0.0, outputFloorFloat = 0.0, outputFloorDouble = 0.0;
+  for (const Partial& p : partials) {
+    floorMax = std::max(floorMax, p.floorMax);
+    outputFloorFloat = std::max(outputFloorFloat, p.outputFloorFloat);
+    outputFloorDouble = std::max(outputFloorDouble, p.outputFloorDouble);
+  }
   for (std::size_t m = 0; m < floats.size(); ++m) {
     ErrorAccumulator f = partials[0].floatErrors[m], d = partials[0].doubleErrors[m];
     for (unsigned t = 1; t < threads; ++t) {
@@ -159,6 +169,8 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
     }
     rows[2 * m].errors = f.result();
     rows[2 * m].floorAnglePx = floorMax;
+    rows[2 * m].outputFloorAnglePx = outputFloorFloat;
+    rows[2 * m + 1].outputFloorAnglePx = outputFloorDouble;
     rows[2 * m + 1].errors = d.result();
     rows[2 * m + 1].floorAnglePx = 0.0;  // the double entries are the camera: nothing is lost
   }
@@ -195,7 +207,7 @@ std::string table(const std::vector<Row>& rows) {
       << "method" << std::setw(7) << "prec" << std::right << std::setw(9) << "ns/ray"
       << std::setw(10) << "ang max" << std::setw(10) << "ang p50" << std::setw(10) << "org max"
       << std::setw(10) << "org p50" << std::setw(10) << "tmax rel" << std::setw(9) << "nonfin"
-      << std::setw(9) << "backw" << std::setw(10) << "floor"
+      << std::setw(9) << "backw" << std::setw(10) << "floor" << std::setw(10) << "out floor"
       << "\n";
   for (const Row& r : rows) {
     std::ostringstream ns;
@@ -206,7 +218,8 @@ std::string table(const std::vector<Row>& rows) {
         << cell(r.errors.anglePx.p50) << std::setw(10) << cell(r.errors.originLateralPx.max)
         << std::setw(10) << cell(r.errors.originLateralPx.p50) << std::setw(10)
         << cell(r.errors.tMaxRelativeMax) << std::setw(9) << r.errors.nonfinite << std::setw(9)
-        << r.errors.backward << std::setw(10) << cell(r.floorAnglePx) << "\n";
+        << r.errors.backward << std::setw(10) << cell(r.floorAnglePx) << std::setw(10)
+        << cell(r.outputFloorAnglePx) << "\n";
   }
   return out.str();
 }
@@ -344,7 +357,8 @@ int runBench(const BenchOptions& options) {
   std::cout << "clipray bench: " << cpuName() << ", batch code path " << batchCodePath()
             << ", one core for timings\n";
   std::cout << "errors in pixels (angle: pixel angles; org: lateral origin error in near-plane "
-               "pixel footprints); floor: the float floor\n";
+               "pixel footprints); floor: what the float matrix costs; out floor: what storing the "
+               "exact ray's direction in the row's precision costs\n";
   std::cout << table(rows);
   if (!options.json.empty()) {
     nlohmann::json json;
@@ -368,6 +382,7 @@ int runBench(const BenchOptions& options) {
           {"nonfinite", r.errors.nonfinite},
           {"backward", r.errors.backward},
           {"floor_angle_px", number(r.floorAnglePx)},
+          {"floor_output_angle_px", number(r.outputFloorAnglePx)},
       });
     }
     writeFileAtomically(options.json, json.dump(2) + "\n");

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "support/RunCommand.hpp"
@@ -23,15 +25,22 @@ TEST(BenchCli, WritesTableJsonAndSvg) {
   const auto json = nlohmann::json::parse(testing::readText(folder.path() / "rows.json"));
   ASSERT_EQ(json["rows"].size(), 2u * 2u * 2u * 2u);  // cases x conventions x methods x precisions
   for (const auto& row : json["rows"]) {
-    for (const char* field :
-         {"case", "convention", "method", "precision", "ns_per_ray", "angle_err_px",
-          "origin_lateral_err_px", "tmax_rel_err", "nonfinite", "backward", "floor_angle_px"}) {
+    for (const char* field : {"case", "convention", "method", "precision", "ns_per_ray",
+                              "angle_err_px", "origin_lateral_err_px", "tmax_rel_err", "nonfinite",
+                              "backward", "floor_angle_px", "floor_output_angle_px"}) {
       EXPECT_TRUE(row.contains(field)) << field;
     }
     EXPECT_TRUE(row["angle_err_px"].contains("max"));
     EXPECT_TRUE(row["angle_err_px"].contains("p50"));
     if (row["method"] == "robust") {
       EXPECT_EQ(row["backward"], 0);
+      // The float floor: what the float matrix costs, or what storing the exact ray costs.
+      const double floor =
+          std::max(row["floor_angle_px"].get<double>(), row["floor_output_angle_px"].get<double>());
+      EXPECT_GT(floor, 0.0);
+      if (row["precision"] == "float") {
+        EXPECT_LE(row["angle_err_px"]["max"].get<double>(), 2.0 * floor) << row.dump();
+      }
     }
     if (row["method"] == "full" && row["case"] == "infinite_far_eye_mmm") {
       EXPECT_EQ(row["backward"], 32 * 18);

@@ -7,10 +7,13 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "clipray/compare/Frames.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
+#include "clipray/math/Projections.hpp"
+#include "clipray/rays/RobustRays.hpp"
 #include "support/TestScenes.hpp"
 
 namespace clipray {
@@ -309,6 +312,108 @@ TEST(FastPathPrimitives, PacketsWithAnalyticPrimitivesMatchTheLinearScan) {
     ASSERT_EQ(frame.hits[i].primitiveId, expected.primitiveId) << i;
     ASSERT_EQ(frame.hits[i].t, expected.t) << i;
   }
+}
+
+// ---- Screen-space bins (intersectFrame with a camera) ----
+
+struct BinnedCase {
+  const char* name;
+  PickingCamera camera;
+};
+
+PickingCamera lookingAt(const glm::dmat4& clipFromView, DepthMode mode, const glm::dvec3& eye,
+                        const glm::dvec3& target, Viewport viewport) {
+  return {clipFromView * viewFromWorldLookAt(eye, target, {0, 1, 0}), mode, viewport};
+}
+
+std::vector<BinnedCase> binnedCases() {
+  const Viewport v{61, 47};  // partial tiles at the right and top
+  const double aspect = 61.0 / 47.0;
+  return {
+      {"perspective NO",
+       lookingAt(perspectiveClipFromView(0.9, aspect, 0.1, 100.0, kNegativeOneToOne),
+                 kNegativeOneToOne, {0.3, 6.0, 9.0}, {0, 0, -1}, v)},
+      {"reversed-Z infinite ZO",
+       lookingAt(perspectiveClipFromView(0.9, aspect, 0.05, std::nullopt, kZeroToOneReversed),
+                 kZeroToOneReversed, {-3.0, 2.5, 7.0}, {0.5, 0.5, -1}, v)},
+      // Inside the scene, eye level with the terrain: many triangles cross the eye plane and are
+      // clipped at w = wClip before they are binned.
+      {"inside the terrain", lookingAt(perspectiveClipFromView(1.4, aspect, 0.01, 50.0, kZeroToOne),
+                                       kZeroToOne, {0.2, 0.7, 0.1}, {-3.0, 0.2, -2.0}, v)},
+      {"orthographic", lookingAt(orthographicClipFromView(-6, 6, -4.6, 4.6, 0.5, 40.0, kZeroToOne),
+                                 kZeroToOne, {1.0, 9.0, 8.0}, {0, 0, 0}, v)},
+  };
+}
+
+void expectFrameMatchesTheLinearScan(const SceneIntersector& intersector,
+                                     const AnalyticFrame& frame, const std::string& what) {
+  for (std::size_t i = 0; i < frame.rays.size(); ++i) {
+    const Hit expected = intersector.closestHitLinear(frame.rays[i]);
+    ASSERT_EQ(frame.hits[i].primitiveId, expected.primitiveId) << what << " pixel " << i;
+    ASSERT_EQ(frame.hits[i].t, expected.t) << what << " pixel " << i;
+  }
+}
+
+std::size_t tileCount(Viewport v) {
+  return static_cast<std::size_t>((v.width + 7) / 8) * ((v.height + 7) / 8);
+}
+
+TEST(FastPathBinned, CameraRaysUseTheBinsAndMatchTheLinearScan) {
+  const Scene scene = testSceneWithPrimitives();
+  for (const BinnedCase& c : binnedCases()) {
+    SCOPED_TRACE(c.name);
+    // The reference point near the camera, as a reconcile puts it (the near plane's centre).
+    const glm::dvec4 centre =
+        glm::inverse(c.camera.clipFromWorld) * glm::dvec4(0.0, 0.0, c.camera.mode.nearNdcZ(), 1.0);
+    const SceneIntersector intersector(scene, glm::dvec3(centre) / centre.w,
+                                       SceneIntersector::BvhBuild::WhenFirstNeeded);
+    ASSERT_TRUE(intersector.usesBvh());
+    AnalyticFrame frame = generateRobustRays(c.camera, 2);
+    const std::size_t binned = intersectFrame(frame, intersector, c.camera, 2);
+    EXPECT_EQ(binned, tileCount(c.camera.viewport));  // every tile: the robust rays are on-pixel
+    EXPECT_FALSE(intersector.bvhBuilt());             // so no tile needed the BVH
+    int hits = 0;
+    for (const Hit& hit : frame.hits) hits += hit.hit() ? 1 : 0;
+    EXPECT_GT(hits, 61 * 47 / 3);
+    expectFrameMatchesTheLinearScan(intersector, frame, c.name);
+  }
+}
+
+TEST(FastPathBinned, RaysOffTheirPixelsWalkTheBvhAndStillMatch) {
+  const Scene scene = testSceneWithPrimitives();
+  const BinnedCase c = binnedCases()[0];
+  const SceneIntersector intersector(scene, {0.3, 6.0, 9.0},  // the eye
+                                     SceneIntersector::BvhBuild::WhenFirstNeeded);
+  const Viewport v = c.camera.viewport;
+  const AnalyticFrame robust = generateRobustRays(c.camera, 1);
+
+  // One ray moved to the next pixel's line of sight: its tile (and only its tile) walks the BVH.
+  AnalyticFrame shifted = robust;
+  const std::size_t moved = static_cast<std::size_t>(20) * v.width + 13;  // tile (1, 2)
+  shifted.rays[moved] = robust.rays[moved + 1];
+  EXPECT_FALSE(intersector.bvhBuilt());
+  EXPECT_EQ(intersectFrame(shifted, intersector, c.camera, 2), tileCount(v) - 1);
+  EXPECT_TRUE(intersector.bvhBuilt());  // built by the tile that walks it
+  expectFrameMatchesTheLinearScan(intersector, shifted, "one ray shifted");
+
+  // A y-flipped picking function: no tile can use the bins except where rows coincide.
+  AnalyticFrame flipped = robust;
+  for (int y = 0; y < v.height; ++y) {
+    for (int x = 0; x < v.width; ++x) {
+      flipped.rays[static_cast<std::size_t>(y) * v.width + x] =
+          robust.rays[static_cast<std::size_t>(v.height - 1 - y) * v.width + x];
+    }
+  }
+  EXPECT_EQ(intersectFrame(flipped, intersector, c.camera, 2), 0u);
+  expectFrameMatchesTheLinearScan(intersector, flipped, "y flipped");
+
+  // Rays from the eye (not the near plane), within a quarter pixel otherwise: w = 0 at the
+  // origin is below wClip, so they walk the BVH.
+  AnalyticFrame fromEye = robust;
+  const glm::dvec3 eye{0.3, 6.0, 9.0};
+  for (Ray& ray : fromEye.rays) ray.origin = eye;
+  EXPECT_EQ(intersectFrame(fromEye, intersector, c.camera, 2), 0u);
+  expectFrameMatchesTheLinearScan(intersector, fromEye, "from the eye");
 }
 
 TEST(FastPathWatertight, NoPacketRayLeaksThroughAClosedMesh) {

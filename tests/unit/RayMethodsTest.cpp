@@ -122,11 +122,14 @@ TEST(RayMethods, EveryMethodOnEveryCaseWithinItsConditionBoundDouble) {
   checkEveryMethodOnEveryCase<double>();
 }
 
-// robust: the direction is x' P + y' Q + R with P, Q, R exact (quad) then rounded once, evaluated
-// with one FMA per component from a block base, normalized with a sqrt, a division and a product:
-// about 4 roundings per component relative to kappa_d = (|P| + |Q| + |R|) / |d| (the cancellation
-// in the sum), so angle <= 8 u kappa_d. The origin N.xyz / N.w carries about 4 u of
-// (|c0| + |c1| + |c23|) / |N.w| per component.
+// robust: the direction d = x' P + y' Q + R is evaluated in double from coefficients rounded
+// once from quad (at0, perI, perJ; then one FMA for the row and one for the pixel): a few double
+// roundings relative to kappa_d = (|P| + |Q| + |R|) / |d| (the cancellation in the sum), at most
+// 8 u_double kappa_d of angle. It is then scaled by a T-precision 1 / |d| -- common to the three
+// components, so it does not turn the ray -- and rounded to T once per component: each component
+// moves by at most u_T of itself, the vector by at most u_T of its length, so the angle by at most
+// u_T. Hence angle <= u_T + 8 u_double kappa_d: for float, the exact ray rounded once.
+// The origin N.xyz / N.w carries about 4 u_T of (|c0| + |c1| + |c23|) / |N.w| per component.
 template <typename T>
 void checkRobust() {
   for (const HardCase& c : hardCases(kSmall)) {
@@ -153,7 +156,7 @@ void checkRobust() {
     const Measured<T> m = measure<T>(RayMethod::Robust, c);
     EXPECT_EQ(m.nonfinite, 0);
     EXPECT_EQ(m.backward, 0);
-    EXPECT_LE(m.angleRadMax, 8.0 * kUnitRoundoff<T> * kappaDirection);
+    EXPECT_LE(m.angleRadMax, kUnitRoundoff<T> + 8.0 * kUnitRoundoff<double> * kappaDirection);
     EXPECT_LE(m.lateralMax, 8.0 * kUnitRoundoff<T> * originScale);
   }
 }
@@ -177,13 +180,24 @@ TEST(RayMethods, RobustTMaxIsInfiniteExactlyForInfiniteFarPlanes) {
   }
 }
 
-// robust's batch does the scalar call's operations (explicit FMAs, IEEE sqrt and division), so
-// they agree bit for bit; the other methods' dispatched batches may contract a * b + c into FMAs.
-TEST(RayMethods, RobustScalarAndBatchAgreeBitForBit) {
-  for (const HardCase& c : hardCases({21, 5})) {
-    for (const RayMethod method : {RayMethod::Robust}) {
-      const auto generator = makeRayGenerator<float>(method, c.inputs, c.viewport);
-      if (!generator) continue;
+// robust's batch does the scalar call's operations (explicit FMAs, IEEE sqrt, division and
+// conversions), so every batch code path this CPU has agrees with the scalar call bit for bit; the
+// other methods' dispatched batches may contract a * b + c into FMAs.
+class BatchCodePathLimit {
+ public:
+  explicit BatchCodePathLimit(BatchCodePath path) { limitBatchCodePath(path); }
+  ~BatchCodePathLimit() { limitBatchCodePath(std::nullopt); }
+};
+
+TEST(RayMethods, RobustScalarAndBatchAgreeBitForBitOnEveryCodePath) {
+  for (const BatchCodePath path : supportedBatchCodePaths()) {
+    const BatchCodePathLimit limit(path);
+    SCOPED_TRACE(batchCodePathName(path));
+    EXPECT_EQ(batchCodePath(), batchCodePathName(path));
+    // 21 = two blocks of 8 and a tail of 5.
+    for (const HardCase& c : hardCases({21, 5})) {
+      const auto generator = makeRayGenerator<float>(RayMethod::Robust, c.inputs, c.viewport);
+      ASSERT_TRUE(generator);
       RayBuffer<float> rays(21);
       for (int j = 0; j < c.viewport.height; ++j) {
         generator->generateRow(j, rays.all());
@@ -192,10 +206,56 @@ TEST(RayMethods, RobustScalarAndBatchAgreeBitForBit) {
           const bool same = (a.direction == b.direction || std::isnan(a.direction.x)) &&
                             (a.origin == b.origin || std::isnan(a.origin.x)) &&
                             (a.tMax == b.tMax || std::isnan(a.tMax));
-          EXPECT_TRUE(same) << rayMethodName(method) << " " << c.name << " " << i << "," << j;
+          EXPECT_TRUE(same) << c.name << " " << i << "," << j;
         }
       }
     }
+  }
+}
+
+// A homogeneous matrix scaled by a power of two is the same camera. robust's direction
+// coefficients are P, Q, R = products of two rows (scaled by 2^2k); it rescales them by a power of
+// two, so the rays are the same bits -- and |d|^2 (2^400 unscaled here) stays in float's range.
+TEST(RayMethods, RobustIsBlindToAPowerOfTwoScaleOfTheMatrix) {
+  for (const HardCase& c : hardCases({21, 5})) {
+    SCOPED_TRACE(c.name + " " + c.convention());
+    for (const double scale : {0x1p100, 0x1p-60}) {
+      CameraInputs scaled = c.inputs;
+      scaled.clipFromWorld = c.inputs.clipFromWorld * scale;
+      const auto plain = makeRayGenerator<float>(RayMethod::Robust, c.inputs, c.viewport);
+      const auto other = makeRayGenerator<float>(RayMethod::Robust, scaled, c.viewport);
+      for (int j = 0; j < c.viewport.height; ++j) {
+        for (int i = 0; i < c.viewport.width; ++i) {
+          const CameraRay<float> a = plain->pixelRay(i, j), b = other->pixelRay(i, j);
+          EXPECT_EQ(a.direction, b.direction) << scale << " " << i << "," << j;
+          EXPECT_EQ(a.origin, b.origin) << scale << " " << i << "," << j;
+          EXPECT_EQ(a.tMax, b.tMax) << scale << " " << i << "," << j;
+        }
+      }
+    }
+  }
+}
+
+// The accuracy target as the math gives it: robust float's worst angle is at most twice
+// the float floor, the larger of what the float matrix costs (exact ray of the float entries
+// against that of the double entries) and what storing the exact ray's direction in float costs.
+TEST(RayMethods, RobustFloatStaysWithinTwiceTheFloatFloorOnEveryCase) {
+  for (const HardCase& c : hardCases(kSmall)) {
+    SCOPED_TRACE(c.name + " " + c.convention());
+    const QuadReference floatReference(entriesOf<float>(c.inputs.clipFromWorld), c.inputs.mode,
+                                       c.viewport);
+    const QuadReference doubleReference(c.inputs.clipFromWorld, c.inputs.mode, c.viewport);
+    double matrixFloor = 0.0, outputFloor = 0.0;
+    std::vector<ReferenceRay> floatRow, doubleRow;
+    for (int j = 0; j < c.viewport.height; ++j) {
+      floatReference.row(j, floatRow);
+      doubleReference.row(j, doubleRow);
+      matrixFloor = std::max(matrixFloor, floorAngleRowMax(floatRow, doubleRow));
+      outputFloor = std::max(outputFloor, outputFloorAngleRowMax<float>(floatRow));
+    }
+    EXPECT_GT(outputFloor, 0.0);
+    EXPECT_LE(measure<float>(RayMethod::Robust, c).anglePxMax,
+              2.0 * std::max(matrixFloor, outputFloor));
   }
 }
 

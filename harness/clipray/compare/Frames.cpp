@@ -10,6 +10,7 @@
 #if defined(__linux__)
 #endif
 
+#include "clipray/intersect/FrameBins.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/util/HugePages.hpp"
 
@@ -156,6 +157,40 @@ void intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
       }
     }
   });
+}
+
+std::size_t intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
+                           const PickingCamera& camera, unsigned threadCount) {
+  constexpr int kTile = FrameBins::kTile;
+  const Viewport viewport = frame.viewport;
+  if (!intersector.usesBvh() || !SceneIntersector::packetKernelsAvailable() ||
+      viewport.width != camera.viewport.width || viewport.height != camera.viewport.height) {
+    intersectFrame(frame, intersector, threadCount);
+    return 0;
+  }
+  const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, viewport, threadCount);
+  const int width = viewport.width;
+  frame.hits.resize(frame.rays.size());
+  const int tileRows = (viewport.height + kTile - 1) / kTile;
+  std::atomic<std::size_t> binnedTiles{0};
+  parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
+    std::size_t binned = 0;
+    for (int tileY = tileRowBegin; tileY < tileRowEnd; ++tileY) {
+      const int y0 = tileY * kTile;
+      const int rows = std::min(kTile, viewport.height - y0);
+      for (int tileX = 0; tileX * kTile < width; ++tileX) {
+        const int x0 = tileX * kTile;
+        const std::size_t first = static_cast<std::size_t>(y0) * width + x0;
+        binned += intersector.closestHitsTileBinned(
+                      bins, tileX, tileY, frame.rays.data() + first, frame.hits.data() + first,
+                      static_cast<std::size_t>(width), std::min(kTile, width - x0), rows)
+                      ? 1
+                      : 0;
+      }
+    }
+    binnedTiles += binned;
+  });
+  return binnedTiles.load();
 }
 
 }  // namespace clipray

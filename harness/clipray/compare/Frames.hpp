@@ -94,9 +94,16 @@ AnalyticFrame generateRays(const PickingCamera& camera, const PickRayFunction& r
                            unsigned threadCount = 0);
 // The same with clipray's robust rays, called directly (no per-pixel std::function dispatch).
 AnalyticFrame generateRobustRays(const PickingCamera& camera, unsigned threadCount = 0);
-// Pass 2: the closest hit of every ray, multi-threaded over rows.
+// Pass 2: the closest hit of every ray, multi-threaded over rows: 8x8 tiles traced as SIMD
+// packets walking the BVH.
 void intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
                     unsigned threadCount = 0);
+// The same hits, bit for bit, faster for a camera's pixel-centre rays: the triangles are binned
+// in screen space once for the camera (FrameBins) and each tile whose rays stay on their pixels'
+// lines of sight tests its bins instead of walking the BVH (other tiles walk it). Returns how many
+// tiles used the bins.
+std::size_t intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
+                           const PickingCamera& camera, unsigned threadCount = 0);
 
 // Runs body(rowBegin, rowEnd) over [0, rows) split into chunks across threadCount threads
 // (0: hardware concurrency).

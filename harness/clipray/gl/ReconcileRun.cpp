@@ -43,8 +43,9 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
   pass.raysMilliseconds = millisecondsSince(raysStart);
 
   const auto intersectStart = Clock::now();
-  pass.intersector.emplace(scene, pass.reference);
-  intersectFrame(pass.frame, *pass.intersector, threadCount);
+  // The BVH only when a tile of rays needs it: camera rays traced from screen-space bins never do.
+  pass.intersector.emplace(scene, pass.reference, SceneIntersector::BvhBuild::WhenFirstNeeded);
+  intersectFrame(pass.frame, *pass.intersector, pass.camera, threadCount);
   pass.intersectMilliseconds = millisecondsSince(intersectStart);
   return pass;
 }

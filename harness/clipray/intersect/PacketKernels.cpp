@@ -56,6 +56,9 @@ struct alignas(32) Packet {
   double bestT[kMax];
   double bestId[kMax];
   std::uint32_t rayIndex[kMax];
+  std::uint8_t laneX[kMax], laneY[kMax];  // the lane's pixel within its tile
+  // Binned packets only (raysOnTheirPixels): clip w of the origin and its rate along the ray.
+  double wOrigin[kMax], wSlope[kMax];
   int lanes = 0;  // multiple of 4; padding lanes have bestT = -1 and never hit
   int kx = 0, ky = 0, kz = 0;
   // Packet bounds for the interval slab test; sign: +1 or -1 when all inverse directions on
@@ -305,6 +308,7 @@ struct alignas(32) Staged {
   double d[3][kMax];
   double tMax[kMax];
   std::uint32_t offset[kMax];
+  std::uint8_t laneX[kMax], laneY[kMax];
 };
 
 // Divisions of WatertightRay and the inverse directions, four lanes at a time (IEEE division is
@@ -364,10 +368,10 @@ CLIPRAY_AVX2 void preparePacket(Packet& p) {
 }
 
 // Traces the packet's first `used` lanes (rays of permutation class cls: p.o, directions in
-// p.inv, bestT = tMax, bestId = kNoId, rayIndex) and writes their hits.
-void runPacket(const SceneIntersector& scene, const std::vector<BvhNode>& nodes,
-               const std::vector<Triangle>& triangles, Packet& p, int cls, int used,
-               const Ray* rays, Hit* hits) {
+// p.inv, bestT = tMax, bestId = kNoId, rayIndex, laneX/Y) with walk(p, used) -- which calls
+// preparePacket and tests the triangles -- and writes their hits.
+template <class Walk>
+void runPacket(Packet& p, int cls, int used, Hit* hits, Walk&& walk) {
   p.kz = cls / 2;
   p.kx = (p.kz + 1) % 3;
   p.ky = (p.kx + 1) % 3;
@@ -381,11 +385,12 @@ void runPacket(const SceneIntersector& scene, const std::vector<BvhNode>& nodes,
     p.bestT[lanes] = -1.0;
     p.bestId[lanes] = kNoId;
     p.rayIndex[lanes] = p.rayIndex[0];
+    p.laneX[lanes] = p.laneX[0];
+    p.laneY[lanes] = p.laneY[0];
     ++lanes;
   }
   p.lanes = lanes;
-  preparePacket(p);
-  tracePacket(scene, nodes, triangles, p, rays);
+  walk(p, used);
   for (int l = 0; l < used; ++l) {
     Hit& hit = hits[p.rayIndex[l]];
     if (p.bestId[l] == kNoId) {
@@ -397,19 +402,17 @@ void runPacket(const SceneIntersector& scene, const std::vector<BvhNode>& nodes,
   }
 }
 
-}  // namespace
-
-bool PacketKernels::available() {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
-  return avx2;
-}
-
-void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* hits,
-                          std::size_t rowStride, int width, int height) noexcept {
-  // Six permutation classes (kz, and whether kx/ky are swapped); rays outside every class
-  // (non-finite, zero direction component, origin far outside the scene) go one at a time.
-  // Rays in scan order, straight into the packet: most tiles are one class, and then this is the
-  // packet; otherwise the classes are gathered from a copy.
+// Sorts a tile's rays into packets by permutation class and runs walk(p, used, scanOrder) on
+// each (scanOrder: the packet is the whole tile in scan order, lane = y * width + x).
+// Six permutation classes (kz, and whether kx/ky are swapped); rays outside every class
+// (non-finite, zero direction component, origin far outside the scene) go one at a time.
+// Rays in scan order, straight into the packet: most tiles are one class, and then this is the
+// packet; otherwise the classes are gathered from a copy.
+// oneRay(ray) answers a ray that no packet takes (SceneIntersector::closestTriangleHit); boxPad is
+// the intersector's box padding.
+template <class OneRay, class Walk>
+void traceTile(const SceneIntersector& scene, double boxPad, OneRay&& oneRay, const Ray* rays,
+               Hit* hits, std::size_t rowStride, int width, int height, Walk&& walk) {
   Packet p;
   std::uint8_t classOf[kMax];
   int count = 0;
@@ -427,8 +430,8 @@ void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* h
       }
       const glm::dvec3 o = ray.origin - reference;
       const glm::dvec3 d = ray.direction;
-      if (d.x == 0.0 || d.y == 0.0 || d.z == 0.0 || maxAbs(o) * 0x1p-30 > scene.boxPad_) {
-        hits[offset] = scene.closestTriangleHit(ray);  // primitives: by the caller
+      if (d.x == 0.0 || d.y == 0.0 || d.z == 0.0 || maxAbs(o) * 0x1p-30 > boxPad) {
+        hits[offset] = oneRay(ray);  // primitives: by the caller
         continue;
       }
       // WatertightRay's permutation: kz, then kx/ky swapped when d[kz] < 0.
@@ -442,6 +445,8 @@ void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* h
       p.bestT[count] = ray.tMax;
       p.bestId[count] = kNoId;
       p.rayIndex[count] = offset;
+      p.laneX[count] = static_cast<std::uint8_t>(x);
+      p.laneY[count] = static_cast<std::uint8_t>(y);
       classOf[count] = static_cast<std::uint8_t>(cls);
       ++classCount[cls];
       ++count;
@@ -450,7 +455,9 @@ void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* h
   if (count == 0) return;
   const int first = classOf[0];
   if (classCount[first] == count) {
-    runPacket(scene, scene.nodes_, scene.triangles_, p, first, count, rays, hits);
+    const bool scanOrder = count == width * height;
+    runPacket(p, first, count, hits,
+              [&](Packet& packet, int used) { walk(packet, used, scanOrder); });
     return;
   }
   Staged s;
@@ -461,6 +468,8 @@ void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* h
     }
     s.tMax[i] = p.bestT[i];
     s.offset[i] = p.rayIndex[i];
+    s.laneX[i] = p.laneX[i];
+    s.laneY[i] = p.laneY[i];
   }
   for (int cls = 0; cls < 6; ++cls) {
     if (classCount[cls] == 0) continue;
@@ -474,15 +483,195 @@ void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* h
       p.bestT[lanes] = s.tMax[i];
       p.bestId[lanes] = kNoId;
       p.rayIndex[lanes] = s.offset[i];
+      p.laneX[lanes] = s.laneX[i];
+      p.laneY[lanes] = s.laneY[i];
       ++lanes;
     }
-    runPacket(scene, scene.nodes_, scene.triangles_, p, cls, lanes, rays, hits);
+    runPacket(p, cls, lanes, hits, [&](Packet& packet, int used) { walk(packet, used, false); });
   }
+}
+
+// Row r of the column-major matrix m applied to (x, y, z, 1), with m[3][r] given as translation.
+CLIPRAY_AVX2 inline __m256d matrixRow(const glm::dmat4& m, int r, __m256d x, __m256d y, __m256d z,
+                                      double translation) {
+  return _mm256_add_pd(
+      _mm256_add_pd(_mm256_mul_pd(bcast(m[0][r]), x), _mm256_mul_pd(bcast(m[1][r]), y)),
+      _mm256_add_pd(_mm256_mul_pd(bcast(m[2][r]), z), bcast(translation)));
+}
+
+// |x - cx w| <= epsX w and |y - cy w| <= epsY w: the homogeneous point projects near (cx, cy).
+CLIPRAY_AVX2 inline __m256d nearCentre(__m256d x, __m256d y, __m256d w, __m256d cx, __m256d cy,
+                                       __m256d epsX, __m256d epsY, __m256d signBit) {
+  const __m256d offX = _mm256_andnot_pd(signBit, _mm256_sub_pd(x, _mm256_mul_pd(cx, w)));
+  const __m256d offY = _mm256_andnot_pd(signBit, _mm256_sub_pd(y, _mm256_mul_pd(cy, w)));
+  return _mm256_and_pd(_mm256_cmp_pd(offX, _mm256_mul_pd(epsX, w), _CMP_LE_OQ),
+                       _mm256_cmp_pd(offY, _mm256_mul_pd(epsY, w), _CMP_LE_OQ));
+}
+
+// Whether the packet's first `used` rays (before preparePacket: p.inv holds directions) stay on
+// their pixel centres' lines of sight, so that the bins hold every triangle they can hit.
+// With e0 = clip(origin), ed = clip(direction, w = 0) and e1 = e0 + tMax ed (ed when tMax is
+// infinite), every point of the ray is a non-negative combination of e0 and e1. If both have
+// w >= wClip (an infinite ray's ed: w >= 0) and both lie within kRayTolerancePx of the centre c
+// (|x - c_x w| <= eps w), so does every point, and every hit point has w >= wClip.
+CLIPRAY_AVX2 bool raysOnTheirPixels(Packet& p, int used, const FrameBins& bins, int tileX,
+                                    int tileY) {
+  const glm::dmat4& m = bins.clipFromRelative();
+  const Viewport viewport = bins.viewport();
+  const double scaleX = 2.0 / viewport.width, scaleY = 2.0 / viewport.height;
+  alignas(32) double centreX[kMax], centreY[kMax];
+  for (int l = 0; l < p.lanes; ++l) {
+    // NDC of the pixel centre: (2i + 1) / W - 1.
+    centreX[l] = (2.0 * (tileX * FrameBins::kTile + p.laneX[l]) + 1.0) * (0.5 * scaleX) - 1.0;
+    centreY[l] = (2.0 * (tileY * FrameBins::kTile + p.laneY[l]) + 1.0) * (0.5 * scaleY) - 1.0;
+  }
+  const __m256d epsX = bcast(FrameBins::kRayTolerancePx * scaleX);
+  const __m256d epsY = bcast(FrameBins::kRayTolerancePx * scaleY);
+  const __m256d wClip = bcast(bins.wClip());
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d infinity = bcast(std::numeric_limits<double>::infinity());
+  const __m256d signBit = bcast(-0.0);
+  for (int base = 0; base < used; base += 4) {
+    const __m256d ox = _mm256_load_pd(p.o[0] + base), oy = _mm256_load_pd(p.o[1] + base),
+                  oz = _mm256_load_pd(p.o[2] + base);
+    const __m256d dx = _mm256_load_pd(p.inv[0] + base), dy = _mm256_load_pd(p.inv[1] + base),
+                  dz = _mm256_load_pd(p.inv[2] + base);
+    const __m256d tMax = _mm256_load_pd(p.bestT + base);
+    const __m256d e0x = matrixRow(m, 0, ox, oy, oz, m[3][0]),
+                  e0y = matrixRow(m, 1, ox, oy, oz, m[3][1]),
+                  e0w = matrixRow(m, 3, ox, oy, oz, m[3][3]);
+    const __m256d edx = matrixRow(m, 0, dx, dy, dz, 0.0), edy = matrixRow(m, 1, dx, dy, dz, 0.0),
+                  edw = matrixRow(m, 3, dx, dy, dz, 0.0);
+    _mm256_store_pd(p.wOrigin + base, e0w);
+    _mm256_store_pd(p.wSlope + base, edw);
+    const __m256d finite = _mm256_cmp_pd(tMax, infinity, _CMP_LT_OQ);
+    const __m256d e1x = _mm256_blendv_pd(edx, _mm256_add_pd(e0x, _mm256_mul_pd(tMax, edx)), finite);
+    const __m256d e1y = _mm256_blendv_pd(edy, _mm256_add_pd(e0y, _mm256_mul_pd(tMax, edy)), finite);
+    const __m256d e1w = _mm256_blendv_pd(edw, _mm256_add_pd(e0w, _mm256_mul_pd(tMax, edw)), finite);
+    const __m256d cx = _mm256_load_pd(centreX + base), cy = _mm256_load_pd(centreY + base);
+    const __m256d e1wOk = _mm256_blendv_pd(_mm256_cmp_pd(e1w, zero, _CMP_GE_OQ),
+                                           _mm256_cmp_pd(e1w, wClip, _CMP_GE_OQ), finite);
+    const __m256d ok =
+        _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(e0w, wClip, _CMP_GE_OQ), e1wOk),
+                      _mm256_and_pd(nearCentre(e0x, e0y, e0w, cx, cy, epsX, epsY, signBit),
+                                    nearCentre(e1x, e1y, e1w, cx, cy, epsX, epsY, signBit)));
+    const int wanted = (1 << std::min(4, used - base)) - 1;
+    if ((_mm256_movemask_pd(ok) & wanted) != wanted) return false;
+  }
+  return true;
+}
+
+// The largest clip w at which a hit could still win in each lane of group g: w of the current best
+// hit (w at tMax before any), or of the origin when w falls along the ray, widened by 2^-20 of
+// itself -- far more than the rounding of the watertight t (a triangle skipped by this bound
+// cannot produce an accepted hit). +inf when that w is not a number (an infinite far plane with
+// w constant along the ray).
+CLIPRAY_AVX2 inline __m256d groupReach(const Packet& p, int g) {
+  const int base = g * 4;
+  const __m256d w0 = _mm256_load_pd(p.wOrigin + base);
+  const __m256d atBest = _mm256_add_pd(
+      w0, _mm256_mul_pd(_mm256_load_pd(p.bestT + base), _mm256_load_pd(p.wSlope + base)));
+  const __m256d finiteReach =
+      _mm256_blendv_pd(atBest, bcast(std::numeric_limits<double>::infinity()),
+                       _mm256_cmp_pd(atBest, atBest, _CMP_UNORD_Q));
+  return _mm256_mul_pd(_mm256_max_pd(finiteReach, w0), bcast(1.0 + 0x1p-20));
+}
+
+// The triangles binned in the tile, nearest first, against the packet's groups: only the groups a
+// triangle's pixel bounds touch when the packet is the full 8x8 tile in scan order, and only those
+// with a lane whose best hit lies beyond the triangle's nearest w.
+CLIPRAY_AVX2 void traceBins(const SceneIntersector& scene, const std::vector<Triangle>& triangles,
+                            const FrameBins& bins, int tileX, int tileY, Packet& p,
+                            bool groupsAreHalfRows, const Ray* rays) {
+  const glm::dvec3 reference = scene.reference();
+  const int groupCount = p.lanes / 4;
+  const std::uint32_t allGroups = (1u << groupCount) - 1;
+  thread_local std::vector<BinnedTriangle> sorted;
+  sorted.clear();
+  bins.forEachList(tileX, tileY, [&](std::span<const BinnedTriangle> list) {
+    for (const BinnedTriangle& entry : list) {
+      // The triangles are scattered over the intersector's storage: start loading them now.
+      const char* at = reinterpret_cast<const char*>(&triangles[entry.slot]);
+      __builtin_prefetch(at);
+      __builtin_prefetch(at + sizeof(Triangle) - 1);
+    }
+    sorted.insert(sorted.end(), list.begin(), list.end());
+  });
+  __m256d reach[kMax / 4];
+  for (int g = 0; g < groupCount; ++g) reach[g] = groupReach(p, g);
+  for (const BinnedTriangle& entry : sorted) {
+    std::uint32_t groups = groupsAreHalfRows ? entry.groupMask & allGroups : allGroups;
+    const __m256d nearest = bcast(static_cast<double>(entry.nearestW));
+    for (std::uint32_t left = groups; left != 0; left &= left - 1) {
+      const int g = std::countr_zero(left);
+      if (_mm256_movemask_pd(_mm256_cmp_pd(nearest, reach[g], _CMP_GT_OQ)) == 0xF) {
+        groups &= ~(1u << g);
+      }
+    }
+    if (groups == 0) continue;
+    const Triangle& tri = triangles[entry.slot];
+    const WideTriangle wt = wideTriangle(p, tri);
+    for (std::uint32_t left = groups; left != 0; left &= left - 1) {
+      const int g = std::countr_zero(left);
+      testGroup(p, g, wt, tri, reference, rays);
+      reach[g] = groupReach(p, g);
+    }
+  }
+}
+
+}  // namespace
+
+bool PacketKernels::available() {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+}
+
+void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* hits,
+                          std::size_t rowStride, int width, int height) noexcept {
+  const auto oneRay = [&](const Ray& ray) { return scene.closestTriangleHit(ray); };
+  traceTile(scene, scene.boxPad_, oneRay, rays, hits, rowStride, width, height,
+            [&](Packet& p, int, bool) {
+              preparePacket(p);
+              scene.ensureBvh();
+              tracePacket(scene, scene.bvh_->nodes, scene.bvh_->triangles, p, rays);
+            });
+}
+
+bool PacketKernels::traceBinned(const SceneIntersector& scene, const FrameBins& bins, int tileX,
+                                int tileY, const Ray* rays, Hit* hits, std::size_t rowStride,
+                                int width, int height) noexcept {
+  bool anyBinned = false, anyWalked = false;
+  bool oneAtATime = false;
+  const auto oneRay = [&](const Ray& ray) {
+    oneAtATime = true;
+    return scene.closestTriangleHit(ray);
+  };
+  traceTile(scene, scene.boxPad_, oneRay, rays, hits, rowStride, width, height,
+            [&](Packet& p, int used, bool scanOrder) {
+              const bool onPixels = raysOnTheirPixels(p, used, bins, tileX, tileY);
+              preparePacket(p);
+              if (onPixels) {
+                anyBinned = true;
+                traceBins(scene, scene.triangles_, bins, tileX, tileY, p, scanOrder && width == 8,
+                          rays);
+              } else {
+                anyWalked = true;
+                scene.ensureBvh();
+                tracePacket(scene, scene.bvh_->nodes, scene.bvh_->triangles, p, rays);
+              }
+            });
+  return anyBinned && !anyWalked && !oneAtATime;
 }
 
 #else
 
 bool PacketKernels::available() {
+  return false;
+}
+bool PacketKernels::traceBinned(const SceneIntersector& scene, const FrameBins&, int, int,
+                                const Ray* rays, Hit* hits, std::size_t rowStride, int width,
+                                int height) noexcept {
+  trace(scene, rays, hits, rowStride, width, height);
   return false;
 }
 void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* hits,

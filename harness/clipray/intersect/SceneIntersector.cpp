@@ -11,6 +11,7 @@
 #if defined(__linux__)
 #endif
 
+#include "clipray/intersect/FrameBins.hpp"
 #include "clipray/intersect/PacketKernels.hpp"
 #include "clipray/intersect/Primitives.hpp"
 #include "clipray/intersect/Watertight.hpp"
@@ -34,7 +35,8 @@ bool finiteRay(const Ray& ray) {
 
 }  // namespace
 
-SceneIntersector::SceneIntersector(const Scene& scene, const glm::dvec3& reference)
+SceneIntersector::SceneIntersector(const Scene& scene, const glm::dvec3& reference,
+                                   BvhBuild bvhBuild)
     : reference_(reference), primitives_(scene.primitives) {
   const PrimitiveIdTable ids(scene);
   firstAnalyticId_ = ids.firstAnalyticId;
@@ -58,23 +60,21 @@ SceneIntersector::SceneIntersector(const Scene& scene, const glm::dvec3& referen
   // holding a triangle that the linear scan would report.
   boxPad_ = extent * 0x1p-30 + std::numeric_limits<double>::min();
   if (!std::isfinite(boxPad_)) boxPad_ = kInf;
-  if (triangles_.size() > kBvhThreshold) buildBvh();
-  reserveOnHugePages(slotOfPrimitive_, triangles_.size());
-  slotOfPrimitive_.assign(triangles_.size(), 0);
-  for (std::size_t i = 0; i < triangles_.size(); ++i) {
-    slotOfPrimitive_[triangles_[i].primitiveId - 1] = static_cast<std::uint32_t>(i);
-  }
+  wantsBvh_ = triangles_.size() > kBvhThreshold;
+  if (wantsBvh_ && bvhBuild == BvhBuild::Now) ensureBvh();
 }
 
 std::array<glm::dvec3, 3> SceneIntersector::worldTriangle(std::uint32_t primitiveId) const {
-  const Triangle& tri = triangles_[slotOfPrimitive_[primitiveId - 1]];
+  const Triangle& tri = triangles_[primitiveId - 1];
   return {tri.a + reference_, tri.b + reference_, tri.c + reference_};
 }
 
 std::size_t SceneIntersector::memoryBytes() const {
-  std::size_t bytes = triangles_.capacity() * sizeof(Triangle) + nodes_.capacity() * sizeof(Node) +
-                      slotOfPrimitive_.capacity() * sizeof(std::uint32_t) +
-                      primitives_.capacity() * sizeof(AnalyticPrimitive);
+  std::size_t bytes =
+      triangles_.capacity() * sizeof(Triangle) + primitives_.capacity() * sizeof(AnalyticPrimitive);
+  if (bvhBuilt()) {
+    bytes += bvh_->nodes.capacity() * sizeof(Node) + bvh_->triangles.capacity() * sizeof(Triangle);
+  }
   // Names longer than the small-string buffer live on the heap.
   for (const AnalyticPrimitive& primitive : primitives_) {
     if (primitive.name.capacity() > std::string().capacity())
@@ -351,7 +351,7 @@ void buildInParallel(const std::vector<PrimRef>& refs, std::vector<std::uint32_t
 
 }  // namespace
 
-void SceneIntersector::buildBvh() {
+void SceneIntersector::buildBvh() const {
   std::vector<PrimRef> refs;
   reserveOnHugePages(refs, triangles_.size());
   refs.resize(triangles_.size());
@@ -365,14 +365,13 @@ void SceneIntersector::buildBvh() {
   }
   std::vector<std::uint32_t> order(triangles_.size());
   std::iota(order.begin(), order.end(), 0u);
-  reserveOnHugePages(nodes_, triangles_.size());
-  buildInParallel(refs, order, nodes_, boxPad_);
-  nodes_.shrink_to_fit();
-  std::vector<Triangle> sorted;
-  reserveOnHugePages(sorted, triangles_.size());
-  sorted.resize(triangles_.size());
-  for (std::size_t i = 0; i < order.size(); ++i) sorted[i] = triangles_[order[i]];
-  triangles_ = std::move(sorted);
+  reserveOnHugePages(bvh_->nodes, triangles_.size());
+  buildInParallel(refs, order, bvh_->nodes, boxPad_);
+  bvh_->nodes.shrink_to_fit();
+  reserveOnHugePages(bvh_->triangles, triangles_.size());
+  bvh_->triangles.resize(triangles_.size());
+  for (std::size_t i = 0; i < order.size(); ++i) bvh_->triangles[i] = triangles_[order[i]];
+  bvh_->built.store(true, std::memory_order_release);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -446,7 +445,7 @@ Hit SceneIntersector::intersectOne(std::uint32_t primitiveId, const Ray& worldRa
   best.t = worldRay.tMax;
   if (primitiveId <= triangles_.size()) {
     const WatertightRay ray(worldRay.origin - reference_, worldRay.direction);
-    testTriangle(ray, triangles_[slotOfPrimitive_[primitiveId - 1]], best);
+    testTriangle(ray, triangles_[primitiveId - 1], best);
   } else if (isAnalytic(primitiveId)) {
     const double t = intersectPrimitive(analyticPrimitive(primitiveId), worldRay);
     if (t < kInf) best = Hit{t, primitiveId};
@@ -458,10 +457,13 @@ Hit SceneIntersector::intersectOne(std::uint32_t primitiveId, const Ray& worldRa
 void SceneIntersector::closestTriangle(const Ray& worldRay, Hit& best) const noexcept {
   const glm::dvec3 origin = worldRay.origin - reference_;
   const WatertightRay ray(origin, worldRay.direction);
-  if (nodes_.empty()) {
+  if (!wantsBvh_) {
     for (const Triangle& tri : triangles_) testTriangle(ray, tri, best);
     return;
   }
+  ensureBvh();
+  const std::vector<Node>& nodes = bvh_->nodes;
+  const std::vector<Triangle>& bvhTriangles = bvh_->triangles;
   // Rays starting far outside the scene get extra padding (rounding grows with |origin|).
   const double extraPad = std::max(0.0, maxAbs(origin) * 0x1p-30 - boxPad_);
   const glm::dvec3 inverseDirection = 1.0 / worldRay.direction;
@@ -486,20 +488,20 @@ void SceneIntersector::closestTriangle(const Ray& worldRay, Hit& best) const noe
   std::uint32_t stack[128];
   int top = 0;
   double entry = 0.0;
-  if (slab(nodes_[0], entry)) stack[top++] = 0;
+  if (slab(nodes[0], entry)) stack[top++] = 0;
   while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
+    const Node& node = nodes[stack[--top]];
     if (node.count > 0) {
       for (std::uint32_t i = node.first; i < node.first + node.count; ++i) {
-        testTriangle(ray, triangles_[i], best);
+        testTriangle(ray, bvhTriangles[i], best);
       }
       continue;
     }
-    const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes_.data()) + 1;
+    const std::uint32_t left = static_cast<std::uint32_t>(&node - nodes.data()) + 1;
     const std::uint32_t right = node.first;
     double entryLeft = 0.0, entryRight = 0.0;
-    const bool hitLeft = slab(nodes_[left], entryLeft);
-    const bool hitRight = slab(nodes_[right], entryRight);
+    const bool hitLeft = slab(nodes[left], entryLeft);
+    const bool hitRight = slab(nodes[right], entryRight);
     // Visit the nearer child first (pushed last).
     if (hitLeft && hitRight) {
       if (entryLeft <= entryRight) {
@@ -524,24 +526,44 @@ void SceneIntersector::closestHits(std::span<const Ray> rays, std::span<Hit> hit
   }
 }
 
+void SceneIntersector::addAnalyticToTile(const Ray* rays, Hit* hits, std::size_t rowStride,
+                                         int width, int height) const noexcept {
+  // The few analytic primitives one ray at a time, continuing from the triangles' answer with
+  // closestHit's update rule: the same minimum, bit for bit.
+  if (primitives_.empty()) return;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const std::size_t i = static_cast<std::size_t>(y) * rowStride + x;
+      if (!finiteRay(rays[i])) continue;  // closestHit answers Hit{}, as the packets did
+      Hit best = hits[i];
+      if (!best.hit()) best.t = rays[i].tMax;
+      closestAnalytic(rays[i], best);
+      if (!best.hit()) best.t = kInf;
+      hits[i] = best;
+    }
+  }
+}
+
+bool SceneIntersector::closestHitsTileBinned(const FrameBins& bins, int tileX, int tileY,
+                                             const Ray* rays, Hit* hits, std::size_t rowStride,
+                                             int width, int height) const noexcept {
+  if (!bins.usable() || !wantsBvh_ || !packetKernelsAvailable() || width > FrameBins::kTile ||
+      height > FrameBins::kTile) {
+    closestHitsTile(rays, hits, rowStride, width, height);
+    return false;
+  }
+  const bool binned = detail::PacketKernels::traceBinned(*this, bins, tileX, tileY, rays, hits,
+                                                         rowStride, width, height);
+  addAnalyticToTile(rays, hits, rowStride, width, height);
+  return binned;
+}
+
 void SceneIntersector::closestHitsTile(const Ray* rays, Hit* hits, std::size_t rowStride, int width,
                                        int height) const noexcept {
-  if (!nodes_.empty() && packetKernelsAvailable() && width * height <= int{kMaxPacket}) {
-    // Triangles by packets, then the few analytic primitives one ray at a time, continuing from
-    // the triangles' answer with closestHit's update rule: the same minimum, bit for bit.
+  if (wantsBvh_ && packetKernelsAvailable() && width * height <= int{kMaxPacket}) {
+    // Triangles by packets, then the analytic primitives.
     detail::PacketKernels::trace(*this, rays, hits, rowStride, width, height);
-    if (primitives_.empty()) return;
-    for (int y = 0; y < height; ++y) {
-      for (int x = 0; x < width; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * rowStride + x;
-        if (!finiteRay(rays[i])) continue;  // closestHit answers Hit{}, as trace did
-        Hit best = hits[i];
-        if (!best.hit()) best.t = rays[i].tMax;
-        closestAnalytic(rays[i], best);
-        if (!best.hit()) best.t = kInf;
-        hits[i] = best;
-      }
-    }
+    addAnalyticToTile(rays, hits, rowStride, width, height);
     return;
   }
   for (int y = 0; y < height; ++y) {

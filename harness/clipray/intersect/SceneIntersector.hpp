@@ -10,9 +10,12 @@
 // conservative (padded boxes, widened ranges), never decisive.
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -22,6 +25,8 @@
 #include "clipray/scene/Scene.hpp"
 
 namespace clipray {
+
+class FrameBins;
 
 struct Hit {
   double t = std::numeric_limits<double>::infinity();
@@ -53,7 +58,12 @@ class SceneIntersector {
   // Rays traced together by closestHits (a tile of 8x8 primary rays).
   static constexpr std::size_t kMaxPacket = 64;
 
-  SceneIntersector(const Scene& scene, const glm::dvec3& reference);
+  // When the BVH is built: now (the constructor), or by the first query that walks it (a frame of
+  // camera rays traced from screen-space bins never does; the build is thread-safe).
+  enum class BvhBuild { Now, WhenFirstNeeded };
+
+  SceneIntersector(const Scene& scene, const glm::dvec3& reference,
+                   BvhBuild bvhBuild = BvhBuild::Now);
 
   // Closest hit with t in (0, ray.tMax]; ties go to the smaller primitive id. Never throws.
   Hit closestHit(const Ray& worldRay) const noexcept;
@@ -67,6 +77,13 @@ class SceneIntersector {
   // rows are rowStride elements apart; width * height <= kMaxPacket rays are traced together.
   void closestHitsTile(const Ray* rays, Hit* hits, std::size_t rowStride, int width,
                        int height) const noexcept;
+  // closestHitsTile for tile (tileX, tileY) of the frame that `bins` were made for (8x8 tiles,
+  // FrameBins::kTile): the same hits, bit for bit; packets whose rays stay on their pixel
+  // centres' lines of sight test the tile's binned triangles instead of walking the BVH. Returns
+  // whether every packet of the tile did.
+  bool closestHitsTileBinned(const FrameBins& bins, int tileX, int tileY, const Ray* rays,
+                             Hit* hits, std::size_t rowStride, int width,
+                             int height) const noexcept;
 
   // Closest hit of the ray with the one primitive `primitiveId` (a triangle or an analytic
   // primitive), t in (0, ray.tMax]: the t that closestHit would see for that primitive, bit for
@@ -89,9 +106,12 @@ class SceneIntersector {
   const AnalyticPrimitive& analyticPrimitive(std::uint32_t primitiveId) const {
     return primitives_[primitiveId - firstAnalyticId_];
   }
-  bool usesBvh() const { return !nodes_.empty(); }
+  // Whether queries walk a BVH (built now or when first needed): the triangle count makes it pay.
+  bool usesBvh() const { return wantsBvh_; }
+  // Whether the BVH has been built (BvhBuild::WhenFirstNeeded builds it on demand).
+  bool bvhBuilt() const { return bvh_->built.load(std::memory_order_acquire); }
   const glm::dvec3& reference() const { return reference_; }
-  std::size_t nodeCount() const { return nodes_.size(); }
+  std::size_t nodeCount() const { return bvhBuilt() ? bvh_->nodes.size() : 0; }
   // Bytes held by the triangle copies, the BVH, the id map and the analytic primitives.
   std::size_t memoryBytes() const;
   // Whether closestHits runs the AVX2 packet kernels on this CPU (else one ray at a time).
@@ -99,23 +119,40 @@ class SceneIntersector {
 
  private:
   friend struct detail::PacketKernels;
+  friend class FrameBins;
   using Triangle = detail::BvhTriangle;
   using Node = detail::BvhNode;
-  void buildBvh();
+  void buildBvh() const;
+  // Builds the BVH once (thread-safe); usesBvh() must hold.
+  void ensureBvh() const {
+    if (!bvhBuilt()) std::call_once(bvh_->once, [this] { buildBvh(); });
+  }
   // Triangles only, by the BVH when there is one; best.t is the current bound (the ray's tMax when
   // best.primitiveId == 0), updated in place.
   void closestTriangle(const Ray& worldRay, Hit& best) const noexcept;
   // The analytic primitives, linearly, with the same update rule.
   void closestAnalytic(const Ray& worldRay, Hit& best) const noexcept;
+  // Adds the analytic primitives to a tile's triangle hits (closestHit's update rule).
+  void addAnalyticToTile(const Ray* rays, Hit* hits, std::size_t rowStride, int width,
+                         int height) const noexcept;
   // closestHit without the analytic primitives (the packet kernels' one-ray fallback).
   Hit closestTriangleHit(const Ray& worldRay) const noexcept;
 
   glm::dvec3 reference_;
   double boxPad_ = 0.0;
-  std::vector<Triangle> triangles_;             // in BVH leaf order when a BVH is built
-  std::vector<std::uint32_t> slotOfPrimitive_;  // primitiveId - 1 -> index in triangles_
-  std::vector<Node> nodes_;                     // depth-first: the first child follows its parent
-  std::vector<AnalyticPrimitive> primitives_;   // primitive p has id firstAnalyticId_ + p
+  std::vector<Triangle> triangles_;  // in primitive id order: triangles_[id - 1]
+  bool wantsBvh_ = false;
+  // Built once (ensureBvh): the nodes, depth-first (the first child follows its parent), and a
+  // copy of the triangles in leaf order, so that triangles_ keeps its order for the bins. Behind
+  // a pointer so that the intersector stays movable.
+  struct Bvh {
+    std::once_flag once;
+    std::atomic<bool> built{false};
+    std::vector<Node> nodes;
+    std::vector<Triangle> triangles;
+  };
+  std::unique_ptr<Bvh> bvh_ = std::make_unique<Bvh>();
+  std::vector<AnalyticPrimitive> primitives_;  // primitive p has id firstAnalyticId_ + p
   std::uint32_t firstAnalyticId_ = 1;
 };
 

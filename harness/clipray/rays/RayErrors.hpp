@@ -74,6 +74,14 @@ extern template void ErrorAccumulator::addRow<double>(const std::vector<Referenc
 // Returns the row's maximum.
 double floorAngleRowMax(const std::vector<ReferenceRay>& rounded,
                         const std::vector<ReferenceRay>& exact);
+// The angle between each reference direction and that direction rounded to T, in pixel angles:
+// what storing the exact ray in T already costs (the output floor). No method returning a T
+// direction beats it on every pixel; for float it is about u_float = 2^-24 rad at worst, which
+// exceeds the matrix floor where the float entries happen to be (nearly) exact. Row maximum.
+template <typename T>
+double outputFloorAngleRowMax(const std::vector<ReferenceRay>& reference);
+extern template double outputFloorAngleRowMax<float>(const std::vector<ReferenceRay>&);
+extern template double outputFloorAngleRowMax<double>(const std::vector<ReferenceRay>&);
 
 // The angle between a computed unit direction and the reference's, in radians, accurate to well
 // below 1e-20 rad near zero (the difference is taken against the double-double reference).

@@ -1,5 +1,6 @@
 #include "clipray/rays/RayMethods.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -85,6 +86,24 @@ bool cpuHasAvx2Fma() {
 #else
   return false;
 #endif
+}
+
+bool cpuHasAvx512() {
+#if CLIPRAY_X86
+  static const bool has = cpuHasAvx2Fma() && __builtin_cpu_supports("avx512f");
+  return has;
+#else
+  return false;
+#endif
+}
+
+std::optional<BatchCodePath> batchCodePathLimit;
+
+BatchCodePath activeBatchCodePath() {
+  const BatchCodePath best = cpuHasAvx512()    ? BatchCodePath::Avx512
+                             : cpuHasAvx2Fma() ? BatchCodePath::Avx2Fma
+                                               : BatchCodePath::Portable;
+  return batchCodePathLimit && *batchCodePathLimit < best ? *batchCodePathLimit : best;
 }
 
 template <typename T>
@@ -327,18 +346,29 @@ struct FullKernel {
 //
 // Precompute (once per camera and viewport, in __float128 from the entries as given in T):
 // with x' = (2i + 1) / W - 1, every per-pixel quantity robust needs is affine in the pixel index:
-//   direction  d(i, j) = sign * (x' P + y' Q + R)    P = my x mw, Q = mw x mx, R = mx x my
+//   direction  d(i, j) = sign * scale * (x' P + y' Q + R)    P = my x mw, Q = mw x mx, R = mx x my
 //   near point N(i, j) = worldFromClip (x', y', z_near, 1)           (homogeneous, 4 components)
-//   far dot    F(i, j) = (rowZ - z_far rowW).xyz . d(i, j)
+//   far dot    F(i, j) = sign * scale * (rowZ - z_far rowW).xyz . (x' P + y' Q + R)
 // `sign` makes d enter the frustum through the near plane: s * dot(rowZ - z_near rowW, d) > 0
 // (s = -1 for reversed-Z). That dot is linear in (x', y') and, for a matrix that is a projection,
 // never zero inside the viewport (describeProjection checks the corners), so the sign is found
-// once at the centre and folded into the coefficients.
-// Per pixel: evaluate the three affine forms in blocks of 8 pixels (block base in double, then
-// one FMA per component per pixel in T, so the increment k < 8 adds almost no rounding), then
-//   direction = d / |d|,  origin = N.xyz / N.w,
-//   t_max = (z_far - z_near) |d| / (N.w F)   (seed 002: F_w . n_w = F_c . n_c = z_near - z_far),
-// and t_max = +inf when that is not a positive finite number (infinite far plane: F == 0).
+// once at the centre and folded into the coefficients. `scale` is a power of two that makes |d|
+// about 1 at the viewport's centre: exact, it changes neither the direction nor t_max (F and |d|
+// scale alike), and it keeps |d|^2 inside float's range for any matrix float can hold.
+//
+// Per pixel:
+//   direction: d in double, one FMA per component from the row base (d is bilinear in (x', y'),
+//              so this is d's exact value up to a few double roundings), |d|^2 in double, then
+//              length = sqrt(T(|d|^2)) and inverseLength = 1 / length in T, and
+//              direction = T(d * inverseLength) -- ONE rounding to T per component. The scale
+//              factor's own error is common to the three components and does not turn the ray,
+//              so a float direction is within u_float (+ a few u_double * cond) of the exact
+//              one: the cost of storing the exact ray in float, and no more.
+//   origin:    N.xyz / N.w, the four forms evaluated in T from a block base (one FMA per pixel
+//              from the base of 8 pixels, computed in double, so the increment k < 8 adds
+//              almost no rounding);
+//   t_max:     (z_far - z_near) |d| / (N.w F)   (seed 002: F_w . n_w = F_c . n_c = z_near - z_far),
+//              and +inf when that is not a positive finite number (infinite far plane: F == 0).
 struct RobustCoefficients {
   // Affine forms value(i, j) = at0 + i * perI + j * perJ; components: d.xyz, N.xyzw, F.
   double at0[8], perI[8], perJ[8];
@@ -359,7 +389,15 @@ RobustCoefficients robustCoefficients(const glm::dmat4& entries, DepthMode mode,
   const QuadVec3 farNormal = {rowZ.x - zFar * rowW.x, rowZ.y - zFar * rowW.y,
                               rowZ.z - zFar * rowW.z};
   const Float128 nearSign = mode.reversed ? -1 : 1;
-  const Float128 sign = nearSign * dot(nearNormal, r) < 0 ? -1 : 1;
+  const Float128 orientation = nearSign * dot(nearNormal, r) < 0 ? -1 : 1;
+  // d at the viewport's centre is R (x' = y' = 0); P and Q are added at the edges.
+  const double centreLength =
+      std::max({std::abs(toDouble(r.x)), std::abs(toDouble(r.y)), std::abs(toDouble(r.z)),
+                std::abs(toDouble(p.x)), std::abs(toDouble(p.y)), std::abs(toDouble(p.z)),
+                std::abs(toDouble(q.x)), std::abs(toDouble(q.y)), std::abs(toDouble(q.z))});
+  int exponent = 0;
+  if (centreLength > 0 && std::isfinite(centreLength)) std::frexp(centreLength, &exponent);
+  const Float128 sign = orientation * Float128(std::ldexp(1.0, -exponent));
   const QuadVec4 c0 = quadColumn(inverse, 0), c1 = quadColumn(inverse, 1),
                  c2 = quadColumn(inverse, 2), c3 = quadColumn(inverse, 3);
 
@@ -394,7 +432,7 @@ template <typename T>
 struct RobustKernel {
   static constexpr int kBlock = 8;
   RobustCoefficients coefficients;
-  T perI[8];  // the per-pixel increments in T
+  T perI[8];  // the per-pixel increments in T (components 3..7 are used)
   T depthSpan;
 
   RobustKernel(const CameraInputs& in, Viewport viewport) {
@@ -417,22 +455,25 @@ struct RobustKernel {
     for (int c = 0; c < 8; ++c) block[c] = T(std::fma(double(i0), perIValues[c], rowBaseValues[c]));
   }
 
-  // Everything in T from the block base: one FMA per component per pixel.
-  CameraRay<T> finish(const T block[8], T k) const {
-    const T dx = std::fma(k, perI[0], block[0]);
-    const T dy = std::fma(k, perI[1], block[1]);
-    const T dz = std::fma(k, perI[2], block[2]);
-    const T length = std::sqrt(std::fma(dx, dx, std::fma(dy, dy, dz * dz)));
+  // Pixel i0 + k of the row whose double base is `base`; block holds the T base of pixel i0.
+  CameraRay<T> finish(const double base[8], const T block[8], int i0, int k) const {
+    const double i = double(i0 + k);
+    const double dx = std::fma(i, coefficients.perI[0], base[0]);
+    const double dy = std::fma(i, coefficients.perI[1], base[1]);
+    const double dz = std::fma(i, coefficients.perI[2], base[2]);
+    const T length = std::sqrt(T(std::fma(dx, dx, std::fma(dy, dy, dz * dz))));
     const T inverseLength = T(1) / length;
-    const T nx = std::fma(k, perI[3], block[3]);
-    const T ny = std::fma(k, perI[4], block[4]);
-    const T nz = std::fma(k, perI[5], block[5]);
-    const T nw = std::fma(k, perI[6], block[6]);
+    const T kt = T(k);
+    const T nx = std::fma(kt, perI[3], block[3]);
+    const T ny = std::fma(kt, perI[4], block[4]);
+    const T nz = std::fma(kt, perI[5], block[5]);
+    const T nw = std::fma(kt, perI[6], block[6]);
     const T inverseW = T(1) / nw;
-    const T farDot = std::fma(k, perI[7], block[7]);
+    const T farDot = std::fma(kt, perI[7], block[7]);
     const T t = (depthSpan * length) / (nw * farDot);
     CameraRay<T> ray;
-    ray.direction = {dx * inverseLength, dy * inverseLength, dz * inverseLength};
+    ray.direction = {T(dx * double(inverseLength)), T(dy * double(inverseLength)),
+                     T(dz * double(inverseLength))};
     ray.origin = {nx * inverseW, ny * inverseW, nz * inverseW};
     ray.tMax = (t > T(0) && t < std::numeric_limits<T>::infinity())
                    ? t
@@ -446,7 +487,7 @@ struct RobustKernel {
     const int i0 = i & ~(kBlock - 1);
     T block[8];
     blockBase(base, coefficients.perI, i0, block);
-    return finish(block, T(i - i0));
+    return finish(base, block, i0, i - i0);
   }
 
   // Portable row: the same arithmetic as operator(), the block base shared by 8 pixels.
@@ -457,38 +498,60 @@ struct RobustKernel {
       T block[8];
       blockBase(base, coefficients.perI, i0, block);
       const int end = std::min(width - i0, kBlock);
-      for (int k = 0; k < end; ++k) out.store(i0 + k, finish(block, T(k)));
+      for (int k = 0; k < end; ++k) out.store(i0 + k, finish(base, block, i0, k));
     }
   }
 };
 
 #if CLIPRAY_X86
-// AVX2 + FMA row of robust float rays: 8 pixels per iteration, the exact operations of
-// RobustKernel<float>::finish (IEEE sqrt and division are correctly rounded in both), so the
-// batch and the scalar call agree bit for bit. Built for the CPU feature, chosen at run time.
+// Two halves of double lanes rounded to float and joined into 8 float lanes (lower half first).
+__attribute__((target("avx2,fma"))) inline __m256 toFloat8(__m256d low, __m256d high) {
+  return _mm256_set_m128(_mm256_cvtpd_ps(high), _mm256_cvtpd_ps(low));
+}
+
+// AVX2 + FMA row of robust float rays: 8 pixels per iteration (the direction in two halves of 4
+// double lanes), the exact operations of RobustKernel<float>::finish (IEEE sqrt, division and
+// conversions are correctly rounded in both), so the batch and the scalar call agree bit for
+// bit. Built for the CPU feature, chosen at run time.
 __attribute__((target("avx2,fma"))) void robustRowAvx2(const RobustKernel<float>& kernel, int j,
                                                        int width, const RaySpan<float>& out) {
   double base[8];
   kernel.rowBase(j, base);
   const __m256 lane = _mm256_setr_ps(0.f, 1.f, 2.f, 3.f, 4.f, 5.f, 6.f, 7.f);
   __m256 step[8];
-  for (int c = 0; c < 8; ++c) step[c] = _mm256_set1_ps(kernel.perI[c]);
+  for (int c = 3; c < 8; ++c) step[c] = _mm256_set1_ps(kernel.perI[c]);
+  __m256d directionStep[3], directionBase[3];
+  for (int c = 0; c < 3; ++c) {
+    directionStep[c] = _mm256_set1_pd(kernel.coefficients.perI[c]);
+    directionBase[c] = _mm256_set1_pd(base[c]);
+  }
+  const __m256d four = _mm256_set1_pd(4.0), eight = _mm256_set1_pd(8.0);
+  __m256d pixelLow = _mm256_setr_pd(0.0, 1.0, 2.0, 3.0);  // i of lanes 0..3, exact in double
   const __m256 depthSpan = _mm256_set1_ps(kernel.depthSpan);
   const __m256 infinity = _mm256_set1_ps(std::numeric_limits<float>::infinity());
   const __m256 zero = _mm256_setzero_ps();
   const __m256 one = _mm256_set1_ps(1.f);
   int i0 = 0;
-  for (; i0 + 8 <= width; i0 += 8) {
+  for (; i0 + 8 <= width; i0 += 8, pixelLow = _mm256_add_pd(pixelLow, eight)) {
+    const __m256d pixelHigh = _mm256_add_pd(pixelLow, four);
+    __m256d dLow[3], dHigh[3];
+    for (int c = 0; c < 3; ++c) {
+      dLow[c] = _mm256_fmadd_pd(pixelLow, directionStep[c], directionBase[c]);
+      dHigh[c] = _mm256_fmadd_pd(pixelHigh, directionStep[c], directionBase[c]);
+    }
+    const __m256d squaredLow = _mm256_fmadd_pd(
+        dLow[0], dLow[0], _mm256_fmadd_pd(dLow[1], dLow[1], _mm256_mul_pd(dLow[2], dLow[2])));
+    const __m256d squaredHigh = _mm256_fmadd_pd(
+        dHigh[0], dHigh[0], _mm256_fmadd_pd(dHigh[1], dHigh[1], _mm256_mul_pd(dHigh[2], dHigh[2])));
+    const __m256 length = _mm256_sqrt_ps(toFloat8(squaredLow, squaredHigh));
+    const __m256 inverseLength = _mm256_div_ps(one, length);
+    const __m256d inverseLow = _mm256_cvtps_pd(_mm256_castps256_ps128(inverseLength));
+    const __m256d inverseHigh = _mm256_cvtps_pd(_mm256_extractf128_ps(inverseLength, 1));
+
     float block[8];
-    for (int c = 0; c < 8; ++c) {
+    for (int c = 3; c < 8; ++c) {
       block[c] = static_cast<float>(std::fma(double(i0), kernel.coefficients.perI[c], base[c]));
     }
-    const __m256 dx = _mm256_fmadd_ps(lane, step[0], _mm256_set1_ps(block[0]));
-    const __m256 dy = _mm256_fmadd_ps(lane, step[1], _mm256_set1_ps(block[1]));
-    const __m256 dz = _mm256_fmadd_ps(lane, step[2], _mm256_set1_ps(block[2]));
-    const __m256 length =
-        _mm256_sqrt_ps(_mm256_fmadd_ps(dx, dx, _mm256_fmadd_ps(dy, dy, _mm256_mul_ps(dz, dz))));
-    const __m256 inverseLength = _mm256_div_ps(one, length);
     const __m256 nx = _mm256_fmadd_ps(lane, step[3], _mm256_set1_ps(block[3]));
     const __m256 ny = _mm256_fmadd_ps(lane, step[4], _mm256_set1_ps(block[4]));
     const __m256 nz = _mm256_fmadd_ps(lane, step[5], _mm256_set1_ps(block[5]));
@@ -499,9 +562,12 @@ __attribute__((target("avx2,fma"))) void robustRowAvx2(const RobustKernel<float>
     // t > 0 and t < inf (ordered compares: NaN fails both) keeps t, anything else is +inf.
     const __m256 valid =
         _mm256_and_ps(_mm256_cmp_ps(t, zero, _CMP_GT_OQ), _mm256_cmp_ps(t, infinity, _CMP_LT_OQ));
-    _mm256_storeu_ps(out.directionX + i0, _mm256_mul_ps(dx, inverseLength));
-    _mm256_storeu_ps(out.directionY + i0, _mm256_mul_ps(dy, inverseLength));
-    _mm256_storeu_ps(out.directionZ + i0, _mm256_mul_ps(dz, inverseLength));
+    _mm256_storeu_ps(out.directionX + i0, toFloat8(_mm256_mul_pd(dLow[0], inverseLow),
+                                                   _mm256_mul_pd(dHigh[0], inverseHigh)));
+    _mm256_storeu_ps(out.directionY + i0, toFloat8(_mm256_mul_pd(dLow[1], inverseLow),
+                                                   _mm256_mul_pd(dHigh[1], inverseHigh)));
+    _mm256_storeu_ps(out.directionZ + i0, toFloat8(_mm256_mul_pd(dLow[2], inverseLow),
+                                                   _mm256_mul_pd(dHigh[2], inverseHigh)));
     _mm256_storeu_ps(out.originX + i0, _mm256_mul_ps(nx, inverseW));
     _mm256_storeu_ps(out.originY + i0, _mm256_mul_ps(ny, inverseW));
     _mm256_storeu_ps(out.originZ + i0, _mm256_mul_ps(nz, inverseW));
@@ -511,7 +577,74 @@ __attribute__((target("avx2,fma"))) void robustRowAvx2(const RobustKernel<float>
     float block[8];
     RobustKernel<float>::blockBase(base, kernel.coefficients.perI, i0, block);
     for (int k = 0; i0 + k < width; ++k) {
-      out.store(i0 + k, kernel.finish(block, float(k)));
+      out.store(i0 + k, kernel.finish(base, block, i0, k));
+    }
+  }
+}
+
+// 8 double lanes rounded to 8 float lanes. The masked form (all lanes) because GCC 12's unmasked
+// intrinsic trips -Wmaybe-uninitialized inside its own header.
+__attribute__((target("avx512f,avx2,fma"))) inline __m256 toFloat8(__m512d lanes) {
+  return _mm512_mask_cvtpd_ps(_mm256_setzero_ps(), 0xFF, lanes);
+}
+
+// The same row with the direction's 8 pixels in one register of 8 double lanes (AVX-512F): the
+// same operations, so the same bits, in fewer instructions (no halves to split and join).
+__attribute__((target("avx512f,avx2,fma"))) void robustRowAvx512(const RobustKernel<float>& kernel,
+                                                                 int j, int width,
+                                                                 const RaySpan<float>& out) {
+  double base[8];
+  kernel.rowBase(j, base);
+  const __m256 lane = _mm256_setr_ps(0.f, 1.f, 2.f, 3.f, 4.f, 5.f, 6.f, 7.f);
+  __m256 step[8];
+  for (int c = 3; c < 8; ++c) step[c] = _mm256_set1_ps(kernel.perI[c]);
+  __m512d directionStep[3], directionBase[3];
+  for (int c = 0; c < 3; ++c) {
+    directionStep[c] = _mm512_set1_pd(kernel.coefficients.perI[c]);
+    directionBase[c] = _mm512_set1_pd(base[c]);
+  }
+  const __m512d eight = _mm512_set1_pd(8.0);
+  __m512d pixel = _mm512_setr_pd(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0);
+  const __m256 depthSpan = _mm256_set1_ps(kernel.depthSpan);
+  const __m256 infinity = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256 one = _mm256_set1_ps(1.f);
+  int i0 = 0;
+  for (; i0 + 8 <= width; i0 += 8, pixel = _mm512_add_pd(pixel, eight)) {
+    const __m512d dx = _mm512_fmadd_pd(pixel, directionStep[0], directionBase[0]);
+    const __m512d dy = _mm512_fmadd_pd(pixel, directionStep[1], directionBase[1]);
+    const __m512d dz = _mm512_fmadd_pd(pixel, directionStep[2], directionBase[2]);
+    const __m512d squared = _mm512_fmadd_pd(dx, dx, _mm512_fmadd_pd(dy, dy, _mm512_mul_pd(dz, dz)));
+    const __m256 length = _mm256_sqrt_ps(toFloat8(squared));
+    const __m256 inverseLength = _mm256_div_ps(one, length);
+    const __m512d inverse = _mm512_mask_cvtps_pd(_mm512_setzero_pd(), 0xFF, inverseLength);
+
+    float block[8];
+    for (int c = 3; c < 8; ++c) {
+      block[c] = static_cast<float>(std::fma(double(i0), kernel.coefficients.perI[c], base[c]));
+    }
+    const __m256 nx = _mm256_fmadd_ps(lane, step[3], _mm256_set1_ps(block[3]));
+    const __m256 ny = _mm256_fmadd_ps(lane, step[4], _mm256_set1_ps(block[4]));
+    const __m256 nz = _mm256_fmadd_ps(lane, step[5], _mm256_set1_ps(block[5]));
+    const __m256 nw = _mm256_fmadd_ps(lane, step[6], _mm256_set1_ps(block[6]));
+    const __m256 inverseW = _mm256_div_ps(one, nw);
+    const __m256 farDot = _mm256_fmadd_ps(lane, step[7], _mm256_set1_ps(block[7]));
+    const __m256 t = _mm256_div_ps(_mm256_mul_ps(depthSpan, length), _mm256_mul_ps(nw, farDot));
+    const __m256 valid =
+        _mm256_and_ps(_mm256_cmp_ps(t, zero, _CMP_GT_OQ), _mm256_cmp_ps(t, infinity, _CMP_LT_OQ));
+    _mm256_storeu_ps(out.directionX + i0, toFloat8(_mm512_mul_pd(dx, inverse)));
+    _mm256_storeu_ps(out.directionY + i0, toFloat8(_mm512_mul_pd(dy, inverse)));
+    _mm256_storeu_ps(out.directionZ + i0, toFloat8(_mm512_mul_pd(dz, inverse)));
+    _mm256_storeu_ps(out.originX + i0, _mm256_mul_ps(nx, inverseW));
+    _mm256_storeu_ps(out.originY + i0, _mm256_mul_ps(ny, inverseW));
+    _mm256_storeu_ps(out.originZ + i0, _mm256_mul_ps(nz, inverseW));
+    _mm256_storeu_ps(out.tMax + i0, _mm256_blendv_ps(infinity, t, valid));
+  }
+  if (i0 < width) {
+    float block[8];
+    RobustKernel<float>::blockBase(base, kernel.coefficients.perI, i0, block);
+    for (int k = 0; i0 + k < width; ++k) {
+      out.store(i0 + k, kernel.finish(base, block, i0, k));
     }
   }
 }
@@ -534,7 +667,10 @@ template <typename T, typename Kernel>
 class KernelGenerator final : public RayGenerator<T> {
  public:
   KernelGenerator(const CameraInputs& inputs, Viewport viewport)
-      : RayGenerator<T>(viewport), kernel_(inputs, viewport), fast_(cpuHasAvx2Fma()) {}
+      : RayGenerator<T>(viewport),
+        kernel_(inputs, viewport),
+        fast_(activeBatchCodePath() >= BatchCodePath::Avx2Fma),
+        avx512_(activeBatchCodePath() == BatchCodePath::Avx512) {}
 
   CameraRay<T> pixelRay(int i, int j) const noexcept override { return kernel_(i, j); }
 
@@ -543,7 +679,11 @@ class KernelGenerator final : public RayGenerator<T> {
 #if CLIPRAY_X86
     if (fast_) {
       if constexpr (std::is_same_v<Kernel, RobustKernel<float>>) {
-        robustRowAvx2(kernel_, j, width, out);
+        if (avx512_) {
+          robustRowAvx512(kernel_, j, width, out);
+        } else {
+          robustRowAvx2(kernel_, j, width, out);
+        }
       } else {
         rowLoopAvx2(kernel_, j, width, out);
       }
@@ -560,6 +700,7 @@ class KernelGenerator final : public RayGenerator<T> {
  private:
   Kernel kernel_;
   bool fast_;
+  bool avx512_;
 };
 
 template <typename T, typename Kernel>
@@ -594,8 +735,31 @@ std::unique_ptr<RayGenerator<T>> makeRayGenerator(RayMethod method, const Camera
   return nullptr;
 }
 
+std::string batchCodePathName(BatchCodePath path) {
+  switch (path) {
+    case BatchCodePath::Portable:
+      return "portable";
+    case BatchCodePath::Avx2Fma:
+      return "avx2+fma";
+    case BatchCodePath::Avx512:
+      return "avx512f+avx2+fma";
+  }
+  return "?";
+}
+
+std::vector<BatchCodePath> supportedBatchCodePaths() {
+  std::vector<BatchCodePath> paths = {BatchCodePath::Portable};
+  if (kHaveX86 && cpuHasAvx2Fma()) paths.push_back(BatchCodePath::Avx2Fma);
+  if (kHaveX86 && cpuHasAvx512()) paths.push_back(BatchCodePath::Avx512);
+  return paths;
+}
+
+void limitBatchCodePath(std::optional<BatchCodePath> limit) {
+  batchCodePathLimit = limit;
+}
+
 std::string batchCodePath() {
-  return kHaveX86 && cpuHasAvx2Fma() ? "avx2+fma" : "portable";
+  return batchCodePathName(activeBatchCodePath());
 }
 
 template class RayGenerator<float>;

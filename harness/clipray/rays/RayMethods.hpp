@@ -155,9 +155,22 @@ extern template std::unique_ptr<RayGenerator<double>> makeRayGenerator<double>(R
                                                                                const CameraInputs&,
                                                                                Viewport);
 
-// The batch code path this CPU gets: "avx2+fma" (detected at run time with
-// __builtin_cpu_supports; the kernels are built with __attribute__((target("avx2,fma")))) or
-// "portable" (baseline x86-64 / other CPUs; FMA through libm, slow but the same numbers).
+// The batch code paths, slowest first. Every path gives robust's rays bit for bit (the same IEEE
+// operations: FMA, sqrt, division and conversions are correctly rounded on all of them):
+//   Portable  baseline x86-64 / other CPUs; FMA through libm, slow but the same numbers;
+//   Avx2Fma   8 pixels per iteration, robust's double direction in two halves of 4 lanes;
+//   Avx512    the same, the double direction in one register of 8 lanes (AVX-512F).
+// Detected at run time with __builtin_cpu_supports; the kernels are built with
+// __attribute__((target(...))), so one binary serves every x86-64 CPU.
+enum class BatchCodePath { Portable, Avx2Fma, Avx512 };
+std::string batchCodePathName(BatchCodePath path);  // "portable", "avx2+fma", "avx512f+avx2+fma"
+// The paths this CPU can run, slowest first (Portable always).
+std::vector<BatchCodePath> supportedBatchCodePaths();
+// Generators made after this call use at most `limit` (tests pin every path against the scalar
+// call; benchmarks compare them); std::nullopt restores the fastest. Not thread-safe with
+// concurrent makeRayGenerator calls.
+void limitBatchCodePath(std::optional<BatchCodePath> limit);
+// The path a generator made now gets, by name.
 std::string batchCodePath();
 
 }  // namespace clipray

@@ -1,0 +1,85 @@
+#pragma once
+// Screen-space bins of a scene's triangles for one camera and viewport: the fast path for a
+// frame of primary rays (intersectFrame with a camera).
+//
+// A ray that stays on its pixel centre's line of sight (every point of it projects within
+// kRayTolerancePx of the centre) can only hit triangles whose projection covers that neighbourhood.
+// So each triangle is projected once per frame (in double, clipped against w >= wClip), and its
+// padded pixel bounds are recorded in the 8x8-pixel tiles they touch, with the groups of four
+// pixels (half rows) they touch and the smallest clip w the triangle reaches (a depth bound: the
+// packets test a tile's triangles nearest first and skip those behind every current best hit). A
+// tile's packet then tests exactly the triangles of its bins instead of walking the BVH. Culling is
+// conservative: the padding is kPaddingPx >> the rounding of the projection, and the hit of each
+// tested triangle is the watertight test of Watertight.hpp, so the answer stays bit-identical to
+// closestHitLinear.
+//
+// The packet kernels check every ray of a tile against its pixel centre before trusting the bins
+// (a caller's picking function may cast any ray); a tile with a ray that strays, starts behind the
+// near plane or whose w can fall below wClip is traced by the BVH instead.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "clipray/math/Conventions.hpp"
+
+namespace clipray {
+
+class SceneIntersector;
+
+struct BinnedTriangle {
+  std::uint32_t slot;       // index into the intersector's triangle storage
+  std::uint16_t groupMask;  // bit g: lanes 4g..4g+3 of a full 8x8 tile (row g/2, half g%2)
+  // A lower bound of clip w over the part of the triangle a binned ray can hit (w >= wClip),
+  // rounded down: a packet whose best hits all have a smaller w cannot be beaten by it.
+  float nearestW;
+};
+
+class FrameBins {
+ public:
+  static constexpr int kTile = 8;
+  // How far a ray may stray from its pixel centre's line of sight and still use the bins, and the
+  // padding of every triangle's pixel bounds (the difference covers every rounding involved).
+  static constexpr double kRayTolerancePx = 0.25;
+  static constexpr double kPaddingPx = 1.0;
+
+  // Bins every triangle of `scene` (threadCount 0: hardware concurrency). usable() is false when
+  // the camera has no near plane in front of it across the viewport (then nothing is binned).
+  FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWorld, DepthMode mode,
+            Viewport viewport, unsigned threadCount);
+
+  bool usable() const { return usable_; }
+  Viewport viewport() const { return viewport_; }
+  int tilesAcross() const { return tilesAcross_; }
+  // clipFromWorld with the intersector's reference point folded in: applied to (vertex relative
+  // to the reference, 1) and to (direction, 0). Column-major (glm).
+  const glm::dmat4& clipFromRelative() const { return clipFromRelative_; }
+  // The smallest clip w a ray that uses the bins may reach; triangles are clipped against it.
+  double wClip() const { return wClip_; }
+  // The triangles binned in tile (tileX, tileY), one list per binning chunk, slots increasing.
+  template <class Visit>
+  void forEachList(int tileX, int tileY, Visit visit) const {
+    const std::size_t tile = static_cast<std::size_t>(tileY) * tilesAcross_ + tileX;
+    for (const Chunk& chunk : chunks_) {
+      visit(std::span<const BinnedTriangle>(chunk.entries.data() + chunk.offsets[tile],
+                                            chunk.offsets[tile + 1] - chunk.offsets[tile]));
+    }
+  }
+  std::size_t entryCount() const;
+
+ private:
+  struct Chunk {
+    std::vector<std::uint32_t> offsets;  // tile -> first entry; tileCount + 1 values
+    std::vector<BinnedTriangle> entries;
+  };
+  Viewport viewport_;
+  int tilesAcross_ = 0, tilesUp_ = 0;
+  glm::dmat4 clipFromRelative_{1.0};
+  double wClip_ = 0.0;
+  bool usable_ = false;
+  std::vector<Chunk> chunks_;
+};
+
+}  // namespace clipray
