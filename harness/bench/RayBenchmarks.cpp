@@ -62,6 +62,17 @@ const bool registered = [] {
       precompute<float>(s, method);
     })->Unit(benchmark::kMicrosecond);
   }
+  // robust float on each slower batch code path this CPU has, for the side-by-side figure.
+  for (const BatchCodePath path : supportedBatchCodePaths()) {
+    if (path == supportedBatchCodePaths().back()) continue;  // the default row above
+    benchmark::RegisterBenchmark(("robust/float/row_1920x1080/" + batchCodePathName(path)).c_str(),
+                                 [path](benchmark::State& s) {
+                                   limitBatchCodePath(path);
+                                   rowsOfOneFrame<float>(s, RayMethod::Robust);
+                                   limitBatchCodePath(std::nullopt);
+                                 })
+        ->Unit(benchmark::kMillisecond);
+  }
   return true;
 }();
 

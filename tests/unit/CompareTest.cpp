@@ -228,6 +228,38 @@ TEST(Compare, FiguresDoNotDependOnTheThreadCount) {
   EXPECT_GT(one.depthErrorQuanta.max, 0.5);
 }
 
+TEST(Compare, ToleranceRatiosAreTheToleranceModelsOwn) {
+  // compareFrames evaluates the triangle tolerance in its loop (sharing the hit's depth and depth
+  // quantum with the pixel's figures): each ratio is error / depthToleranceAtClip, bit for bit,
+  // in every depth format.
+  for (const DepthFormat format :
+       {DepthFormat::Float32, DepthFormat::Unorm24, DepthFormat::Unorm16}) {
+    Fixture f({61, 47}, format);
+    for (std::size_t i = 0; i < f.raster.depth.size(); i += 5) {
+      if (f.raster.ids[i] != 0) f.raster.depth[i] = std::nextafter(f.raster.depth[i], 2.0f);
+    }
+    const ComparisonResult r = f.compare();
+    const ToleranceModel model(*f.intersector, f.setup, f.camera.viewport);
+    int checked = 0;
+    for (std::size_t i = 0; i < r.pixels.classes.size(); ++i) {
+      const PixelClass cls = r.pixels.classes[i];
+      if (cls != PixelClass::Agree && cls != PixelClass::DepthBeyondTolerance) continue;
+      const Ray& ray = f.analytic.rays[i];
+      const Hit& hit = f.analytic.hits[i];
+      const glm::dvec4 clip =
+          f.setup.clipFromWorld * glm::dvec4(ray.origin + hit.t * ray.direction, 1.0);
+      const double error =
+          std::abs(static_cast<double>(f.raster.depth[i]) - r.pixels.analyticDepth[i]);
+      const float ratio =
+          static_cast<float>(error / model.depthToleranceAtClip(hit.primitiveId, clip));
+      EXPECT_EQ(std::bit_cast<std::uint32_t>(r.pixels.toleranceRatio[i]),
+                std::bit_cast<std::uint32_t>(ratio));
+      ++checked;
+    }
+    EXPECT_GT(checked, 100);
+  }
+}
+
 TEST(Compare, NaNRasterDepthIsBeyondTolerance) {
   // A NaN sample takes the distributions' general path (no bit-pattern ordering for NaN).
   Fixture f({33, 21});

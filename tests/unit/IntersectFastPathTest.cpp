@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "clipray/compare/Frames.hpp"
+#include "clipray/intersect/FrameBins.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/RobustRays.hpp"
@@ -414,6 +415,36 @@ TEST(FastPathBinned, RaysOffTheirPixelsWalkTheBvhAndStillMatch) {
   for (Ray& ray : fromEye.rays) ray.origin = eye;
   EXPECT_EQ(intersectFrame(fromEye, intersector, c.camera, 2), 0u);
   expectFrameMatchesTheLinearScan(intersector, fromEye, "from the eye");
+}
+
+// 5000 triangles that each cover the whole frame: 48 tiles x 5000 entries is more than the bins
+// pay for (16 x (triangles per chunk + tiles)), so the frame walks the BVH -- with the same hits.
+TEST(FastPathBinned, TooManyEntriesFallBackToTheBvh) {
+  Scene scene;
+  MeshObject wall;
+  wall.name = "stack";
+  for (int k = 0; k < 2500; ++k) {
+    const double z = -2.0 - 0.01 * k;
+    const auto base = static_cast<std::uint32_t>(wall.worldPositions.size());
+    wall.worldPositions.insert(wall.worldPositions.end(),
+                               {{-50, -50, z}, {50, -50, z}, {50, 50, z}, {-50, 50, z}});
+    wall.triangles.emplace_back(base, base + 1, base + 2);
+    wall.triangles.emplace_back(base, base + 2, base + 3);
+  }
+  scene.objects.push_back(wall);
+  const PickingCamera camera{perspectiveClipFromView(0.9, 61.0 / 47.0, 0.1, 100.0, kZeroToOne) *
+                                 viewFromWorldLookAt({0, 0, 0}, {0.1, 0.2, -1}, {0, 1, 0}),
+                             kZeroToOne,
+                             {61, 47}};
+  const SceneIntersector intersector(scene, {0, 0, 0}, SceneIntersector::BvhBuild::WhenFirstNeeded);
+  const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, camera.viewport, 2);
+  EXPECT_FALSE(bins.usable());
+  AnalyticFrame frame = generateRobustRays(camera, 2);
+  EXPECT_EQ(intersectFrame(frame, intersector, camera, 2), 0u);
+  EXPECT_TRUE(intersector.bvhBuilt());
+  expectFrameMatchesTheLinearScan(intersector, frame, "stack");
+  // The nearest layer wins everywhere (the first two triangles, ids 1 and 2).
+  for (const Hit& hit : frame.hits) EXPECT_LE(hit.primitiveId, 2u);
 }
 
 TEST(FastPathWatertight, NoPacketRayLeaksThroughAClosedMesh) {

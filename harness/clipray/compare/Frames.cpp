@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <memory>
+#include <mutex>
 #include <system_error>
 #include <thread>
 
@@ -15,30 +16,6 @@
 #include "clipray/util/HugePages.hpp"
 
 namespace clipray {
-
-namespace {
-// Buffers from this size on are worth huge pages (and get their own mapping from malloc anyway).
-constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
-}  // namespace
-
-void* allocateFrameBuffer(std::size_t bytes) {
-  if (bytes < kHugePageBytes) {
-    void* pointer = std::aligned_alloc(
-        kFrameBufferAlignment,
-        (bytes + kFrameBufferAlignment - 1) / kFrameBufferAlignment * kFrameBufferAlignment);
-    if (pointer == nullptr && bytes != 0) throw std::bad_alloc();
-    return pointer;
-  }
-  const std::size_t rounded = (bytes + kHugePageBytes - 1) / kHugePageBytes * kHugePageBytes;
-  void* pointer = std::aligned_alloc(kHugePageBytes, rounded);
-  if (pointer == nullptr) throw std::bad_alloc();
-  adviseHugePages(pointer, rounded);
-  return pointer;
-}
-
-void releaseFrameBuffer(void* pointer, std::size_t /*bytes*/) noexcept {
-  std::free(pointer);
-}
 
 unsigned parallelWorkerCount(int rows, unsigned threadCount) {
   if (threadCount == 0) threadCount = std::max(1u, std::thread::hardware_concurrency());

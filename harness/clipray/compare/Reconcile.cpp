@@ -7,6 +7,11 @@
 #include <limits>
 #include <mutex>
 #include <stdexcept>
+#include <utility>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #if defined(__linux__)
 #endif
@@ -27,13 +32,39 @@ int clipPolygon(const glm::dvec4* in, int count, const glm::dvec4& plane, glm::d
   int written = 0;
   for (int k = 0; k < count; ++k) {
     const glm::dvec4& a = in[k];
-    const glm::dvec4& b = in[(k + 1) % count];
+    const glm::dvec4& b = in[k + 1 == count ? 0 : k + 1];
     const double da = glm::dot(plane, a);
     const double db = glm::dot(plane, b);
     if (da >= 0.0) out[written++] = a;
     if ((da >= 0.0) != (db >= 0.0)) out[written++] = a + (b - a) * (da / (da - db));
   }
   return written;
+}
+
+// a / b and c / d. With SSE2 as one two-lane division (the divider's throughput bounds the
+// per-pixel loops): each lane is the correctly rounded IEEE quotient, the scalar division's.
+inline std::pair<double, double> divideTwo(double a, double b, double c, double d) {
+#if defined(__SSE2__)
+  const __m128d quotients = _mm_div_pd(_mm_set_pd(c, a), _mm_set_pd(d, b));
+  return {_mm_cvtsd_f64(quotients), _mm_cvtsd_f64(_mm_unpackhi_pd(quotients, quotients))};
+#else
+  return {a / b, c / d};
+#endif
+}
+
+// depthQuantum (Conventions.cpp), exactly, without a library call per pixel for Float32:
+// nextafter(d, +inf) of a finite non-negative float d is the float whose bit pattern is one more
+// (across binades too, at 0 the smallest subnormal, at FLT_MAX +inf as nextafter gives). Infinite
+// and NaN depths, and the unorm formats (one quantum at every depth), take depthQuantum itself.
+inline double quantumAt(DepthFormat format, double windowDepth) {
+  const float d = static_cast<float>(std::fabs(windowDepth));
+  const auto bits = std::bit_cast<std::uint32_t>(d);
+  if (format != DepthFormat::Float32 || bits >= 0x7f800000u) {
+    return depthQuantum(format, windowDepth);
+  }
+  const float next = std::bit_cast<float>(bits + 1u);
+  return std::max(static_cast<double>(next - d),
+                  static_cast<double>(std::numeric_limits<float>::min()));
 }
 
 double pointSegmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
@@ -191,7 +222,14 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
   for (int k = 0; k < 3; ++k) bufferA[k] = m * glm::dvec4(world[k], 1.0);
   glm::dvec4* current = bufferA;
   glm::dvec4* next = bufferB;
+  // Most triangles of a frame lie inside the clip volume, and clipping leaves those as they are
+  // (the same test clipPolygon makes): skip the six passes for them.
+  bool inside = true;
   for (const glm::dvec4& plane : planes) {
+    for (int k = 0; k < 3; ++k) inside &= glm::dot(plane, bufferA[k]) >= 0.0;
+  }
+  for (const glm::dvec4& plane : planes) {
+    if (inside) break;
     count = clipPolygon(current, count, plane, next);
     std::swap(current, next);
     if (count == 0) break;
@@ -395,28 +433,31 @@ double ToleranceModel::depthTolerance(std::uint32_t primitiveId, const glm::dvec
   return depthToleranceAtClip(primitiveId, setup_.clipFromWorld * glm::dvec4(hitWorld, 1.0));
 }
 
-double ToleranceModel::depthToleranceAtClip(std::uint32_t primitiveId,
-                                            const glm::dvec4& hitClip) const {
-  const ScreenPolygon& polygon = this->polygon(primitiveId);
-  const double u = kFloatUnitRoundoff;
-  const glm::dvec4& c = hitClip;
-  const double zNdc = c.z / c.w;
-  const double depth = windowDepthFromNdc(zNdc, setup_.mode.convention);
-  const double toWindow = windowFromNdcScale_;
-  const glm::dvec4& bound = polygon.clipErrorBound;
+namespace {
 
-  // 1. Storage: one quantum of the depth format at this depth.
-  const double storage = depthQuantum(setup_.depthFormat, depth);
+// The tolerance model of a triangle hit (see depthToleranceAtClip) from its screen polygon and
+// the hit's clip coordinates c, with z_ndc = c.z / c.w, its window depth and the depth quantum
+// there given (compareFrames has them already). Polygon is ToleranceModel::ScreenPolygon.
+template <class Polygon>
+inline double triangleDepthTolerance(const Polygon& polygon, const glm::dvec4& c, double zNdc,
+                                     double depth, double storage, double toWindow,
+                                     double subpixelStep, Viewport viewport) {
+  const double u = kFloatUnitRoundoff;
+  const glm::dvec4& bound = polygon.clipErrorBound;
+  // 1. Storage: one quantum of the depth format at this depth (given).
   // 2. Vertex transform in float, interpolated: dz_ndc = (dz + |z_ndc| dw) / w, plus the GPU's
   //    divide and depth-range mapping (2u relative).
-  const double vertex =
-      (bound.z + std::abs(zNdc) * bound.w) / std::abs(c.w) * toWindow + 2.0 * u * std::abs(depth);
-  // 3. Vertex positions snapped to the subpixel grid and moved by the float xy error: the depth
-  //    plane shifts by |gradient| times that displacement.
-  const double xyShift =
-      subpixelStep_ + std::max((bound.x + std::abs(c.x / c.w) * bound.w) * 0.5 * viewport_.width,
-                               (bound.y + std::abs(c.y / c.w) * bound.w) * 0.5 * viewport_.height) /
-                          std::abs(c.w);
+  // 3. Vertex positions snapped to the subpixel grid and moved by the float xy error
+  //    ((dx + |x_ndc| dw) / w in pixels, likewise y): the depth plane shifts by |gradient| times
+  //    that displacement.
+  // The quotients of 2 and 3 are taken in pairs (see divideTwo).
+  const auto [xNdc, yNdc] = divideTwo(c.x, c.w, c.y, c.w);
+  const double xyError = std::max((bound.x + std::abs(xNdc) * bound.w) * 0.5 * viewport.width,
+                                  (bound.y + std::abs(yNdc) * bound.w) * 0.5 * viewport.height);
+  const auto [vertexNdc, xyErrorPixels] =
+      divideTwo(bound.z + std::abs(zNdc) * bound.w, std::abs(c.w), xyError, std::abs(c.w));
+  const double vertex = vertexNdc * toWindow + 2.0 * u * std::abs(depth);
+  const double xyShift = subpixelStep + xyErrorPixels;
   const double gradient = std::isfinite(polygon.depthPlane.x)
                               ? std::abs(polygon.depthPlane.x) + std::abs(polygon.depthPlane.y)
                               : 0.0;
@@ -425,6 +466,17 @@ double ToleranceModel::depthToleranceAtClip(std::uint32_t primitiveId,
   //    the plane takes over the clipped triangle.
   const double interpolation = 8.0 * u * polygon.maxDepth;
   return storage + vertex + snap + interpolation;
+}
+
+}  // namespace
+
+double ToleranceModel::depthToleranceAtClip(std::uint32_t primitiveId,
+                                            const glm::dvec4& hitClip) const {
+  const double zNdc = hitClip.z / hitClip.w;
+  const double depth = windowDepthFromNdc(zNdc, setup_.mode.convention);
+  return triangleDepthTolerance(polygon(primitiveId), hitClip, zNdc, depth,
+                                quantumAt(setup_.depthFormat, depth), windowFromNdcScale_,
+                                subpixelStep_, viewport_);
 }
 
 namespace {
@@ -494,28 +546,39 @@ Distribution distributionOfParts(const std::vector<const FrameVector<double>*>& 
     for (const FrameVector<double>* part : parts) all.insert(all.end(), part->begin(), part->end());
     return distributionOf(all);
   }
-  const auto valueOfRank = [&](std::size_t rank) {
+  // The ranks distributionOf reads, each located in its bucket (the rank within the bucket).
+  const auto locate = [&](double fraction) {
+    std::size_t rank = std::min(
+        count - 1, static_cast<std::size_t>(fraction * static_cast<double>(count - 1) + 0.5));
     std::size_t bucket = 0;
     while (rank >= histogram[bucket]) rank -= histogram[bucket++];
-    std::vector<std::uint64_t> inBucket;
-    inBucket.reserve(histogram[bucket]);
-    for (const FrameVector<double>* part : parts) {
-      for (const double value : *part) {
-        const auto bits = std::bit_cast<std::uint64_t>(value);
-        if ((bits >> kBucketShift) == bucket) inBucket.push_back(bits);
+    return std::pair{bucket, rank};
+  };
+  const auto [bucket50, rank50] = locate(0.5);
+  const auto [bucket99, rank99] = locate(0.99);
+  // Both buckets' values in one pass over the parts.
+  std::vector<std::uint64_t> in50, in99;
+  in50.reserve(histogram[bucket50]);
+  if (bucket99 != bucket50) in99.reserve(histogram[bucket99]);
+  for (const FrameVector<double>* part : parts) {
+    for (const double value : *part) {
+      const auto bits = std::bit_cast<std::uint64_t>(value);
+      const std::uint64_t bucket = bits >> kBucketShift;
+      if (bucket == bucket50) {
+        in50.push_back(bits);
+      } else if (bucket == bucket99) {
+        in99.push_back(bits);
       }
     }
+  }
+  const auto valueOfRank = [](std::vector<std::uint64_t>& inBucket, std::size_t rank) {
     std::nth_element(inBucket.begin(), inBucket.begin() + static_cast<std::ptrdiff_t>(rank),
                      inBucket.end());
     return std::bit_cast<double>(inBucket[rank]);
   };
-  // The ranks distributionOf reads.
-  const auto rankOf = [&](double fraction) {
-    return std::min(count - 1,
-                    static_cast<std::size_t>(fraction * static_cast<double>(count - 1) + 0.5));
-  };
-  result.p50 = valueOfRank(rankOf(0.5));
-  result.p99 = valueOfRank(rankOf(0.99));
+  result.p50 = valueOfRank(in50, rank50);
+  // Within one bucket, nth_element again on the partitioned values finds the same value.
+  result.p99 = valueOfRank(bucket99 == bucket50 ? in50 : in99, rank99);
   result.max = std::bit_cast<double>(maxBits);
   return result;
 }
@@ -562,13 +625,21 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
   ComparisonResult result;
   PixelComparison& pixels = result.pixels;
   pixels.viewport = viewport;
-  // Reserved first (address space only), so that the fill lands on huge pages.
-  reserveOnHugePages(pixels.rasterDepth, count)
-      .assign(count, std::numeric_limits<float>::quiet_NaN());
-  reserveOnHugePages(pixels.analyticDepth, count).assign(count, kNaN);
-  reserveOnHugePages(pixels.toleranceRatio, count)
-      .assign(count, std::numeric_limits<float>::quiet_NaN());
-  reserveOnHugePages(pixels.classes, count).assign(count, PixelClass::Background);
+  // Reserved first (address space only), so that the fill lands on huge pages. The fill is the
+  // first touch of fresh pages (the kernel zeroes each as it faults in, about as costly as the
+  // fill itself): the four images are filled on the threads at once, the largest first.
+  reserveOnHugePages(pixels.rasterDepth, count);
+  reserveOnHugePages(pixels.analyticDepth, count);
+  reserveOnHugePages(pixels.toleranceRatio, count);
+  reserveOnHugePages(pixels.classes, count);
+  parallelForRows(4, threadCount, [&](int begin, int end) {
+    for (int image = begin; image < end; ++image) {
+      if (image == 0) pixels.analyticDepth.assign(count, kNaN);
+      if (image == 1) pixels.rasterDepth.assign(count, std::numeric_limits<float>::quiet_NaN());
+      if (image == 2) pixels.toleranceRatio.assign(count, std::numeric_limits<float>::quiet_NaN());
+      if (image == 3) pixels.classes.assign(count, PixelClass::Background);
+    }
+  });
 
   std::mutex merge;
   RunMetrics& total = result.metrics;
@@ -577,33 +648,35 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
       viewport.height, threadCount, [&](unsigned worker, int rowBegin, int rowEnd) {
         RunMetrics local;
         std::array<KindSamples, kKinds>& localKinds = samplesOfWorker[worker];
+        const std::size_t width = static_cast<std::size_t>(viewport.width);
+        local.pixels = static_cast<std::int64_t>(width) * (rowEnd - rowBegin);
         for (int y = rowBegin; y < rowEnd; ++y) {
-          for (int x = 0; x < viewport.width; ++x) {
-            const std::size_t i = static_cast<std::size_t>(y) * viewport.width + x;
-            const glm::dvec2 centre(x + 0.5, y + 0.5);
+          const std::size_t rowStart = static_cast<std::size_t>(y) * width;
+          const double centreY = y + 0.5;
+          for (std::size_t x = 0; x < width; ++x) {
+            const std::size_t i = rowStart + x;
             const std::uint32_t rasterId = raster.ids[i];
             const Hit& hit = analytic.hits[i];
             const std::uint32_t rayId = hit.primitiveId;
+            if (rasterId == 0 && rayId == 0) continue;  // background, as filled
+            const glm::dvec2 centre(static_cast<double>(x) + 0.5, centreY);
             const Ray& ray = analytic.rays[i];
-            ++local.pixels;
             if (rasterId != 0) {
               ++local.rasterHits;
               pixels.rasterDepth[i] = raster.depth[i];
             }
-            glm::dvec3 hitPoint(0.0);
             glm::dvec4 hitClip(0.0);
-            double rayDepth = kNaN;
+            double zNdc = kNaN, rayDepth = kNaN;
             if (rayId != 0) {
               ++local.rayHits;
-              hitPoint = ray.origin + hit.t * ray.direction;
+              const glm::dvec3 hitPoint = ray.origin + hit.t * ray.direction;
               hitClip = m * glm::dvec4(hitPoint, 1.0);
-              rayDepth = windowDepthFromNdc(hitClip.z / hitClip.w, convention);
+              zNdc = hitClip.z / hitClip.w;
+              rayDepth = windowDepthFromNdc(zNdc, convention);
               pixels.analyticDepth[i] = rayDepth;
             }
             PixelClass& cls = pixels.classes[i];
-            if (rasterId == 0 && rayId == 0) {
-              cls = PixelClass::Background;
-            } else if (rasterId > primitiveCount || ray.tMax < 0.0) {
+            if (rasterId > primitiveCount || ray.tMax < 0.0) {
               // An id no primitive has (a renderer bug) or a pixel without a ray: nothing explains
               // it.
               ++local.coverageMismatch.total;
@@ -619,26 +692,34 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                 ++local.coverageMismatch.unexplained;
                 cls = PixelClass::CoverageUnexplained;
               }
-            } else if (rasterId == rayId && [&] {
-                         // The same sphere or box, but one side entered the surface where the
-                         // other started inside it (the near plane cuts the shape within float
-                         // error of this pixel): the front surface's coverage is ambiguous here,
-                         // not the depth of either surface.
-                         if (!intersector.isAnalytic(rayId)) return false;
-                         const double error = std::abs(raster.depth[i] - rayDepth);
-                         return !(error <= model.analyticDepthTolerance(rayId, ray, hit.t)) &&
-                                model.analyticEdgeAmbiguous(rayId, centre);
-                       }()) {
-              ++local.coverageMismatch.total;
-              ++local.coverageMismatch.edgeAmbiguous;
-              cls = PixelClass::CoverageEdgeAmbiguous;
             } else if (rasterId == rayId) {
+              const bool analyticSurface = intersector.isAnalytic(rayId);
               const double rasterDepth = raster.depth[i];
               const double error = std::abs(rasterDepth - rayDepth);
-              const double tolerance = intersector.isAnalytic(rayId)
-                                           ? model.analyticDepthTolerance(rayId, ray, hit.t)
-                                           : model.depthToleranceAtClip(rayId, hitClip);
-              const double ratio = error / tolerance;
+              const double quantum = quantumAt(setup.depthFormat, rayDepth);
+              double tolerance = 0.0;
+              if (analyticSurface) {
+                tolerance = model.analyticDepthTolerance(rayId, ray, hit.t);
+              } else {
+                // depthToleranceAtClip, sharing the hit's depth and quantum.
+                const std::uint32_t slot = model.slotOfId_[rayId];
+                tolerance = triangleDepthTolerance(
+                    slot != ToleranceModel::kNoSlot ? model.polygons_[slot] : model.polygon(rayId),
+                    hitClip, zNdc, rayDepth, quantum, model.windowFromNdcScale_,
+                    model.subpixelStep_, viewport);
+              }
+              if (analyticSurface && !(error <= tolerance) &&
+                  model.analyticEdgeAmbiguous(rayId, centre)) {
+                // The same sphere or box, but one side entered the surface where the other
+                // started inside it (the near plane cuts the shape within float error of this
+                // pixel): the front surface's coverage is ambiguous here, not the depth of
+                // either surface.
+                ++local.coverageMismatch.total;
+                ++local.coverageMismatch.edgeAmbiguous;
+                cls = PixelClass::CoverageEdgeAmbiguous;
+                continue;
+              }
+              const auto [ratio, quanta] = divideTwo(error, tolerance, error, quantum);
               // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1
               // t).
               const double zRaster = ndcFromWindowDepth(rasterDepth, convention);
@@ -652,7 +733,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
               const double scale = parallel ? (std::isfinite(ray.tMax) ? ray.tMax : hit.t)
                                             : hit.t + glm::length(ray.origin - eye);
               ++local.depthCompared;
-              KindSamples& kind = localKinds[kindOf(rayId)];
+              KindSamples& kind = localKinds[analyticSurface ? kindOf(rayId) : 0];
               if (kind.quanta.capacity() == 0) {
                 // Room for this worker's share of the frame up front: growing would copy and
                 // touch fresh pages again (reserving only maps address space).
@@ -661,7 +742,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                 kind.relative.reserve(share);
                 kind.ratios.reserve(share);
               }
-              kind.quanta.push_back(error / depthQuantum(setup.depthFormat, rayDepth));
+              kind.quanta.push_back(quanta);
               kind.relative.push_back(std::abs(tRaster - hit.t) / scale);
               kind.ratios.push_back(ratio);
               pixels.toleranceRatio[i] = static_cast<float>(ratio);

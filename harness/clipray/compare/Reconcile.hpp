@@ -140,6 +140,10 @@ class ToleranceModel {
   static constexpr double kAnalyticEdgeEpsilonPixels = 1.0 / 64.0;
 
  private:
+  // Its per-pixel loop reads the polygons directly (the hit's depth and depth quantum, which
+  // depthToleranceAtClip would compute again, are shared with the figures of the pixel).
+  friend ComparisonResult compareFrames(const RasterFrame&, const AnalyticFrame&,
+                                        const SceneIntersector&, const RasterSetup&, unsigned);
   // A triangle clipped against the six clip planes has at most 3 + 6 vertices.
   static constexpr int kMaxPolygonVertices = 9;
   struct ScreenPolygon {

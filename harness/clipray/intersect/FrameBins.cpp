@@ -80,8 +80,8 @@ PixelRect triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, doub
   for (int k = 0; k < count; ++k) {
     wMin = std::min(wMin, polygon[k].w);
     // w >= wClip > 0 here, except the clipped points whose w is wClip up to rounding.
-    const double w = std::max(polygon[k].w, wClip);
-    const double x = polygon[k].x / w, y = polygon[k].y / w;
+    const double inverseW = 1.0 / std::max(polygon[k].w, wClip);
+    const double x = polygon[k].x * inverseW, y = polygon[k].y * inverseW;
     nan = nan || std::isnan(x) || std::isnan(y);
     xMin = std::min(xMin, x);
     xMax = std::max(xMax, x);
@@ -89,13 +89,12 @@ PixelRect triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, doub
     yMax = std::max(yMax, y);
   }
   if (nan) xMin = xMax = yMin = yMax = std::numeric_limits<double>::quiet_NaN();
-  // Rounded down to float; NaN (never for finite vertices) would disable the depth test.
-  wMin -= wError;
-  float nearestW = static_cast<float>(wMin);
-  if (static_cast<double>(nearestW) > wMin) {
-    nearestW = std::nextafter(nearestW, -std::numeric_limits<float>::infinity());
-  }
-  rect.nearestW = std::isnan(wMin) ? -std::numeric_limits<float>::infinity() : nearestW;
+  // Lowered by the corners' rounding and by 2^-22 of itself before the conversion to float rounds
+  // it by at most 2^-24 of itself: a lower bound (wMin >= wClip > 0). NaN (never for finite
+  // vertices) would disable the depth test.
+  wMin = wMin - wError - wMin * 0x1p-22;
+  rect.nearestW = std::isnan(wMin) ? -std::numeric_limits<float>::infinity()
+                                   : static_cast<float>(std::max(wMin, 0.0));
   pixelRange(pixelCoordinate(xMin, viewport.width), pixelCoordinate(xMax, viewport.width),
              viewport.width, rect.x0, rect.x1);
   pixelRange(pixelCoordinate(yMin, viewport.height), pixelCoordinate(yMax, viewport.height),
@@ -153,16 +152,29 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
   chunkCount = std::clamp<unsigned>(chunkCount, 1u, 64u);
   if (triangleCount < 4096) chunkCount = 1;
   chunks_.resize(chunkCount);
+  // Triangles that cover many tiles each (big, overlapping, or seen from up close) can ask for
+  // more entries than the bins pay for: past this many per chunk the frame walks the BVH instead.
+  const std::uint64_t entryBudget = std::min<std::uint64_t>(
+      std::uint64_t{1} << 27, 16 * (std::uint64_t{triangleCount} / chunkCount + tileCount));
+  std::vector<char> overBudget(chunkCount, 0);
   auto binChunk = [&](unsigned c) {
     Chunk& chunk = chunks_[c];
     const std::size_t begin = triangleCount * c / chunkCount;
     const std::size_t end = triangleCount * (c + 1) / chunkCount;
-    std::vector<PixelRect> rects(end - begin);
+    FrameVector<PixelRect> rects;
+    rects.resize(end - begin);  // every element is written below
     chunk.offsets.assign(tileCount + 1, 0);
+    std::uint64_t total = 0;
     for (std::size_t s = begin; s < end; ++s) {
       const PixelRect r = triangleRect(clipFromRelative_, triangles[s], wClip_, viewport_);
       rects[s - begin] = r;
       if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+      total += std::uint64_t(r.x1 / kTile - r.x0 / kTile + 1) * (r.y1 / kTile - r.y0 / kTile + 1);
+      if (total > entryBudget) {
+        overBudget[c] = 1;
+        chunk = Chunk{};
+        return;
+      }
       for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty) {
         for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) {
           ++chunk.offsets[static_cast<std::size_t>(ty) * tilesAcross_ + tx + 1];
@@ -171,7 +183,7 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
     }
     for (std::size_t t = 0; t < tileCount; ++t) chunk.offsets[t + 1] += chunk.offsets[t];
     chunk.entries.resize(chunk.offsets[tileCount]);
-    std::vector<std::uint32_t> fill(chunk.offsets.begin(), chunk.offsets.end() - 1);
+    FrameVector<std::uint32_t> fill(chunk.offsets.begin(), chunk.offsets.end() - 1);
     for (std::size_t s = begin; s < end; ++s) {
       const PixelRect& r = rects[s - begin];
       if (r.x0 > r.x1 || r.y0 > r.y1) continue;
@@ -193,6 +205,10 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
   }
   binChunk(0);
   for (std::thread& worker : workers) worker.join();
+  if (std::find(overBudget.begin(), overBudget.end(), 1) != overBudget.end()) {
+    chunks_.clear();
+    return;
+  }
   usable_ = true;
 }
 

@@ -24,6 +24,7 @@
 #include <glm/glm.hpp>
 
 #include "clipray/math/Conventions.hpp"
+#include "clipray/util/FrameBuffers.hpp"
 
 namespace clipray {
 
@@ -58,21 +59,21 @@ class FrameBins {
   const glm::dmat4& clipFromRelative() const { return clipFromRelative_; }
   // The smallest clip w a ray that uses the bins may reach; triangles are clipped against it.
   double wClip() const { return wClip_; }
-  // The triangles binned in tile (tileX, tileY), one list per binning chunk, slots increasing.
-  template <class Visit>
-  void forEachList(int tileX, int tileY, Visit visit) const {
+  // The triangles binned in tile (tileX, tileY) are listChunkCount() lists (one per binning
+  // chunk), slots increasing in each.
+  int listChunkCount() const { return static_cast<int>(chunks_.size()); }
+  std::span<const BinnedTriangle> list(int chunk, int tileX, int tileY) const {
+    const Chunk& c = chunks_[static_cast<std::size_t>(chunk)];
     const std::size_t tile = static_cast<std::size_t>(tileY) * tilesAcross_ + tileX;
-    for (const Chunk& chunk : chunks_) {
-      visit(std::span<const BinnedTriangle>(chunk.entries.data() + chunk.offsets[tile],
-                                            chunk.offsets[tile + 1] - chunk.offsets[tile]));
-    }
+    return {c.entries.data() + c.offsets[tile], c.offsets[tile + 1] - c.offsets[tile]};
   }
   std::size_t entryCount() const;
 
  private:
   struct Chunk {
-    std::vector<std::uint32_t> offsets;  // tile -> first entry; tileCount + 1 values
-    std::vector<BinnedTriangle> entries;
+    // Frame-sized and rebuilt per camera: frame buffers (reused from run to run, not zeroed).
+    FrameVector<std::uint32_t> offsets;  // tile -> first entry; tileCount + 1 values
+    FrameVector<BinnedTriangle> entries;
   };
   Viewport viewport_;
   int tilesAcross_ = 0, tilesUp_ = 0;

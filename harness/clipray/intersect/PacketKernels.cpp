@@ -408,16 +408,101 @@ void runPacket(Packet& p, int cls, int used, Hit* hits, Walk&& walk) {
 // (non-finite, zero direction component, origin far outside the scene) go one at a time.
 // Rays in scan order, straight into the packet: most tiles are one class, and then this is the
 // packet; otherwise the classes are gathered from a copy.
+// The common case of traceTile without a branch per ray: every ray of a tile whose width is a
+// multiple of 4 goes into one packet (finite, tMax > 0, no zero direction component, origin near
+// the scene, one permutation class). Copies the tile in scan order and checks it four lanes at a
+// time with the same arithmetic as traceTile's loop (the world sum in the same order, the same
+// class rule), so it accepts exactly the tiles that loop would put into one packet. Returns the
+// class, or -1 (then p holds garbage and traceTile's loop runs).
+CLIPRAY_AVX2 int loadUniformTile(Packet& p, const Ray* rays, std::size_t rowStride, int width,
+                                 int height, const glm::dvec3& reference, double boxPad) {
+  int count = 0;
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x, ++count) {
+      const auto offset = static_cast<std::uint32_t>(static_cast<std::size_t>(y) * rowStride + x);
+      const Ray& ray = rays[offset];
+      for (int k = 0; k < 3; ++k) {
+        p.o[k][count] = ray.origin[k];  // world, until the checks below
+        p.inv[k][count] = ray.direction[k];
+      }
+      p.bestT[count] = ray.tMax;
+      p.bestId[count] = kNoId;
+      p.rayIndex[count] = offset;
+      p.laneX[count] = static_cast<std::uint8_t>(x);
+      p.laneY[count] = static_cast<std::uint8_t>(y);
+    }
+  }
+  const glm::dvec3 d0(p.inv[0][0], p.inv[1][0], p.inv[2][0]);
+  const glm::dvec3 a0 = glm::abs(d0);
+  const int kz0 = a0.x > a0.y ? (a0.x > a0.z ? 0 : 2) : (a0.y > a0.z ? 1 : 2);
+  const int cls = kz0 * 2 + (d0[kz0] < 0.0 ? 1 : 0);
+  const __m256d allOnes = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  const __m256d want0 = kz0 == 0 ? allOnes : _mm256_setzero_pd();
+  const __m256d want1 = kz0 == 1 ? allOnes : _mm256_setzero_pd();
+  const __m256d want2 = kz0 == 2 ? allOnes : _mm256_setzero_pd();
+  const __m256d wantNegative = d0[kz0] < 0.0 ? allOnes : _mm256_setzero_pd();
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d signBit = bcast(-0.0);
+  const __m256d pad = bcast(boxPad);
+  const __m256d ref[3] = {bcast(reference.x), bcast(reference.y), bcast(reference.z)};
+  __m256d good = allOnes;
+  for (int base = 0; base < count; base += 4) {
+    __m256d o[3], d[3];
+    for (int k = 0; k < 3; ++k) {
+      o[k] = _mm256_load_pd(p.o[k] + base);
+      d[k] = _mm256_load_pd(p.inv[k] + base);
+    }
+    // The world sum, left to right as traceTile adds it; finite <=> sum - sum == 0.
+    const __m256d sum = _mm256_add_pd(
+        _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(_mm256_add_pd(o[0], o[1]), o[2]), d[0]), d[1]),
+        d[2]);
+    good = _mm256_and_pd(good, _mm256_cmp_pd(_mm256_sub_pd(sum, sum), zero, _CMP_EQ_OQ));
+    good = _mm256_and_pd(good, _mm256_cmp_pd(_mm256_load_pd(p.bestT + base), zero, _CMP_GT_OQ));
+    __m256d absO[3], absD[3];
+    for (int k = 0; k < 3; ++k) {
+      o[k] = _mm256_sub_pd(o[k], ref[k]);
+      _mm256_store_pd(p.o[k] + base, o[k]);
+      absO[k] = _mm256_andnot_pd(signBit, o[k]);
+      absD[k] = _mm256_andnot_pd(signBit, d[k]);
+      good = _mm256_and_pd(good, _mm256_cmp_pd(d[k], zero, _CMP_NEQ_OQ));
+    }
+    const __m256d maxO = _mm256_max_pd(absO[0], _mm256_max_pd(absO[1], absO[2]));
+    good = _mm256_and_pd(good, _mm256_cmp_pd(_mm256_mul_pd(maxO, bcast(0x1p-30)), pad, _CMP_LE_OQ));
+    const __m256d xy = _mm256_cmp_pd(absD[0], absD[1], _CMP_GT_OQ);
+    const __m256d xz = _mm256_cmp_pd(absD[0], absD[2], _CMP_GT_OQ);
+    const __m256d yz = _mm256_cmp_pd(absD[1], absD[2], _CMP_GT_OQ);
+    const __m256d is0 = _mm256_and_pd(xy, xz);
+    const __m256d is1 = _mm256_andnot_pd(xy, yz);
+    const __m256d is2 = _mm256_andnot_pd(_mm256_or_pd(is0, is1), allOnes);
+    const __m256d sameAxis =
+        _mm256_or_pd(_mm256_or_pd(_mm256_and_pd(is0, want0), _mm256_and_pd(is1, want1)),
+                     _mm256_and_pd(is2, want2));
+    const __m256d dz = _mm256_blendv_pd(_mm256_blendv_pd(d[2], d[1], is1), d[0], is0);
+    const __m256d negative = _mm256_cmp_pd(dz, zero, _CMP_LT_OQ);
+    const __m256d sameSign = _mm256_andnot_pd(_mm256_xor_pd(negative, wantNegative), allOnes);
+    good = _mm256_and_pd(good, _mm256_and_pd(sameAxis, sameSign));
+  }
+  return _mm256_movemask_pd(good) == 0xF ? cls : -1;
+}
+
 // oneRay(ray) answers a ray that no packet takes (SceneIntersector::closestTriangleHit); boxPad is
 // the intersector's box padding.
 template <class OneRay, class Walk>
 void traceTile(const SceneIntersector& scene, double boxPad, OneRay&& oneRay, const Ray* rays,
                Hit* hits, std::size_t rowStride, int width, int height, Walk&& walk) {
   Packet p;
+  const glm::dvec3 reference = scene.reference();
+  if (width % 4 == 0) {
+    const int uniform = loadUniformTile(p, rays, rowStride, width, height, reference, boxPad);
+    if (uniform >= 0) {
+      runPacket(p, uniform, width * height, hits,
+                [&](Packet& packet, int used) { walk(packet, used, true); });
+      return;
+    }
+  }
   std::uint8_t classOf[kMax];
   int count = 0;
   int classCount[6] = {};
-  const glm::dvec3 reference = scene.reference();
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; ++x) {
       const auto offset = static_cast<std::uint32_t>(static_cast<std::size_t>(y) * rowStride + x);
@@ -577,7 +662,7 @@ CLIPRAY_AVX2 inline __m256d groupReach(const Packet& p, int g) {
   return _mm256_mul_pd(_mm256_max_pd(finiteReach, w0), bcast(1.0 + 0x1p-20));
 }
 
-// The triangles binned in the tile, nearest first, against the packet's groups: only the groups a
+// The triangles binned in the tile against the packet's groups: only the groups a
 // triangle's pixel bounds touch when the packet is the full 8x8 tile in scan order, and only those
 // with a lane whose best hit lies beyond the triangle's nearest w.
 CLIPRAY_AVX2 void traceBins(const SceneIntersector& scene, const std::vector<Triangle>& triangles,
@@ -586,35 +671,34 @@ CLIPRAY_AVX2 void traceBins(const SceneIntersector& scene, const std::vector<Tri
   const glm::dvec3 reference = scene.reference();
   const int groupCount = p.lanes / 4;
   const std::uint32_t allGroups = (1u << groupCount) - 1;
-  thread_local std::vector<BinnedTriangle> sorted;
-  sorted.clear();
-  bins.forEachList(tileX, tileY, [&](std::span<const BinnedTriangle> list) {
-    for (const BinnedTriangle& entry : list) {
+  for (int chunk = 0; chunk < bins.listChunkCount(); ++chunk) {
+    for (const BinnedTriangle& entry : bins.list(chunk, tileX, tileY)) {
       // The triangles are scattered over the intersector's storage: start loading them now.
       const char* at = reinterpret_cast<const char*>(&triangles[entry.slot]);
       __builtin_prefetch(at);
       __builtin_prefetch(at + sizeof(Triangle) - 1);
     }
-    sorted.insert(sorted.end(), list.begin(), list.end());
-  });
+  }
   __m256d reach[kMax / 4];
   for (int g = 0; g < groupCount; ++g) reach[g] = groupReach(p, g);
-  for (const BinnedTriangle& entry : sorted) {
-    std::uint32_t groups = groupsAreHalfRows ? entry.groupMask & allGroups : allGroups;
-    const __m256d nearest = bcast(static_cast<double>(entry.nearestW));
-    for (std::uint32_t left = groups; left != 0; left &= left - 1) {
-      const int g = std::countr_zero(left);
-      if (_mm256_movemask_pd(_mm256_cmp_pd(nearest, reach[g], _CMP_GT_OQ)) == 0xF) {
-        groups &= ~(1u << g);
+  for (int chunk = 0; chunk < bins.listChunkCount(); ++chunk) {
+    for (const BinnedTriangle& entry : bins.list(chunk, tileX, tileY)) {
+      std::uint32_t groups = groupsAreHalfRows ? entry.groupMask & allGroups : allGroups;
+      const __m256d nearest = bcast(static_cast<double>(entry.nearestW));
+      for (std::uint32_t left = groups; left != 0; left &= left - 1) {
+        const int g = std::countr_zero(left);
+        if (_mm256_movemask_pd(_mm256_cmp_pd(nearest, reach[g], _CMP_GT_OQ)) == 0xF) {
+          groups &= ~(1u << g);
+        }
       }
-    }
-    if (groups == 0) continue;
-    const Triangle& tri = triangles[entry.slot];
-    const WideTriangle wt = wideTriangle(p, tri);
-    for (std::uint32_t left = groups; left != 0; left &= left - 1) {
-      const int g = std::countr_zero(left);
-      testGroup(p, g, wt, tri, reference, rays);
-      reach[g] = groupReach(p, g);
+      if (groups == 0) continue;
+      const Triangle& tri = triangles[entry.slot];
+      const WideTriangle wt = wideTriangle(p, tri);
+      for (std::uint32_t left = groups; left != 0; left &= left - 1) {
+        const int g = std::countr_zero(left);
+        testGroup(p, g, wt, tri, reference, rays);
+        reach[g] = groupReach(p, g);
+      }
     }
   }
 }

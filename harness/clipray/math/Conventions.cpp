@@ -17,16 +17,6 @@ std::optional<DepthMode> DepthMode::parse(std::string_view text) {
   return std::nullopt;
 }
 
-double windowDepthFromNdc(double zNdc, DepthConvention convention) {
-  const double zn = convention == DepthConvention::ZeroToOne ? 0.0 : -1.0;
-  return (zNdc - zn) / (1.0 - zn);
-}
-
-double ndcFromWindowDepth(double windowDepth, DepthConvention convention) {
-  const double zn = convention == DepthConvention::ZeroToOne ? 0.0 : -1.0;
-  return windowDepth * (1.0 - zn) + zn;
-}
-
 glm::dvec2 clipXYOfPixelCentre(int i, int j, Viewport viewport) {
   return {(2.0 * i + 1.0) / viewport.width - 1.0, (2.0 * j + 1.0) / viewport.height - 1.0};
 }

@@ -40,8 +40,15 @@ inline constexpr DepthMode kZeroToOne{DepthConvention::ZeroToOne, false};
 inline constexpr DepthMode kZeroToOneReversed{DepthConvention::ZeroToOne, true};
 
 // Window depth with glDepthRange(0, 1): d = (z_ndc - z_n) / (1 - z_n).
-double windowDepthFromNdc(double zNdc, DepthConvention convention);
-double ndcFromWindowDepth(double windowDepth, DepthConvention convention);
+// Inline: the compare pass calls them for every pixel.
+inline double windowDepthFromNdc(double zNdc, DepthConvention convention) {
+  const double zn = convention == DepthConvention::ZeroToOne ? 0.0 : -1.0;
+  return (zNdc - zn) / (1.0 - zn);
+}
+inline double ndcFromWindowDepth(double windowDepth, DepthConvention convention) {
+  const double zn = convention == DepthConvention::ZeroToOne ? 0.0 : -1.0;
+  return windowDepth * (1.0 - zn) + zn;
+}
 
 struct Viewport {
   int width = 0;
