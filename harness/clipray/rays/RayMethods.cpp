@@ -362,8 +362,12 @@ struct FullKernel {
 //              length = sqrt(T(|d|^2)) and inverseLength = 1 / length in T, and
 //              direction = T(d * inverseLength) -- ONE rounding to T per component. The scale
 //              factor's own error is common to the three components and does not turn the ray,
-//              so a float direction is within u_float (+ a few u_double * cond) of the exact
-//              one: the cost of storing the exact ray in float, and no more.
+//              so a float direction is within u_float (+ a few u_double * cond) of the exact one:
+//              the cost of storing the exact ray in float, and over a frame of distinct
+//              directions the same worst case as rounding the exact ray itself. A parallel
+//              projection has one direction for every pixel (P = Q = 0): it is normalized once,
+//              in double with a Newton step, and rounded once -- the exact ray rounded to float,
+//              not merely within u_float of it (one unlucky rounding would be every pixel's).
 //   origin:    N.xyz / N.w, the four forms evaluated in T from a block base (one FMA per pixel
 //              from the base of 8 pixels, computed in double, so the increment k < 8 adds
 //              almost no rounding);
@@ -434,6 +438,8 @@ struct RobustKernel {
   RobustCoefficients coefficients;
   T perI[8];  // the per-pixel increments in T (components 3..7 are used)
   T depthSpan;
+  bool constantDirection = false;  // a parallel projection: every pixel's direction is `constant`
+  Vec3<T> constant{T(0)};
 
   RobustKernel(const CameraInputs& in, Viewport viewport) {
     // The entries as the method receives them: rounded to T, then widened exactly.
@@ -441,6 +447,19 @@ struct RobustKernel {
     coefficients = robustCoefficients(entries, in.mode, viewport);
     for (int c = 0; c < 8; ++c) perI[c] = T(coefficients.perI[c]);
     depthSpan = T(coefficients.depthSpan);
+    constantDirection = true;
+    for (int c = 0; c < 3; ++c) {
+      constantDirection =
+          constantDirection && coefficients.perI[c] == 0.0 && coefficients.perJ[c] == 0.0;
+    }
+    if (constantDirection) {
+      // 1/|d| to ~1e-32 relative (a Newton step from double's), then one rounding to T.
+      const double x = coefficients.at0[0], y = coefficients.at0[1], z = coefficients.at0[2];
+      const double squared = std::fma(x, x, std::fma(y, y, z * z));
+      const double estimate = 1.0 / std::sqrt(squared);
+      const double unit = estimate * std::fma(-0.5 * squared, estimate * estimate, 1.5);
+      constant = Vec3<T>(T(x * unit), T(y * unit), T(z * unit));
+    }
   }
 
   // The affine forms at the first pixel of row j (double).
@@ -462,7 +481,7 @@ struct RobustKernel {
     const double dy = std::fma(i, coefficients.perI[1], base[1]);
     const double dz = std::fma(i, coefficients.perI[2], base[2]);
     const T length = std::sqrt(T(std::fma(dx, dx, std::fma(dy, dy, dz * dz))));
-    const T inverseLength = T(1) / length;
+    const double inverseLength = double(T(1) / length);
     const T kt = T(k);
     const T nx = std::fma(kt, perI[3], block[3]);
     const T ny = std::fma(kt, perI[4], block[4]);
@@ -472,8 +491,9 @@ struct RobustKernel {
     const T farDot = std::fma(kt, perI[7], block[7]);
     const T t = (depthSpan * length) / (nw * farDot);
     CameraRay<T> ray;
-    ray.direction = {T(dx * double(inverseLength)), T(dy * double(inverseLength)),
-                     T(dz * double(inverseLength))};
+    ray.direction = constantDirection ? constant
+                                      : Vec3<T>(T(dx * inverseLength), T(dy * inverseLength),
+                                                T(dz * inverseLength));
     ray.origin = {nx * inverseW, ny * inverseW, nz * inverseW};
     ray.tMax = (t > T(0) && t < std::numeric_limits<T>::infinity())
                    ? t
@@ -531,6 +551,8 @@ __attribute__((target("avx2,fma"))) void robustRowAvx2(const RobustKernel<float>
   const __m256 infinity = _mm256_set1_ps(std::numeric_limits<float>::infinity());
   const __m256 zero = _mm256_setzero_ps();
   const __m256 one = _mm256_set1_ps(1.f);
+  const __m256 constant[3] = {_mm256_set1_ps(kernel.constant.x), _mm256_set1_ps(kernel.constant.y),
+                              _mm256_set1_ps(kernel.constant.z)};
   int i0 = 0;
   for (; i0 + 8 <= width; i0 += 8, pixelLow = _mm256_add_pd(pixelLow, eight)) {
     const __m256d pixelHigh = _mm256_add_pd(pixelLow, four);
@@ -562,12 +584,13 @@ __attribute__((target("avx2,fma"))) void robustRowAvx2(const RobustKernel<float>
     // t > 0 and t < inf (ordered compares: NaN fails both) keeps t, anything else is +inf.
     const __m256 valid =
         _mm256_and_ps(_mm256_cmp_ps(t, zero, _CMP_GT_OQ), _mm256_cmp_ps(t, infinity, _CMP_LT_OQ));
-    _mm256_storeu_ps(out.directionX + i0, toFloat8(_mm256_mul_pd(dLow[0], inverseLow),
-                                                   _mm256_mul_pd(dHigh[0], inverseHigh)));
-    _mm256_storeu_ps(out.directionY + i0, toFloat8(_mm256_mul_pd(dLow[1], inverseLow),
-                                                   _mm256_mul_pd(dHigh[1], inverseHigh)));
-    _mm256_storeu_ps(out.directionZ + i0, toFloat8(_mm256_mul_pd(dLow[2], inverseLow),
-                                                   _mm256_mul_pd(dHigh[2], inverseHigh)));
+    for (int c = 0; c < 3; ++c) {
+      float* to = c == 0 ? out.directionX : (c == 1 ? out.directionY : out.directionZ);
+      _mm256_storeu_ps(to + i0, kernel.constantDirection
+                                    ? constant[c]
+                                    : toFloat8(_mm256_mul_pd(dLow[c], inverseLow),
+                                               _mm256_mul_pd(dHigh[c], inverseHigh)));
+    }
     _mm256_storeu_ps(out.originX + i0, _mm256_mul_ps(nx, inverseW));
     _mm256_storeu_ps(out.originY + i0, _mm256_mul_ps(ny, inverseW));
     _mm256_storeu_ps(out.originZ + i0, _mm256_mul_ps(nz, inverseW));
@@ -603,12 +626,16 @@ __attribute__((target("avx512f,avx2,fma"))) void robustRowAvx512(const RobustKer
     directionStep[c] = _mm512_set1_pd(kernel.coefficients.perI[c]);
     directionBase[c] = _mm512_set1_pd(base[c]);
   }
+  const __m512d blockStep = _mm512_maskz_loadu_pd(0x1F, kernel.coefficients.perI + 3);
+  const __m512d blockRowBase = _mm512_maskz_loadu_pd(0x1F, base + 3);
   const __m512d eight = _mm512_set1_pd(8.0);
   __m512d pixel = _mm512_setr_pd(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0);
   const __m256 depthSpan = _mm256_set1_ps(kernel.depthSpan);
   const __m256 infinity = _mm256_set1_ps(std::numeric_limits<float>::infinity());
   const __m256 zero = _mm256_setzero_ps();
   const __m256 one = _mm256_set1_ps(1.f);
+  const __m256 constant[3] = {_mm256_set1_ps(kernel.constant.x), _mm256_set1_ps(kernel.constant.y),
+                              _mm256_set1_ps(kernel.constant.z)};
   int i0 = 0;
   for (; i0 + 8 <= width; i0 += 8, pixel = _mm512_add_pd(pixel, eight)) {
     const __m512d dx = _mm512_fmadd_pd(pixel, directionStep[0], directionBase[0]);
@@ -619,22 +646,26 @@ __attribute__((target("avx512f,avx2,fma"))) void robustRowAvx512(const RobustKer
     const __m256 inverseLength = _mm256_div_ps(one, length);
     const __m512d inverse = _mm512_mask_cvtps_pd(_mm512_setzero_pd(), 0xFF, inverseLength);
 
-    float block[8];
-    for (int c = 3; c < 8; ++c) {
-      block[c] = static_cast<float>(std::fma(double(i0), kernel.coefficients.perI[c], base[c]));
-    }
-    const __m256 nx = _mm256_fmadd_ps(lane, step[3], _mm256_set1_ps(block[3]));
-    const __m256 ny = _mm256_fmadd_ps(lane, step[4], _mm256_set1_ps(block[4]));
-    const __m256 nz = _mm256_fmadd_ps(lane, step[5], _mm256_set1_ps(block[5]));
-    const __m256 nw = _mm256_fmadd_ps(lane, step[6], _mm256_set1_ps(block[6]));
+    // The block bases of components 3..7 (lanes 0..4), as blockBase computes them, in one go.
+    alignas(32) float blockLanes[8];
+    const __m256 block =
+        toFloat8(_mm512_fmadd_pd(_mm512_set1_pd(static_cast<double>(i0)), blockStep, blockRowBase));
+    _mm256_store_ps(blockLanes, block);
+    const __m256 nx = _mm256_fmadd_ps(lane, step[3], _mm256_broadcast_ss(blockLanes + 0));
+    const __m256 ny = _mm256_fmadd_ps(lane, step[4], _mm256_broadcast_ss(blockLanes + 1));
+    const __m256 nz = _mm256_fmadd_ps(lane, step[5], _mm256_broadcast_ss(blockLanes + 2));
+    const __m256 nw = _mm256_fmadd_ps(lane, step[6], _mm256_broadcast_ss(blockLanes + 3));
     const __m256 inverseW = _mm256_div_ps(one, nw);
-    const __m256 farDot = _mm256_fmadd_ps(lane, step[7], _mm256_set1_ps(block[7]));
+    const __m256 farDot = _mm256_fmadd_ps(lane, step[7], _mm256_broadcast_ss(blockLanes + 4));
     const __m256 t = _mm256_div_ps(_mm256_mul_ps(depthSpan, length), _mm256_mul_ps(nw, farDot));
     const __m256 valid =
         _mm256_and_ps(_mm256_cmp_ps(t, zero, _CMP_GT_OQ), _mm256_cmp_ps(t, infinity, _CMP_LT_OQ));
-    _mm256_storeu_ps(out.directionX + i0, toFloat8(_mm512_mul_pd(dx, inverse)));
-    _mm256_storeu_ps(out.directionY + i0, toFloat8(_mm512_mul_pd(dy, inverse)));
-    _mm256_storeu_ps(out.directionZ + i0, toFloat8(_mm512_mul_pd(dz, inverse)));
+    _mm256_storeu_ps(out.directionX + i0,
+                     kernel.constantDirection ? constant[0] : toFloat8(_mm512_mul_pd(dx, inverse)));
+    _mm256_storeu_ps(out.directionY + i0,
+                     kernel.constantDirection ? constant[1] : toFloat8(_mm512_mul_pd(dy, inverse)));
+    _mm256_storeu_ps(out.directionZ + i0,
+                     kernel.constantDirection ? constant[2] : toFloat8(_mm512_mul_pd(dz, inverse)));
     _mm256_storeu_ps(out.originX + i0, _mm256_mul_ps(nx, inverseW));
     _mm256_storeu_ps(out.originY + i0, _mm256_mul_ps(ny, inverseW));
     _mm256_storeu_ps(out.originZ + i0, _mm256_mul_ps(nz, inverseW));
