@@ -417,6 +417,25 @@ TEST(FastPathBinned, RaysOffTheirPixelsWalkTheBvhAndStillMatch) {
   expectFrameMatchesTheLinearScan(intersector, fromEye, "from the eye");
 }
 
+// Below the BVH threshold the bins still pay (SIMD packets instead of a scan per ray), and need no
+// BVH either.
+TEST(FastPathBinned, SmallScenesUseTheBinsToo) {
+  Scene scene;
+  scene.objects.push_back(testing::quad("floor", {-9, 0, -9}, {-9, 0, 9}, {9, 0, 9}, {9, 0, -9}));
+  scene.objects.push_back(testing::quad("wall", {-3, 0, -2}, {3, 0, -2}, {3, 4, -2}, {-3, 4, -2}));
+  const BinnedCase c = binnedCases()[0];
+  const SceneIntersector intersector(scene, {0.3, 6.0, 9.0},
+                                     SceneIntersector::BvhBuild::WhenFirstNeeded);
+  ASSERT_FALSE(intersector.usesBvh());
+  AnalyticFrame frame = generateRobustRays(c.camera, 2);
+  EXPECT_EQ(intersectFrame(frame, intersector, c.camera, 2), tileCount(c.camera.viewport));
+  EXPECT_FALSE(intersector.bvhBuilt());
+  expectFrameMatchesTheLinearScan(intersector, frame, "two quads");
+  int wall = 0;
+  for (const Hit& hit : frame.hits) wall += hit.primitiveId == 3 || hit.primitiveId == 4 ? 1 : 0;
+  EXPECT_GT(wall, 100);
+}
+
 // 5000 triangles that each cover the whole frame: 48 tiles x 5000 entries is more than the bins
 // pay for (16 x (triangles per chunk + tiles)), so the frame walks the BVH -- with the same hits.
 TEST(FastPathBinned, TooManyEntriesFallBackToTheBvh) {

@@ -547,8 +547,9 @@ void SceneIntersector::addAnalyticToTile(const Ray* rays, Hit* hits, std::size_t
 bool SceneIntersector::closestHitsTileBinned(const FrameBins& bins, int tileX, int tileY,
                                              const Ray* rays, Hit* hits, std::size_t rowStride,
                                              int width, int height) const noexcept {
-  if (!bins.usable() || !wantsBvh_ || !packetKernelsAvailable() || width > FrameBins::kTile ||
-      height > FrameBins::kTile) {
+  // Any triangle count: the bins need no BVH (a tile that strays builds one for its packets).
+  if (!bins.usable() || triangles_.empty() || !packetKernelsAvailable() ||
+      width > FrameBins::kTile || height > FrameBins::kTile) {
     closestHitsTile(rays, hits, rowStride, width, height);
     return false;
   }

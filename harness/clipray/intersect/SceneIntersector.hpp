@@ -123,7 +123,8 @@ class SceneIntersector {
   using Triangle = detail::BvhTriangle;
   using Node = detail::BvhNode;
   void buildBvh() const;
-  // Builds the BVH once (thread-safe); usesBvh() must hold.
+  // Builds the BVH once (thread-safe); there must be triangles. Queries one ray at a time walk it
+  // only when usesBvh(); the packets of a binned frame whose rays stray build it for any count.
   void ensureBvh() const {
     if (!bvhBuilt()) std::call_once(bvh_->once, [this] { buildBvh(); });
   }
