@@ -529,6 +529,34 @@ __attribute__((target("avx2,fma"))) inline __m256 toFloat8(__m256d low, __m256d 
   return _mm256_set_m128(_mm256_cvtpd_ps(high), _mm256_cvtpd_ps(low));
 }
 
+// What the AVX2 and AVX-512 rows share after the direction, RobustKernel<float>::finish's
+// operations 8 lanes at a time: origin N.xyz / N.w and t_max = (z_far - z_near) |d| / (N.w F), +inf
+// unless it is positive and finite (ordered compares: NaN fails both).
+__attribute__((target("avx2,fma"))) inline void storeOriginsAndTMax(const RaySpan<float>& out,
+                                                                    int i0, __m256 nx, __m256 ny,
+                                                                    __m256 nz, __m256 nw,
+                                                                    __m256 farDot, __m256 length,
+                                                                    __m256 depthSpan) {
+  const __m256 infinity = _mm256_set1_ps(std::numeric_limits<float>::infinity());
+  const __m256 inverseW = _mm256_div_ps(_mm256_set1_ps(1.f), nw);
+  const __m256 t = _mm256_div_ps(_mm256_mul_ps(depthSpan, length), _mm256_mul_ps(nw, farDot));
+  const __m256 valid = _mm256_and_ps(_mm256_cmp_ps(t, _mm256_setzero_ps(), _CMP_GT_OQ),
+                                     _mm256_cmp_ps(t, infinity, _CMP_LT_OQ));
+  _mm256_storeu_ps(out.originX + i0, _mm256_mul_ps(nx, inverseW));
+  _mm256_storeu_ps(out.originY + i0, _mm256_mul_ps(ny, inverseW));
+  _mm256_storeu_ps(out.originZ + i0, _mm256_mul_ps(nz, inverseW));
+  _mm256_storeu_ps(out.tMax + i0, _mm256_blendv_ps(infinity, t, valid));
+}
+
+// The last width - i0 < 8 pixels of a row, one at a time (the scalar call's own arithmetic).
+void robustRowTail(const RobustKernel<float>& kernel, const double base[8], int i0, int width,
+                   const RaySpan<float>& out) {
+  if (i0 >= width) return;
+  float block[8];
+  RobustKernel<float>::blockBase(base, kernel.coefficients.perI, i0, block);
+  for (int k = 0; i0 + k < width; ++k) out.store(i0 + k, kernel.finish(base, block, i0, k));
+}
+
 // AVX2 + FMA row of robust float rays: 8 pixels per iteration (the direction in two halves of 4
 // double lanes), the exact operations of RobustKernel<float>::finish (IEEE sqrt, division and
 // conversions are correctly rounded in both), so the batch and the scalar call agree bit for
@@ -548,8 +576,6 @@ __attribute__((target("avx2,fma"))) void robustRowAvx2(const RobustKernel<float>
   const __m256d four = _mm256_set1_pd(4.0), eight = _mm256_set1_pd(8.0);
   __m256d pixelLow = _mm256_setr_pd(0.0, 1.0, 2.0, 3.0);  // i of lanes 0..3, exact in double
   const __m256 depthSpan = _mm256_set1_ps(kernel.depthSpan);
-  const __m256 infinity = _mm256_set1_ps(std::numeric_limits<float>::infinity());
-  const __m256 zero = _mm256_setzero_ps();
   const __m256 one = _mm256_set1_ps(1.f);
   const __m256 constant[3] = {_mm256_set1_ps(kernel.constant.x), _mm256_set1_ps(kernel.constant.y),
                               _mm256_set1_ps(kernel.constant.z)};
@@ -578,12 +604,7 @@ __attribute__((target("avx2,fma"))) void robustRowAvx2(const RobustKernel<float>
     const __m256 ny = _mm256_fmadd_ps(lane, step[4], _mm256_set1_ps(block[4]));
     const __m256 nz = _mm256_fmadd_ps(lane, step[5], _mm256_set1_ps(block[5]));
     const __m256 nw = _mm256_fmadd_ps(lane, step[6], _mm256_set1_ps(block[6]));
-    const __m256 inverseW = _mm256_div_ps(one, nw);
     const __m256 farDot = _mm256_fmadd_ps(lane, step[7], _mm256_set1_ps(block[7]));
-    const __m256 t = _mm256_div_ps(_mm256_mul_ps(depthSpan, length), _mm256_mul_ps(nw, farDot));
-    // t > 0 and t < inf (ordered compares: NaN fails both) keeps t, anything else is +inf.
-    const __m256 valid =
-        _mm256_and_ps(_mm256_cmp_ps(t, zero, _CMP_GT_OQ), _mm256_cmp_ps(t, infinity, _CMP_LT_OQ));
     for (int c = 0; c < 3; ++c) {
       float* to = c == 0 ? out.directionX : (c == 1 ? out.directionY : out.directionZ);
       _mm256_storeu_ps(to + i0, kernel.constantDirection
@@ -591,18 +612,9 @@ __attribute__((target("avx2,fma"))) void robustRowAvx2(const RobustKernel<float>
                                     : toFloat8(_mm256_mul_pd(dLow[c], inverseLow),
                                                _mm256_mul_pd(dHigh[c], inverseHigh)));
     }
-    _mm256_storeu_ps(out.originX + i0, _mm256_mul_ps(nx, inverseW));
-    _mm256_storeu_ps(out.originY + i0, _mm256_mul_ps(ny, inverseW));
-    _mm256_storeu_ps(out.originZ + i0, _mm256_mul_ps(nz, inverseW));
-    _mm256_storeu_ps(out.tMax + i0, _mm256_blendv_ps(infinity, t, valid));
+    storeOriginsAndTMax(out, i0, nx, ny, nz, nw, farDot, length, depthSpan);
   }
-  if (i0 < width) {
-    float block[8];
-    RobustKernel<float>::blockBase(base, kernel.coefficients.perI, i0, block);
-    for (int k = 0; i0 + k < width; ++k) {
-      out.store(i0 + k, kernel.finish(base, block, i0, k));
-    }
-  }
+  robustRowTail(kernel, base, i0, width, out);
 }
 
 // 8 double lanes rounded to 8 float lanes. The masked form (all lanes) because GCC 12's unmasked
@@ -631,8 +643,6 @@ __attribute__((target("avx512f,avx2,fma"))) void robustRowAvx512(const RobustKer
   const __m512d eight = _mm512_set1_pd(8.0);
   __m512d pixel = _mm512_setr_pd(0.0, 1.0, 2.0, 3.0, 4.0, 5.0, 6.0, 7.0);
   const __m256 depthSpan = _mm256_set1_ps(kernel.depthSpan);
-  const __m256 infinity = _mm256_set1_ps(std::numeric_limits<float>::infinity());
-  const __m256 zero = _mm256_setzero_ps();
   const __m256 one = _mm256_set1_ps(1.f);
   const __m256 constant[3] = {_mm256_set1_ps(kernel.constant.x), _mm256_set1_ps(kernel.constant.y),
                               _mm256_set1_ps(kernel.constant.z)};
@@ -655,29 +665,16 @@ __attribute__((target("avx512f,avx2,fma"))) void robustRowAvx512(const RobustKer
     const __m256 ny = _mm256_fmadd_ps(lane, step[4], _mm256_broadcast_ss(blockLanes + 1));
     const __m256 nz = _mm256_fmadd_ps(lane, step[5], _mm256_broadcast_ss(blockLanes + 2));
     const __m256 nw = _mm256_fmadd_ps(lane, step[6], _mm256_broadcast_ss(blockLanes + 3));
-    const __m256 inverseW = _mm256_div_ps(one, nw);
     const __m256 farDot = _mm256_fmadd_ps(lane, step[7], _mm256_broadcast_ss(blockLanes + 4));
-    const __m256 t = _mm256_div_ps(_mm256_mul_ps(depthSpan, length), _mm256_mul_ps(nw, farDot));
-    const __m256 valid =
-        _mm256_and_ps(_mm256_cmp_ps(t, zero, _CMP_GT_OQ), _mm256_cmp_ps(t, infinity, _CMP_LT_OQ));
     _mm256_storeu_ps(out.directionX + i0,
                      kernel.constantDirection ? constant[0] : toFloat8(_mm512_mul_pd(dx, inverse)));
     _mm256_storeu_ps(out.directionY + i0,
                      kernel.constantDirection ? constant[1] : toFloat8(_mm512_mul_pd(dy, inverse)));
     _mm256_storeu_ps(out.directionZ + i0,
                      kernel.constantDirection ? constant[2] : toFloat8(_mm512_mul_pd(dz, inverse)));
-    _mm256_storeu_ps(out.originX + i0, _mm256_mul_ps(nx, inverseW));
-    _mm256_storeu_ps(out.originY + i0, _mm256_mul_ps(ny, inverseW));
-    _mm256_storeu_ps(out.originZ + i0, _mm256_mul_ps(nz, inverseW));
-    _mm256_storeu_ps(out.tMax + i0, _mm256_blendv_ps(infinity, t, valid));
+    storeOriginsAndTMax(out, i0, nx, ny, nz, nw, farDot, length, depthSpan);
   }
-  if (i0 < width) {
-    float block[8];
-    RobustKernel<float>::blockBase(base, kernel.coefficients.perI, i0, block);
-    for (int k = 0; i0 + k < width; ++k) {
-      out.store(i0 + k, kernel.finish(base, block, i0, k));
-    }
-  }
+  robustRowTail(kernel, base, i0, width, out);
 }
 
 // The other methods' rows, compiled a second time with FMA and AVX2 enabled so their std::fma
