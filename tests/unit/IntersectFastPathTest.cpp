@@ -417,6 +417,38 @@ TEST(FastPathBinned, RaysOffTheirPixelsWalkTheBvhAndStillMatch) {
   expectFrameMatchesTheLinearScan(intersector, fromEye, "from the eye");
 }
 
+// Rays through points a little off the pixel centres (the camera's clip space shifted by a fraction
+// of a pixel in x and y): within kRayTolerancePx every tile still uses the bins, whose padding
+// is only a little wider, and every hit stays the linear scan's; beyond it every tile walks the
+// BVH.
+TEST(FastPathBinned, RaysUpToTheToleranceOffTheirCentresStillUseTheBins) {
+  const Scene scene = testSceneWithPrimitives();
+  for (const BinnedCase& c : binnedCases()) {
+    SCOPED_TRACE(c.name);
+    const glm::dvec4 centre =
+        glm::inverse(c.camera.clipFromWorld) * glm::dvec4(0.0, 0.0, c.camera.mode.nearNdcZ(), 1.0);
+    const SceneIntersector intersector(scene, glm::dvec3(centre) / centre.w,
+                                       SceneIntersector::BvhBuild::WhenFirstNeeded);
+    const Viewport v = c.camera.viewport;
+    for (const double offPx : {0.24, 0.26}) {
+      for (const glm::dvec2 sign :
+           {glm::dvec2(1, 1), glm::dvec2(1, -1), glm::dvec2(-1, 1), glm::dvec2(-1, -1)}) {
+        // x_ndc' = x_ndc - shift: the shifted camera's pixel centre lies `shift` further along.
+        glm::dmat4 ndcShift(1.0);
+        ndcShift[3][0] = -sign.x * offPx * 2.0 / v.width;
+        ndcShift[3][1] = -sign.y * offPx * 2.0 / v.height;
+        PickingCamera shifted = c.camera;
+        shifted.clipFromWorld = ndcShift * c.camera.clipFromWorld;
+        AnalyticFrame frame = generateRobustRays(shifted, 2);
+        const std::size_t binned = intersectFrame(frame, intersector, c.camera, 2);
+        EXPECT_EQ(binned, offPx < FrameBins::kRayTolerancePx ? tileCount(v) : 0u)
+            << offPx << " px, signs " << sign.x << " " << sign.y;
+        expectFrameMatchesTheLinearScan(intersector, frame, std::to_string(offPx) + " px off");
+      }
+    }
+  }
+}
+
 // Below the BVH threshold the bins still pay (SIMD packets instead of a scan per ray), and need no
 // BVH either.
 TEST(FastPathBinned, SmallScenesUseTheBinsToo) {

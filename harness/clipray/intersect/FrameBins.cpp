@@ -21,21 +21,27 @@ struct ClipPoint {
   double x, y, w;
 };
 
+// Sums of the magnitudes of the terms of a corner's clip x, y and w (their rounding is below
+// 2^-50 of these: four terms).
+struct ClipMagnitude {
+  double x, y, w;
+};
+
 // Pixel index whose centre is at NDC coordinate `ndc`: i = (ndc + 1) * size / 2 - 1/2.
 double pixelCoordinate(double ndc, int size) {
   return (ndc + 1.0) * (0.5 * size) - 0.5;
 }
 
-// Inclusive pixel range [first, last] of the padded interval, clamped to the viewport.
+// Inclusive pixel range [first, last] of the interval padded by `pad`, clamped to the viewport.
 // NaN (a triangle whose projection overflowed) covers the whole range: conservative.
-void pixelRange(double low, double high, int size, int& first, int& last) {
-  if (std::isnan(low) || std::isnan(high)) {
+void pixelRange(double low, double high, double pad, int size, int& first, int& last) {
+  if (std::isnan(low) || std::isnan(high) || std::isnan(pad)) {
     first = 0;
     last = size - 1;
     return;
   }
-  low = std::clamp(low - FrameBins::kPaddingPx, -1.0, double(size));
-  high = std::clamp(high + FrameBins::kPaddingPx, -1.0, double(size));
+  low = std::clamp(low - pad, -1.0, double(size));
+  high = std::clamp(high + pad, -1.0, double(size));
   first = std::max(0, static_cast<int>(std::ceil(low)));
   last = std::min(size - 1, static_cast<int>(std::floor(high)));
 }
@@ -45,6 +51,7 @@ void pixelRange(double low, double high, int size, int& first, int& last) {
 PixelRect triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, double wClip,
                        Viewport viewport) {
   std::array<ClipPoint, 3> corner;
+  std::array<ClipMagnitude, 3> magnitude;
   const glm::dvec3* vertices[3] = {&tri.a, &tri.b, &tri.c};
   int inside = 0;
   double wError = 0.0;  // bound on the rounding of the corners' w
@@ -54,8 +61,13 @@ PixelRect triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, doub
     corner[k] = {m[0][0] * v.x + m[1][0] * v.y + m[2][0] * v.z + m[3][0],
                  m[0][1] * v.x + m[1][1] * v.y + m[2][1] * v.z + m[3][1],
                  m[0][3] * v.x + m[1][3] * v.y + m[2][3] * v.z + m[3][3]};
-    wError = std::max(wError, std::abs(m[0][3] * v.x) + std::abs(m[1][3] * v.y) +
-                                  std::abs(m[2][3] * v.z) + std::abs(m[3][3]));
+    magnitude[k] = {std::abs(m[0][0] * v.x) + std::abs(m[1][0] * v.y) + std::abs(m[2][0] * v.z) +
+                        std::abs(m[3][0]),
+                    std::abs(m[0][1] * v.x) + std::abs(m[1][1] * v.y) + std::abs(m[2][1] * v.z) +
+                        std::abs(m[3][1]),
+                    std::abs(m[0][3] * v.x) + std::abs(m[1][3] * v.y) + std::abs(m[2][3] * v.z) +
+                        std::abs(m[3][3])};
+    wError = std::max(wError, magnitude[k].w);
     inside += corner[k].w >= wClip ? 1 : 0;
   }
   wError *= 0x1p-48;  // 4 roundings of at most 2^-53 each, with a wide margin
@@ -95,9 +107,28 @@ PixelRect triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, doub
   wMin = wMin - wError - wMin * 0x1p-22;
   rect.nearestW = std::isnan(wMin) ? -std::numeric_limits<float>::infinity()
                                    : static_cast<float>(std::max(wMin, 0.0));
-  pixelRange(pixelCoordinate(xMin, viewport.width), pixelCoordinate(xMax, viewport.width),
+  // The padding: kRayTolerancePx + kMarginPx plus a bound on the rounding of the projected
+  // corners in pixels when the triangle is whole (inside == 3: its projection is the triangle of
+  // the projected corners), kClippedPaddingPx when w = wClip cut it. A corner's clip x is off by
+  // at most 2^-50 magnitude.x (likewise w), so x / w by (2^-50 (magnitude.x + |x / w|
+  // magnitude.w) / w + u |x / w|), and the pixel coordinate by size / 2 times that plus a few
+  // roundings of (|x / w| + 1) size / 2: 2^-48 covers them all with room.
+  double padX = FrameBins::kClippedPaddingPx, padY = FrameBins::kClippedPaddingPx;
+  if (inside == 3) {
+    double errorX = 0.0, errorY = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double inverseW = 1.0 / corner[k].w;
+      const double ndcX = std::abs(corner[k].x * inverseW), ndcY = std::abs(corner[k].y * inverseW);
+      errorX = std::max(errorX, (magnitude[k].x + ndcX * magnitude[k].w) * inverseW + ndcX + 1.0);
+      errorY = std::max(errorY, (magnitude[k].y + ndcY * magnitude[k].w) * inverseW + ndcY + 1.0);
+    }
+    const double base = FrameBins::kRayTolerancePx + FrameBins::kMarginPx;
+    padX = base + 0x1p-48 * (0.5 * viewport.width) * errorX;
+    padY = base + 0x1p-48 * (0.5 * viewport.height) * errorY;
+  }
+  pixelRange(pixelCoordinate(xMin, viewport.width), pixelCoordinate(xMax, viewport.width), padX,
              viewport.width, rect.x0, rect.x1);
-  pixelRange(pixelCoordinate(yMin, viewport.height), pixelCoordinate(yMax, viewport.height),
+  pixelRange(pixelCoordinate(yMin, viewport.height), pixelCoordinate(yMax, viewport.height), padY,
              viewport.height, rect.y0, rect.y1);
   return rect;
 }

@@ -9,9 +9,9 @@
 // pixels (half rows) they touch and the smallest clip w the triangle reaches (a depth bound: a
 // group of four rays skips a triangle that lies behind each of its current best hits). A
 // tile's packet then tests exactly the triangles of its bins instead of walking the BVH. Culling is
-// conservative: the padding is kPaddingPx >> the rounding of the projection, and the hit of each
-// tested triangle is the watertight test of Watertight.hpp, so the answer stays bit-identical to
-// closestHitLinear.
+// conservative: the padding exceeds kRayTolerancePx by more than the rounding involved, and the hit
+// of each tested triangle is the watertight test of Watertight.hpp, so the answer stays
+// bit-identical to closestHitLinear.
 //
 // The packet kernels check every ray of a tile against its pixel centre before trusting the bins
 // (a caller's picking function may cast any ray); a tile with a ray that strays, starts behind the
@@ -41,10 +41,16 @@ struct BinnedTriangle {
 class FrameBins {
  public:
   static constexpr int kTile = 8;
-  // How far a ray may stray from its pixel centre's line of sight and still use the bins, and the
-  // padding of every triangle's pixel bounds (the difference covers every rounding involved).
+  // How far a ray may stray from its pixel centre's line of sight and still use the bins.
   static constexpr double kRayTolerancePx = 0.25;
-  static constexpr double kPaddingPx = 1.0;
+  // A whole triangle's pixel bounds are padded by kRayTolerancePx + kMarginPx plus a bound on the
+  // rounding of its projected corners (computed per triangle). The margin covers the rest: the
+  // rounding of the packets' check that a ray stays within kRayTolerancePx (which they keep below
+  // kMarginPx / 4) and how far outside the triangle a watertight hit can round.
+  static constexpr double kMarginPx = 1.0 / 16.0;
+  // A triangle cut by w = wClip: the clipped corners' projection rounds more (an interpolation
+  // first), so a generous fixed padding.
+  static constexpr double kClippedPaddingPx = 1.0;
 
   // Bins every triangle of `scene` (threadCount 0: hardware concurrency). usable() is false when
   // the camera has no near plane in front of it across the viewport (then nothing is binned).

@@ -599,6 +599,12 @@ CLIPRAY_AVX2 inline __m256d nearCentre(__m256d x, __m256d y, __m256d w, __m256d 
 // infinite), every point of the ray is a non-negative combination of e0 and e1. If both have
 // w >= wClip (an infinite ray's ed: w >= 0) and both lie within kRayTolerancePx of the centre c
 // (|x - c_x w| <= eps w), so does every point, and every hit point has w >= wClip.
+// The test is trusted only where its rounding is below kMarginPx / 4: every quantity in it is
+// off by at most 2^-49 of mag = (|row x or y| + 2 |row w|) applied to |e| (the bins' padding
+// leaves kMarginPx), bounded through the rows' 1-norms R, the translations T and the largest
+// |coordinate| of origin and direction: mag(e0) <= R max|o| + T, mag(e1) <= mag(e0) + tMax R
+// max|d| (R max|d| for an infinite ray). A lane whose endpoint w is below 2^-49 mag / (margin
+// in clip units) fails the check (its tile walks the BVH).
 CLIPRAY_AVX2 bool raysOnTheirPixels(Packet& p, int used, const FrameBins& bins, int tileX,
                                     int tileY) {
   const glm::dmat4& m = bins.clipFromRelative();
@@ -612,6 +618,15 @@ CLIPRAY_AVX2 bool raysOnTheirPixels(Packet& p, int used, const FrameBins& bins, 
   }
   const __m256d epsX = bcast(FrameBins::kRayTolerancePx * scaleX);
   const __m256d epsY = bcast(FrameBins::kRayTolerancePx * scaleY);
+  const auto rowNorm = [&](int r) {
+    return std::abs(m[0][r]) + std::abs(m[1][r]) + std::abs(m[2][r]);
+  };
+  const __m256d norm = bcast(std::max(rowNorm(0), rowNorm(1)) + 2.0 * rowNorm(3));
+  const __m256d translation =
+      bcast(std::max(std::abs(m[3][0]), std::abs(m[3][1])) + 2.0 * std::abs(m[3][3]));
+  // w must exceed mag times this: 2^-49 / (kMarginPx / 4 in clip units).
+  const __m256d roundingPerW =
+      bcast(0x1p-49 / (0.25 * FrameBins::kMarginPx * std::min(scaleX, scaleY)));
   const __m256d wClip = bcast(bins.wClip());
   const __m256d zero = _mm256_setzero_pd();
   const __m256d infinity = bcast(std::numeric_limits<double>::infinity());
@@ -636,10 +651,23 @@ CLIPRAY_AVX2 bool raysOnTheirPixels(Packet& p, int used, const FrameBins& bins, 
     const __m256d cx = _mm256_load_pd(centreX + base), cy = _mm256_load_pd(centreY + base);
     const __m256d e1wOk = _mm256_blendv_pd(_mm256_cmp_pd(e1w, zero, _CMP_GE_OQ),
                                            _mm256_cmp_pd(e1w, wClip, _CMP_GE_OQ), finite);
-    const __m256d ok =
-        _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(e0w, wClip, _CMP_GE_OQ), e1wOk),
-                      _mm256_and_pd(nearCentre(e0x, e0y, e0w, cx, cy, epsX, epsY, signBit),
-                                    nearCentre(e1x, e1y, e1w, cx, cy, epsX, epsY, signBit)));
+    const __m256d maxO =
+        _mm256_max_pd(_mm256_andnot_pd(signBit, ox),
+                      _mm256_max_pd(_mm256_andnot_pd(signBit, oy), _mm256_andnot_pd(signBit, oz)));
+    const __m256d maxD =
+        _mm256_max_pd(_mm256_andnot_pd(signBit, dx),
+                      _mm256_max_pd(_mm256_andnot_pd(signBit, dy), _mm256_andnot_pd(signBit, dz)));
+    const __m256d mag0 = _mm256_add_pd(_mm256_mul_pd(norm, maxO), translation);
+    const __m256d magD = _mm256_mul_pd(norm, maxD);
+    const __m256d mag1 =
+        _mm256_blendv_pd(magD, _mm256_add_pd(mag0, _mm256_mul_pd(tMax, magD)), finite);
+    const __m256d exact =
+        _mm256_and_pd(_mm256_cmp_pd(_mm256_mul_pd(mag0, roundingPerW), e0w, _CMP_LE_OQ),
+                      _mm256_cmp_pd(_mm256_mul_pd(mag1, roundingPerW), e1w, _CMP_LE_OQ));
+    const __m256d ok = _mm256_and_pd(
+        _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(e0w, wClip, _CMP_GE_OQ), e1wOk), exact),
+        _mm256_and_pd(nearCentre(e0x, e0y, e0w, cx, cy, epsX, epsY, signBit),
+                      nearCentre(e1x, e1y, e1w, cx, cy, epsX, epsY, signBit)));
     const int wanted = (1 << std::min(4, used - base)) - 1;
     if ((_mm256_movemask_pd(ok) & wanted) != wanted) return false;
   }
