@@ -105,8 +105,10 @@ CLIPRAY_AVX2 inline WideTriangle wideTriangle(const Packet& p, const Triangle& t
           bcast(tri.c[p.kz]), bcast(static_cast<double>(tri.primitiveId))};
 }
 
-// The watertight test of one triangle against four lanes of the packet.
-CLIPRAY_AVX2 inline void testGroup(Packet& p, int g, const WideTriangle& wt, const Triangle& tri,
+// The watertight test of one triangle against four lanes of the packet; true when a lane's best
+// hit changed. Inlined into the loops: a call would spill the broadcast triangle and clear the
+// upper halves of the registers (vzeroupper) for every group.
+CLIPRAY_AVX2 __attribute__((always_inline)) inline bool testGroup(Packet& p, int g, const WideTriangle& wt, const Triangle& tri,
                                    const glm::dvec3& reference, const Ray* rays) {
   const int base = g * 4;
   const __m256d okx = _mm256_load_pd(p.o[p.kx] + base);
@@ -140,6 +142,7 @@ CLIPRAY_AVX2 inline void testGroup(Packet& p, int g, const WideTriangle& wt, con
       _mm256_andnot_pd(_mm256_and_pd(anyNeg, anyPos), _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
   const int edgeMask = _mm256_movemask_pd(onEdge);
   const int candidate = _mm256_movemask_pd(_mm256_andnot_pd(onEdge, inside));
+  bool changed = false;
   if (candidate != 0) {
     const __m256d det = _mm256_add_pd(_mm256_add_pd(u, v), w);
     const __m256d sz = _mm256_load_pd(p.shearZ + base);
@@ -162,6 +165,7 @@ CLIPRAY_AVX2 inline void testGroup(Packet& p, int g, const WideTriangle& wt, con
     if (_mm256_movemask_pd(accept) != 0) {
       _mm256_store_pd(p.bestT + base, _mm256_blendv_pd(bestT, t, accept));
       _mm256_store_pd(p.bestId + base, _mm256_blendv_pd(bestId, id, accept));
+      changed = true;
     }
   }
   if (edgeMask != 0) {
@@ -171,7 +175,9 @@ CLIPRAY_AVX2 inline void testGroup(Packet& p, int g, const WideTriangle& wt, con
       const Ray& ray = rays[p.rayIndex[lane]];
       scalarLane(p, lane, WatertightRay(ray.origin - reference, ray.direction), tri);
     }
+    changed = true;
   }
+  return changed;
 }
 
 // A leaf's box, broadcast once for all the groups of the packet.
@@ -367,6 +373,21 @@ CLIPRAY_AVX2 void preparePacket(Packet& p) {
   p.planeIndex[3] = p.planeIndex[7] = 0;
 }
 
+// The part of preparePacket the bins need: the shear divisions only (the bins test no boxes, so
+// neither inverse directions nor packet bounds). p.inv keeps the directions.
+CLIPRAY_AVX2 void prepareShear(Packet& p) {
+  const __m256d one = bcast(1.0);
+  const __m256d signBit = bcast(-0.0);
+  for (int base = 0; base < p.lanes; base += 4) {
+    const __m256d dkx = _mm256_load_pd(p.inv[p.kx] + base);
+    const __m256d dky = _mm256_load_pd(p.inv[p.ky] + base);
+    const __m256d dkz = _mm256_load_pd(p.inv[p.kz] + base);
+    _mm256_store_pd(p.shearX + base, _mm256_div_pd(_mm256_xor_pd(dkx, signBit), dkz));
+    _mm256_store_pd(p.shearY + base, _mm256_div_pd(_mm256_xor_pd(dky, signBit), dkz));
+    _mm256_store_pd(p.shearZ + base, _mm256_div_pd(one, dkz));
+  }
+}
+
 // Traces the packet's first `used` lanes (rays of permutation class cls: p.o, directions in
 // p.inv, bestT = tMax, bestId = kNoId, rayIndex, laneX/Y) with walk(p, used) -- which calls
 // preparePacket and tests the triangles -- and writes their hits.
@@ -416,20 +437,37 @@ void runPacket(Packet& p, int cls, int used, Hit* hits, Walk&& walk) {
 // class, or -1 (then p holds garbage and traceTile's loop runs).
 CLIPRAY_AVX2 int loadUniformTile(Packet& p, const Ray* rays, std::size_t rowStride, int width,
                                  int height, const glm::dvec3& reference, double boxPad) {
+  // Four rays at a time: each ray's seven doubles as two overlapping loads (origin + d.x, and
+  // direction + tMax), transposed into the packet's columns. The origins stay in world
+  // coordinates until the checks below.
+  static_assert(sizeof(Ray) == 7 * sizeof(double));
   int count = 0;
   for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x, ++count) {
+    for (int x = 0; x < width; x += 4, count += 4) {
       const auto offset = static_cast<std::uint32_t>(static_cast<std::size_t>(y) * rowStride + x);
-      const Ray& ray = rays[offset];
-      for (int k = 0; k < 3; ++k) {
-        p.o[k][count] = ray.origin[k];  // world, until the checks below
-        p.inv[k][count] = ray.direction[k];
+      const double* ray = &rays[offset].origin.x;
+      const __m256d a0 = _mm256_loadu_pd(ray), a1 = _mm256_loadu_pd(ray + 7),
+                    a2 = _mm256_loadu_pd(ray + 14), a3 = _mm256_loadu_pd(ray + 21);
+      const __m256d b0 = _mm256_loadu_pd(ray + 3), b1 = _mm256_loadu_pd(ray + 10),
+                    b2 = _mm256_loadu_pd(ray + 17), b3 = _mm256_loadu_pd(ray + 24);
+      // 4x4 transposes: column k of (r0 r1 r2 r3) into one register.
+      const __m256d a01lo = _mm256_unpacklo_pd(a0, a1), a01hi = _mm256_unpackhi_pd(a0, a1);
+      const __m256d a23lo = _mm256_unpacklo_pd(a2, a3), a23hi = _mm256_unpackhi_pd(a2, a3);
+      const __m256d b01lo = _mm256_unpacklo_pd(b0, b1), b01hi = _mm256_unpackhi_pd(b0, b1);
+      const __m256d b23lo = _mm256_unpacklo_pd(b2, b3), b23hi = _mm256_unpackhi_pd(b2, b3);
+      _mm256_store_pd(p.o[0] + count, _mm256_permute2f128_pd(a01lo, a23lo, 0x20));
+      _mm256_store_pd(p.o[1] + count, _mm256_permute2f128_pd(a01hi, a23hi, 0x20));
+      _mm256_store_pd(p.o[2] + count, _mm256_permute2f128_pd(a01lo, a23lo, 0x31));
+      _mm256_store_pd(p.inv[0] + count, _mm256_permute2f128_pd(a01hi, a23hi, 0x31));
+      _mm256_store_pd(p.inv[1] + count, _mm256_permute2f128_pd(b01hi, b23hi, 0x20));
+      _mm256_store_pd(p.inv[2] + count, _mm256_permute2f128_pd(b01lo, b23lo, 0x31));
+      _mm256_store_pd(p.bestT + count, _mm256_permute2f128_pd(b01hi, b23hi, 0x31));
+      _mm256_store_pd(p.bestId + count, bcast(kNoId));
+      for (int l = 0; l < 4; ++l) {
+        p.rayIndex[count + l] = offset + static_cast<std::uint32_t>(l);
+        p.laneX[count + l] = static_cast<std::uint8_t>(x + l);
+        p.laneY[count + l] = static_cast<std::uint8_t>(y);
       }
-      p.bestT[count] = ray.tMax;
-      p.bestId[count] = kNoId;
-      p.rayIndex[count] = offset;
-      p.laneX[count] = static_cast<std::uint8_t>(x);
-      p.laneY[count] = static_cast<std::uint8_t>(y);
     }
   }
   const glm::dvec3 d0(p.inv[0][0], p.inv[1][0], p.inv[2][0]);
@@ -724,8 +762,7 @@ CLIPRAY_AVX2 void traceBins(const SceneIntersector& scene, const std::vector<Tri
       const WideTriangle wt = wideTriangle(p, tri);
       for (std::uint32_t left = groups; left != 0; left &= left - 1) {
         const int g = std::countr_zero(left);
-        testGroup(p, g, wt, tri, reference, rays);
-        reach[g] = groupReach(p, g);
+        if (testGroup(p, g, wt, tri, reference, rays)) reach[g] = groupReach(p, g);
       }
     }
   }
@@ -760,13 +797,13 @@ bool PacketKernels::traceBinned(const SceneIntersector& scene, const FrameBins& 
   };
   traceTile(scene, scene.boxPad_, oneRay, rays, hits, rowStride, width, height,
             [&](Packet& p, int used, bool scanOrder) {
-              const bool onPixels = raysOnTheirPixels(p, used, bins, tileX, tileY);
-              preparePacket(p);
-              if (onPixels) {
+              if (raysOnTheirPixels(p, used, bins, tileX, tileY)) {
+                prepareShear(p);
                 anyBinned = true;
                 traceBins(scene, scene.triangles_, bins, tileX, tileY, p, scanOrder && width == 8,
                           rays);
               } else {
+                preparePacket(p);
                 anyWalked = true;
                 scene.ensureBvh();
                 tracePacket(scene, scene.bvh_->nodes, scene.bvh_->triangles, p, rays);
