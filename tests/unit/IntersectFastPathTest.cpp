@@ -449,6 +449,61 @@ TEST(FastPathBinned, RaysUpToTheToleranceOffTheirCentresStillUseTheBins) {
   }
 }
 
+// A triangle binned by its edges, not only its bounds: the lower-left half of a 64 x 64 frame
+// (pixel corners (-0.5, -0.5), (63.5, -0.5), (-0.5, 63.5); inside: x + y <= 63). A half row of
+// centres (x, y) .. (x + 3, y) padded by kRayTolerancePx + kMarginPx (0.3125) reaches it exactly
+// when x + y <= 63, so 36 of the 64 tiles (tx + ty <= 7) hold it, and of the 16 x 64 half rows the
+// sum over x = 0, 4, .., 60 of (64 - x) = 544 -- where its bounds alone would give every tile and
+// half row.
+TEST(FastPathBinned, BinsFollowTheTriangleEdgesNotJustItsBounds) {
+  Scene scene;
+  MeshObject half;
+  half.name = "half";
+  half.worldPositions = {{-1, -1, 0}, {1, -1, 0}, {-1, 1, 0}};
+  half.triangles.emplace_back(0, 1, 2);
+  scene.objects.push_back(half);
+  const Viewport v{64, 64};
+  const PickingCamera camera{orthographicClipFromView(-1, 1, -1, 1, 0.5, 10.0, kZeroToOne) *
+                                 viewFromWorldLookAt({0, 0, 5}, {0, 0, 0}, {0, 1, 0}),
+                             kZeroToOne, v};
+  const SceneIntersector intersector(scene, {0, 0, 0}, SceneIntersector::BvhBuild::WhenFirstNeeded);
+  const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, v, 1);
+  ASSERT_TRUE(bins.usable());
+  EXPECT_EQ(bins.entryCount(), 36u);
+  int halfRows = 0;
+  for (int ty = 0; ty < 8; ++ty) {
+    for (int tx = 0; tx < 8; ++tx) {
+      int entries = 0;
+      for (int chunk = 0; chunk < bins.listChunkCount(); ++chunk) {
+        for (const BinnedTriangle& entry : bins.list(chunk, tx, ty)) {
+          ++entries;
+          halfRows += std::popcount(entry.groupMask);
+          // Row r, half h of this tile: x = 8 tx + 4 h, y = 8 ty + r.
+          for (int bit = 0; bit < 16; ++bit) {
+            const int x = 8 * tx + 4 * (bit % 2), y = 8 * ty + bit / 2;
+            EXPECT_EQ((entry.groupMask >> bit) & 1, x + y <= 63 ? 1 : 0)
+                << "tile " << tx << " " << ty << " bit " << bit;
+          }
+        }
+      }
+      EXPECT_EQ(entries, tx + ty <= 7 ? 1 : 0) << "tile " << tx << " " << ty;
+    }
+  }
+  EXPECT_EQ(halfRows, 544);
+  // The camera's rays run along -z exactly (two zero direction components) and start 4.5 away
+  // from a scene of extent 1: neither keeps them out of the bins' packets.
+  AnalyticFrame frame = generateRobustRays(camera, 1);
+  ASSERT_EQ(frame.rays[0].direction, glm::dvec3(0, 0, -1));
+  EXPECT_EQ(intersectFrame(frame, intersector, camera, 1), tileCount(v));
+  EXPECT_FALSE(intersector.bvhBuilt());
+  expectFrameMatchesTheLinearScan(intersector, frame, "half");
+  int hits = 0;
+  for (const Hit& hit : frame.hits) hits += hit.hit() ? 1 : 0;
+  // Centres with x + y <= 63: those on the diagonal lie on the edge, which the watertight test
+  // counts as inside.
+  EXPECT_EQ(hits, 64 * 65 / 2);
+}
+
 // Below the BVH threshold the bins still pay (SIMD packets instead of a scan per ray), and need no
 // BVH either.
 TEST(FastPathBinned, SmallScenesUseTheBinsToo) {

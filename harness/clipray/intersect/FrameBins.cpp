@@ -11,10 +11,15 @@ namespace clipray {
 
 namespace {
 
-// A triangle's padded pixel bounds, inclusive; empty when x0 > x1.
+// A triangle's padded pixel bounds, inclusive; empty when x0 > x1. A whole triangle (no clipping)
+// whose projection has a certain orientation also keeps its projected corners in pixel
+// coordinates, counter-clockwise, and its padding (forEachTile's edge tests).
 struct PixelRect {
   int x0 = 1, x1 = 0, y0 = 1, y1 = 0;
   float nearestW = 0.0f;
+  bool hasCorners = false;
+  double padX = 0.0, padY = 0.0;
+  glm::dvec2 corner[3];
 };
 
 struct ClipPoint {
@@ -42,14 +47,16 @@ void pixelRange(double low, double high, double pad, int size, int& first, int& 
   }
   low = std::clamp(low - pad, -1.0, double(size));
   high = std::clamp(high + pad, -1.0, double(size));
-  first = std::max(0, static_cast<int>(std::ceil(low)));
-  last = std::min(size - 1, static_cast<int>(std::floor(high)));
+  // ceil and floor of values in [-1, size] by truncation (no library call per triangle).
+  const int lowInt = static_cast<int>(low), highInt = static_cast<int>(high);
+  first = std::max(0, lowInt + (low > lowInt ? 1 : 0));
+  last = std::min(size - 1, highInt - (high < highInt ? 1 : 0));
 }
 
 // The part of the triangle with w >= wClip (one plane clips a triangle into at most a quad),
 // projected; its padded pixel bounds.
-PixelRect triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, double wClip,
-                       Viewport viewport) {
+void triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, double wClip,
+                  Viewport viewport, PixelRect& rect) {
   std::array<ClipPoint, 3> corner;
   std::array<ClipMagnitude, 3> magnitude;
   const glm::dvec3* vertices[3] = {&tri.a, &tri.b, &tri.c};
@@ -71,8 +78,10 @@ PixelRect triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, doub
     inside += corner[k].w >= wClip ? 1 : 0;
   }
   wError *= 0x1p-48;  // 4 roundings of at most 2^-53 each, with a wide margin
-  PixelRect rect;
-  if (inside == 0) return rect;  // wholly where no binned ray goes
+  rect.x0 = rect.y0 = 1;
+  rect.x1 = rect.y1 = 0;
+  rect.hasCorners = false;
+  if (inside == 0) return;  // wholly where no binned ray goes
   std::array<ClipPoint, 4> polygon;
   int count = 0;
   for (int k = 0; k < 3; ++k) {
@@ -89,11 +98,13 @@ PixelRect triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, doub
   double yMin = xMin, yMax = -xMin;
   double wMin = std::numeric_limits<double>::infinity();
   bool nan = false;
+  glm::dvec2 ndc[4];
   for (int k = 0; k < count; ++k) {
     wMin = std::min(wMin, polygon[k].w);
     // w >= wClip > 0 here, except the clipped points whose w is wClip up to rounding.
     const double inverseW = 1.0 / std::max(polygon[k].w, wClip);
     const double x = polygon[k].x * inverseW, y = polygon[k].y * inverseW;
+    ndc[k] = {x, y};
     nan = nan || std::isnan(x) || std::isnan(y);
     xMin = std::min(xMin, x);
     xMax = std::max(xMax, x);
@@ -130,20 +141,96 @@ PixelRect triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, doub
              viewport.width, rect.x0, rect.x1);
   pixelRange(pixelCoordinate(yMin, viewport.height), pixelCoordinate(yMax, viewport.height), padY,
              viewport.height, rect.y0, rect.y1);
-  return rect;
+  if (inside == 3 && !nan && rect.x0 <= rect.x1 && rect.y0 <= rect.y1) {
+    // The projection is the triangle of the projected corners. Its orientation is trusted only
+    // when the signed area is far above the rounding of its evaluation (a sliver whose sign
+    // rounding could flip keeps its bounds alone). Rounding of the corners themselves is within
+    // the padding, as for the bounds.
+    for (int k = 0; k < 3; ++k) {  // unclipped: the polygon is the corners, in order
+      rect.corner[k] = {pixelCoordinate(ndc[k].x, viewport.width),
+                        pixelCoordinate(ndc[k].y, viewport.height)};
+    }
+    const glm::dvec2 e = rect.corner[1] - rect.corner[0];
+    const glm::dvec2 f = rect.corner[2] - rect.corner[0];
+    const double twiceArea = e.x * f.y - e.y * f.x;
+    if (std::isfinite(twiceArea) &&
+        std::abs(twiceArea) > 0x1p-40 * (std::abs(e.x * f.y) + std::abs(e.y * f.x))) {
+      if (twiceArea < 0.0) std::swap(rect.corner[1], rect.corner[2]);
+      rect.hasCorners = true;
+      rect.padX = padX;
+      rect.padY = padY;
+    }
+  }
 }
 
-// The half rows of tile (tileX, tileY) that the rect touches, as FrameBins's group bits.
-std::uint16_t groupMask(const PixelRect& r, int tileX, int tileY) {
+// Calls emit(tileX, tileY, groupMask) for every tile the rect's triangle may be hit in, with the
+// half rows (FrameBins's group bits) it may be hit in: those its padded bounds touch and, where the
+// rect has its corners, those whose padded centres the triangle may cover.
+//
+// The edge test of a half row: with E(p) = e x (p - a) = A p_x + B p_y + C for each edge (A = -e_y,
+// B = e_x, positive inside: the corners run counter-clockwise), the four centres (x, y) ..
+// (x + 3, y) padded by padX and padY can reach the triangle only if, for every edge, the largest E
+// over that box is >= 0: E(x + 1.5, y) + |A| (1.5 + padX) + |B| padY. Its evaluation (and that of
+// e, A, B, C) rounds by less than 2^-48 of M = |A| (x + 1.5 + |a_x| + 4) + |B| (y + |a_y| + 4) +
+// |C|
+// + the padded reach;
+// adding 2^-40 M, which pixel coordinates x, y >= 0 let fold into the coefficients, keeps every
+// half row a hit can come from.
+template <class Emit>
+void forEachTile(const PixelRect& r, Emit&& emit) {
   constexpr int kTile = FrameBins::kTile;
-  const int x0 = std::max(r.x0 - tileX * kTile, 0), x1 = std::min(r.x1 - tileX * kTile, kTile - 1);
-  const int y0 = std::max(r.y0 - tileY * kTile, 0), y1 = std::min(r.y1 - tileY * kTile, kTile - 1);
-  std::uint32_t halves = 0;
-  if (x0 <= 3) halves |= 1u;
-  if (x1 >= 4) halves |= 2u;
-  std::uint32_t mask = 0;
-  for (int y = y0; y <= y1; ++y) mask |= halves << (2 * y);
-  return static_cast<std::uint16_t>(mask);
+  constexpr double kMargin = 0x1p-40;
+  double edgeA[3] = {}, edgeB[3] = {}, edgeC[3] = {};
+  if (r.hasCorners) {
+    for (int k = 0; k < 3; ++k) {
+      const glm::dvec2& a = r.corner[k];
+      const glm::dvec2 e = r.corner[k == 2 ? 0 : k + 1] - a;
+      const double A = -e.y, B = e.x, C = e.y * a.x - e.x * a.y;
+      const double reach = std::abs(A) * (1.5 + r.padX) + std::abs(B) * r.padY;
+      edgeA[k] = A + kMargin * std::abs(A);
+      edgeB[k] = B + kMargin * std::abs(B);
+      edgeC[k] = C + reach +
+                 kMargin * (std::abs(A) * (std::abs(a.x) + 4.0) +
+                            std::abs(B) * (std::abs(a.y) + 4.0) + std::abs(C) + reach);
+    }
+  }
+  for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty) {
+    const int rowBegin = std::max(r.y0, ty * kTile),
+              rowEnd = std::min(r.y1, ty * kTile + kTile - 1);
+    double rowPart[kTile][3];  // B' y + C' of each edge, per row of the tile row
+    if (r.hasCorners) {
+      for (int y = rowBegin; y <= rowEnd; ++y) {
+        for (int k = 0; k < 3; ++k) rowPart[y - ty * kTile][k] = edgeB[k] * y + edgeC[k];
+      }
+    }
+    for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) {
+      const int left = tx * kTile;
+      const std::uint32_t halves = (r.x0 <= left + 3 ? 1u : 0u) | (r.x1 >= left + 4 ? 2u : 0u);
+      std::uint32_t mask = 0;
+      if (!r.hasCorners) {
+        for (int y = rowBegin; y <= rowEnd; ++y) mask |= halves << (2 * (y - ty * kTile));
+      } else {
+        double columnPart[2][3];  // A' x of each edge at each half row's middle
+        for (int half = 0; half < 2; ++half) {
+          const double middle = left + 4 * half + 1.5;
+          for (int k = 0; k < 3; ++k) columnPart[half][k] = edgeA[k] * middle;
+        }
+        for (int y = rowBegin; y <= rowEnd; ++y) {
+          const int row = y - ty * kTile;
+          for (int half = 0; half < 2; ++half) {
+            // NaN (not for finite corners) counts as inside: conservative. No branches: which
+            // half rows a triangle covers is what a predictor cannot guess.
+            const unsigned outside =
+                static_cast<unsigned>(columnPart[half][0] + rowPart[row][0] < 0.0) |
+                static_cast<unsigned>(columnPart[half][1] + rowPart[row][1] < 0.0) |
+                static_cast<unsigned>(columnPart[half][2] + rowPart[row][2] < 0.0);
+            mask |= (halves & ((outside ^ 1u) << half)) << (2 * row);
+          }
+        }
+      }
+      if (mask != 0) emit(tx, ty, static_cast<std::uint16_t>(mask));
+    }
+  }
 }
 
 }  // namespace
@@ -197,8 +284,8 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
     chunk.offsets.assign(tileCount + 1, 0);
     std::uint64_t total = 0;
     for (std::size_t s = begin; s < end; ++s) {
-      const PixelRect r = triangleRect(clipFromRelative_, triangles[s], wClip_, viewport_);
-      rects[s - begin] = r;
+      PixelRect& r = rects[s - begin];
+      triangleRect(clipFromRelative_, triangles[s], wClip_, viewport_, r);
       if (r.x0 > r.x1 || r.y0 > r.y1) continue;
       total += std::uint64_t(r.x1 / kTile - r.x0 / kTile + 1) * (r.y1 / kTile - r.y0 / kTile + 1);
       if (total > entryBudget) {
@@ -206,26 +293,28 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
         chunk = Chunk{};
         return;
       }
-      for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty) {
-        for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) {
-          ++chunk.offsets[static_cast<std::size_t>(ty) * tilesAcross_ + tx + 1];
-        }
-      }
+    }
+    // The tiles and half rows of every triangle, once (the edge tests are the costly part), then
+    // scattered into the tiles' lists.
+    struct Placed {
+      std::uint32_t tile;
+      BinnedTriangle entry;
+    };
+    FrameVector<Placed> placed;
+    placed.reserve(total);
+    for (std::size_t s = begin; s < end; ++s) {
+      const PixelRect& r = rects[s - begin];
+      if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+      forEachTile(r, [&](int tx, int ty, std::uint16_t mask) {
+        const auto tile = static_cast<std::uint32_t>(ty * tilesAcross_ + tx);
+        ++chunk.offsets[tile + 1];
+        placed.push_back({tile, {static_cast<std::uint32_t>(s), mask, r.nearestW}});
+      });
     }
     for (std::size_t t = 0; t < tileCount; ++t) chunk.offsets[t + 1] += chunk.offsets[t];
     chunk.entries.resize(chunk.offsets[tileCount]);
     FrameVector<std::uint32_t> fill(chunk.offsets.begin(), chunk.offsets.end() - 1);
-    for (std::size_t s = begin; s < end; ++s) {
-      const PixelRect& r = rects[s - begin];
-      if (r.x0 > r.x1 || r.y0 > r.y1) continue;
-      for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty) {
-        for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) {
-          const std::size_t tile = static_cast<std::size_t>(ty) * tilesAcross_ + tx;
-          chunk.entries[fill[tile]++] = {static_cast<std::uint32_t>(s), groupMask(r, tx, ty),
-                                         r.nearestW};
-        }
-      }
-    }
+    for (const Placed& p : placed) chunk.entries[fill[p.tile]++] = p.entry;
   };
   std::vector<std::thread> workers;
   try {

@@ -108,8 +108,11 @@ CLIPRAY_AVX2 inline WideTriangle wideTriangle(const Packet& p, const Triangle& t
 // The watertight test of one triangle against four lanes of the packet; true when a lane's best
 // hit changed. Inlined into the loops: a call would spill the broadcast triangle and clear the
 // upper halves of the registers (vzeroupper) for every group.
-CLIPRAY_AVX2 __attribute__((always_inline)) inline bool testGroup(Packet& p, int g, const WideTriangle& wt, const Triangle& tri,
-                                   const glm::dvec3& reference, const Ray* rays) {
+CLIPRAY_AVX2 __attribute__((always_inline)) inline bool testGroup(Packet& p, int g,
+                                                                  const WideTriangle& wt,
+                                                                  const Triangle& tri,
+                                                                  const glm::dvec3& reference,
+                                                                  const Ray* rays) {
   const int base = g * 4;
   const __m256d okx = _mm256_load_pd(p.o[p.kx] + base);
   const __m256d oky = _mm256_load_pd(p.o[p.ky] + base);
@@ -388,6 +391,19 @@ CLIPRAY_AVX2 void prepareShear(Packet& p) {
   }
 }
 
+// Whether a lane of the first `used` is one the BVH's slab tests cannot take (traceTile leaves
+// those out of packets unless forBins): a zero direction component (p.inv holds directions) or an
+// origin far outside the scene.
+bool slabTestsUnfit(const Packet& p, int used, double boxPad) {
+  for (int l = 0; l < used; ++l) {
+    if (p.inv[0][l] == 0.0 || p.inv[1][l] == 0.0 || p.inv[2][l] == 0.0) return true;
+    const double maxO =
+        std::max(std::abs(p.o[0][l]), std::max(std::abs(p.o[1][l]), std::abs(p.o[2][l])));
+    if (maxO * 0x1p-30 > boxPad) return true;
+  }
+  return false;
+}
+
 // Traces the packet's first `used` lanes (rays of permutation class cls: p.o, directions in
 // p.inv, bestT = tMax, bestId = kNoId, rayIndex, laneX/Y) with walk(p, used) -- which calls
 // preparePacket and tests the triangles -- and writes their hits.
@@ -435,8 +451,11 @@ void runPacket(Packet& p, int cls, int used, Hit* hits, Walk&& walk) {
 // time with the same arithmetic as traceTile's loop (the world sum in the same order, the same
 // class rule), so it accepts exactly the tiles that loop would put into one packet. Returns the
 // class, or -1 (then p holds garbage and traceTile's loop runs).
+// With forBins, rays with a zero direction component or an origin far from the scene are taken
+// too (see traceTile).
 CLIPRAY_AVX2 int loadUniformTile(Packet& p, const Ray* rays, std::size_t rowStride, int width,
-                                 int height, const glm::dvec3& reference, double boxPad) {
+                                 int height, const glm::dvec3& reference, double boxPad,
+                                 bool forBins) {
   // Four rays at a time: each ray's seven doubles as two overlapping loads (origin + d.x, and
   // direction + tMax), transposed into the packet's columns. The origins stay in world
   // coordinates until the checks below.
@@ -502,10 +521,13 @@ CLIPRAY_AVX2 int loadUniformTile(Packet& p, const Ray* rays, std::size_t rowStri
       _mm256_store_pd(p.o[k] + base, o[k]);
       absO[k] = _mm256_andnot_pd(signBit, o[k]);
       absD[k] = _mm256_andnot_pd(signBit, d[k]);
-      good = _mm256_and_pd(good, _mm256_cmp_pd(d[k], zero, _CMP_NEQ_OQ));
+      if (!forBins) good = _mm256_and_pd(good, _mm256_cmp_pd(d[k], zero, _CMP_NEQ_OQ));
     }
     const __m256d maxO = _mm256_max_pd(absO[0], _mm256_max_pd(absO[1], absO[2]));
-    good = _mm256_and_pd(good, _mm256_cmp_pd(_mm256_mul_pd(maxO, bcast(0x1p-30)), pad, _CMP_LE_OQ));
+    if (!forBins) {
+      good =
+          _mm256_and_pd(good, _mm256_cmp_pd(_mm256_mul_pd(maxO, bcast(0x1p-30)), pad, _CMP_LE_OQ));
+    }
     const __m256d xy = _mm256_cmp_pd(absD[0], absD[1], _CMP_GT_OQ);
     const __m256d xz = _mm256_cmp_pd(absD[0], absD[2], _CMP_GT_OQ);
     const __m256d yz = _mm256_cmp_pd(absD[1], absD[2], _CMP_GT_OQ);
@@ -524,14 +546,19 @@ CLIPRAY_AVX2 int loadUniformTile(Packet& p, const Ray* rays, std::size_t rowStri
 }
 
 // oneRay(ray) answers a ray that no packet takes (SceneIntersector::closestTriangleHit); boxPad is
-// the intersector's box padding.
+// the intersector's box padding. forBins: rays with a zero direction component or an origin far
+// outside the scene go into the packets too (the watertight test takes them: d[kz] is the largest
+// component; only the BVH's slab tests cannot, so a walk that may use the BVH must check
+// slabTestsUnfit first).
 template <class OneRay, class Walk>
-void traceTile(const SceneIntersector& scene, double boxPad, OneRay&& oneRay, const Ray* rays,
-               Hit* hits, std::size_t rowStride, int width, int height, Walk&& walk) {
+void traceTile(const SceneIntersector& scene, double boxPad, bool forBins, OneRay&& oneRay,
+               const Ray* rays, Hit* hits, std::size_t rowStride, int width, int height,
+               Walk&& walk) {
   Packet p;
   const glm::dvec3 reference = scene.reference();
   if (width % 4 == 0) {
-    const int uniform = loadUniformTile(p, rays, rowStride, width, height, reference, boxPad);
+    const int uniform =
+        loadUniformTile(p, rays, rowStride, width, height, reference, boxPad, forBins);
     if (uniform >= 0) {
       runPacket(p, uniform, width * height, hits,
                 [&](Packet& packet, int used) { walk(packet, used, true); });
@@ -553,7 +580,7 @@ void traceTile(const SceneIntersector& scene, double boxPad, OneRay&& oneRay, co
       }
       const glm::dvec3 o = ray.origin - reference;
       const glm::dvec3 d = ray.direction;
-      if (d.x == 0.0 || d.y == 0.0 || d.z == 0.0 || maxAbs(o) * 0x1p-30 > boxPad) {
+      if (!forBins && (d.x == 0.0 || d.y == 0.0 || d.z == 0.0 || maxAbs(o) * 0x1p-30 > boxPad)) {
         hits[offset] = oneRay(ray);  // primitives: by the caller
         continue;
       }
@@ -778,7 +805,7 @@ bool PacketKernels::available() {
 void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* hits,
                           std::size_t rowStride, int width, int height) noexcept {
   const auto oneRay = [&](const Ray& ray) { return scene.closestTriangleHit(ray); };
-  traceTile(scene, scene.boxPad_, oneRay, rays, hits, rowStride, width, height,
+  traceTile(scene, scene.boxPad_, false, oneRay, rays, hits, rowStride, width, height,
             [&](Packet& p, int, bool) {
               preparePacket(p);
               scene.ensureBvh();
@@ -795,13 +822,23 @@ bool PacketKernels::traceBinned(const SceneIntersector& scene, const FrameBins& 
     oneAtATime = true;
     return scene.closestTriangleHit(ray);
   };
-  traceTile(scene, scene.boxPad_, oneRay, rays, hits, rowStride, width, height,
+  // Rays with a zero direction component (an axis-aligned orthographic camera's) or an origin far
+  // outside the scene are packed: the bins need no slab tests. A packet with such rays that strays
+  // from its pixels is answered one ray at a time.
+  traceTile(scene, scene.boxPad_, true, oneRay, rays, hits, rowStride, width, height,
             [&](Packet& p, int used, bool scanOrder) {
               if (raysOnTheirPixels(p, used, bins, tileX, tileY)) {
                 prepareShear(p);
                 anyBinned = true;
                 traceBins(scene, scene.triangles_, bins, tileX, tileY, p, scanOrder && width == 8,
                           rays);
+              } else if (slabTestsUnfit(p, used, scene.boxPad_)) {
+                oneAtATime = true;
+                for (int l = 0; l < used; ++l) {
+                  const Hit hit = scene.closestTriangleHit(rays[p.rayIndex[l]]);
+                  p.bestT[l] = hit.t;
+                  p.bestId[l] = hit.hit() ? static_cast<double>(hit.primitiveId) : kNoId;
+                }
               } else {
                 preparePacket(p);
                 anyWalked = true;
