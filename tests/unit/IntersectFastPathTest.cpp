@@ -449,6 +449,48 @@ TEST(FastPathBinned, RaysUpToTheToleranceOffTheirCentresStillUseTheBins) {
   }
 }
 
+// A scene of analytic primitives only goes through the bins' packets too (which check that the
+// rays stay on their pixels), and each tile then tests only the primitives whose padded
+// projection touches it: the same hits as the linear scan, also for rays 0.24 px off centre.
+TEST(FastPathBinned, PrimitivesAreCulledPerTile) {
+  Scene scene = testSceneWithPrimitives();
+  scene.objects.clear();
+  for (const BinnedCase& c : binnedCases()) {
+    SCOPED_TRACE(c.name);
+    const glm::dvec4 centre =
+        glm::inverse(c.camera.clipFromWorld) * glm::dvec4(0.0, 0.0, c.camera.mode.nearNdcZ(), 1.0);
+    const SceneIntersector intersector(scene, glm::dvec3(centre) / centre.w,
+                                       SceneIntersector::BvhBuild::WhenFirstNeeded);
+    ASSERT_EQ(intersector.triangleCount(), 0u);
+    const Viewport v = c.camera.viewport;
+    for (const double offPx : {0.0, 0.24}) {
+      glm::dmat4 ndcShift(1.0);
+      ndcShift[3][0] = offPx * 2.0 / v.width;
+      ndcShift[3][1] = -offPx * 2.0 / v.height;
+      PickingCamera shifted = c.camera;
+      shifted.clipFromWorld = ndcShift * c.camera.clipFromWorld;
+      AnalyticFrame frame = generateRobustRays(shifted, 2);
+      EXPECT_EQ(intersectFrame(frame, intersector, c.camera, 2), tileCount(v)) << offPx;
+      expectFrameMatchesTheLinearScan(intersector, frame, std::to_string(offPx) + " px off");
+    }
+  }
+  // Seen from the first camera the sphere covers some tiles but not all; the plane covers all.
+  const PickingCamera camera = binnedCases()[0].camera;
+  const SceneIntersector intersector(scene, {0.3, 6.0, 9.0});
+  const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, camera.viewport, 1);
+  ASSERT_TRUE(bins.usable());
+  std::size_t sphereTiles = 0, planeTiles = 0;
+  for (int ty = 0; ty < (camera.viewport.height + 7) / 8; ++ty) {
+    for (int tx = 0; tx < (camera.viewport.width + 7) / 8; ++tx) {
+      sphereTiles += bins.primitiveMayCover(0, tx, ty) ? 1 : 0;
+      planeTiles += bins.primitiveMayCover(4, tx, ty) ? 1 : 0;
+    }
+  }
+  EXPECT_GT(sphereTiles, 0u);
+  EXPECT_LT(sphereTiles, tileCount(camera.viewport) / 2);
+  EXPECT_EQ(planeTiles, tileCount(camera.viewport));
+}
+
 // A triangle binned by its edges, not only its bounds: the lower-left half of a 64 x 64 frame
 // (pixel corners (-0.5, -0.5), (63.5, -0.5), (-0.5, 63.5); inside: x + y <= 63). A half row of
 // centres (x, y) .. (x + 3, y) padded by kRayTolerancePx + kMarginPx (0.3125) reaches it exactly

@@ -140,7 +140,7 @@ std::size_t intersectFrame(AnalyticFrame& frame, const SceneIntersector& interse
                            const PickingCamera& camera, unsigned threadCount) {
   constexpr int kTile = FrameBins::kTile;
   const Viewport viewport = frame.viewport;
-  if (intersector.triangleCount() == 0 || !SceneIntersector::packetKernelsAvailable() ||
+  if (intersector.primitiveIdCount() == 0 || !SceneIntersector::packetKernelsAvailable() ||
       viewport.width != camera.viewport.width || viewport.height != camera.viewport.height) {
     intersectFrame(frame, intersector, threadCount);
     return 0;

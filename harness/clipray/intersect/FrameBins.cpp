@@ -263,6 +263,60 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
   if (!(wNear > 0.0) || !std::isfinite(wNear)) return;
   wClip_ = 0.5 * wNear;
 
+  // The analytic primitives' padded pixel bounds: the corners of the local box (the square for a
+  // disk or quad) in clip space, the points where the box's edges cross w = wClip, and the
+  // bounding rectangle of those with w >= wClip, projected. The shape lies in the box, so the
+  // part a binned ray can reach (w >= wClip) projects inside.
+  for (const AnalyticPrimitive& primitive : scene.primitives_) {
+    PixelBounds& bounds = primitiveBounds_.emplace_back();
+    if (primitive.kind == PrimitiveKind::Plane) {
+      bounds = {0, viewport.width - 1, 0, viewport.height - 1};
+      continue;
+    }
+    const bool flat =
+        primitive.kind == PrimitiveKind::Disk || primitive.kind == PrimitiveKind::Quad;
+    std::array<glm::dvec4, 8> corner;
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec4 local((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0,
+                             flat ? 0.0 : ((k & 4) ? 1.0 : -1.0), 1.0);
+      const glm::dvec4 world = primitive.worldFromLocal * local;
+      corner[k] = clipFromRelative_ * glm::dvec4(glm::dvec3(world) - scene.reference(), 1.0);
+    }
+    std::array<glm::dvec4, 20> kept;  // 8 corners + 12 edge crossings at most
+    int count = 0;
+    for (int k = 0; k < 8; ++k) {
+      if (corner[k].w >= wClip_) kept[count++] = corner[k];
+      for (int axis = 0; axis < 3; ++axis) {
+        const int other = k | (1 << axis);  // each edge once, from its lower end
+        if (other == k) continue;
+        const glm::dvec4& a = corner[k];
+        const glm::dvec4& b = corner[other];
+        if ((a.w >= wClip_) != (b.w >= wClip_)) {
+          kept[count++] = a + (b - a) * ((wClip_ - a.w) / (b.w - a.w));
+        }
+      }
+    }
+    double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
+    for (int k = 0; k < count; ++k) {
+      const double w = std::max(kept[k].w, wClip_);
+      const double x = pixelCoordinate(kept[k].x / w, viewport.width);
+      const double y = pixelCoordinate(kept[k].y / w, viewport.height);
+      xMin = std::min(xMin, x);
+      xMax = std::max(xMax, x);
+      yMin = std::min(yMin, y);
+      yMax = std::max(yMax, y);
+      if (std::isnan(x) || std::isnan(y)) xMin = xMax = yMin = yMax = std::nan("");
+    }
+    if (count == 0) continue;  // wholly where no binned ray goes: empty bounds
+    const auto padded = [](double value) {
+      return FrameBins::kPrimitivePaddingPx + 0x1p-30 * std::abs(value);
+    };
+    pixelRange(xMin, xMax, std::max(padded(xMin), padded(xMax)), viewport.width, bounds.x0,
+               bounds.x1);
+    pixelRange(yMin, yMax, std::max(padded(yMin), padded(yMax)), viewport.height, bounds.y0,
+               bounds.y1);
+  }
+
   const auto& triangles = scene.triangles_;
   const std::size_t triangleCount = triangles.size();
   const std::size_t tileCount = static_cast<std::size_t>(tilesAcross_) * tilesUp_;

@@ -74,6 +74,18 @@ class FrameBins {
     return {c.entries.data() + c.offsets[tile], c.offsets[tile + 1] - c.offsets[tile]};
   }
   std::size_t entryCount() const;
+  // Whether analytic primitive p (SceneIntersector's order) may be hit by a ray of tile (tileX,
+  // tileY) that stays on its pixels: its projection, padded by kPrimitivePaddingPx, touches the
+  // tile. Bounded shapes are projected through the corners of their local [-1, 1] box (clipped
+  // at w = wClip); a plane may cover any tile.
+  bool primitiveMayCover(std::size_t p, int tileX, int tileY) const {
+    const PixelBounds& b = primitiveBounds_[p];
+    return b.x0 <= tileX * kTile + kTile - 1 && b.x1 >= tileX * kTile &&
+           b.y0 <= tileY * kTile + kTile - 1 && b.y1 >= tileY * kTile;
+  }
+  // Far more than the rounding of a projected corner or of an analytic hit point near a
+  // silhouette (primitives are few: a generous padding costs nothing).
+  static constexpr double kPrimitivePaddingPx = 2.0;
 
  private:
   struct Chunk {
@@ -87,6 +99,10 @@ class FrameBins {
   double wClip_ = 0.0;
   bool usable_ = false;
   std::vector<Chunk> chunks_;
+  struct PixelBounds {
+    int x0 = 1, x1 = 0, y0 = 1, y1 = 0;  // inclusive; empty when x0 > x1
+  };
+  std::vector<PixelBounds> primitiveBounds_;
 };
 
 }  // namespace clipray

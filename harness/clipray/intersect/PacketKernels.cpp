@@ -832,6 +832,8 @@ bool PacketKernels::traceBinned(const SceneIntersector& scene, const FrameBins& 
                 anyBinned = true;
                 traceBins(scene, scene.triangles_, bins, tileX, tileY, p, scanOrder && width == 8,
                           rays);
+              } else if (scene.triangles_.empty()) {
+                anyWalked = true;  // no triangle to hit: the lanes keep "no hit"
               } else if (slabTestsUnfit(p, used, scene.boxPad_)) {
                 oneAtATime = true;
                 for (int l = 0; l < used; ++l) {

@@ -527,19 +527,42 @@ void SceneIntersector::closestHits(std::span<const Ray> rays, std::span<Hit> hit
 }
 
 void SceneIntersector::addAnalyticToTile(const Ray* rays, Hit* hits, std::size_t rowStride,
-                                         int width, int height) const noexcept {
+                                         int width, int height, const FrameBins* bins, int tileX,
+                                         int tileY) const noexcept {
   // The few analytic primitives one ray at a time, continuing from the triangles' answer with
-  // closestHit's update rule: the same minimum, bit for bit.
-  if (primitives_.empty()) return;
-  for (int y = 0; y < height; ++y) {
-    for (int x = 0; x < width; ++x) {
-      const std::size_t i = static_cast<std::size_t>(y) * rowStride + x;
-      if (!finiteRay(rays[i])) continue;  // closestHit answers Hit{}, as the packets did
-      Hit best = hits[i];
-      if (!best.hit()) best.t = rays[i].tMax;
-      closestAnalytic(rays[i], best);
-      if (!best.hit()) best.t = kInf;
-      hits[i] = best;
+  // closestHit's update rule: the same minimum, bit for bit (the rule does not depend on the
+  // order, so the primitives go in batches, and those the bins rule out are left out).
+  constexpr std::size_t kBatch = 64;
+  for (std::size_t first = 0; first < primitives_.size(); first += kBatch) {
+    std::uint32_t batch[kBatch];
+    std::size_t count = 0;
+    for (std::size_t p = first; p < std::min(primitives_.size(), first + kBatch); ++p) {
+      if (bins == nullptr || bins->primitiveMayCover(p, tileX, tileY)) {
+        batch[count++] = static_cast<std::uint32_t>(p);
+      }
+    }
+    if (count == 0) continue;
+    for (int y = 0; y < height; ++y) {
+      for (int x = 0; x < width; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * rowStride + x;
+        if (!finiteRay(rays[i])) continue;  // closestHit answers Hit{}, as the packets did
+        Hit best = hits[i];
+        if (!best.hit()) best.t = rays[i].tMax;
+        Ray bounded = rays[i];
+        for (std::size_t k = 0; k < count; ++k) {
+          const std::uint32_t p = batch[k];
+          bounded.tMax = best.t;
+          const double t = intersectPrimitive(primitives_[p], bounded);
+          if (!(t < kInf)) continue;  // as closestAnalytic
+          const auto id = firstAnalyticId_ + p;
+          if (t < best.t || best.primitiveId == 0 || id < best.primitiveId) {
+            best.t = t;
+            best.primitiveId = id;
+          }
+        }
+        if (!best.hit()) best.t = kInf;
+        hits[i] = best;
+      }
     }
   }
 }
@@ -547,15 +570,17 @@ void SceneIntersector::addAnalyticToTile(const Ray* rays, Hit* hits, std::size_t
 bool SceneIntersector::closestHitsTileBinned(const FrameBins& bins, int tileX, int tileY,
                                              const Ray* rays, Hit* hits, std::size_t rowStride,
                                              int width, int height) const noexcept {
-  // Any triangle count: the bins need no BVH (a tile that strays builds one for its packets).
-  if (!bins.usable() || triangles_.empty() || !packetKernelsAvailable() ||
-      width > FrameBins::kTile || height > FrameBins::kTile) {
+  // Any triangle count, none too: the bins need no BVH (a tile that strays builds one for its
+  // packets), and their packets check that the rays stay on their pixels, which is what lets the
+  // analytic primitives be culled per tile.
+  if (!bins.usable() || !packetKernelsAvailable() || width > FrameBins::kTile ||
+      height > FrameBins::kTile) {
     closestHitsTile(rays, hits, rowStride, width, height);
     return false;
   }
   const bool binned = detail::PacketKernels::traceBinned(*this, bins, tileX, tileY, rays, hits,
                                                          rowStride, width, height);
-  addAnalyticToTile(rays, hits, rowStride, width, height);
+  addAnalyticToTile(rays, hits, rowStride, width, height, binned ? &bins : nullptr, tileX, tileY);
   return binned;
 }
 

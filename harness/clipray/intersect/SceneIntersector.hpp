@@ -133,9 +133,12 @@ class SceneIntersector {
   void closestTriangle(const Ray& worldRay, Hit& best) const noexcept;
   // The analytic primitives, linearly, with the same update rule.
   void closestAnalytic(const Ray& worldRay, Hit& best) const noexcept;
-  // Adds the analytic primitives to a tile's triangle hits (closestHit's update rule).
-  void addAnalyticToTile(const Ray* rays, Hit* hits, std::size_t rowStride, int width,
-                         int height) const noexcept;
+  // Adds the analytic primitives to a tile's triangle hits (closestHit's update rule). With
+  // `bins`, only those that may cover tile (tileX, tileY): every ray of the tile must stay on its
+  // pixel (closestHitsTileBinned knows).
+  void addAnalyticToTile(const Ray* rays, Hit* hits, std::size_t rowStride, int width, int height,
+                         const FrameBins* bins = nullptr, int tileX = 0,
+                         int tileY = 0) const noexcept;
   // closestHit without the analytic primitives (the packet kernels' one-ray fallback).
   Hit closestTriangleHit(const Ray& worldRay) const noexcept;
 
