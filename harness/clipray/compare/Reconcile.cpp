@@ -140,6 +140,14 @@ ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const Raster
       slotOfId_(std::size_t{intersector.primitiveIdCount()} + 1, kNoSlot),
       windowFromNdcScale_(1.0 / (1.0 - setup.mode.clipVolumeMinZ())),
       subpixelStep_(std::ldexp(1.0, -setup.subpixelBits)) {
+  const std::uint32_t firstAnalytic = static_cast<std::uint32_t>(intersector.triangleCount()) + 1;
+  for (std::size_t p = 0; p < intersector.analyticCount(); ++p) {
+    const AnalyticPrimitive& primitive =
+        intersector.analyticPrimitive(firstAnalytic + static_cast<std::uint32_t>(p));
+    const glm::dmat4 clipFromLocal = setup.clipFromWorld * primitive.worldFromLocal;
+    analyticTransforms_.push_back({clipFromLocal, glm::abs(matrixRow(clipFromLocal, 2)),
+                                   glm::abs(matrixRow(clipFromLocal, 3))});
+  }
   buildPolygons(primitiveIds, threadCount);
 }
 
@@ -317,20 +325,21 @@ double ToleranceModel::analyticDepthTolerance(std::uint32_t primitiveId, const R
   const double toWindow = 1.0 / (1.0 - setup_.mode.clipVolumeMinZ());
 
   // The shader works in the local frame with clipFromLocal rounded to float.
-  const glm::dmat4 clipFromLocal = m * primitive.worldFromLocal;
+  const AnalyticTransform& transform =
+      analyticTransforms_[primitiveId - 1 - intersector_.triangleCount()];
   const glm::dvec3 origin(primitive.localFromWorld * glm::dvec4(ray.origin, 1.0));
   const glm::dvec3 direction(glm::dmat3(primitive.localFromWorld) * ray.direction);
   const glm::dvec3 p = origin + t * direction;
 
   // 1. Storage: one quantum of the depth format.
-  const double storage = depthQuantum(setup_.depthFormat, depth);
+  const double storage = quantumAt(setup_.depthFormat, depth);
   // 2. Depth of the hit evaluated in float: z and w are 4-term dot products of float rows with
   //    the float point (6u sum |M_ri p_i|, as for a vertex), then the divide and the mapping (2u).
   double magnitudeZ = 0.0, magnitudeW = 0.0;
   for (int i = 0; i < 4; ++i) {
     const double coordinate = i < 3 ? std::abs(p[i]) : 1.0;
-    magnitudeZ += std::abs(matrixRow(clipFromLocal, 2)[i]) * coordinate;
-    magnitudeW += std::abs(matrixRow(clipFromLocal, 3)[i]) * coordinate;
+    magnitudeZ += transform.magnitudeRowZ[i] * coordinate;
+    magnitudeW += transform.magnitudeRowW[i] * coordinate;
   }
   const double evaluation =
       6.0 * u * (magnitudeZ + std::abs(zNdc) * magnitudeW) / std::abs(c.w) * toWindow +

@@ -169,8 +169,16 @@ class ToleranceModel {
   glm::dmat4 cameraRelativeMatrix_;      // the matrix the GPU multiplies in CameraRelative mode
   std::vector<std::uint32_t> slotOfId_;  // primitive id -> index in polygons_, or kNoSlot
   std::vector<ScreenPolygon> polygons_;  // the polygons built up front
-  double windowFromNdcScale_;            // 1 / (1 - z_n): NDC depth to window depth
-  double subpixelStep_;                  // 2^-subpixelBits pixels
+  // Per analytic primitive (in the intersector's order): clipFromWorld * worldFromLocal, the
+  // matrix its shader rounds to float, and the magnitudes of its z and w rows (the tolerance of
+  // each of its pixels reads them).
+  struct AnalyticTransform {
+    glm::dmat4 clipFromLocal;
+    glm::dvec4 magnitudeRowZ, magnitudeRowW;
+  };
+  std::vector<AnalyticTransform> analyticTransforms_;
+  double windowFromNdcScale_;  // 1 / (1 - z_n): NDC depth to window depth
+  double subpixelStep_;        // 2^-subpixelBits pixels
 };
 
 }  // namespace clipray
