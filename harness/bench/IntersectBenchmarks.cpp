@@ -278,8 +278,14 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
     rows.push_back({std::move(name), tris, size, threads, std::move(run), {}});
   };
   const std::size_t tris = intersector.triangleCount();
-  add("rays: generateRobustRays", tris, viewport, 2,
-      [&] { frame = generateRobustRays(camera, 2); });
+  // The previous frame is released first, as a reconcile does between cameras: its buffers are
+  // then reused (FrameBuffers.hpp). Allocating the new frame while the old one is alive would
+  // find no kept block to fit and release every kept block, the other rows' bins included, so
+  // every row after this one would pay fresh pages.
+  add("rays: generateRobustRays", tris, viewport, 2, [&] {
+    frame = AnalyticFrame{};
+    frame = generateRobustRays(camera, 2);
+  });
   AnalyticFrame binnedFrame = frame;
   std::size_t binnedTiles = 0;
   add("clipray fast path (screen bins + 8x8 packets)", tris, viewport, 2,
