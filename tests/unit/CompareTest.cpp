@@ -130,8 +130,9 @@ bool sameBits(double a, double b) {
 }
 
 TEST(Compare, RobustRaysByRowsAreTheRaysOfEachPixel) {
-  // generateRobustRays hoists per-row terms and computes directions in blocks: each ray must
-  // still be generateForPixel's, bit for bit (a width that is not a multiple of the block).
+  // generateRobustRays hoists per-row terms and computes directions in blocks, four pixels per
+  // instruction where the CPU can: each ray must still be generateForPixel's, bit for bit (a width
+  // that is not a multiple of the block nor of four), with the row kernels and without.
   const Viewport viewport{131, 23};
   const glm::dmat4 view = viewFromWorldLookAt({1, 2, 3}, {0, 0, 0}, {0, 1, 0});
   const struct {
@@ -144,23 +145,34 @@ TEST(Compare, RobustRaysByRowsAreTheRaysOfEachPixel) {
       {perspectiveClipFromView(glm::radians(80.0), 0.5, 0.01, 1e4, kNegativeOneToOne),
        kNegativeOneToOne},
       {orthographicClipFromView(-2, 3, -1, 1, 0.5, 20.0, kZeroToOne), kZeroToOne},
+      // A reversed-Z matrix drawn under NO: z = -1 lies behind the eye, so no pixel has a ray.
+      {perspectiveClipFromView(glm::radians(50.0), 1.7, 0.1, 100.0, kZeroToOneReversed),
+       kNegativeOneToOne},
   };
-  for (const auto& c : cameras) {
-    PickingCamera camera;
-    camera.clipFromWorld = c.clipFromView * view;
-    camera.mode = c.mode;
-    camera.viewport = viewport;
-    const RobustRayGenerator generator(camera.clipFromWorld, camera.mode);
-    const AnalyticFrame frame = generateRobustRays(camera, 2);
-    ASSERT_EQ(frame.rays.size(), std::size_t{131} * 23);
-    for (int y = 0; y < viewport.height; ++y) {
-      for (int x = 0; x < viewport.width; ++x) {
-        const Ray expected = generator.generateForPixel(x, y, viewport);
-        const Ray& got = frame.rays[static_cast<std::size_t>(y) * viewport.width + x];
-        ASSERT_EQ(std::memcmp(&expected, &got, sizeof(Ray)), 0) << "pixel " << x << ", " << y;
+  int withoutRay = 0;
+  for (const bool rowKernels : {true, false}) {
+    RobustRayGenerator::allowRowKernels(rowKernels);
+    for (const auto& c : cameras) {
+      PickingCamera camera;
+      camera.clipFromWorld = c.clipFromView * view;
+      camera.mode = c.mode;
+      camera.viewport = viewport;
+      const RobustRayGenerator generator(camera.clipFromWorld, camera.mode);
+      const AnalyticFrame frame = generateRobustRays(camera, 2);
+      ASSERT_EQ(frame.rays.size(), std::size_t{131} * 23);
+      for (int y = 0; y < viewport.height; ++y) {
+        for (int x = 0; x < viewport.width; ++x) {
+          const Ray expected = generator.generateForPixel(x, y, viewport);
+          const Ray& got = frame.rays[static_cast<std::size_t>(y) * viewport.width + x];
+          ASSERT_EQ(std::memcmp(&expected, &got, sizeof(Ray)), 0)
+              << "pixel " << x << ", " << y << (rowKernels ? " (row kernels)" : " (portable)");
+          withoutRay += got.tMax == kNoRayTMax ? 1 : 0;
+        }
       }
     }
   }
+  RobustRayGenerator::allowRowKernels(true);
+  EXPECT_EQ(withoutRay, 2 * 131 * 23);  // the last camera's pixels, with both paths
 }
 
 TEST(Compare, ToleranceModelOfSomeIdsAnswersAsTheFullModel) {

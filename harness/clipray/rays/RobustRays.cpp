@@ -7,6 +7,13 @@
 
 #include "clipray/math/Projections.hpp"
 
+#if defined(__x86_64__) && defined(__GNUC__)
+#define CLIPRAY_ROW_KERNELS 1
+#include <immintrin.h>
+#else
+#define CLIPRAY_ROW_KERNELS 0
+#endif
+
 namespace clipray {
 
 RobustRayGenerator::RobustRayGenerator(const glm::dmat4& clipFromWorld, DepthMode mode)
@@ -79,6 +86,124 @@ void directionsOfRow(const double* clipX, std::size_t count, const glm::dvec3& a
   }
 }
 
+bool rowKernelsAllowed = true;
+
+#if CLIPRAY_ROW_KERNELS
+bool cpuHasAvx2Fma() {
+  static const bool avx2Fma = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
+  return avx2Fma;
+}
+
+// What finishRay reads of the generator, and the row's parts of the near point.
+struct RowConstants {
+  glm::dvec4 column0, rowPart, depthPart;  // near point = (column0 x + rowPart) + depthPart
+  glm::dvec4 nearPlane, farPlane;
+  double nearSign;
+};
+
+// directionsOfRow, structure of arrays (direction[c][k]): the same fma per component.
+__attribute__((target("avx2,fma"))) void directionsOfRowSoA(const double* clipX, std::size_t count,
+                                                            const glm::dvec3& a,
+                                                            const glm::dvec3& b,
+                                                            double (*direction)[kRowBlock]) {
+  for (int c = 0; c < 3; ++c) {
+    const __m256d ac = _mm256_set1_pd(a[c]), bc = _mm256_set1_pd(b[c]);
+    std::size_t k = 0;
+    for (; k + 4 <= count; k += 4) {
+      _mm256_storeu_pd(direction[c] + k, _mm256_fmadd_pd(_mm256_loadu_pd(clipX + k), ac, bc));
+    }
+    for (; k < count; ++k) direction[c][k] = __builtin_fma(clipX[k], a[c], b[c]);
+  }
+}
+
+// (A free function: GCC 12 does not give a lambda its enclosing function's target.)
+__attribute__((target("avx2"))) inline __m256d bcast(double v) {
+  return _mm256_set1_pd(v);
+}
+
+// finishRay for the first count4 (a multiple of 4) pixels of a block, four at a time: the same
+// operations in the same order (glm's dot products are (x + y) + z and (x + y) + (z + w); division
+// and square root are correctly rounded), so the same bits. No FMA in this target: a multiply
+// and an add stay two roundings, as in the scalar code.
+__attribute__((target("avx2"))) void finishRowBlock(const RowConstants& c, const double* clipX,
+                                                    const double (*direction)[kRowBlock],
+                                                    std::size_t count4, Ray* rays) {
+  const __m256d zero = _mm256_setzero_pd();
+  const __m256d signBit = bcast(-0.0);
+  const __m256d infinity = bcast(std::numeric_limits<double>::infinity());
+  for (std::size_t k = 0; k < count4; k += 4) {
+    const __m256d x = _mm256_loadu_pd(clipX + k);
+    __m256d n[4];
+    for (int r = 0; r < 4; ++r) {
+      n[r] =
+          _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(bcast(c.column0[r]), x), bcast(c.rowPart[r])),
+                        bcast(c.depthPart[r]));
+    }
+    __m256d d[3];
+    for (int r = 0; r < 3; ++r) d[r] = _mm256_loadu_pd(direction[r] + k);
+    // Into the frustum through the near plane.
+    const __m256d facing = _mm256_mul_pd(
+        bcast(c.nearSign), _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(bcast(c.nearPlane.x), d[0]),
+                                                       _mm256_mul_pd(bcast(c.nearPlane.y), d[1])),
+                                         _mm256_mul_pd(bcast(c.nearPlane.z), d[2])));
+    const __m256d flip = _mm256_and_pd(_mm256_cmp_pd(facing, zero, _CMP_LT_OQ), signBit);
+    for (int r = 0; r < 3; ++r) d[r] = _mm256_xor_pd(d[r], flip);
+    const __m256d length = _mm256_sqrt_pd(
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(d[0], d[0]), _mm256_mul_pd(d[1], d[1])),
+                      _mm256_mul_pd(d[2], d[2])));
+    for (int r = 0; r < 3; ++r) d[r] = _mm256_div_pd(d[r], length);
+    __m256d o[3];
+    for (int r = 0; r < 3; ++r) o[r] = _mm256_div_pd(n[r], n[3]);
+    // In front of the eye and finite, else no ray (tMax = kNoRayTMax).
+    const __m256d sum = _mm256_add_pd(_mm256_add_pd(o[0], o[1]), o[2]);
+    const __m256d valid = _mm256_and_pd(_mm256_cmp_pd(n[3], zero, _CMP_GT_OQ),
+                                        _mm256_cmp_pd(_mm256_sub_pd(sum, sum), zero, _CMP_EQ_OQ));
+    // Far plane: t = -(F . (o, 1)) / (F.xyz . d), +inf unless finite and positive.
+    const __m256d denominator =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(bcast(c.farPlane.x), d[0]),
+                                    _mm256_mul_pd(bcast(c.farPlane.y), d[1])),
+                      _mm256_mul_pd(bcast(c.farPlane.z), d[2]));
+    const __m256d numerator =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(bcast(c.farPlane.x), o[0]),
+                                    _mm256_mul_pd(bcast(c.farPlane.y), o[1])),
+                      _mm256_add_pd(_mm256_mul_pd(bcast(c.farPlane.z), o[2]),
+                                    _mm256_mul_pd(bcast(c.farPlane.w), bcast(1.0))));
+    const __m256d t = _mm256_div_pd(_mm256_xor_pd(numerator, signBit), denominator);
+    const __m256d farOk = _mm256_and_pd(
+        _mm256_cmp_pd(denominator, zero, _CMP_NEQ_OQ),
+        _mm256_and_pd(_mm256_cmp_pd(t, zero, _CMP_GT_OQ), _mm256_cmp_pd(t, infinity, _CMP_LT_OQ)));
+    const __m256d tMax =
+        _mm256_blendv_pd(bcast(kNoRayTMax), _mm256_blendv_pd(infinity, t, farOk), valid);
+    // Four rays of seven doubles each: transposed, then two overlapping stores per ray
+    // (origin + d.x, then direction + tMax).
+    const __m256d o01lo = _mm256_unpacklo_pd(o[0], o[1]), o01hi = _mm256_unpackhi_pd(o[0], o[1]);
+    const __m256d o2dlo = _mm256_unpacklo_pd(o[2], d[0]), o2dhi = _mm256_unpackhi_pd(o[2], d[0]);
+    const __m256d d12lo = _mm256_unpacklo_pd(d[1], d[2]), d12hi = _mm256_unpackhi_pd(d[1], d[2]);
+    const __m256d dtlo = _mm256_unpacklo_pd(d[0], tMax), dthi = _mm256_unpackhi_pd(d[0], tMax);
+    // Lanes: lo holds pixels 0 and 2, hi pixels 1 and 3.
+    const __m256d front[4] = {
+        _mm256_permute2f128_pd(o01lo, o2dlo, 0x20), _mm256_permute2f128_pd(o01hi, o2dhi, 0x20),
+        _mm256_permute2f128_pd(o01lo, o2dlo, 0x31), _mm256_permute2f128_pd(o01hi, o2dhi, 0x31)};
+    // (d.x, d.y, d.z, tMax): d.x from dt, then d.y, d.z.
+    const __m256d yz[4] = {d12lo, d12hi, d12lo, d12hi};
+    const __m256d xt[4] = {dtlo, dthi, dtlo, dthi};
+    for (int l = 0; l < 4; ++l) {
+      double* ray = &rays[k + l].origin.x;
+      _mm256_storeu_pd(ray, front[l]);
+      // Lane pair of pixel l: 0 and 1 in the low half, 2 and 3 in the high half.
+      const int half = l / 2;
+      const __m128d dxT =
+          half == 0 ? _mm256_castpd256_pd128(xt[l]) : _mm256_extractf128_pd(xt[l], 1);
+      const __m128d dyz =
+          half == 0 ? _mm256_castpd256_pd128(yz[l]) : _mm256_extractf128_pd(yz[l], 1);
+      // (d.x, tMax) and (d.y, d.z) -> (d.x, d.y, d.z, tMax)
+      const __m256d back = _mm256_set_m128d(_mm_unpackhi_pd(dyz, dxT), _mm_unpacklo_pd(dxT, dyz));
+      _mm256_storeu_pd(ray + 3, back);
+    }
+  }
+}
+#endif
+
 }  // namespace
 
 void RobustRayGenerator::generateRow(double clipY, std::span<const double> clipX,
@@ -91,6 +216,26 @@ void RobustRayGenerator::generateRow(double clipY, std::span<const double> clipX
   for (int c = 0; c < 3; ++c) rowTerm[c] = std::fma(clipY, mwCrossMx_[c], mxCrossMy_[c]);
   const glm::dvec4 rowPart = worldFromClip_[1] * clipY;
   const glm::dvec4 depthPart = worldFromClip_[2] * mode_.nearNdcZ() + worldFromClip_[3] * 1.0;
+#if CLIPRAY_ROW_KERNELS
+  if (rowKernelsAllowed && cpuHasAvx2Fma()) {
+    const RowConstants constants{worldFromClip_[0], rowPart,   depthPart,
+                                 nearPlane_,        farPlane_, nearSign_};
+    alignas(32) double directions[3][kRowBlock];
+    for (std::size_t first = 0; first < clipX.size(); first += kRowBlock) {
+      const std::size_t count = std::min(kRowBlock, clipX.size() - first);
+      directionsOfRowSoA(clipX.data() + first, count, myCrossMw_, rowTerm, directions);
+      const std::size_t count4 = count / 4 * 4;
+      finishRowBlock(constants, clipX.data() + first, directions, count4, rays + first);
+      for (std::size_t k = count4; k < count; ++k) {
+        const glm::dvec4 nearPointWorld =
+            (worldFromClip_[0] * clipX[first + k] + rowPart) + depthPart;
+        rays[first + k] =
+            finishRay({directions[0][k], directions[1][k], directions[2][k]}, nearPointWorld);
+      }
+    }
+    return;
+  }
+#endif
   glm::dvec3 direction[kRowBlock];
   for (std::size_t first = 0; first < clipX.size(); first += kRowBlock) {
     const std::size_t count = std::min(kRowBlock, clipX.size() - first);
@@ -101,6 +246,10 @@ void RobustRayGenerator::generateRow(double clipY, std::span<const double> clipX
       rays[first + k] = finishRay(direction[k], nearPointWorld);
     }
   }
+}
+
+void RobustRayGenerator::allowRowKernels(bool allowed) {
+  rowKernelsAllowed = allowed;
 }
 
 Ray RobustRayGenerator::finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld) const noexcept {

@@ -24,8 +24,12 @@ class RobustRayGenerator {
     return generate(clipXYOfPixelCentre(i, j, viewport));
   }
   // rays[k] = generate({clipX[k], clipY}) for a whole row, bit for bit, with the terms that only
-  // depend on the row computed once (and the direction's FMAs in SIMD where the CPU has FMA).
+  // depend on the row computed once, and four pixels per instruction where the CPU has AVX2 and
+  // FMA (the same operations in the same order: the same bits).
   void generateRow(double clipY, std::span<const double> clipX, Ray* rays) const noexcept;
+  // Whether generateRow may use its AVX2 + FMA kernels (the default, where the CPU has them).
+  // Tests pin the portable loop too. Not thread-safe with concurrent generateRow calls.
+  static void allowRowKernels(bool allowed);
 
   const glm::dmat4& clipFromWorld() const { return clipFromWorld_; }
   const glm::dmat4& worldFromClip() const { return worldFromClip_; }
