@@ -1,5 +1,7 @@
 // Frame buffers released by one run are handed to the next run of the same size (no fresh pages
-// to zero); a size no kept block fits releases them all.
+// to zero); a size no kept block fits gets a fresh block and leaves the kept ones be; what is kept
+// stays below kMaxKeptFrameBufferBytes, the oldest freed first. (Sizes no other test uses: the
+// kept blocks are the process's.)
 
 #include <gtest/gtest.h>
 
@@ -15,21 +17,37 @@ namespace {
 constexpr std::size_t kMiB = std::size_t{1} << 20;
 
 TEST(FrameBuffers, ARunOfTheSameSizeGetsTheReleasedBlockBack) {
-  void* first = allocateFrameBuffer(24 * kMiB);
-  std::memset(first, 0x5a, 24 * kMiB);
-  releaseFrameBuffer(first, 24 * kMiB);
-  // 23 MiB rounds to 24 MiB of huge pages: the same block, contents as left (not zeroed).
-  void* second = allocateFrameBuffer(23 * kMiB);
+  void* first = allocateFrameBuffer(94 * kMiB);
+  std::memset(first, 0x5a, 94 * kMiB);
+  releaseFrameBuffer(first, 94 * kMiB);
+  // 93 MiB rounds to 94 MiB of huge pages: the same block, contents as left (not zeroed).
+  void* second = allocateFrameBuffer(93 * kMiB);
   EXPECT_EQ(second, first);
   EXPECT_EQ(static_cast<unsigned char*>(second)[12345], 0x5a);
-  releaseFrameBuffer(second, 23 * kMiB);
-  // The kept 24 MiB block is more than a quarter too big for 18 MiB (24 > 18 + 18 / 4): the miss
-  // releases it and maps a fresh block, which is then the one kept.
-  void* third = allocateFrameBuffer(18 * kMiB);
-  releaseFrameBuffer(third, 18 * kMiB);
-  void* fourth = allocateFrameBuffer(18 * kMiB);
-  EXPECT_EQ(fourth, third);
-  releaseFrameBuffer(fourth, 18 * kMiB);
+  releaseFrameBuffer(second, 93 * kMiB);
+  // The kept 94 MiB block is more than a quarter too big for 74 MiB (94 > 74 + 74 / 4): a fresh
+  // block, and the 94 MiB one stays kept for a later run of its size.
+  void* third = allocateFrameBuffer(74 * kMiB);
+  EXPECT_NE(third, first);
+  void* fourth = allocateFrameBuffer(94 * kMiB);
+  EXPECT_EQ(fourth, first);
+  releaseFrameBuffer(third, 74 * kMiB);
+  EXPECT_EQ(allocateFrameBuffer(74 * kMiB), third);
+  releaseFrameBuffer(third, 74 * kMiB);
+  releaseFrameBuffer(fourth, 94 * kMiB);
+}
+
+TEST(FrameBuffers, WhatIsKeptStaysBelowTheLimitOldestFreedFirst) {
+  // Three blocks of just over a third of the limit (address space only: never touched).
+  const std::size_t bytes = kMaxKeptFrameBufferBytes / 3 + 2 * kMiB;
+  void* blocks[3];
+  for (void*& block : blocks) block = allocateFrameBuffer(bytes);
+  for (void* block : blocks) releaseFrameBuffer(block, bytes);
+  // Keeping the third would exceed the limit: the first released is freed, the others kept.
+  void* again[2] = {allocateFrameBuffer(bytes), allocateFrameBuffer(bytes)};
+  EXPECT_EQ(again[0], blocks[1]);
+  EXPECT_EQ(again[1], blocks[2]);
+  for (void* block : again) releaseFrameBuffer(block, bytes);
 }
 
 TEST(FrameBuffers, SmallBuffersAreAlignedAndNotKept) {

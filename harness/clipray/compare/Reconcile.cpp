@@ -12,6 +12,12 @@
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
+#if defined(__x86_64__) && defined(__GNUC__)
+#define CLIPRAY_COMPARE_AVX2 1
+#include <immintrin.h>
+#else
+#define CLIPRAY_COMPARE_AVX2 0
+#endif
 
 #if defined(__linux__)
 #endif
@@ -592,6 +598,172 @@ Distribution distributionOfParts(const std::vector<const FrameVector<double>*>& 
   return result;
 }
 
+#if CLIPRAY_COMPARE_AVX2
+// The per-pixel figures of four neighbouring pixels where both sides show the same triangle, four
+// lanes per instruction: the scalar loop's operations in its order (glm's mat4 * vec4 is
+// (m0 x + m1 y) + (m2 z + m3 w), its dot products (x + y) + z and (x + y) + (z + w); division and
+// square root are correctly rounded; std::max(a, b) is maxpd(b, a), NaN included), so the same
+// bits. No FMA in this target: each multiply and add rounds as in the scalar code.
+struct FourPixelsInput {
+  glm::dmat4 clipFromWorld;
+  glm::dvec4 rowZ, rowW;
+  glm::dvec3 eye;
+  bool parallel;
+  double zn;             // the convention's near NDC z
+  double toWindowDepth;  // 1 / (1 - zn): exact (a power of two), so (z - zn) / (1 - zn) too
+  double toWindow;       // the tolerance model's 1 / (1 - clipVolumeMinZ)
+  double subpixelStep;
+  double width, height;  // the viewport, as doubles
+};
+struct FourPolygons {  // the lanes' screen polygons' fields
+  double boundX[4], boundY[4], boundZ[4], boundW[4], gradient[4], interpolation[4];
+};
+struct FourPixels {
+  double rayDepth[4], ratio[4], quanta[4], relative[4];
+};
+
+// Free functions, not lambdas: GCC 12 does not give a lambda its enclosing function's target.
+__attribute__((target("avx2"))) inline __m256d broadcast(double v) {
+  return _mm256_set1_pd(v);
+}
+__attribute__((target("avx2"))) inline __m256d absolute(__m256d v) {
+  return _mm256_andnot_pd(_mm256_set1_pd(-0.0), v);
+}
+// glm::dot(row, (x, y, z, 1)) = (r.x x + r.y y) + (r.z z + r.w 1), and of (x, y, z) alone
+// (r.x x + r.y y) + r.z z.
+__attribute__((target("avx2"))) inline __m256d dotPoint(const glm::dvec4& row, __m256d x, __m256d y,
+                                                        __m256d z) {
+  return _mm256_add_pd(
+      _mm256_add_pd(_mm256_mul_pd(broadcast(row.x), x), _mm256_mul_pd(broadcast(row.y), y)),
+      _mm256_add_pd(_mm256_mul_pd(broadcast(row.z), z),
+                    _mm256_mul_pd(broadcast(row.w), broadcast(1.0))));
+}
+__attribute__((target("avx2"))) inline __m256d dotDirection(const glm::dvec4& row, __m256d x,
+                                                            __m256d y, __m256d z) {
+  return _mm256_add_pd(
+      _mm256_add_pd(_mm256_mul_pd(broadcast(row.x), x), _mm256_mul_pd(broadcast(row.y), y)),
+      _mm256_mul_pd(broadcast(row.z), z));
+}
+
+// Returns false (and computes nothing useful) when a lane's window depth is not a finite float
+// (quantumAt then asks depthQuantum): the caller takes the scalar path for those four.
+__attribute__((target("avx2"))) bool fourTrianglePixels(const FourPixelsInput& in, const Ray* rays,
+                                                        const Hit* hits,
+                                                        const float* rasterDepthFloat,
+                                                        const FourPolygons& polygons,
+                                                        FourPixels& out) {
+  // Rays: two overlapping loads each, transposed (origin.xyz + d.x, then d.xyz + tMax).
+  const double* r = &rays[0].origin.x;
+  const __m256d a0 = _mm256_loadu_pd(r), a1 = _mm256_loadu_pd(r + 7), a2 = _mm256_loadu_pd(r + 14),
+                a3 = _mm256_loadu_pd(r + 21);
+  const __m256d b0 = _mm256_loadu_pd(r + 3), b1 = _mm256_loadu_pd(r + 10),
+                b2 = _mm256_loadu_pd(r + 17), b3 = _mm256_loadu_pd(r + 24);
+  const __m256d a01lo = _mm256_unpacklo_pd(a0, a1), a01hi = _mm256_unpackhi_pd(a0, a1);
+  const __m256d a23lo = _mm256_unpacklo_pd(a2, a3), a23hi = _mm256_unpackhi_pd(a2, a3);
+  const __m256d b01lo = _mm256_unpacklo_pd(b0, b1), b01hi = _mm256_unpackhi_pd(b0, b1);
+  const __m256d b23lo = _mm256_unpacklo_pd(b2, b3), b23hi = _mm256_unpackhi_pd(b2, b3);
+  const __m256d ox = _mm256_permute2f128_pd(a01lo, a23lo, 0x20);
+  const __m256d oy = _mm256_permute2f128_pd(a01hi, a23hi, 0x20);
+  const __m256d oz = _mm256_permute2f128_pd(a01lo, a23lo, 0x31);
+  const __m256d dx = _mm256_permute2f128_pd(a01hi, a23hi, 0x31);
+  const __m256d dy = _mm256_permute2f128_pd(b01hi, b23hi, 0x20);
+  const __m256d dz = _mm256_permute2f128_pd(b01lo, b23lo, 0x31);
+  const __m256d tMax = _mm256_permute2f128_pd(b01hi, b23hi, 0x31);
+  const __m256d t = _mm256_set_pd(hits[3].t, hits[2].t, hits[1].t, hits[0].t);
+  const __m256d rasterDepth = _mm256_cvtps_pd(_mm_loadu_ps(rasterDepthFloat));
+
+  // The hit in clip space: m * (o + t d, 1).
+  const __m256d px = _mm256_add_pd(ox, _mm256_mul_pd(t, dx));
+  const __m256d py = _mm256_add_pd(oy, _mm256_mul_pd(t, dy));
+  const __m256d pz = _mm256_add_pd(oz, _mm256_mul_pd(t, dz));
+  const glm::dmat4& m = in.clipFromWorld;
+  __m256d c[4];
+  for (int row = 0; row < 4; ++row) {
+    c[row] =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(broadcast(m[0][row]), px),
+                                    _mm256_mul_pd(broadcast(m[1][row]), py)),
+                      _mm256_add_pd(_mm256_mul_pd(broadcast(m[2][row]), pz), broadcast(m[3][row])));
+  }
+  const __m256d zNdc = _mm256_div_pd(c[2], c[3]);
+  const __m256d rayDepth =
+      _mm256_mul_pd(_mm256_sub_pd(zNdc, broadcast(in.zn)), broadcast(in.toWindowDepth));
+  const __m256d error = absolute(_mm256_sub_pd(rasterDepth, rayDepth));
+
+  // quantumAt for Float32: the next float up minus the depth, at least FLT_MIN.
+  const __m128 depthFloat = _mm256_cvtpd_ps(absolute(rayDepth));
+  const __m128i bits = _mm_castps_si128(depthFloat);
+  // Unsigned bits >= 0x7f800000 (inf, NaN; the sign bit is clear): not this path.
+  if (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(bits, _mm_set1_epi32(0x7f7fffff)))) != 0) {
+    return false;
+  }
+  const __m128 next = _mm_castsi128_ps(_mm_add_epi32(bits, _mm_set1_epi32(1)));
+  const __m256d quantum =
+      _mm256_max_pd(broadcast(static_cast<double>(std::numeric_limits<float>::min())),
+                    _mm256_cvtps_pd(_mm_sub_ps(next, depthFloat)));
+
+  // triangleDepthTolerance.
+  const double u = kFloatUnitRoundoff;
+  const __m256d boundX = _mm256_loadu_pd(polygons.boundX),
+                boundY = _mm256_loadu_pd(polygons.boundY),
+                boundZ = _mm256_loadu_pd(polygons.boundZ),
+                boundW = _mm256_loadu_pd(polygons.boundW);
+  const __m256d xNdc = _mm256_div_pd(c[0], c[3]);
+  const __m256d yNdc = _mm256_div_pd(c[1], c[3]);
+  const __m256d errorX = _mm256_mul_pd(
+      _mm256_mul_pd(_mm256_add_pd(boundX, _mm256_mul_pd(absolute(xNdc), boundW)), broadcast(0.5)),
+      broadcast(in.width));
+  const __m256d errorY = _mm256_mul_pd(
+      _mm256_mul_pd(_mm256_add_pd(boundY, _mm256_mul_pd(absolute(yNdc), boundW)), broadcast(0.5)),
+      broadcast(in.height));
+  const __m256d xyError = _mm256_max_pd(errorY, errorX);  // std::max(errorX, errorY)
+  const __m256d absW = absolute(c[3]);
+  const __m256d vertexNdc =
+      _mm256_div_pd(_mm256_add_pd(boundZ, _mm256_mul_pd(absolute(zNdc), boundW)), absW);
+  const __m256d xyErrorPixels = _mm256_div_pd(xyError, absW);
+  const __m256d vertex = _mm256_add_pd(_mm256_mul_pd(vertexNdc, broadcast(in.toWindow)),
+                                       _mm256_mul_pd(broadcast(2.0 * u), absolute(rayDepth)));
+  const __m256d xyShift = _mm256_add_pd(broadcast(in.subpixelStep), xyErrorPixels);
+  const __m256d snap = _mm256_mul_pd(_mm256_loadu_pd(polygons.gradient), xyShift);
+  const __m256d tolerance = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(quantum, vertex), snap),
+                                          _mm256_loadu_pd(polygons.interpolation));
+  const __m256d ratio = _mm256_div_pd(error, tolerance);
+  const __m256d quanta = _mm256_div_pd(error, quantum);
+
+  // Distance along the ray to the raster depth, relative to the distance from the eye (or the view
+  // volume's depth).
+  const __m256d zRaster =
+      _mm256_add_pd(_mm256_mul_pd(rasterDepth, broadcast(1.0 - in.zn)), broadcast(in.zn));
+  const __m256d z0 = dotPoint(in.rowZ, ox, oy, oz), z1 = dotDirection(in.rowZ, dx, dy, dz);
+  const __m256d w0 = dotPoint(in.rowW, ox, oy, oz), w1 = dotDirection(in.rowW, dx, dy, dz);
+  const __m256d tRaster = _mm256_div_pd(_mm256_sub_pd(z0, _mm256_mul_pd(zRaster, w0)),
+                                        _mm256_sub_pd(_mm256_mul_pd(zRaster, w1), z1));
+  __m256d scale;
+  if (in.parallel) {
+    const __m256d finite = _mm256_cmp_pd(
+        absolute(tMax), broadcast(std::numeric_limits<double>::infinity()), _CMP_LT_OQ);
+    scale = _mm256_blendv_pd(t, tMax, finite);
+  } else {
+    const __m256d ex = _mm256_sub_pd(ox, broadcast(in.eye.x));
+    const __m256d ey = _mm256_sub_pd(oy, broadcast(in.eye.y));
+    const __m256d ez = _mm256_sub_pd(oz, broadcast(in.eye.z));
+    const __m256d length = _mm256_sqrt_pd(_mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)), _mm256_mul_pd(ez, ez)));
+    scale = _mm256_add_pd(t, length);
+  }
+  const __m256d relative = _mm256_div_pd(absolute(_mm256_sub_pd(tRaster, t)), scale);
+  _mm256_storeu_pd(out.rayDepth, rayDepth);
+  _mm256_storeu_pd(out.ratio, ratio);
+  _mm256_storeu_pd(out.quanta, quanta);
+  _mm256_storeu_pd(out.relative, relative);
+  return true;
+}
+
+bool cpuHasAvx2() {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+}
+#endif
+
 }  // namespace
 
 ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
@@ -634,13 +806,9 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
   ComparisonResult result;
   PixelComparison& pixels = result.pixels;
   pixels.viewport = viewport;
-  // Reserved first (address space only), so that the fill lands on huge pages. The fill is the
-  // first touch of fresh pages (the kernel zeroes each as it faults in, about as costly as the
-  // fill itself): the four images are filled on the threads at once, the largest first.
-  reserveOnHugePages(pixels.rasterDepth, count);
-  reserveOnHugePages(pixels.analyticDepth, count);
-  reserveOnHugePages(pixels.toleranceRatio, count);
-  reserveOnHugePages(pixels.classes, count);
+  // Frame buffers: a previous run's pages where one of the same size was released, else fresh huge
+  // pages, whose first touch (the kernel zeroes each as it faults in) costs about as much as the
+  // fill itself. So the four images are filled on the threads at once, the largest first.
   parallelForRows(4, threadCount, [&](int begin, int end) {
     for (int image = begin; image < end; ++image) {
       if (image == 0) pixels.analyticDepth.assign(count, kNaN);
@@ -652,6 +820,22 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
 
   std::mutex merge;
   RunMetrics& total = result.metrics;
+#if CLIPRAY_COMPARE_AVX2
+  // Four pixels at a time where all four show the same triangle on both sides (most pixels of a
+  // mesh), with a float depth buffer (quantumAt's bit trick).
+  const bool fourAtOnce = setup.depthFormat == DepthFormat::Float32 && cpuHasAvx2();
+  const FourPixelsInput fourInput{m,
+                                  rowZ,
+                                  rowW,
+                                  eye,
+                                  parallel,
+                                  convention == DepthConvention::ZeroToOne ? 0.0 : -1.0,
+                                  convention == DepthConvention::ZeroToOne ? 1.0 : 0.5,
+                                  model.windowFromNdcScale_,
+                                  model.subpixelStep_,
+                                  static_cast<double>(viewport.width),
+                                  static_cast<double>(viewport.height)};
+#endif
 
   parallelForRowsByWorker(
       viewport.height, threadCount, [&](unsigned worker, int rowBegin, int rowEnd) {
@@ -659,10 +843,81 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
         std::array<KindSamples, kKinds>& localKinds = samplesOfWorker[worker];
         const std::size_t width = static_cast<std::size_t>(viewport.width);
         local.pixels = static_cast<std::int64_t>(width) * (rowEnd - rowBegin);
+        const auto samplesOf = [&](std::size_t kindIndex) -> KindSamples& {
+          KindSamples& kind = localKinds[kindIndex];
+          if (kind.quanta.capacity() == 0) {
+            // Room for this worker's share of the frame up front: growing would copy and
+            // touch fresh pages again (reserving only maps address space).
+            const std::size_t share = count / workerCount + count / 8 + 1;
+            kind.quanta.reserve(share);
+            kind.relative.reserve(share);
+            kind.ratios.reserve(share);
+          }
+          return kind;
+        };
+#if CLIPRAY_COMPARE_AVX2
+        // Pixels first .. first + 3 when each shows the same triangle on both sides (with a ray
+        // and a polygon built up front): their figures as the scalar loop below computes them.
+        const auto compareFour = [&](std::size_t first) {
+          FourPolygons polygons;
+          for (std::size_t l = 0; l < 4; ++l) {
+            const std::uint32_t rasterId = raster.ids[first + l];
+            const std::uint32_t rayId = analytic.hits[first + l].primitiveId;
+            if (rasterId == 0 || rasterId != rayId || rasterId > primitiveCount ||
+                analytic.rays[first + l].tMax < 0.0 || intersector.isAnalytic(rayId)) {
+              return false;
+            }
+            const std::uint32_t slot = model.slotOfId_[rayId];
+            if (slot == ToleranceModel::kNoSlot) return false;
+            const ToleranceModel::ScreenPolygon& polygon = model.polygons_[slot];
+            polygons.boundX[l] = polygon.clipErrorBound.x;
+            polygons.boundY[l] = polygon.clipErrorBound.y;
+            polygons.boundZ[l] = polygon.clipErrorBound.z;
+            polygons.boundW[l] = polygon.clipErrorBound.w;
+            // As triangleDepthTolerance: the plane's gradient and the plane evaluation term.
+            polygons.gradient[l] =
+                std::isfinite(polygon.depthPlane.x)
+                    ? std::abs(polygon.depthPlane.x) + std::abs(polygon.depthPlane.y)
+                    : 0.0;
+            polygons.interpolation[l] = 8.0 * kFloatUnitRoundoff * polygon.maxDepth;
+          }
+          FourPixels figures;
+          if (!fourTrianglePixels(fourInput, &analytic.rays[first], &analytic.hits[first],
+                                  &raster.depth[first], polygons, figures)) {
+            return false;
+          }
+          KindSamples& kind = samplesOf(0);
+          for (std::size_t l = 0; l < 4; ++l) {
+            const std::size_t i = first + l;
+            ++local.rasterHits;
+            ++local.rayHits;
+            ++local.depthCompared;
+            pixels.rasterDepth[i] = raster.depth[i];
+            pixels.analyticDepth[i] = figures.rayDepth[l];
+            kind.quanta.push_back(figures.quanta[l]);
+            kind.relative.push_back(figures.relative[l]);
+            kind.ratios.push_back(figures.ratio[l]);
+            pixels.toleranceRatio[i] = static_cast<float>(figures.ratio[l]);
+            if (!(figures.ratio[l] <= 1.0)) {  // NaN counts as beyond tolerance
+              ++local.depthBeyondTolerance;
+              pixels.classes[i] = PixelClass::DepthBeyondTolerance;
+            } else {
+              pixels.classes[i] = PixelClass::Agree;
+            }
+          }
+          return true;
+        };
+#endif
         for (int y = rowBegin; y < rowEnd; ++y) {
           const std::size_t rowStart = static_cast<std::size_t>(y) * width;
           const double centreY = y + 0.5;
           for (std::size_t x = 0; x < width; ++x) {
+#if CLIPRAY_COMPARE_AVX2
+            if (fourAtOnce && x % 4 == 0 && x + 4 <= width && compareFour(rowStart + x)) {
+              x += 3;
+              continue;
+            }
+#endif
             const std::size_t i = rowStart + x;
             const std::uint32_t rasterId = raster.ids[i];
             const Hit& hit = analytic.hits[i];
@@ -742,15 +997,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
               const double scale = parallel ? (std::isfinite(ray.tMax) ? ray.tMax : hit.t)
                                             : hit.t + glm::length(ray.origin - eye);
               ++local.depthCompared;
-              KindSamples& kind = localKinds[analyticSurface ? kindOf(rayId) : 0];
-              if (kind.quanta.capacity() == 0) {
-                // Room for this worker's share of the frame up front: growing would copy and
-                // touch fresh pages again (reserving only maps address space).
-                const std::size_t share = count / workerCount + count / 8 + 1;
-                kind.quanta.reserve(share);
-                kind.relative.reserve(share);
-                kind.ratios.reserve(share);
-              }
+              KindSamples& kind = samplesOf(analyticSurface ? kindOf(rayId) : 0);
               kind.quanta.push_back(quanta);
               kind.relative.push_back(std::abs(tRaster - hit.t) / scale);
               kind.ratios.push_back(ratio);

@@ -77,13 +77,14 @@ struct RunMetrics {
   }
 };
 
-// Per-pixel data kept for the images.
+// Per-pixel data kept for the images. Frame buffers (util/FrameBuffers.hpp): the next run of the
+// same size reuses their pages instead of faulting in fresh ones.
 struct PixelComparison {
   Viewport viewport;
-  std::vector<float> rasterDepth;     // NaN where the raster shows background
-  std::vector<double> analyticDepth;  // NaN where the ray misses
-  std::vector<float> toleranceRatio;  // NaN where not compared
-  std::vector<PixelClass> classes;
+  FrameVector<float> rasterDepth;     // NaN where the raster shows background
+  FrameVector<double> analyticDepth;  // NaN where the ray misses
+  FrameVector<float> toleranceRatio;  // NaN where not compared
+  FrameVector<PixelClass> classes;
 };
 
 struct ComparisonResult {

@@ -208,8 +208,8 @@ void drawScale(Image& image, int x0) {
   }
 }
 
-template <typename T>
-void checkSize(const std::vector<T>& values, std::size_t expected, const char* name) {
+template <typename Values>
+void checkSize(const Values& values, std::size_t expected, const char* name) {
   if (values.size() != expected)
     throw std::invalid_argument(std::string("encodeRunImages: ") + name + " has " +
                                 std::to_string(values.size()) + " values, the viewport " +

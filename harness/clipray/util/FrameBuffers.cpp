@@ -13,16 +13,15 @@ constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
 
 // Large frame buffers released by one run, kept for the next: a reconcile runs the same frame
 // sizes camera after camera (rays, hits, per-pixel figures, bins), and a fresh mapping costs the
-// kernel zeroing every page on first touch (about a quarter of a 1080p reconcile). A request that
-// no kept block fits releases them all, so the process never holds much more than its largest
-// run did, and kMaxCachedBytes bounds what is held between runs.
+// kernel zeroing every page on first touch (about a quarter of a 1080p reconcile; on a virtual
+// machine whose host has reclaimed the memory, far more). A request that no kept block fits maps
+// a fresh one and leaves the kept blocks be (a run asks for a dozen sizes in an order that varies:
+// releasing them all on a miss made the next camera start from fresh pages again). What is kept
+// stays below kMaxKeptFrameBufferBytes, the blocks released longest ago freed first.
 class ReleasedFrameBuffers {
  public:
-  static constexpr std::size_t kMaxCachedBytes = std::size_t{1} << 30;
-
   // The smallest kept block of at least `rounded` bytes and at most a quarter more (a block is
-  // recorded at the size it was last asked for, never more than it has), or nullptr -- and then
-  // every kept block is freed.
+  // recorded at the size it was last asked for, never more than it has), or nullptr.
   void* take(std::size_t rounded) {
     std::lock_guard<std::mutex> lock(mutex_);
     std::size_t best = blocks_.size();
@@ -33,27 +32,34 @@ class ReleasedFrameBuffers {
         best = k;
       }
     }
-    if (best == blocks_.size()) {
-      releaseAllLocked();
-      return nullptr;
-    }
+    if (best == blocks_.size()) return nullptr;
     void* pointer = blocks_[best].pointer;
     cachedBytes_ -= blocks_[best].bytes;
     blocks_.erase(blocks_.begin() + static_cast<std::ptrdiff_t>(best));
     return pointer;
   }
-  // Keeps the block when there is room, else frees it.
+  // Keeps the block (the oldest kept ones freed while the total is above the limit); a block
+  // larger than the limit is freed at once.
   void give(void* pointer, std::size_t rounded) noexcept {
     std::lock_guard<std::mutex> lock(mutex_);
-    if (cachedBytes_ + rounded <= kMaxCachedBytes) {
-      try {
-        blocks_.push_back({pointer, rounded});
-        cachedBytes_ += rounded;
-        return;
-      } catch (const std::bad_alloc&) {
-      }
+    if (rounded > kMaxKeptFrameBufferBytes) {
+      std::free(pointer);
+      return;
     }
-    std::free(pointer);
+    try {
+      blocks_.push_back({pointer, rounded});
+    } catch (const std::bad_alloc&) {
+      std::free(pointer);
+      return;
+    }
+    cachedBytes_ += rounded;
+    std::size_t evicted = 0;
+    while (cachedBytes_ > kMaxKeptFrameBufferBytes) {
+      std::free(blocks_[evicted].pointer);
+      cachedBytes_ -= blocks_[evicted].bytes;
+      ++evicted;
+    }
+    blocks_.erase(blocks_.begin(), blocks_.begin() + static_cast<std::ptrdiff_t>(evicted));
   }
 
  private:
@@ -61,11 +67,6 @@ class ReleasedFrameBuffers {
     void* pointer;
     std::size_t bytes;
   };
-  void releaseAllLocked() noexcept {
-    for (const Block& block : blocks_) std::free(block.pointer);
-    blocks_.clear();
-    cachedBytes_ = 0;
-  }
   std::mutex mutex_;
   std::vector<Block> blocks_;
   std::size_t cachedBytes_ = 0;

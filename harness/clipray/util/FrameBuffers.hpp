@@ -17,6 +17,8 @@ namespace clipray {
 // the kernel for transparent huge pages (one fault per 2 MiB), and a released large buffer is kept
 // for the next request it fits (the next camera of a reconcile): no fresh pages to zero at all.
 inline constexpr std::size_t kFrameBufferAlignment = 64;
+// Released large buffers kept for reuse stay below this many bytes in all.
+inline constexpr std::size_t kMaxKeptFrameBufferBytes = std::size_t{512} << 20;
 void* allocateFrameBuffer(std::size_t bytes);  // throws std::bad_alloc
 void releaseFrameBuffer(void* pointer, std::size_t bytes) noexcept;
 template <class T>
