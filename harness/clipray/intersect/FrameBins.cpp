@@ -329,24 +329,38 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
   const std::uint64_t entryBudget = std::min<std::uint64_t>(
       std::uint64_t{1} << 27, 16 * (std::uint64_t{triangleCount} / chunkCount + tileCount));
   std::vector<char> overBudget(chunkCount, 0);
+  // Chunk c takes the blocks c, c + chunkCount, ... of kBlock triangles: every chunk samples the
+  // whole mesh (a mesh's triangles near the camera cover many tiles and cost more), and its slots
+  // still increase.
+  constexpr std::size_t kBlock = 1024;
+  const auto forEachSlot = [&](unsigned c, auto&& body) {
+    std::size_t index = 0;
+    for (std::size_t first = c * kBlock; first < triangleCount; first += chunkCount * kBlock) {
+      for (std::size_t s = first; s < std::min(triangleCount, first + kBlock); ++s)
+        body(s, index++);
+    }
+  };
   auto binChunk = [&](unsigned c) {
     Chunk& chunk = chunks_[c];
-    const std::size_t begin = triangleCount * c / chunkCount;
-    const std::size_t end = triangleCount * (c + 1) / chunkCount;
+    std::size_t slots = 0;
+    forEachSlot(c, [&](std::size_t, std::size_t) { ++slots; });
     FrameVector<PixelRect> rects;
-    rects.resize(end - begin);  // every element is written below
+    rects.resize(slots);  // every element is written below
     chunk.offsets.assign(tileCount + 1, 0);
     std::uint64_t total = 0;
-    for (std::size_t s = begin; s < end; ++s) {
-      PixelRect& r = rects[s - begin];
+    bool over = false;
+    forEachSlot(c, [&](std::size_t s, std::size_t index) {
+      if (over) return;
+      PixelRect& r = rects[index];
       triangleRect(clipFromRelative_, triangles[s], wClip_, viewport_, r);
-      if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+      if (r.x0 > r.x1 || r.y0 > r.y1) return;
       total += std::uint64_t(r.x1 / kTile - r.x0 / kTile + 1) * (r.y1 / kTile - r.y0 / kTile + 1);
-      if (total > entryBudget) {
-        overBudget[c] = 1;
-        chunk = Chunk{};
-        return;
-      }
+      over = total > entryBudget;
+    });
+    if (over) {
+      overBudget[c] = 1;
+      chunk = Chunk{};
+      return;
     }
     // The tiles and half rows of every triangle, once (the edge tests are the costly part), then
     // scattered into the tiles' lists.
@@ -356,15 +370,15 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
     };
     FrameVector<Placed> placed;
     placed.reserve(total);
-    for (std::size_t s = begin; s < end; ++s) {
-      const PixelRect& r = rects[s - begin];
-      if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+    forEachSlot(c, [&](std::size_t s, std::size_t index) {
+      const PixelRect& r = rects[index];
+      if (r.x0 > r.x1 || r.y0 > r.y1) return;
       forEachTile(r, [&](int tx, int ty, std::uint16_t mask) {
         const auto tile = static_cast<std::uint32_t>(ty * tilesAcross_ + tx);
         ++chunk.offsets[tile + 1];
         placed.push_back({tile, {static_cast<std::uint32_t>(s), mask, r.nearestW}});
       });
-    }
+    });
     for (std::size_t t = 0; t < tileCount; ++t) chunk.offsets[t + 1] += chunk.offsets[t];
     chunk.entries.resize(chunk.offsets[tileCount]);
     FrameVector<std::uint32_t> fill(chunk.offsets.begin(), chunk.offsets.end() - 1);
