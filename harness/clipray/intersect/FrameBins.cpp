@@ -331,67 +331,68 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
   std::vector<char> overBudget(chunkCount, 0);
   // Chunk c takes the blocks c, c + chunkCount, ... of kBlock triangles: every chunk samples the
   // whole mesh (a mesh's triangles near the camera cover many tiles and cost more), and its slots
-  // still increase.
+  // still increase. A block's rects are made, counted against the budget, then placed.
   constexpr std::size_t kBlock = 1024;
-  const auto forEachSlot = [&](unsigned c, auto&& body) {
-    std::size_t index = 0;
-    for (std::size_t first = c * kBlock; first < triangleCount; first += chunkCount * kBlock) {
-      for (std::size_t s = first; s < std::min(triangleCount, first + kBlock); ++s)
-        body(s, index++);
-    }
-  };
   auto binChunk = [&](unsigned c) {
     Chunk& chunk = chunks_[c];
-    std::size_t slots = 0;
-    forEachSlot(c, [&](std::size_t, std::size_t) { ++slots; });
-    FrameVector<PixelRect> rects;
-    rects.resize(slots);  // every element is written below
     chunk.offsets.assign(tileCount + 1, 0);
-    std::uint64_t total = 0;
-    bool over = false;
-    forEachSlot(c, [&](std::size_t s, std::size_t index) {
-      if (over) return;
-      PixelRect& r = rects[index];
-      triangleRect(clipFromRelative_, triangles[s], wClip_, viewport_, r);
-      if (r.x0 > r.x1 || r.y0 > r.y1) return;
-      total += std::uint64_t(r.x1 / kTile - r.x0 / kTile + 1) * (r.y1 / kTile - r.y0 / kTile + 1);
-      over = total > entryBudget;
-    });
-    if (over) {
-      overBudget[c] = 1;
-      chunk = Chunk{};
-      return;
-    }
-    // The tiles and half rows of every triangle, once (the edge tests are the costly part), then
-    // scattered into the tiles' lists.
+    // Every triangle's tiles and half rows, then scattered into the tiles' lists. Room for the
+    // whole budget up front (address space: only what is placed is touched), so it never grows.
     struct Placed {
       std::uint32_t tile;
       BinnedTriangle entry;
     };
     FrameVector<Placed> placed;
-    placed.reserve(total);
-    forEachSlot(c, [&](std::size_t s, std::size_t index) {
-      const PixelRect& r = rects[index];
-      if (r.x0 > r.x1 || r.y0 > r.y1) return;
-      forEachTile(r, [&](int tx, int ty, std::uint16_t mask) {
-        const auto tile = static_cast<std::uint32_t>(ty * tilesAcross_ + tx);
-        ++chunk.offsets[tile + 1];
-        placed.push_back({tile, {static_cast<std::uint32_t>(s), mask, r.nearestW}});
-      });
-    });
+    placed.reserve(entryBudget);
+    std::vector<PixelRect> rects(std::min(kBlock, triangleCount));
+    std::uint64_t total = 0;
+    for (std::size_t first = c * kBlock; first < triangleCount; first += chunkCount * kBlock) {
+      const std::size_t end = std::min(triangleCount, first + kBlock);
+      for (std::size_t s = first; s < end; ++s) {
+        PixelRect& r = rects[s - first];
+        triangleRect(clipFromRelative_, triangles[s], wClip_, viewport_, r);
+        if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+        total += std::uint64_t(r.x1 / kTile - r.x0 / kTile + 1) * (r.y1 / kTile - r.y0 / kTile + 1);
+      }
+      if (total > entryBudget) {
+        overBudget[c] = 1;
+        chunk = Chunk{};
+        return;
+      }
+      for (std::size_t s = first; s < end; ++s) {
+        const PixelRect& r = rects[s - first];
+        if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+        forEachTile(r, [&](int tx, int ty, std::uint16_t mask) {
+          const auto tile = static_cast<std::uint32_t>(ty * tilesAcross_ + tx);
+          ++chunk.offsets[tile + 1];
+          placed.push_back({tile, {static_cast<std::uint32_t>(s), mask, r.nearestW}});
+        });
+      }
+    }
     for (std::size_t t = 0; t < tileCount; ++t) chunk.offsets[t + 1] += chunk.offsets[t];
     chunk.entries.resize(chunk.offsets[tileCount]);
     FrameVector<std::uint32_t> fill(chunk.offsets.begin(), chunk.offsets.end() - 1);
     for (const Placed& p : placed) chunk.entries[fill[p.tile]++] = p.entry;
   };
+  // A chunk that cannot get its memory is treated as over budget (the frame walks the BVH).
+  const auto binChunkOrGiveUp = [&](unsigned c) {
+    try {
+      binChunk(c);
+    } catch (const std::bad_alloc&) {
+      overBudget[c] = 1;
+      chunks_[c] = Chunk{};
+    }
+  };
   std::vector<std::thread> workers;
   try {
-    for (unsigned c = 1; c < chunkCount; ++c) workers.emplace_back(binChunk, c);
+    for (unsigned c = 1; c < chunkCount; ++c) workers.emplace_back(binChunkOrGiveUp, c);
   } catch (const std::system_error&) {
     // No more threads: the remaining chunks are binned here.
-    for (unsigned c = static_cast<unsigned>(workers.size()) + 1; c < chunkCount; ++c) binChunk(c);
+    for (unsigned c = static_cast<unsigned>(workers.size()) + 1; c < chunkCount; ++c) {
+      binChunkOrGiveUp(c);
+    }
   }
-  binChunk(0);
+  binChunkOrGiveUp(0);
   for (std::thread& worker : workers) worker.join();
   if (std::find(overBudget.begin(), overBudget.end(), 1) != overBudget.end()) {
     chunks_.clear();
