@@ -565,6 +565,42 @@ TEST(FastPathBinned, SmallScenesUseTheBinsToo) {
   EXPECT_GT(wall, 100);
 }
 
+// Ten layers of two triangles, each covering the frame: 10 to 20 entries in every tile, within the
+// budget. The tile's depth bound is refreshed every eight entries: at the first refresh every ray
+// has hit the layer at z = -4 (listed first), so the bound is w = 4; the nearest layer (z = -2,
+// listed fifth: ids 9 and 10) must still be tested, and the layers after it are skipped once the
+// bound is refreshed again. The camera looks
+// straight down -z, so each layer lies at one clip w (its depth). Every hit is the linear scan's.
+TEST(FastPathBinned, LayersBehindTheNearestHitsAreSkippedWithTheSameHits) {
+  Scene scene;
+  MeshObject layers;
+  layers.name = "layers";
+  for (const double z : {-4.0, -4.5, -5.0, -5.5, -2.0, -2.5, -3.0, -3.5, -6.0, -6.5}) {
+    const auto base = static_cast<std::uint32_t>(layers.worldPositions.size());
+    layers.worldPositions.insert(layers.worldPositions.end(),
+                                 {{-50, -50, z}, {50, -50, z}, {50, 50, z}, {-50, 50, z}});
+    layers.triangles.emplace_back(base, base + 1, base + 2);
+    layers.triangles.emplace_back(base, base + 2, base + 3);
+  }
+  scene.objects.push_back(layers);
+  const PickingCamera camera{perspectiveClipFromView(0.9, 61.0 / 47.0, 0.1, 100.0, kZeroToOne) *
+                                 viewFromWorldLookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}),
+                             kZeroToOne,
+                             {61, 47}};
+  const SceneIntersector intersector(scene, {0, 0, 0}, SceneIntersector::BvhBuild::WhenFirstNeeded);
+  const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, camera.viewport, 1);
+  ASSERT_TRUE(bins.usable());
+  // Each tile holds one or both triangles of every layer (the diagonals cut some tiles).
+  EXPECT_GE(bins.entryCount(), 10 * tileCount(camera.viewport));
+  EXPECT_LE(bins.entryCount(), 20 * tileCount(camera.viewport));
+  AnalyticFrame frame = generateRobustRays(camera, 1);
+  EXPECT_EQ(intersectFrame(frame, intersector, camera, 2), tileCount(camera.viewport));
+  expectFrameMatchesTheLinearScan(intersector, frame, "layers");
+  for (const Hit& hit : frame.hits) {
+    ASSERT_TRUE(hit.primitiveId == 9 || hit.primitiveId == 10) << hit.primitiveId;
+  }
+}
+
 // 5000 triangles that each cover the whole frame: 48 tiles x 5000 entries is more than the bins
 // pay for (16 x (triangles per chunk + tiles)), so the frame walks the BVH -- with the same hits.
 TEST(FastPathBinned, TooManyEntriesFallBackToTheBvh) {

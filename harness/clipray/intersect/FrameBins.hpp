@@ -7,7 +7,7 @@
 // So each triangle is projected once per frame (in double, clipped against w >= wClip), and its
 // padded pixel bounds are recorded in the 8x8-pixel tiles they touch, with the groups of four
 // pixels (half rows) they touch and the smallest clip w the triangle reaches (a depth bound: a
-// group of four rays skips a triangle that lies behind each of its current best hits). A
+// tile's packet skips a triangle that lies behind each of its current best hits). A
 // tile's packet then tests exactly the triangles of its bins instead of walking the BVH. Culling is
 // conservative: the padding exceeds kRayTolerancePx by more than the rounding involved, and the hit
 // of each tested triangle is the watertight test of Watertight.hpp, so the answer stays

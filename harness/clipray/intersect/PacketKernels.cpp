@@ -755,9 +755,18 @@ CLIPRAY_AVX2 inline __m256d groupReach(const Packet& p, int g) {
   return _mm256_mul_pd(_mm256_max_pd(finiteReach, w0), bcast(1.0 + 0x1p-20));
 }
 
-// The triangles binned in the tile against the packet's groups: only the groups a
-// triangle's pixel bounds touch when the packet is the full 8x8 tile in scan order, and only those
-// with a lane whose best hit lies beyond the triangle's nearest w.
+// The largest groupReach over the packet's lanes.
+CLIPRAY_AVX2 double packetReach(const Packet& p) {
+  __m256d reach = groupReach(p, 0);
+  for (int g = 1; g < p.lanes / 4; ++g) reach = _mm256_max_pd(reach, groupReach(p, g));
+  alignas(32) double lanes[4];
+  _mm256_store_pd(lanes, reach);
+  return std::max(std::max(lanes[0], lanes[1]), std::max(lanes[2], lanes[3]));
+}
+
+// The triangles binned in the tile against the packet's groups: only the groups a triangle's
+// half rows touch when the packet is the full 8x8 tile in scan order, and none once every lane's
+// best hit lies nearer than the triangle's nearest w.
 CLIPRAY_AVX2 void traceBins(const SceneIntersector& scene, const std::vector<Triangle>& triangles,
                             const FrameBins& bins, int tileX, int tileY, Packet& p,
                             bool groupsAreHalfRows, const Ray* rays) {
@@ -772,24 +781,26 @@ CLIPRAY_AVX2 void traceBins(const SceneIntersector& scene, const std::vector<Tri
       __builtin_prefetch(at + sizeof(Triangle) - 1);
     }
   }
-  __m256d reach[kMax / 4];
-  for (int g = 0; g < groupCount; ++g) reach[g] = groupReach(p, g);
+  // The depth bound, for the whole tile: the largest reach over its lanes, refreshed every
+  // kRefresh entries (hits only come nearer, so a stale bound is still a bound). Most tiles of a
+  // mesh hold a few entries that all touch the nearest surface; a tile with many (several layers
+  // of surfaces) skips those behind what its rays have already hit.
+  constexpr int kRefresh = 8;
+  double tileReach = std::numeric_limits<double>::infinity();
+  int untilRefresh = kRefresh;
   for (int chunk = 0; chunk < bins.listChunkCount(); ++chunk) {
     for (const BinnedTriangle& entry : bins.list(chunk, tileX, tileY)) {
-      std::uint32_t groups = groupsAreHalfRows ? entry.groupMask & allGroups : allGroups;
-      const __m256d nearest = bcast(static_cast<double>(entry.nearestW));
-      for (std::uint32_t left = groups; left != 0; left &= left - 1) {
-        const int g = std::countr_zero(left);
-        if (_mm256_movemask_pd(_mm256_cmp_pd(nearest, reach[g], _CMP_GT_OQ)) == 0xF) {
-          groups &= ~(1u << g);
-        }
+      if (--untilRefresh == 0) {
+        tileReach = packetReach(p);
+        untilRefresh = kRefresh;
       }
+      if (static_cast<double>(entry.nearestW) > tileReach) continue;
+      const std::uint32_t groups = groupsAreHalfRows ? entry.groupMask & allGroups : allGroups;
       if (groups == 0) continue;
       const Triangle& tri = triangles[entry.slot];
       const WideTriangle wt = wideTriangle(p, tri);
       for (std::uint32_t left = groups; left != 0; left &= left - 1) {
-        const int g = std::countr_zero(left);
-        if (testGroup(p, g, wt, tri, reference, rays)) reach[g] = groupReach(p, g);
+        testGroup(p, std::countr_zero(left), wt, tri, reference, rays);
       }
     }
   }
