@@ -516,8 +516,11 @@ int main(int argc, char** argv) {
   std::printf(
       "clipray intersect bench: terrain heightfield, perspective %.0f deg, AVX2 kernels: %s\n",
       kFovY, SceneIntersector::packetKernelsAvailable() ? "yes" : "no");
-  if (table) sideBySide(triangles, size, runs);
+  // The scaling cases first: each runs in a child forked from this process, which must not hold
+  // the side-by-side table's frames then (the child would count them in its peak RSS, and its
+  // frame buffers, reused from this process's kept blocks, would copy every page on write).
   if (scaling) scalingTable(std::max(1, runs / 2));
+  if (table) sideBySide(triangles, size, runs);
   return 0;
 }
 
