@@ -21,6 +21,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <utility>
@@ -404,6 +405,45 @@ bool slabTestsUnfit(const Packet& p, int used, double boxPad) {
   return false;
 }
 
+// Writes the first `used` lanes' hits (Hit{} where none: t = +inf, id 0). Four lanes whose rays are
+// neighbours in memory (a row of a tile in scan order) and whose ids fit in 31 bits as two 32-byte
+// stores of two hits each, any others one at a time.
+CLIPRAY_AVX2 void writeHits(const Packet& p, int used, Hit* hits) {
+  static_assert(sizeof(Hit) == 16 && offsetof(Hit, t) == 0 && offsetof(Hit, primitiveId) == 8);
+  const __m256d noId = bcast(kNoId);
+  const __m256d infinity = bcast(std::numeric_limits<double>::infinity());
+  for (int l = 0; l < used; l += 4) {
+    const std::uint32_t first = p.rayIndex[l];
+    bool together = l + 4 <= used && p.rayIndex[l + 1] == first + 1 &&
+                    p.rayIndex[l + 2] == first + 2 && p.rayIndex[l + 3] == first + 3;
+    const __m256d id = _mm256_load_pd(p.bestId + l);
+    const __m256d miss = _mm256_cmp_pd(id, noId, _CMP_EQ_OQ);
+    const __m256d hitId = _mm256_andnot_pd(miss, id);  // 0 where none
+    together =
+        together && _mm256_movemask_pd(_mm256_cmp_pd(hitId, bcast(0x1p31), _CMP_LT_OQ)) == 0xF;
+    if (together) {
+      const __m256d t = _mm256_blendv_pd(_mm256_load_pd(p.bestT + l), infinity, miss);
+      // The ids as 64-bit integers: the upper half fills the Hit's padding with zeros.
+      const __m256d idBits = _mm256_castsi256_pd(_mm256_cvtepu32_epi64(_mm256_cvttpd_epi32(hitId)));
+      const __m256d low = _mm256_unpacklo_pd(t, idBits);   // t0 id0 t2 id2
+      const __m256d high = _mm256_unpackhi_pd(t, idBits);  // t1 id1 t3 id3
+      double* out = reinterpret_cast<double*>(hits + first);
+      _mm256_storeu_pd(out, _mm256_permute2f128_pd(low, high, 0x20));
+      _mm256_storeu_pd(out + 4, _mm256_permute2f128_pd(low, high, 0x31));
+      continue;
+    }
+    for (int k = l; k < std::min(used, l + 4); ++k) {
+      Hit& hit = hits[p.rayIndex[k]];
+      if (p.bestId[k] == kNoId) {
+        hit = Hit{};
+      } else {
+        hit.t = p.bestT[k];
+        hit.primitiveId = static_cast<std::uint32_t>(p.bestId[k]);
+      }
+    }
+  }
+}
+
 // Traces the packet's first `used` lanes (rays of permutation class cls: p.o, directions in
 // p.inv, bestT = tMax, bestId = kNoId, rayIndex, laneX/Y) with walk(p, used) -- which calls
 // preparePacket and tests the triangles -- and writes their hits.
@@ -428,15 +468,7 @@ void runPacket(Packet& p, int cls, int used, Hit* hits, Walk&& walk) {
   }
   p.lanes = lanes;
   walk(p, used);
-  for (int l = 0; l < used; ++l) {
-    Hit& hit = hits[p.rayIndex[l]];
-    if (p.bestId[l] == kNoId) {
-      hit = Hit{};
-    } else {
-      hit.t = p.bestT[l];
-      hit.primitiveId = static_cast<std::uint32_t>(p.bestId[l]);
-    }
-  }
+  writeHits(p, used, hits);
 }
 
 // Sorts a tile's rays into packets by permutation class and runs walk(p, used, scanOrder) on
@@ -675,11 +707,17 @@ CLIPRAY_AVX2 bool raysOnTheirPixels(Packet& p, int used, const FrameBins& bins, 
   const glm::dmat4& m = bins.clipFromRelative();
   const Viewport viewport = bins.viewport();
   const double scaleX = 2.0 / viewport.width, scaleY = 2.0 / viewport.height;
+  // NDC of the pixel centres: (2i + 1) / W - 1, for the tile's eight columns and rows, then per
+  // lane.
+  double columnX[FrameBins::kTile], rowY[FrameBins::kTile];
+  for (int k = 0; k < FrameBins::kTile; ++k) {
+    columnX[k] = (2.0 * (tileX * FrameBins::kTile + k) + 1.0) * (0.5 * scaleX) - 1.0;
+    rowY[k] = (2.0 * (tileY * FrameBins::kTile + k) + 1.0) * (0.5 * scaleY) - 1.0;
+  }
   alignas(32) double centreX[kMax], centreY[kMax];
   for (int l = 0; l < p.lanes; ++l) {
-    // NDC of the pixel centre: (2i + 1) / W - 1.
-    centreX[l] = (2.0 * (tileX * FrameBins::kTile + p.laneX[l]) + 1.0) * (0.5 * scaleX) - 1.0;
-    centreY[l] = (2.0 * (tileY * FrameBins::kTile + p.laneY[l]) + 1.0) * (0.5 * scaleY) - 1.0;
+    centreX[l] = columnX[p.laneX[l]];
+    centreY[l] = rowY[p.laneY[l]];
   }
   const __m256d epsX = bcast(FrameBins::kRayTolerancePx * scaleX);
   const __m256d epsY = bcast(FrameBins::kRayTolerancePx * scaleY);
