@@ -565,6 +565,28 @@ TEST(FastPathBinned, SmallScenesUseTheBinsToo) {
   EXPECT_GT(wall, 100);
 }
 
+// Squares of 100 x 100 at z = depths[k] facing +z, two triangles each, in that order.
+MeshObject layersAt(const std::vector<double>& depths) {
+  MeshObject layers;
+  layers.name = "layers";
+  for (const double z : depths) {
+    const auto base = static_cast<std::uint32_t>(layers.worldPositions.size());
+    layers.worldPositions.insert(layers.worldPositions.end(),
+                                 {{-50, -50, z}, {50, -50, z}, {50, 50, z}, {-50, 50, z}});
+    layers.triangles.emplace_back(base, base + 1, base + 2);
+    layers.triangles.emplace_back(base, base + 2, base + 3);
+  }
+  return layers;
+}
+
+// A 61 x 47 perspective ZO camera at the origin looking along `direction`.
+PickingCamera cameraAtTheOrigin(const glm::dvec3& direction) {
+  return {perspectiveClipFromView(0.9, 61.0 / 47.0, 0.1, 100.0, kZeroToOne) *
+              viewFromWorldLookAt({0, 0, 0}, direction, {0, 1, 0}),
+          kZeroToOne,
+          {61, 47}};
+}
+
 // Ten layers of two triangles, each covering the frame: 10 to 20 entries in every tile, within the
 // budget. The tile's depth bound is refreshed every eight entries: at the first refresh every ray
 // has hit the layer at z = -4 (listed first), so the bound is w = 4; the nearest layer (z = -2,
@@ -573,20 +595,8 @@ TEST(FastPathBinned, SmallScenesUseTheBinsToo) {
 // straight down -z, so each layer lies at one clip w (its depth). Every hit is the linear scan's.
 TEST(FastPathBinned, LayersBehindTheNearestHitsAreSkippedWithTheSameHits) {
   Scene scene;
-  MeshObject layers;
-  layers.name = "layers";
-  for (const double z : {-4.0, -4.5, -5.0, -5.5, -2.0, -2.5, -3.0, -3.5, -6.0, -6.5}) {
-    const auto base = static_cast<std::uint32_t>(layers.worldPositions.size());
-    layers.worldPositions.insert(layers.worldPositions.end(),
-                                 {{-50, -50, z}, {50, -50, z}, {50, 50, z}, {-50, 50, z}});
-    layers.triangles.emplace_back(base, base + 1, base + 2);
-    layers.triangles.emplace_back(base, base + 2, base + 3);
-  }
-  scene.objects.push_back(layers);
-  const PickingCamera camera{perspectiveClipFromView(0.9, 61.0 / 47.0, 0.1, 100.0, kZeroToOne) *
-                                 viewFromWorldLookAt({0, 0, 0}, {0, 0, -1}, {0, 1, 0}),
-                             kZeroToOne,
-                             {61, 47}};
+  scene.objects.push_back(layersAt({-4.0, -4.5, -5.0, -5.5, -2.0, -2.5, -3.0, -3.5, -6.0, -6.5}));
+  const PickingCamera camera = cameraAtTheOrigin({0, 0, -1});
   const SceneIntersector intersector(scene, {0, 0, 0}, SceneIntersector::BvhBuild::WhenFirstNeeded);
   const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, camera.viewport, 1);
   ASSERT_TRUE(bins.usable());
@@ -604,22 +614,11 @@ TEST(FastPathBinned, LayersBehindTheNearestHitsAreSkippedWithTheSameHits) {
 // 5000 triangles that each cover the whole frame: 48 tiles x 5000 entries is more than the bins
 // pay for (16 x (triangles per chunk + tiles)), so the frame walks the BVH -- with the same hits.
 TEST(FastPathBinned, TooManyEntriesFallBackToTheBvh) {
+  std::vector<double> depths;
+  for (int k = 0; k < 2500; ++k) depths.push_back(-2.0 - 0.01 * k);
   Scene scene;
-  MeshObject wall;
-  wall.name = "stack";
-  for (int k = 0; k < 2500; ++k) {
-    const double z = -2.0 - 0.01 * k;
-    const auto base = static_cast<std::uint32_t>(wall.worldPositions.size());
-    wall.worldPositions.insert(wall.worldPositions.end(),
-                               {{-50, -50, z}, {50, -50, z}, {50, 50, z}, {-50, 50, z}});
-    wall.triangles.emplace_back(base, base + 1, base + 2);
-    wall.triangles.emplace_back(base, base + 2, base + 3);
-  }
-  scene.objects.push_back(wall);
-  const PickingCamera camera{perspectiveClipFromView(0.9, 61.0 / 47.0, 0.1, 100.0, kZeroToOne) *
-                                 viewFromWorldLookAt({0, 0, 0}, {0.1, 0.2, -1}, {0, 1, 0}),
-                             kZeroToOne,
-                             {61, 47}};
+  scene.objects.push_back(layersAt(depths));
+  const PickingCamera camera = cameraAtTheOrigin({0.1, 0.2, -1});
   const SceneIntersector intersector(scene, {0, 0, 0}, SceneIntersector::BvhBuild::WhenFirstNeeded);
   const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, camera.viewport, 2);
   EXPECT_FALSE(bins.usable());

@@ -23,6 +23,7 @@
 #endif
 
 #include "clipray/math/Projections.hpp"
+#include "clipray/rays/FourRays.hpp"
 #include "clipray/util/HugePages.hpp"
 
 namespace clipray {
@@ -652,23 +653,10 @@ __attribute__((target("avx2"))) bool fourTrianglePixels(const FourPixelsInput& i
                                                         const float* rasterDepthFloat,
                                                         const FourPolygons& polygons,
                                                         FourPixels& out) {
-  // Rays: two overlapping loads each, transposed (origin.xyz + d.x, then d.xyz + tMax).
-  const double* r = &rays[0].origin.x;
-  const __m256d a0 = _mm256_loadu_pd(r), a1 = _mm256_loadu_pd(r + 7), a2 = _mm256_loadu_pd(r + 14),
-                a3 = _mm256_loadu_pd(r + 21);
-  const __m256d b0 = _mm256_loadu_pd(r + 3), b1 = _mm256_loadu_pd(r + 10),
-                b2 = _mm256_loadu_pd(r + 17), b3 = _mm256_loadu_pd(r + 24);
-  const __m256d a01lo = _mm256_unpacklo_pd(a0, a1), a01hi = _mm256_unpackhi_pd(a0, a1);
-  const __m256d a23lo = _mm256_unpacklo_pd(a2, a3), a23hi = _mm256_unpackhi_pd(a2, a3);
-  const __m256d b01lo = _mm256_unpacklo_pd(b0, b1), b01hi = _mm256_unpackhi_pd(b0, b1);
-  const __m256d b23lo = _mm256_unpacklo_pd(b2, b3), b23hi = _mm256_unpackhi_pd(b2, b3);
-  const __m256d ox = _mm256_permute2f128_pd(a01lo, a23lo, 0x20);
-  const __m256d oy = _mm256_permute2f128_pd(a01hi, a23hi, 0x20);
-  const __m256d oz = _mm256_permute2f128_pd(a01lo, a23lo, 0x31);
-  const __m256d dx = _mm256_permute2f128_pd(a01hi, a23hi, 0x31);
-  const __m256d dy = _mm256_permute2f128_pd(b01hi, b23hi, 0x20);
-  const __m256d dz = _mm256_permute2f128_pd(b01lo, b23lo, 0x31);
-  const __m256d tMax = _mm256_permute2f128_pd(b01hi, b23hi, 0x31);
+  const simd::FourRays four = simd::loadFourRays(rays);
+  const __m256d ox = four.originX, oy = four.originY, oz = four.originZ;
+  const __m256d dx = four.directionX, dy = four.directionY, dz = four.directionZ;
+  const __m256d tMax = four.tMax;
   const __m256d t = _mm256_set_pd(hits[3].t, hits[2].t, hits[1].t, hits[0].t);
   const __m256d rasterDepth = _mm256_cvtps_pd(_mm_loadu_ps(rasterDepthFloat));
 

@@ -27,6 +27,7 @@
 #include <utility>
 
 #include "clipray/intersect/Watertight.hpp"
+#include "clipray/rays/FourRays.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)
 #define CLIPRAY_HAVE_AVX2_KERNELS 1
@@ -321,20 +322,26 @@ struct alignas(32) Staged {
   std::uint8_t laneX[kMax], laneY[kMax];
 };
 
+// WatertightRay's shears of lanes base .. base + 3 (p.inv holds their directions): shearX =
+// -d[kx] / d[kz] (negation is exact), shearY likewise; returns d[kz].
+CLIPRAY_AVX2 inline __m256d storeShearXY(Packet& p, int base) {
+  const __m256d signBit = bcast(-0.0);
+  const __m256d dkz = _mm256_load_pd(p.inv[p.kz] + base);
+  _mm256_store_pd(p.shearX + base,
+                  _mm256_div_pd(_mm256_xor_pd(_mm256_load_pd(p.inv[p.kx] + base), signBit), dkz));
+  _mm256_store_pd(p.shearY + base,
+                  _mm256_div_pd(_mm256_xor_pd(_mm256_load_pd(p.inv[p.ky] + base), signBit), dkz));
+  return dkz;
+}
+
 // Divisions of WatertightRay and the inverse directions, four lanes at a time (IEEE division is
 // correctly rounded, so the same values as the scalar code), then the packet's bounds. On entry
 // p.inv holds the directions; padding lanes copy lane 0, so the bounds are those of the rays.
 CLIPRAY_AVX2 void preparePacket(Packet& p) {
   const __m256d one = bcast(1.0);
-  const __m256d signBit = bcast(-0.0);
   __m256d oMin[3], oMax[3], invMin[3], invMax[3];
   for (int base = 0; base < p.lanes; base += 4) {
-    const __m256d dkx = _mm256_load_pd(p.inv[p.kx] + base);
-    const __m256d dky = _mm256_load_pd(p.inv[p.ky] + base);
-    const __m256d dkz = _mm256_load_pd(p.inv[p.kz] + base);
-    // shearX = -d[kx] / d[kz] (negation is exact), shearZ = 1 / d[kz] = inv[kz].
-    _mm256_store_pd(p.shearX + base, _mm256_div_pd(_mm256_xor_pd(dkx, signBit), dkz));
-    _mm256_store_pd(p.shearY + base, _mm256_div_pd(_mm256_xor_pd(dky, signBit), dkz));
+    storeShearXY(p, base);  // shearZ = 1 / d[kz] = inv[kz], stored below
     for (int k = 0; k < 3; ++k) {
       const __m256d inv = _mm256_div_pd(one, _mm256_load_pd(p.inv[k] + base));
       _mm256_store_pd(p.inv[k] + base, inv);
@@ -381,14 +388,8 @@ CLIPRAY_AVX2 void preparePacket(Packet& p) {
 // neither inverse directions nor packet bounds). p.inv keeps the directions.
 CLIPRAY_AVX2 void prepareShear(Packet& p) {
   const __m256d one = bcast(1.0);
-  const __m256d signBit = bcast(-0.0);
   for (int base = 0; base < p.lanes; base += 4) {
-    const __m256d dkx = _mm256_load_pd(p.inv[p.kx] + base);
-    const __m256d dky = _mm256_load_pd(p.inv[p.ky] + base);
-    const __m256d dkz = _mm256_load_pd(p.inv[p.kz] + base);
-    _mm256_store_pd(p.shearX + base, _mm256_div_pd(_mm256_xor_pd(dkx, signBit), dkz));
-    _mm256_store_pd(p.shearY + base, _mm256_div_pd(_mm256_xor_pd(dky, signBit), dkz));
-    _mm256_store_pd(p.shearZ + base, _mm256_div_pd(one, dkz));
+    _mm256_store_pd(p.shearZ + base, _mm256_div_pd(one, storeShearXY(p, base)));
   }
 }
 
@@ -496,23 +497,14 @@ CLIPRAY_AVX2 int loadUniformTile(Packet& p, const Ray* rays, std::size_t rowStri
   for (int y = 0; y < height; ++y) {
     for (int x = 0; x < width; x += 4, count += 4) {
       const auto offset = static_cast<std::uint32_t>(static_cast<std::size_t>(y) * rowStride + x);
-      const double* ray = &rays[offset].origin.x;
-      const __m256d a0 = _mm256_loadu_pd(ray), a1 = _mm256_loadu_pd(ray + 7),
-                    a2 = _mm256_loadu_pd(ray + 14), a3 = _mm256_loadu_pd(ray + 21);
-      const __m256d b0 = _mm256_loadu_pd(ray + 3), b1 = _mm256_loadu_pd(ray + 10),
-                    b2 = _mm256_loadu_pd(ray + 17), b3 = _mm256_loadu_pd(ray + 24);
-      // 4x4 transposes: column k of (r0 r1 r2 r3) into one register.
-      const __m256d a01lo = _mm256_unpacklo_pd(a0, a1), a01hi = _mm256_unpackhi_pd(a0, a1);
-      const __m256d a23lo = _mm256_unpacklo_pd(a2, a3), a23hi = _mm256_unpackhi_pd(a2, a3);
-      const __m256d b01lo = _mm256_unpacklo_pd(b0, b1), b01hi = _mm256_unpackhi_pd(b0, b1);
-      const __m256d b23lo = _mm256_unpacklo_pd(b2, b3), b23hi = _mm256_unpackhi_pd(b2, b3);
-      _mm256_store_pd(p.o[0] + count, _mm256_permute2f128_pd(a01lo, a23lo, 0x20));
-      _mm256_store_pd(p.o[1] + count, _mm256_permute2f128_pd(a01hi, a23hi, 0x20));
-      _mm256_store_pd(p.o[2] + count, _mm256_permute2f128_pd(a01lo, a23lo, 0x31));
-      _mm256_store_pd(p.inv[0] + count, _mm256_permute2f128_pd(a01hi, a23hi, 0x31));
-      _mm256_store_pd(p.inv[1] + count, _mm256_permute2f128_pd(b01hi, b23hi, 0x20));
-      _mm256_store_pd(p.inv[2] + count, _mm256_permute2f128_pd(b01lo, b23lo, 0x31));
-      _mm256_store_pd(p.bestT + count, _mm256_permute2f128_pd(b01hi, b23hi, 0x31));
+      const simd::FourRays four = simd::loadFourRays(&rays[offset]);
+      _mm256_store_pd(p.o[0] + count, four.originX);
+      _mm256_store_pd(p.o[1] + count, four.originY);
+      _mm256_store_pd(p.o[2] + count, four.originZ);
+      _mm256_store_pd(p.inv[0] + count, four.directionX);
+      _mm256_store_pd(p.inv[1] + count, four.directionY);
+      _mm256_store_pd(p.inv[2] + count, four.directionZ);
+      _mm256_store_pd(p.bestT + count, four.tMax);
       _mm256_store_pd(p.bestId + count, bcast(kNoId));
       for (int l = 0; l < 4; ++l) {
         p.rayIndex[count + l] = offset + static_cast<std::uint32_t>(l);

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "clipray/math/Projections.hpp"
+#include "clipray/rays/FourRays.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define CLIPRAY_ROW_KERNELS 1
@@ -174,32 +175,7 @@ __attribute__((target("avx2"))) void finishRowBlock(const RowConstants& c, const
         _mm256_and_pd(_mm256_cmp_pd(t, zero, _CMP_GT_OQ), _mm256_cmp_pd(t, infinity, _CMP_LT_OQ)));
     const __m256d tMax =
         _mm256_blendv_pd(bcast(kNoRayTMax), _mm256_blendv_pd(infinity, t, farOk), valid);
-    // Four rays of seven doubles each: transposed, then two overlapping stores per ray
-    // (origin + d.x, then direction + tMax).
-    const __m256d o01lo = _mm256_unpacklo_pd(o[0], o[1]), o01hi = _mm256_unpackhi_pd(o[0], o[1]);
-    const __m256d o2dlo = _mm256_unpacklo_pd(o[2], d[0]), o2dhi = _mm256_unpackhi_pd(o[2], d[0]);
-    const __m256d d12lo = _mm256_unpacklo_pd(d[1], d[2]), d12hi = _mm256_unpackhi_pd(d[1], d[2]);
-    const __m256d dtlo = _mm256_unpacklo_pd(d[0], tMax), dthi = _mm256_unpackhi_pd(d[0], tMax);
-    // Lanes: lo holds pixels 0 and 2, hi pixels 1 and 3.
-    const __m256d front[4] = {
-        _mm256_permute2f128_pd(o01lo, o2dlo, 0x20), _mm256_permute2f128_pd(o01hi, o2dhi, 0x20),
-        _mm256_permute2f128_pd(o01lo, o2dlo, 0x31), _mm256_permute2f128_pd(o01hi, o2dhi, 0x31)};
-    // (d.x, d.y, d.z, tMax): d.x from dt, then d.y, d.z.
-    const __m256d yz[4] = {d12lo, d12hi, d12lo, d12hi};
-    const __m256d xt[4] = {dtlo, dthi, dtlo, dthi};
-    for (int l = 0; l < 4; ++l) {
-      double* ray = &rays[k + l].origin.x;
-      _mm256_storeu_pd(ray, front[l]);
-      // Lane pair of pixel l: 0 and 1 in the low half, 2 and 3 in the high half.
-      const int half = l / 2;
-      const __m128d dxT =
-          half == 0 ? _mm256_castpd256_pd128(xt[l]) : _mm256_extractf128_pd(xt[l], 1);
-      const __m128d dyz =
-          half == 0 ? _mm256_castpd256_pd128(yz[l]) : _mm256_extractf128_pd(yz[l], 1);
-      // (d.x, tMax) and (d.y, d.z) -> (d.x, d.y, d.z, tMax)
-      const __m256d back = _mm256_set_m128d(_mm_unpackhi_pd(dyz, dxT), _mm_unpacklo_pd(dxT, dyz));
-      _mm256_storeu_pd(ray + 3, back);
-    }
+    simd::storeFourRays({o[0], o[1], o[2], d[0], d[1], d[2], tMax}, rays + k);
   }
 }
 #endif
