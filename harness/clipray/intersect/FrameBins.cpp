@@ -172,10 +172,8 @@ void triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, double wC
 // (x + 3, y) padded by padX and padY can reach the triangle only if, for every edge, the largest E
 // over that box is >= 0: E(x + 1.5, y) + |A| (1.5 + padX) + |B| padY. Its evaluation (and that of
 // e, A, B, C) rounds by less than 2^-48 of M = |A| (x + 1.5 + |a_x| + 4) + |B| (y + |a_y| + 4) +
-// |C|
-// + the padded reach;
-// adding 2^-40 M, which pixel coordinates x, y >= 0 let fold into the coefficients, keeps every
-// half row a hit can come from.
+// |C| + that padded reach; adding 2^-40 M, which pixel coordinates x, y >= 0 let fold into the
+// coefficients, keeps every half row a hit can come from.
 template <class Emit>
 void forEachTile(const PixelRect& r, Emit&& emit) {
   constexpr int kTile = FrameBins::kTile;

@@ -390,19 +390,21 @@ inline void testTriangle(const WatertightRay& ray, const Triangle& tri, Hit& bes
 }
 }  // namespace
 
+void SceneIntersector::testAnalytic(std::size_t p, Ray& bounded, Hit& best) const noexcept {
+  bounded.tMax = best.t;
+  const double t = intersectPrimitive(primitives_[p], bounded);
+  // A miss is +inf, which an infinite bound would let through; a hit is within the bound.
+  if (!(t < kInf)) return;
+  const auto id = firstAnalyticId_ + static_cast<std::uint32_t>(p);
+  if (t < best.t || best.primitiveId == 0 || id < best.primitiveId) {
+    best.t = t;
+    best.primitiveId = id;
+  }
+}
+
 void SceneIntersector::closestAnalytic(const Ray& worldRay, Hit& best) const noexcept {
   Ray bounded = worldRay;
-  for (std::size_t p = 0; p < primitives_.size(); ++p) {
-    bounded.tMax = best.t;
-    const double t = intersectPrimitive(primitives_[p], bounded);
-    // A miss is +inf, which an infinite bound would let through; a hit is within the bound.
-    if (!(t < kInf)) continue;
-    const auto id = firstAnalyticId_ + static_cast<std::uint32_t>(p);
-    if (t < best.t || best.primitiveId == 0 || id < best.primitiveId) {
-      best.t = t;
-      best.primitiveId = id;
-    }
-  }
+  for (std::size_t p = 0; p < primitives_.size(); ++p) testAnalytic(p, bounded, best);
 }
 
 Hit SceneIntersector::closestHitLinear(const Ray& worldRay) const noexcept {
@@ -549,17 +551,7 @@ void SceneIntersector::addAnalyticToTile(const Ray* rays, Hit* hits, std::size_t
         Hit best = hits[i];
         if (!best.hit()) best.t = rays[i].tMax;
         Ray bounded = rays[i];
-        for (std::size_t k = 0; k < count; ++k) {
-          const std::uint32_t p = batch[k];
-          bounded.tMax = best.t;
-          const double t = intersectPrimitive(primitives_[p], bounded);
-          if (!(t < kInf)) continue;  // as closestAnalytic
-          const auto id = firstAnalyticId_ + p;
-          if (t < best.t || best.primitiveId == 0 || id < best.primitiveId) {
-            best.t = t;
-            best.primitiveId = id;
-          }
-        }
+        for (std::size_t k = 0; k < count; ++k) testAnalytic(batch[k], bounded, best);
         if (!best.hit()) best.t = kInf;
         hits[i] = best;
       }

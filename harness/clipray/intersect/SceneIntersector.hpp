@@ -133,6 +133,8 @@ class SceneIntersector {
   void closestTriangle(const Ray& worldRay, Hit& best) const noexcept;
   // The analytic primitives, linearly, with the same update rule.
   void closestAnalytic(const Ray& worldRay, Hit& best) const noexcept;
+  // That rule for primitive p: bounded is the world ray, its tMax set to best.t here.
+  void testAnalytic(std::size_t p, Ray& bounded, Hit& best) const noexcept;
   // Adds the analytic primitives to a tile's triangle hits (closestHit's update rule). With
   // `bins`, only those that may cover tile (tileX, tileY): every ray of the tile must stay on its
   // pixel (closestHitsTileBinned knows).
