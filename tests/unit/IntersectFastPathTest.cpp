@@ -359,15 +359,30 @@ std::size_t tileCount(Viewport v) {
   return static_cast<std::size_t>((v.width + 7) / 8) * ((v.height + 7) / 8);
 }
 
+// The intersector as a reconcile makes it for a camera: the reference point at the near plane's
+// centre, the BVH only if a tile needs it.
+SceneIntersector intersectorSeenFrom(const Scene& scene, const PickingCamera& camera) {
+  const glm::dvec4 centre =
+      glm::inverse(camera.clipFromWorld) * glm::dvec4(0.0, 0.0, camera.mode.nearNdcZ(), 1.0);
+  return SceneIntersector(scene, glm::dvec3(centre) / centre.w,
+                          SceneIntersector::BvhBuild::WhenFirstNeeded);
+}
+
+// The camera whose pixel centres lie (dx, dy) pixels from `camera`'s: x_ndc' = x_ndc - shift.
+PickingCamera shiftedByPixels(const PickingCamera& camera, double dx, double dy) {
+  glm::dmat4 ndcShift(1.0);
+  ndcShift[3][0] = -dx * 2.0 / camera.viewport.width;
+  ndcShift[3][1] = -dy * 2.0 / camera.viewport.height;
+  PickingCamera shifted = camera;
+  shifted.clipFromWorld = ndcShift * camera.clipFromWorld;
+  return shifted;
+}
+
 TEST(FastPathBinned, CameraRaysUseTheBinsAndMatchTheLinearScan) {
   const Scene scene = testSceneWithPrimitives();
   for (const BinnedCase& c : binnedCases()) {
     SCOPED_TRACE(c.name);
-    // The reference point near the camera, as a reconcile puts it (the near plane's centre).
-    const glm::dvec4 centre =
-        glm::inverse(c.camera.clipFromWorld) * glm::dvec4(0.0, 0.0, c.camera.mode.nearNdcZ(), 1.0);
-    const SceneIntersector intersector(scene, glm::dvec3(centre) / centre.w,
-                                       SceneIntersector::BvhBuild::WhenFirstNeeded);
+    const SceneIntersector intersector = intersectorSeenFrom(scene, c.camera);
     ASSERT_TRUE(intersector.usesBvh());
     AnalyticFrame frame = generateRobustRays(c.camera, 2);
     const std::size_t binned = intersectFrame(frame, intersector, c.camera, 2);
@@ -425,21 +440,13 @@ TEST(FastPathBinned, RaysUpToTheToleranceOffTheirCentresStillUseTheBins) {
   const Scene scene = testSceneWithPrimitives();
   for (const BinnedCase& c : binnedCases()) {
     SCOPED_TRACE(c.name);
-    const glm::dvec4 centre =
-        glm::inverse(c.camera.clipFromWorld) * glm::dvec4(0.0, 0.0, c.camera.mode.nearNdcZ(), 1.0);
-    const SceneIntersector intersector(scene, glm::dvec3(centre) / centre.w,
-                                       SceneIntersector::BvhBuild::WhenFirstNeeded);
+    const SceneIntersector intersector = intersectorSeenFrom(scene, c.camera);
     const Viewport v = c.camera.viewport;
     for (const double offPx : {0.24, 0.26}) {
       for (const glm::dvec2 sign :
            {glm::dvec2(1, 1), glm::dvec2(1, -1), glm::dvec2(-1, 1), glm::dvec2(-1, -1)}) {
-        // x_ndc' = x_ndc - shift: the shifted camera's pixel centre lies `shift` further along.
-        glm::dmat4 ndcShift(1.0);
-        ndcShift[3][0] = -sign.x * offPx * 2.0 / v.width;
-        ndcShift[3][1] = -sign.y * offPx * 2.0 / v.height;
-        PickingCamera shifted = c.camera;
-        shifted.clipFromWorld = ndcShift * c.camera.clipFromWorld;
-        AnalyticFrame frame = generateRobustRays(shifted, 2);
+        AnalyticFrame frame =
+            generateRobustRays(shiftedByPixels(c.camera, sign.x * offPx, sign.y * offPx), 2);
         const std::size_t binned = intersectFrame(frame, intersector, c.camera, 2);
         EXPECT_EQ(binned, offPx < FrameBins::kRayTolerancePx ? tileCount(v) : 0u)
             << offPx << " px, signs " << sign.x << " " << sign.y;
@@ -457,19 +464,11 @@ TEST(FastPathBinned, PrimitivesAreCulledPerTile) {
   scene.objects.clear();
   for (const BinnedCase& c : binnedCases()) {
     SCOPED_TRACE(c.name);
-    const glm::dvec4 centre =
-        glm::inverse(c.camera.clipFromWorld) * glm::dvec4(0.0, 0.0, c.camera.mode.nearNdcZ(), 1.0);
-    const SceneIntersector intersector(scene, glm::dvec3(centre) / centre.w,
-                                       SceneIntersector::BvhBuild::WhenFirstNeeded);
+    const SceneIntersector intersector = intersectorSeenFrom(scene, c.camera);
     ASSERT_EQ(intersector.triangleCount(), 0u);
     const Viewport v = c.camera.viewport;
     for (const double offPx : {0.0, 0.24}) {
-      glm::dmat4 ndcShift(1.0);
-      ndcShift[3][0] = offPx * 2.0 / v.width;
-      ndcShift[3][1] = -offPx * 2.0 / v.height;
-      PickingCamera shifted = c.camera;
-      shifted.clipFromWorld = ndcShift * c.camera.clipFromWorld;
-      AnalyticFrame frame = generateRobustRays(shifted, 2);
+      AnalyticFrame frame = generateRobustRays(shiftedByPixels(c.camera, offPx, -offPx), 2);
       EXPECT_EQ(intersectFrame(frame, intersector, c.camera, 2), tileCount(v)) << offPx;
       expectFrameMatchesTheLinearScan(intersector, frame, std::to_string(offPx) + " px off");
     }
