@@ -99,12 +99,14 @@ void triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, double wC
   double wMin = std::numeric_limits<double>::infinity();
   bool nan = false;
   glm::dvec2 ndc[4];
+  double inverseWs[4];
   for (int k = 0; k < count; ++k) {
     wMin = std::min(wMin, polygon[k].w);
     // w >= wClip > 0 here, except the clipped points whose w is wClip up to rounding.
     const double inverseW = 1.0 / std::max(polygon[k].w, wClip);
     const double x = polygon[k].x * inverseW, y = polygon[k].y * inverseW;
     ndc[k] = {x, y};
+    inverseWs[k] = inverseW;
     nan = nan || std::isnan(x) || std::isnan(y);
     xMin = std::min(xMin, x);
     xMax = std::max(xMax, x);
@@ -128,8 +130,9 @@ void triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, double wC
   if (inside == 3) {
     double errorX = 0.0, errorY = 0.0;
     for (int k = 0; k < 3; ++k) {
-      const double inverseW = 1.0 / corner[k].w;
-      const double ndcX = std::abs(corner[k].x * inverseW), ndcY = std::abs(corner[k].y * inverseW);
+      // Unclipped: polygon k is corner k, w >= wClip, so its projection is already at hand.
+      const double inverseW = inverseWs[k];
+      const double ndcX = std::abs(ndc[k].x), ndcY = std::abs(ndc[k].y);
       errorX = std::max(errorX, (magnitude[k].x + ndcX * magnitude[k].w) * inverseW + ndcX + 1.0);
       errorY = std::max(errorY, (magnitude[k].y + ndcY * magnitude[k].w) * inverseW + ndcY + 1.0);
     }
