@@ -8,9 +8,6 @@
 #include <system_error>
 #include <thread>
 
-#if defined(__linux__)
-#endif
-
 #include "clipray/intersect/FrameBins.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/util/HugePages.hpp"
@@ -49,6 +46,27 @@ void parallelForRows(int rows, unsigned threadCount, const std::function<void(in
   parallelForRowsByWorker(rows, threadCount,
                           [&](unsigned, int begin, int end) { body(begin, end); });
 }
+
+namespace {
+
+// How many tiles ahead prefetchTileRays runs (into L2: a tile's 64 lines at once into L1 queue
+// behind each other). On the dev machine two ahead was as good as four and better than one.
+constexpr int kPrefetchTiles = 2;
+
+// Starts loading the rays of the tile kPrefetchTiles to the right (its rows are kTile separate
+// streams a frame row apart, which the hardware prefetchers follow too late): a tile's rays are
+// read once, and waiting for them was a third of the binned pass on the 100k terrain.
+void prefetchTileRays(const Ray* first, std::size_t rowStride, int columns, int rows) {
+  for (int y = 0; y < rows; ++y) {
+    const char* row =
+        reinterpret_cast<const char*>(first + static_cast<std::size_t>(y) * rowStride);
+    const std::size_t bytes = static_cast<std::size_t>(columns) * sizeof(Ray);
+    for (std::size_t b = 0; b < bytes; b += 64) __builtin_prefetch(row + b, 0, 2);
+    __builtin_prefetch(row + bytes - 1, 0, 2);
+  }
+}
+
+}  // namespace
 
 PickRayFunction robustPickRays() {
   // One generator per camera: precompute once, reuse for every pixel of that camera.
@@ -158,6 +176,11 @@ std::size_t intersectFrame(AnalyticFrame& frame, const SceneIntersector& interse
       for (int tileX = 0; tileX * kTile < width; ++tileX) {
         const int x0 = tileX * kTile;
         const std::size_t first = static_cast<std::size_t>(y0) * width + x0;
+        if (x0 + kPrefetchTiles * kTile < width) {
+          prefetchTileRays(frame.rays.data() + first + kPrefetchTiles * kTile,
+                           static_cast<std::size_t>(width),
+                           std::min(kTile, width - x0 - kPrefetchTiles * kTile), rows);
+        }
         binned += intersector.closestHitsTileBinned(
                       bins, tileX, tileY, frame.rays.data() + first, frame.hits.data() + first,
                       static_cast<std::size_t>(width), std::min(kTile, width - x0), rows)

@@ -665,19 +665,30 @@ void traceTile(const SceneIntersector& scene, double boxPad, bool forBins, OneRa
   }
 }
 
-// Row r of the column-major matrix m applied to (x, y, z, 1), with m[3][r] given as translation.
-CLIPRAY_AVX2 inline __m256d matrixRow(const glm::dmat4& m, int r, __m256d x, __m256d y, __m256d z,
-                                      double translation) {
-  return _mm256_add_pd(
-      _mm256_add_pd(_mm256_mul_pd(bcast(m[0][r]), x), _mm256_mul_pd(bcast(m[1][r]), y)),
-      _mm256_add_pd(_mm256_mul_pd(bcast(m[2][r]), z), bcast(translation)));
+// The pixel check is a bound, not a result that must match the scalar code: it may fuse its
+// multiplies and adds (fewer roundings, so its error analysis still holds).
+#define CLIPRAY_AVX2_FMA __attribute__((target("avx2,fma")))
+
+// One row of a matrix: its x, y, z factors and translation, broadcast.
+struct WideRow {
+  __m256d x, y, z, translation;
+};
+
+CLIPRAY_AVX2 inline WideRow wideRow(const glm::dmat4& m, int r, bool withTranslation) {
+  return {bcast(m[0][r]), bcast(m[1][r]), bcast(m[2][r]), bcast(withTranslation ? m[3][r] : 0.0)};
+}
+
+// The row applied to (x, y, z, 1).
+CLIPRAY_AVX2_FMA inline __m256d applyRow(const WideRow& row, __m256d x, __m256d y, __m256d z) {
+  return _mm256_fmadd_pd(row.x, x,
+                         _mm256_fmadd_pd(row.y, y, _mm256_fmadd_pd(row.z, z, row.translation)));
 }
 
 // |x - cx w| <= epsX w and |y - cy w| <= epsY w: the homogeneous point projects near (cx, cy).
-CLIPRAY_AVX2 inline __m256d nearCentre(__m256d x, __m256d y, __m256d w, __m256d cx, __m256d cy,
-                                       __m256d epsX, __m256d epsY, __m256d signBit) {
-  const __m256d offX = _mm256_andnot_pd(signBit, _mm256_sub_pd(x, _mm256_mul_pd(cx, w)));
-  const __m256d offY = _mm256_andnot_pd(signBit, _mm256_sub_pd(y, _mm256_mul_pd(cy, w)));
+CLIPRAY_AVX2_FMA inline __m256d nearCentre(__m256d x, __m256d y, __m256d w, __m256d cx, __m256d cy,
+                                           __m256d epsX, __m256d epsY, __m256d signBit) {
+  const __m256d offX = _mm256_andnot_pd(signBit, _mm256_fnmadd_pd(cx, w, x));
+  const __m256d offY = _mm256_andnot_pd(signBit, _mm256_fnmadd_pd(cy, w, y));
   return _mm256_and_pd(_mm256_cmp_pd(offX, _mm256_mul_pd(epsX, w), _CMP_LE_OQ),
                        _mm256_cmp_pd(offY, _mm256_mul_pd(epsY, w), _CMP_LE_OQ));
 }
@@ -694,8 +705,10 @@ CLIPRAY_AVX2 inline __m256d nearCentre(__m256d x, __m256d y, __m256d w, __m256d 
 // |coordinate| of origin and direction: mag(e0) <= R max|o| + T, mag(e1) <= mag(e0) + tMax R
 // max|d| (R max|d| for an infinite ray). A lane whose endpoint w is below 2^-49 mag / (margin
 // in clip units) fails the check (its tile walks the BVH).
-CLIPRAY_AVX2 bool raysOnTheirPixels(Packet& p, int used, const FrameBins& bins, int tileX,
-                                    int tileY) {
+// scanOrder: the packet is the whole 8x8 tile in scan order (lane = 8 y + x), so its centres come
+// straight from the tile's columns and rows.
+CLIPRAY_AVX2_FMA bool raysOnTheirPixels(Packet& p, int used, bool scanOrder, const FrameBins& bins,
+                                        int tileX, int tileY) {
   const glm::dmat4& m = bins.clipFromRelative();
   const Viewport viewport = bins.viewport();
   const double scaleX = 2.0 / viewport.width, scaleY = 2.0 / viewport.height;
@@ -707,9 +720,11 @@ CLIPRAY_AVX2 bool raysOnTheirPixels(Packet& p, int used, const FrameBins& bins, 
     rowY[k] = (2.0 * (tileY * FrameBins::kTile + k) + 1.0) * (0.5 * scaleY) - 1.0;
   }
   alignas(32) double centreX[kMax], centreY[kMax];
-  for (int l = 0; l < p.lanes; ++l) {
-    centreX[l] = columnX[p.laneX[l]];
-    centreY[l] = rowY[p.laneY[l]];
+  if (!scanOrder) {
+    for (int l = 0; l < p.lanes; ++l) {
+      centreX[l] = columnX[p.laneX[l]];
+      centreY[l] = rowY[p.laneY[l]];
+    }
   }
   const __m256d epsX = bcast(FrameBins::kRayTolerancePx * scaleX);
   const __m256d epsY = bcast(FrameBins::kRayTolerancePx * scaleY);
@@ -726,24 +741,28 @@ CLIPRAY_AVX2 bool raysOnTheirPixels(Packet& p, int used, const FrameBins& bins, 
   const __m256d zero = _mm256_setzero_pd();
   const __m256d infinity = bcast(std::numeric_limits<double>::infinity());
   const __m256d signBit = bcast(-0.0);
+  const WideRow rowX = wideRow(m, 0, true), rowY_ = wideRow(m, 1, true), rowW = wideRow(m, 3, true);
+  const WideRow slopeX = wideRow(m, 0, false), slopeY = wideRow(m, 1, false),
+                slopeW = wideRow(m, 3, false);
   for (int base = 0; base < used; base += 4) {
     const __m256d ox = _mm256_load_pd(p.o[0] + base), oy = _mm256_load_pd(p.o[1] + base),
                   oz = _mm256_load_pd(p.o[2] + base);
     const __m256d dx = _mm256_load_pd(p.inv[0] + base), dy = _mm256_load_pd(p.inv[1] + base),
                   dz = _mm256_load_pd(p.inv[2] + base);
     const __m256d tMax = _mm256_load_pd(p.bestT + base);
-    const __m256d e0x = matrixRow(m, 0, ox, oy, oz, m[3][0]),
-                  e0y = matrixRow(m, 1, ox, oy, oz, m[3][1]),
-                  e0w = matrixRow(m, 3, ox, oy, oz, m[3][3]);
-    const __m256d edx = matrixRow(m, 0, dx, dy, dz, 0.0), edy = matrixRow(m, 1, dx, dy, dz, 0.0),
-                  edw = matrixRow(m, 3, dx, dy, dz, 0.0);
+    const __m256d e0x = applyRow(rowX, ox, oy, oz), e0y = applyRow(rowY_, ox, oy, oz),
+                  e0w = applyRow(rowW, ox, oy, oz);
+    const __m256d edx = applyRow(slopeX, dx, dy, dz), edy = applyRow(slopeY, dx, dy, dz),
+                  edw = applyRow(slopeW, dx, dy, dz);
     _mm256_store_pd(p.wOrigin + base, e0w);
     _mm256_store_pd(p.wSlope + base, edw);
     const __m256d finite = _mm256_cmp_pd(tMax, infinity, _CMP_LT_OQ);
-    const __m256d e1x = _mm256_blendv_pd(edx, _mm256_add_pd(e0x, _mm256_mul_pd(tMax, edx)), finite);
-    const __m256d e1y = _mm256_blendv_pd(edy, _mm256_add_pd(e0y, _mm256_mul_pd(tMax, edy)), finite);
-    const __m256d e1w = _mm256_blendv_pd(edw, _mm256_add_pd(e0w, _mm256_mul_pd(tMax, edw)), finite);
-    const __m256d cx = _mm256_load_pd(centreX + base), cy = _mm256_load_pd(centreY + base);
+    const __m256d e1x = _mm256_blendv_pd(edx, _mm256_fmadd_pd(tMax, edx, e0x), finite);
+    const __m256d e1y = _mm256_blendv_pd(edy, _mm256_fmadd_pd(tMax, edy, e0y), finite);
+    const __m256d e1w = _mm256_blendv_pd(edw, _mm256_fmadd_pd(tMax, edw, e0w), finite);
+    const __m256d cx =
+        scanOrder ? _mm256_loadu_pd(columnX + (base & 7)) : _mm256_load_pd(centreX + base);
+    const __m256d cy = scanOrder ? bcast(rowY[base >> 3]) : _mm256_load_pd(centreY + base);
     const __m256d e1wOk = _mm256_blendv_pd(_mm256_cmp_pd(e1w, zero, _CMP_GE_OQ),
                                            _mm256_cmp_pd(e1w, wClip, _CMP_GE_OQ), finite);
     const __m256d maxO =
@@ -752,10 +771,9 @@ CLIPRAY_AVX2 bool raysOnTheirPixels(Packet& p, int used, const FrameBins& bins, 
     const __m256d maxD =
         _mm256_max_pd(_mm256_andnot_pd(signBit, dx),
                       _mm256_max_pd(_mm256_andnot_pd(signBit, dy), _mm256_andnot_pd(signBit, dz)));
-    const __m256d mag0 = _mm256_add_pd(_mm256_mul_pd(norm, maxO), translation);
+    const __m256d mag0 = _mm256_fmadd_pd(norm, maxO, translation);
     const __m256d magD = _mm256_mul_pd(norm, maxD);
-    const __m256d mag1 =
-        _mm256_blendv_pd(magD, _mm256_add_pd(mag0, _mm256_mul_pd(tMax, magD)), finite);
+    const __m256d mag1 = _mm256_blendv_pd(magD, _mm256_fmadd_pd(tMax, magD, mag0), finite);
     const __m256d exact =
         _mm256_and_pd(_mm256_cmp_pd(_mm256_mul_pd(mag0, roundingPerW), e0w, _CMP_LE_OQ),
                       _mm256_cmp_pd(_mm256_mul_pd(mag1, roundingPerW), e1w, _CMP_LE_OQ));
@@ -839,7 +857,7 @@ CLIPRAY_AVX2 void traceBins(const SceneIntersector& scene, const std::vector<Tri
 }  // namespace
 
 bool PacketKernels::available() {
-  static const bool avx2 = __builtin_cpu_supports("avx2");
+  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
   return avx2;
 }
 
@@ -866,29 +884,29 @@ bool PacketKernels::traceBinned(const SceneIntersector& scene, const FrameBins& 
   // Rays with a zero direction component (an axis-aligned orthographic camera's) or an origin far
   // outside the scene are packed: the bins need no slab tests. A packet with such rays that strays
   // from its pixels is answered one ray at a time.
-  traceTile(scene, scene.boxPad_, true, oneRay, rays, hits, rowStride, width, height,
-            [&](Packet& p, int used, bool scanOrder) {
-              if (raysOnTheirPixels(p, used, bins, tileX, tileY)) {
-                prepareShear(p);
-                anyBinned = true;
-                traceBins(scene, scene.triangles_, bins, tileX, tileY, p, scanOrder && width == 8,
-                          rays);
-              } else if (scene.triangles_.empty()) {
-                anyWalked = true;  // no triangle to hit: the lanes keep "no hit"
-              } else if (slabTestsUnfit(p, used, scene.boxPad_)) {
-                oneAtATime = true;
-                for (int l = 0; l < used; ++l) {
-                  const Hit hit = scene.closestTriangleHit(rays[p.rayIndex[l]]);
-                  p.bestT[l] = hit.t;
-                  p.bestId[l] = hit.hit() ? static_cast<double>(hit.primitiveId) : kNoId;
-                }
-              } else {
-                preparePacket(p);
-                anyWalked = true;
-                scene.ensureBvh();
-                tracePacket(scene, scene.bvh_->nodes, scene.bvh_->triangles, p, rays);
-              }
-            });
+  traceTile(
+      scene, scene.boxPad_, true, oneRay, rays, hits, rowStride, width, height,
+      [&](Packet& p, int used, bool scanOrder) {
+        if (raysOnTheirPixels(p, used, scanOrder && width == 8 && used == 64, bins, tileX, tileY)) {
+          prepareShear(p);
+          anyBinned = true;
+          traceBins(scene, scene.triangles_, bins, tileX, tileY, p, scanOrder && width == 8, rays);
+        } else if (scene.triangles_.empty()) {
+          anyWalked = true;  // no triangle to hit: the lanes keep "no hit"
+        } else if (slabTestsUnfit(p, used, scene.boxPad_)) {
+          oneAtATime = true;
+          for (int l = 0; l < used; ++l) {
+            const Hit hit = scene.closestTriangleHit(rays[p.rayIndex[l]]);
+            p.bestT[l] = hit.t;
+            p.bestId[l] = hit.hit() ? static_cast<double>(hit.primitiveId) : kNoId;
+          }
+        } else {
+          preparePacket(p);
+          anyWalked = true;
+          scene.ensureBvh();
+          tracePacket(scene, scene.bvh_->nodes, scene.bvh_->triangles, p, rays);
+        }
+      });
   return anyBinned && !anyWalked && !oneAtATime;
 }
 
