@@ -741,7 +741,8 @@ CLIPRAY_AVX2_FMA bool raysOnTheirPixels(Packet& p, int used, bool scanOrder, con
   const __m256d zero = _mm256_setzero_pd();
   const __m256d infinity = bcast(std::numeric_limits<double>::infinity());
   const __m256d signBit = bcast(-0.0);
-  const WideRow rowX = wideRow(m, 0, true), rowY_ = wideRow(m, 1, true), rowW = wideRow(m, 3, true);
+  const WideRow clipX = wideRow(m, 0, true), clipY = wideRow(m, 1, true),
+                clipW = wideRow(m, 3, true);
   const WideRow slopeX = wideRow(m, 0, false), slopeY = wideRow(m, 1, false),
                 slopeW = wideRow(m, 3, false);
   for (int base = 0; base < used; base += 4) {
@@ -750,8 +751,8 @@ CLIPRAY_AVX2_FMA bool raysOnTheirPixels(Packet& p, int used, bool scanOrder, con
     const __m256d dx = _mm256_load_pd(p.inv[0] + base), dy = _mm256_load_pd(p.inv[1] + base),
                   dz = _mm256_load_pd(p.inv[2] + base);
     const __m256d tMax = _mm256_load_pd(p.bestT + base);
-    const __m256d e0x = applyRow(rowX, ox, oy, oz), e0y = applyRow(rowY_, ox, oy, oz),
-                  e0w = applyRow(rowW, ox, oy, oz);
+    const __m256d e0x = applyRow(clipX, ox, oy, oz), e0y = applyRow(clipY, ox, oy, oz),
+                  e0w = applyRow(clipW, ox, oy, oz);
     const __m256d edx = applyRow(slopeX, dx, dy, dz), edy = applyRow(slopeY, dx, dy, dz),
                   edw = applyRow(slopeW, dx, dy, dz);
     _mm256_store_pd(p.wOrigin + base, e0w);
