@@ -37,6 +37,19 @@ TEST(FrameBuffers, ARunOfTheSameSizeGetsTheReleasedBlockBack) {
   releaseFrameBuffer(fourth, 94 * kMiB);
 }
 
+TEST(FrameBuffers, AFrameOfBytesIsKeptToo) {
+  // A 1080p per-pixel class image, one byte a pixel: just under one huge page, still kept.
+  constexpr std::size_t kClassImageBytes = 1920 * 1080;
+  static_assert(kClassImageBytes >= kMinKeptFrameBufferBytes);
+  void* first = allocateFrameBuffer(kClassImageBytes);
+  std::memset(first, 0x3c, kClassImageBytes);
+  releaseFrameBuffer(first, kClassImageBytes);
+  void* second = allocateFrameBuffer(kClassImageBytes);
+  EXPECT_EQ(second, first);
+  EXPECT_EQ(static_cast<unsigned char*>(second)[kClassImageBytes - 1], 0x3c);
+  releaseFrameBuffer(second, kClassImageBytes);
+}
+
 TEST(FrameBuffers, WhatIsKeptStaysBelowTheLimitOldestFreedFirst) {
   // Three blocks of just over a third of the limit (address space only: never touched).
   const std::size_t bytes = kMaxKeptFrameBufferBytes / 3 + 2 * kMiB;

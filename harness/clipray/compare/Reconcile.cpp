@@ -170,14 +170,20 @@ void ToleranceModel::buildPolygons(std::span<const std::uint32_t> primitiveIds,
     }
   }
   const std::size_t first = polygons_.size();
-  if (first == 0) reserveOnHugePages(polygons_, wanted.size());
+  if (first == 0) {
+    polygons_.reserve(wanted.size());
+    pixelTerms_.reserve(wanted.size());
+  }
+  // Left unwritten: every one is built below.
   polygons_.resize(first + wanted.size());
+  pixelTerms_.resize(first + wanted.size());
   constexpr int kIdsPerChunk = 256;
   const int chunks = static_cast<int>((wanted.size() + kIdsPerChunk - 1) / kIdsPerChunk);
   parallelForRows(chunks, threadCount, [&](int chunkBegin, int chunkEnd) {
     const std::size_t end = std::min(wanted.size(), std::size_t(chunkEnd) * kIdsPerChunk);
     for (std::size_t k = std::size_t(chunkBegin) * kIdsPerChunk; k < end; ++k) {
       polygons_[first + k] = buildPolygon(wanted[k]);
+      pixelTerms_[first + k] = pixelTermsOf(polygons_[first + k]);
     }
   });
 }
@@ -190,6 +196,17 @@ const ToleranceModel::ScreenPolygon& ToleranceModel::polygon(std::uint32_t primi
   thread_local ScreenPolygon scratch;
   scratch = buildPolygon(primitiveId);
   return scratch;
+}
+
+ToleranceModel::PixelTerms ToleranceModel::pixelTermsOf(const ScreenPolygon& polygon) {
+  return {polygon.clipErrorBound,
+          // |gradient| of the depth plane (the snap term of triangleDepthTolerance).
+          std::isfinite(polygon.depthPlane.x)
+              ? std::abs(polygon.depthPlane.x) + std::abs(polygon.depthPlane.y)
+              : 0.0,
+          // Plane evaluation in float (setup of dz/dx, dz/dy and the sum): ~8u of the largest
+          // depth the plane takes over the clipped triangle.
+          8.0 * kFloatUnitRoundoff * polygon.maxDepth};
 }
 
 ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primitiveId) const {
@@ -451,15 +468,16 @@ double ToleranceModel::depthTolerance(std::uint32_t primitiveId, const glm::dvec
 
 namespace {
 
-// The tolerance model of a triangle hit (see depthToleranceAtClip) from its screen polygon and
-// the hit's clip coordinates c, with z_ndc = c.z / c.w, its window depth and the depth quantum
-// there given (compareFrames has them already). Polygon is ToleranceModel::ScreenPolygon.
-template <class Polygon>
-inline double triangleDepthTolerance(const Polygon& polygon, const glm::dvec4& c, double zNdc,
+// The tolerance model of a triangle hit (see depthToleranceAtClip) from its screen polygon's
+// PixelTerms and the hit's clip coordinates c, with z_ndc = c.z / c.w, its window depth and the
+// depth quantum there given (compareFrames has them already). Terms is
+// ToleranceModel::PixelTerms.
+template <class Terms>
+inline double triangleDepthTolerance(const Terms& terms, const glm::dvec4& c, double zNdc,
                                      double depth, double storage, double toWindow,
                                      double subpixelStep, Viewport viewport) {
   const double u = kFloatUnitRoundoff;
-  const glm::dvec4& bound = polygon.clipErrorBound;
+  const glm::dvec4& bound = terms.clipErrorBound;
   // 1. Storage: one quantum of the depth format at this depth (given).
   // 2. Vertex transform in float, interpolated: dz_ndc = (dz + |z_ndc| dw) / w, plus the GPU's
   //    divide and depth-range mapping (2u relative).
@@ -474,14 +492,9 @@ inline double triangleDepthTolerance(const Polygon& polygon, const glm::dvec4& c
       divideTwo(bound.z + std::abs(zNdc) * bound.w, std::abs(c.w), xyError, std::abs(c.w));
   const double vertex = vertexNdc * toWindow + 2.0 * u * std::abs(depth);
   const double xyShift = subpixelStep + xyErrorPixels;
-  const double gradient = std::isfinite(polygon.depthPlane.x)
-                              ? std::abs(polygon.depthPlane.x) + std::abs(polygon.depthPlane.y)
-                              : 0.0;
-  const double snap = gradient * xyShift;
-  // 4. Plane evaluation in float (setup of dz/dx, dz/dy and the sum): ~8u of the largest depth
-  //    the plane takes over the clipped triangle.
-  const double interpolation = 8.0 * u * polygon.maxDepth;
-  return storage + vertex + snap + interpolation;
+  const double snap = terms.gradient * xyShift;
+  // 4. Plane evaluation in float: terms.interpolation (see pixelTermsOf).
+  return storage + vertex + snap + terms.interpolation;
 }
 
 }  // namespace
@@ -490,7 +503,7 @@ double ToleranceModel::depthToleranceAtClip(std::uint32_t primitiveId,
                                             const glm::dvec4& hitClip) const {
   const double zNdc = hitClip.z / hitClip.w;
   const double depth = windowDepthFromNdc(zNdc, setup_.mode.convention);
-  return triangleDepthTolerance(polygon(primitiveId), hitClip, zNdc, depth,
+  return triangleDepthTolerance(pixelTermsOf(polygon(primitiveId)), hitClip, zNdc, depth,
                                 quantumAt(setup_.depthFormat, depth), windowFromNdcScale_,
                                 subpixelStep_, viewport_);
 }
@@ -857,17 +870,13 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
             }
             const std::uint32_t slot = model.slotOfId_[rayId];
             if (slot == ToleranceModel::kNoSlot) return false;
-            const ToleranceModel::ScreenPolygon& polygon = model.polygons_[slot];
-            polygons.boundX[l] = polygon.clipErrorBound.x;
-            polygons.boundY[l] = polygon.clipErrorBound.y;
-            polygons.boundZ[l] = polygon.clipErrorBound.z;
-            polygons.boundW[l] = polygon.clipErrorBound.w;
-            // As triangleDepthTolerance: the plane's gradient and the plane evaluation term.
-            polygons.gradient[l] =
-                std::isfinite(polygon.depthPlane.x)
-                    ? std::abs(polygon.depthPlane.x) + std::abs(polygon.depthPlane.y)
-                    : 0.0;
-            polygons.interpolation[l] = 8.0 * kFloatUnitRoundoff * polygon.maxDepth;
+            const ToleranceModel::PixelTerms& terms = model.pixelTerms_[slot];
+            polygons.boundX[l] = terms.clipErrorBound.x;
+            polygons.boundY[l] = terms.clipErrorBound.y;
+            polygons.boundZ[l] = terms.clipErrorBound.z;
+            polygons.boundW[l] = terms.clipErrorBound.w;
+            polygons.gradient[l] = terms.gradient;
+            polygons.interpolation[l] = terms.interpolation;
           }
           FourPixels figures;
           if (!fourTrianglePixels(fourInput, &analytic.rays[first], &analytic.hits[first],
@@ -956,7 +965,9 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                 // depthToleranceAtClip, sharing the hit's depth and quantum.
                 const std::uint32_t slot = model.slotOfId_[rayId];
                 tolerance = triangleDepthTolerance(
-                    slot != ToleranceModel::kNoSlot ? model.polygons_[slot] : model.polygon(rayId),
+                    slot != ToleranceModel::kNoSlot
+                        ? model.pixelTerms_[slot]
+                        : ToleranceModel::pixelTermsOf(model.polygon(rayId)),
                     hitClip, zNdc, rayDepth, quantum, model.windowFromNdcScale_,
                     model.subpixelStep_, viewport);
               }

@@ -8,7 +8,6 @@
 namespace clipray {
 
 namespace {
-// Buffers from this size on are worth huge pages (and get their own mapping from malloc anyway).
 constexpr std::size_t kHugePageBytes = std::size_t{2} << 20;
 
 // Large frame buffers released by one run, kept for the next: a reconcile runs the same frame
@@ -85,7 +84,7 @@ std::size_t hugePageRounded(std::size_t bytes) {
 }  // namespace
 
 void* allocateFrameBuffer(std::size_t bytes) {
-  if (bytes < kHugePageBytes) {
+  if (bytes < kMinKeptFrameBufferBytes) {
     void* pointer = std::aligned_alloc(
         kFrameBufferAlignment,
         (bytes + kFrameBufferAlignment - 1) / kFrameBufferAlignment * kFrameBufferAlignment);
@@ -102,7 +101,7 @@ void* allocateFrameBuffer(std::size_t bytes) {
 
 void releaseFrameBuffer(void* pointer, std::size_t bytes) noexcept {
   if (pointer == nullptr) return;
-  if (bytes < kHugePageBytes) {
+  if (bytes < kMinKeptFrameBufferBytes) {
     std::free(pointer);
     return;
   }

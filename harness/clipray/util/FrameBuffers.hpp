@@ -19,6 +19,10 @@ namespace clipray {
 inline constexpr std::size_t kFrameBufferAlignment = 64;
 // Released large buffers kept for reuse stay below this many bytes in all.
 inline constexpr std::size_t kMaxKeptFrameBufferBytes = std::size_t{512} << 20;
+// Buffers from this size on are large: whole huge pages, kept when released. Half a huge page: a
+// 1080p frame's per-pixel class image (2,073,600 bytes, just under 2 MiB) was malloc's, which
+// gave it back to the kernel on free, so every run faulted its 506 small pages in again.
+inline constexpr std::size_t kMinKeptFrameBufferBytes = std::size_t{1} << 20;
 void* allocateFrameBuffer(std::size_t bytes);  // throws std::bad_alloc
 void releaseFrameBuffer(void* pointer, std::size_t bytes) noexcept;
 template <class T>
