@@ -558,16 +558,35 @@ Distribution distributionOfParts(const std::vector<const FrameVector<double>*>& 
 
   constexpr int kBucketShift = 48;
   constexpr std::uint64_t kPositiveInfinityBits = 0x7ff0000000000000ull;
-  std::vector<std::uint32_t> histogram(std::size_t{1} << (64 - kBucketShift), 0);
+  constexpr std::size_t kBuckets = std::size_t{1} << (64 - kBucketShift);
+  // Four interleaved histograms, summed after: neighbouring pixels' values mostly share a bucket,
+  // and one histogram made each increment wait for the previous one's store.
+  std::vector<std::uint32_t> histograms(4 * kBuckets, 0);
   std::uint64_t maxBits = 0;
   bool ordinary = true;  // every value is +0, positive or +inf
   for (const FrameVector<double>* part : parts) {
-    for (const double value : *part) {
-      const auto bits = std::bit_cast<std::uint64_t>(value);
+    const double* values = part->data();
+    const std::size_t size = part->size();
+    std::size_t i = 0;
+    for (; i + 4 <= size; i += 4) {
+      for (std::size_t lane = 0; lane < 4; ++lane) {
+        const auto bits = std::bit_cast<std::uint64_t>(values[i + lane]);
+        ordinary &= bits <= kPositiveInfinityBits;
+        maxBits = std::max(maxBits, bits);
+        ++histograms[lane * kBuckets + (bits >> kBucketShift)];
+      }
+    }
+    for (; i < size; ++i) {
+      const auto bits = std::bit_cast<std::uint64_t>(values[i]);
       ordinary &= bits <= kPositiveInfinityBits;
       maxBits = std::max(maxBits, bits);
-      ++histogram[bits >> kBucketShift];
+      ++histograms[bits >> kBucketShift];
     }
+  }
+  std::vector<std::uint32_t> histogram(kBuckets);
+  for (std::size_t b = 0; b < kBuckets; ++b) {
+    histogram[b] = histograms[b] + histograms[kBuckets + b] + histograms[2 * kBuckets + b] +
+                   histograms[3 * kBuckets + b];
   }
   if (!ordinary || count > std::numeric_limits<std::uint32_t>::max()) {
     std::vector<double> all;
