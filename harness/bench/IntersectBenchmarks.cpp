@@ -2,9 +2,10 @@
 // clipray's packet fast path (closestHits over 8x8 tiles, as intersectFrame runs it), clipray one
 // ray at a time (closestHit), clipray brute force (closestHitLinear) on a small scene, and Embree 3
 // rtcIntersect1 / rtcIntersect16 (4x4 tiles) on the same rays when the bench was built with it.
-// Every timed row runs in the same process, round-robin, and reports the median of --runs runs,
-// so the ratios hold even on a busy machine. Then the scaling table: 10k, 100k, 1M triangles at
-// 1920x1080 and 3840x2160, each case in a child process so that its peak memory is its own.
+// Every timed row runs in the same process, in a new shuffled order each run, and reports the
+// median of --runs runs, so the ratios hold even on a busy machine. Then the scaling table: 10k,
+// 100k, 1M triangles at 1920x1080 and 3840x2160, each case in a child process so that its peak
+// memory is its own.
 //
 //   build/release/clipray_intersect_bench                  # table + scaling
 //   build/release/clipray_intersect_bench --write-scene /tmp/terrain.json --triangles 100000
@@ -22,6 +23,7 @@
 #include <cstring>
 #include <fstream>
 #include <functional>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -338,16 +340,23 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
       [&] { embreePackets(embree, frame, reference, embreeIds16, 1); });
 #endif
   for (Row& row : rows) row.run();  // warm-up
+  // Each run visits the rows in a new order (a fixed seed: the same orders every time): a row
+  // that always followed the same one paid for what that one left behind (the rays row leaves
+  // the last-level cache full of its frame's dirty lines, which the next row writes back).
+  std::vector<std::size_t> order(rows.size());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::mt19937 shuffler(5);
   for (int r = 0; r < runs; ++r) {
-    for (Row& row : rows) {
+    std::shuffle(order.begin(), order.end(), shuffler);
+    for (const std::size_t k : order) {
       const auto t0 = Clock::now();
-      row.run();
-      row.ms.push_back(msSince(t0));
+      rows[k].run();
+      rows[k].ms.push_back(msSince(t0));
     }
   }
 
-  std::printf("\nSide by side, one process, median of %d round-robin runs (2-core machine):\n",
-              runs);
+  std::printf(
+      "\nSide by side, one process, median of %d runs in shuffled order (2-core machine):\n", runs);
   std::printf("%-48s %9s %10s %7s %10s %9s\n", "method", "triangles", "frame", "threads",
               "ms/frame", "ns/ray");
   for (const Row& row : rows) {
