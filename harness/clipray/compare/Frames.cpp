@@ -49,8 +49,9 @@ void parallelForRows(int rows, unsigned threadCount, const std::function<void(in
 
 namespace {
 
-// How many tiles ahead prefetchTileRays runs (into L2: a tile's 64 lines at once into L1 queue
-// behind each other). On the dev machine two ahead was as good as four and better than one.
+// How many tiles ahead prefetchTileRays runs. Into L2, not L1: a tile's 64 lines asked into L1 at
+// once wait behind each other. On the dev machine two tiles ahead was as good as four and better
+// than one.
 constexpr int kPrefetchTiles = 2;
 
 // Starts loading the rays of the tile kPrefetchTiles to the right (its rows are kTile separate

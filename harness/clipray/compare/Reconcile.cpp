@@ -24,7 +24,6 @@
 
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/FourRays.hpp"
-#include "clipray/util/HugePages.hpp"
 
 namespace clipray {
 

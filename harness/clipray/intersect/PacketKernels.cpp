@@ -146,8 +146,9 @@ CLIPRAY_AVX2 __attribute__((always_inline)) inline void testGroup(Packet& p, int
   const __m256d inside =
       _mm256_andnot_pd(_mm256_and_pd(anyNeg, anyPos), _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
   const int edgeMask = _mm256_movemask_pd(onEdge);
-  // No branch on whether a lane is inside: two thirds of the groups a tile's bins test have one,
-  // which a predictor cannot guess; t is computed for every lane and kept where accepted.
+  // No branch on whether a lane is inside: on the terrain two thirds of the groups the bins test
+  // have one and the rest none, in no order a predictor can guess. t is computed for every lane
+  // and kept where accepted.
   {
     const __m256d det = _mm256_add_pd(_mm256_add_pd(u, v), w);
     const __m256d sz = _mm256_load_pd(p.shearZ + base);
