@@ -513,7 +513,12 @@ namespace {
 // either side shows (ascending). On a big scene far fewer than all of them.
 std::vector<std::uint32_t> idsInFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
                                        std::uint32_t primitiveCount, unsigned threadCount) {
-  std::vector<std::uint8_t> shown(std::size_t{primitiveCount} + 1, 0);
+  // The hits' ids as intersectFrame noted them, when it did for this many primitives: then only
+  // the raster's ids are read here.
+  const bool hitsNoted = analytic.hitIdsShown.size() == std::size_t{primitiveCount} + 1;
+  std::vector<std::uint8_t> shown =
+      hitsNoted ? analytic.hitIdsShown
+                : std::vector<std::uint8_t>(std::size_t{primitiveCount} + 1, 0);
   const Viewport viewport = raster.viewport;
   parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
     const auto mark = [&](std::uint32_t id) {
@@ -525,14 +530,22 @@ std::vector<std::uint32_t> idsInFrames(const RasterFrame& raster, const Analytic
     };
     const std::size_t begin = static_cast<std::size_t>(rowBegin) * viewport.width;
     const std::size_t end = static_cast<std::size_t>(rowEnd) * viewport.width;
-    std::uint32_t lastRaster = 0, lastRay = 0;  // neighbours mostly repeat an id
+    // Every raster id marked without a branch (a mesh's small triangles change the id every few
+    // pixels: a branch on "same as the last" mispredicted there). Background and invalid ids mark
+    // a byte of this thread's own, not one the other threads write too.
+    std::uint8_t elsewhere = 0;
     for (std::size_t i = begin; i < end; ++i) {
       const std::uint32_t rasterId = raster.ids[i];
+      std::uint8_t& flag =
+          rasterId != 0 && rasterId <= primitiveCount ? shown[rasterId] : elsewhere;
+      std::atomic_ref<std::uint8_t>(flag).store(1, std::memory_order_relaxed);
+    }
+    if (hitsNoted) return;
+    std::uint32_t lastRay = 0;  // neighbours mostly repeat an id
+    for (std::size_t i = begin; i < end; ++i) {
       const std::uint32_t rayId = analytic.hits[i].primitiveId;
-      if (rasterId != lastRaster) mark(lastRaster = rasterId);
       if (rayId != lastRay) mark(lastRay = rayId);
     }
-    mark(lastRaster);
     mark(lastRay);
   });
   std::vector<std::uint32_t> ids;
