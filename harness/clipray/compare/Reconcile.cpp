@@ -4,6 +4,7 @@
 #include <atomic>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <mutex>
 #include <stdexcept>
@@ -667,6 +668,13 @@ struct FourPixels {
   double rayDepth[4], ratio[4], quanta[4], relative[4];
 };
 
+// Appends four values with one size check (the samples are reserved for the frame up front).
+void appendFour(FrameVector<double>& values, const double four[4]) {
+  const std::size_t size = values.size();
+  values.resize(size + 4);  // left unwritten by the allocator; written here
+  std::memcpy(values.data() + size, four, 4 * sizeof(double));
+}
+
 // Free functions, not lambdas: GCC 12 does not give a lambda its enclosing function's target.
 __attribute__((target("avx2"))) inline __m256d broadcast(double v) {
   return _mm256_set1_pd(v);
@@ -910,24 +918,23 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                                   &raster.depth[first], polygons, figures)) {
             return false;
           }
+          // The four pixels' figures and images, as the scalar loop below writes them one by one
+          // (the samples in the same order).
           KindSamples& kind = samplesOf(0);
+          local.rasterHits += 4;
+          local.rayHits += 4;
+          local.depthCompared += 4;
+          std::memcpy(&pixels.rasterDepth[first], &raster.depth[first], 4 * sizeof(float));
+          std::memcpy(&pixels.analyticDepth[first], figures.rayDepth, 4 * sizeof(double));
+          appendFour(kind.quanta, figures.quanta);
+          appendFour(kind.relative, figures.relative);
+          appendFour(kind.ratios, figures.ratio);
           for (std::size_t l = 0; l < 4; ++l) {
-            const std::size_t i = first + l;
-            ++local.rasterHits;
-            ++local.rayHits;
-            ++local.depthCompared;
-            pixels.rasterDepth[i] = raster.depth[i];
-            pixels.analyticDepth[i] = figures.rayDepth[l];
-            kind.quanta.push_back(figures.quanta[l]);
-            kind.relative.push_back(figures.relative[l]);
-            kind.ratios.push_back(figures.ratio[l]);
-            pixels.toleranceRatio[i] = static_cast<float>(figures.ratio[l]);
-            if (!(figures.ratio[l] <= 1.0)) {  // NaN counts as beyond tolerance
-              ++local.depthBeyondTolerance;
-              pixels.classes[i] = PixelClass::DepthBeyondTolerance;
-            } else {
-              pixels.classes[i] = PixelClass::Agree;
-            }
+            pixels.toleranceRatio[first + l] = static_cast<float>(figures.ratio[l]);
+            const bool beyond = !(figures.ratio[l] <= 1.0);  // NaN counts as beyond tolerance
+            local.depthBeyondTolerance += beyond ? 1 : 0;
+            pixels.classes[first + l] =
+                beyond ? PixelClass::DepthBeyondTolerance : PixelClass::Agree;
           }
           return true;
         };
