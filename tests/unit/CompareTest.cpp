@@ -3,7 +3,6 @@
 
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <bit>
 #include <cstring>
 
@@ -239,65 +238,6 @@ TEST(Compare, FiguresDoNotDependOnTheThreadCount) {
   EXPECT_TRUE(sameBits(one.byKind[0].toleranceRatio.p99, one.toleranceRatio.p99));
   // Every seventh depth moved by one float ulp: the largest error is about a whole quantum.
   EXPECT_GT(one.depthErrorQuanta.max, 0.5);
-}
-
-// The ids of a frame's hits, as AnalyticFrame::hitIdsShown holds them.
-std::vector<std::uint8_t> idsOfHits(const AnalyticFrame& frame, std::uint32_t primitiveCount) {
-  std::vector<std::uint8_t> shown(std::size_t{primitiveCount} + 1, 0);
-  for (const Hit& hit : frame.hits) {
-    if (hit.hit()) shown[hit.primitiveId] = 1;
-  }
-  return shown;
-}
-
-void expectSameComparison(const ComparisonResult& a, const ComparisonResult& b) {
-  EXPECT_EQ(a.metrics.depthCompared, b.metrics.depthCompared);
-  EXPECT_EQ(a.metrics.coverageMismatch.edgeAmbiguous, b.metrics.coverageMismatch.edgeAmbiguous);
-  EXPECT_EQ(a.metrics.idMismatch.total, b.metrics.idMismatch.total);
-  EXPECT_TRUE(sameBits(a.metrics.toleranceRatio.max, b.metrics.toleranceRatio.max));
-  EXPECT_TRUE(sameBits(a.metrics.toleranceRatio.p50, b.metrics.toleranceRatio.p50));
-  EXPECT_TRUE(sameBits(a.metrics.depthErrorQuanta.p99, b.metrics.depthErrorQuanta.p99));
-  ASSERT_EQ(a.pixels.classes.size(), b.pixels.classes.size());
-  for (std::size_t i = 0; i < a.pixels.classes.size(); ++i) {
-    ASSERT_EQ(a.pixels.classes[i], b.pixels.classes[i]) << i;
-    ASSERT_EQ(std::bit_cast<std::uint32_t>(a.pixels.toleranceRatio[i]),
-              std::bit_cast<std::uint32_t>(b.pixels.toleranceRatio[i]))
-        << i;
-  }
-}
-
-TEST(Compare, TheIntersectionNotesTheIdsItsHitsName) {
-  Fixture f({61, 47});
-  const std::uint32_t count = f.intersector->primitiveIdCount();
-  // intersectFrame (BVH packets, as the fixture ran it) and the binned fast path for the camera.
-  EXPECT_EQ(f.analytic.hitIdsShown, idsOfHits(f.analytic, count));
-  AnalyticFrame binned = generateRobustRays(f.camera, 2);
-  EXPECT_TRUE(binned.hitIdsShown.empty());  // no hits yet, nothing noted
-  EXPECT_GT(intersectFrame(binned, *f.intersector, f.camera, 2), 0u);
-  EXPECT_EQ(binned.hitIdsShown, idsOfHits(binned, count));
-  EXPECT_EQ(std::count(binned.hitIdsShown.begin(), binned.hitIdsShown.end(), 1), 2);  // the quad
-
-  // The compare reads the noted ids instead of the hits: the same figures whether they are
-  // there, absent, or stale (a frame whose hits were changed afterwards: nothing noted here).
-  // The raster misses the quad's second triangle, so only the hits name it: with the stale note
-  // its polygon is not built up front and each of its pixels builds it when met.
-  for (std::size_t i = 0; i < f.raster.depth.size(); ++i) {
-    if (f.raster.ids[i] == 2) {
-      f.raster.ids[i] = 0;
-      f.raster.depth[i] = 1.0f;
-    } else if (f.raster.ids[i] != 0 && i % 5 == 0) {
-      f.raster.depth[i] = std::nextafter(f.raster.depth[i], 2.0f);
-    }
-  }
-  const ComparisonResult noted = f.compare();
-  f.analytic.hitIdsShown.clear();
-  const ComparisonResult scanned = f.compare();
-  f.analytic.hitIdsShown.assign(std::size_t{count} + 1, 0);
-  const ComparisonResult stale = f.compare();
-  EXPECT_GT(noted.metrics.depthCompared, 61 * 47 / 10);
-  EXPECT_GT(noted.metrics.coverageMismatch.total, 61 * 47 / 8);  // the second triangle's pixels
-  expectSameComparison(noted, scanned);
-  expectSameComparison(noted, stale);
 }
 
 TEST(Compare, ToleranceRatiosAreTheToleranceModelsOwn) {

@@ -67,24 +67,6 @@ void prefetchTileRays(const Ray* first, std::size_t rowStride, int columns, int 
   }
 }
 
-// Notes the primitive ids of a tile's hits in shown (see AnalyticFrame::hitIdsShown), while the
-// hits are still in L1. Threads may note the same id: relaxed atomics make that well-defined
-// (plain byte stores on x86), and checking first keeps the line shared once it is noted.
-void noteTileHitIds(const Hit* hits, std::size_t rowStride, int columns, int rows,
-                    std::vector<std::uint8_t>& shown) {
-  std::uint32_t last = 0;  // neighbours mostly repeat an id; 0 is no hit
-  for (int y = 0; y < rows; ++y) {
-    const Hit* row = hits + static_cast<std::size_t>(y) * rowStride;
-    for (int x = 0; x < columns; ++x) {
-      const std::uint32_t id = row[x].primitiveId;
-      if (id == last || id == 0 || id >= shown.size()) continue;
-      last = id;
-      std::atomic_ref<std::uint8_t> flag(shown[id]);
-      if (flag.load(std::memory_order_relaxed) == 0) flag.store(1, std::memory_order_relaxed);
-    }
-  }
-}
-
 }  // namespace
 
 PickRayFunction robustPickRays() {
@@ -158,7 +140,6 @@ void intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
   const int width = viewport.width;
   // Every tile writes every hit of its pixels: no need to initialize them first.
   frame.hits.resize(frame.rays.size());
-  frame.hitIdsShown.assign(std::size_t{intersector.primitiveIdCount()} + 1, 0);
   const int tileRows = (viewport.height + kTile - 1) / kTile;
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
     for (int y0 = tileRowBegin * kTile; y0 < std::min(viewport.height, tileRowEnd * kTile);
@@ -166,11 +147,9 @@ void intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
       const int rows = std::min(kTile, viewport.height - y0);
       for (int x0 = 0; x0 < width; x0 += kTile) {
         const std::size_t first = static_cast<std::size_t>(y0) * width + x0;
-        const int columns = std::min(kTile, width - x0);
         intersector.closestHitsTile(frame.rays.data() + first, frame.hits.data() + first,
-                                    static_cast<std::size_t>(width), columns, rows);
-        noteTileHitIds(frame.hits.data() + first, static_cast<std::size_t>(width), columns, rows,
-                       frame.hitIdsShown);
+                                    static_cast<std::size_t>(width), std::min(kTile, width - x0),
+                                    rows);
       }
     }
   });
@@ -188,7 +167,6 @@ std::size_t intersectFrame(AnalyticFrame& frame, const SceneIntersector& interse
   const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, viewport, threadCount);
   const int width = viewport.width;
   frame.hits.resize(frame.rays.size());
-  frame.hitIdsShown.assign(std::size_t{intersector.primitiveIdCount()} + 1, 0);
   const int tileRows = (viewport.height + kTile - 1) / kTile;
   std::atomic<std::size_t> binnedTiles{0};
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
@@ -204,14 +182,11 @@ std::size_t intersectFrame(AnalyticFrame& frame, const SceneIntersector& interse
                            static_cast<std::size_t>(width),
                            std::min(kTile, width - x0 - kPrefetchTiles * kTile), rows);
         }
-        const int columns = std::min(kTile, width - x0);
-        binned += intersector.closestHitsTileBinned(bins, tileX, tileY, frame.rays.data() + first,
-                                                    frame.hits.data() + first,
-                                                    static_cast<std::size_t>(width), columns, rows)
+        binned += intersector.closestHitsTileBinned(
+                      bins, tileX, tileY, frame.rays.data() + first, frame.hits.data() + first,
+                      static_cast<std::size_t>(width), std::min(kTile, width - x0), rows)
                       ? 1
                       : 0;
-        noteTileHitIds(frame.hits.data() + first, static_cast<std::size_t>(width), columns, rows,
-                       frame.hitIdsShown);
       }
     }
     binnedTiles += binned;

@@ -31,12 +31,6 @@ struct AnalyticFrame {
   Viewport viewport;
   FrameVector<Ray> rays;  // resize() leaves rays unwritten: every pass writes every ray
   FrameVector<Hit> hits;
-  // Byte id is 1 where a hit names primitive id (the intersector's primitiveIdCount() + 1 bytes):
-  // intersectFrame notes them as it writes the hits, so compareFrames need not read 2 million
-  // hits again to learn which screen polygons to build. Empty for hits written any other way;
-  // hits changed by hand afterwards only cost speed (the compare builds a polygon it lacks when
-  // it meets it, with the same figures).
-  std::vector<std::uint8_t> hitIdsShown;
 };
 
 // The camera a ray function is asked about: the matrix the app drew with, the conventions it

@@ -514,40 +514,24 @@ namespace {
 // either side shows (ascending). On a big scene far fewer than all of them.
 std::vector<std::uint32_t> idsInFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
                                        std::uint32_t primitiveCount, unsigned threadCount) {
-  // The hits' ids as intersectFrame noted them, when it did for this many primitives: then only
-  // the raster's ids are read here.
-  const bool hitsNoted = analytic.hitIdsShown.size() == std::size_t{primitiveCount} + 1;
-  std::vector<std::uint8_t> shown =
-      hitsNoted ? analytic.hitIdsShown
-                : std::vector<std::uint8_t>(std::size_t{primitiveCount} + 1, 0);
+  std::vector<std::uint8_t> shown(std::size_t{primitiveCount} + 1, 0);
   const Viewport viewport = raster.viewport;
   parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
+    // Every id marked with a store and no branch (a mesh's small triangles change the id every
+    // few pixels: a branch on "same as the last" mispredicted there). Threads may mark the same
+    // id: relaxed atomics make that well-defined (plain byte stores on x86). Background and
+    // invalid ids mark a byte of this thread's own, not one every thread writes.
+    std::uint8_t elsewhere = 0;
     const auto mark = [&](std::uint32_t id) {
-      if (id == 0 || id > primitiveCount) return;
-      // Threads may mark the same id: relaxed atomics make that well-defined (plain byte
-      // stores on x86), and checking first keeps the cache line shared while already marked.
-      std::atomic_ref<std::uint8_t> flag(shown[id]);
-      if (flag.load(std::memory_order_relaxed) == 0) flag.store(1, std::memory_order_relaxed);
+      std::uint8_t& flag = id != 0 && id <= primitiveCount ? shown[id] : elsewhere;
+      std::atomic_ref<std::uint8_t>(flag).store(1, std::memory_order_relaxed);
     };
     const std::size_t begin = static_cast<std::size_t>(rowBegin) * viewport.width;
     const std::size_t end = static_cast<std::size_t>(rowEnd) * viewport.width;
-    // Every raster id marked without a branch (a mesh's small triangles change the id every few
-    // pixels: a branch on "same as the last" mispredicted there). Background and invalid ids mark
-    // a byte of this thread's own, not one the other threads write too.
-    std::uint8_t elsewhere = 0;
     for (std::size_t i = begin; i < end; ++i) {
-      const std::uint32_t rasterId = raster.ids[i];
-      std::uint8_t& flag =
-          rasterId != 0 && rasterId <= primitiveCount ? shown[rasterId] : elsewhere;
-      std::atomic_ref<std::uint8_t>(flag).store(1, std::memory_order_relaxed);
+      mark(raster.ids[i]);
+      mark(analytic.hits[i].primitiveId);
     }
-    if (hitsNoted) return;
-    std::uint32_t lastRay = 0;  // neighbours mostly repeat an id
-    for (std::size_t i = begin; i < end; ++i) {
-      const std::uint32_t rayId = analytic.hits[i].primitiveId;
-      if (rayId != lastRay) mark(lastRay = rayId);
-    }
-    mark(lastRay);
   });
   std::vector<std::uint32_t> ids;
   for (std::uint32_t id = 1; id <= primitiveCount; ++id) {
