@@ -87,6 +87,23 @@ TEST(Compare, CoverageMismatchAwayFromEdgesIsUnexplained) {
   EXPECT_FALSE(r.metrics.consistent());
 }
 
+TEST(Compare, AnIdNoPrimitiveHasIsUnexplained) {
+  // A renderer bug: ids past the scene's primitives (the largest 32-bit one too). Nothing explains
+  // them, and no table indexed by id is read or written at them (the sanitizer build checks).
+  Fixture f({33, 21});
+  const std::size_t inside = f.index(25, 10), background = f.index(2, 2);
+  ASSERT_NE(f.raster.ids[inside], 0u);
+  ASSERT_EQ(f.raster.ids[background], 0u);
+  f.raster.ids[inside] = f.intersector->primitiveIdCount() + 7;
+  f.raster.ids[background] = 0xffffffffu;
+  const ComparisonResult r = f.compare();
+  EXPECT_EQ(r.metrics.coverageMismatch.total, 2);
+  EXPECT_EQ(r.metrics.coverageMismatch.unexplained, 2);
+  EXPECT_EQ(r.pixels.classes[inside], PixelClass::CoverageUnexplained);
+  EXPECT_EQ(r.pixels.classes[background], PixelClass::CoverageUnexplained);
+  EXPECT_FALSE(r.metrics.consistent());
+}
+
 TEST(Compare, CoverageMismatchOnAnEdgeIsAmbiguous) {
   // Odd width: pixel 16's centre is clip x = 0, exactly on the quad's left edge.
   Fixture f({33, 21});
