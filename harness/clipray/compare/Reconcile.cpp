@@ -198,6 +198,11 @@ const ToleranceModel::ScreenPolygon& ToleranceModel::polygon(std::uint32_t primi
   return scratch;
 }
 
+ToleranceModel::PixelTerms ToleranceModel::pixelTerms(std::uint32_t primitiveId) const {
+  const std::uint32_t slot = primitiveId < slotOfId_.size() ? slotOfId_[primitiveId] : kNoSlot;
+  return slot != kNoSlot ? pixelTerms_[slot] : pixelTermsOf(polygon(primitiveId));
+}
+
 ToleranceModel::PixelTerms ToleranceModel::pixelTermsOf(const ScreenPolygon& polygon) {
   return {polygon.clipErrorBound,
           // |gradient| of the depth plane (the snap term of triangleDepthTolerance).
@@ -503,7 +508,7 @@ double ToleranceModel::depthToleranceAtClip(std::uint32_t primitiveId,
                                             const glm::dvec4& hitClip) const {
   const double zNdc = hitClip.z / hitClip.w;
   const double depth = windowDepthFromNdc(zNdc, setup_.mode.convention);
-  return triangleDepthTolerance(pixelTermsOf(polygon(primitiveId)), hitClip, zNdc, depth,
+  return triangleDepthTolerance(pixelTerms(primitiveId), hitClip, zNdc, depth,
                                 quantumAt(setup_.depthFormat, depth), windowFromNdcScale_,
                                 subpixelStep_, viewport_);
 }
@@ -562,23 +567,21 @@ Distribution distributionOfParts(const std::vector<const FrameVector<double>*>& 
   std::uint64_t maxBits = 0;
   bool ordinary = true;  // every value is +0, positive or +inf
   for (const FrameVector<double>* part : parts) {
+    // Four values at a time, one to each table (unrolled: the loop's own count would otherwise
+    // pick the table), then the rest into the first.
     const double* values = part->data();
     const std::size_t size = part->size();
-    std::size_t i = 0;
-    for (; i + 4 <= size; i += 4) {
-      for (std::size_t lane = 0; lane < 4; ++lane) {
-        const auto bits = std::bit_cast<std::uint64_t>(values[i + lane]);
-        ordinary &= bits <= kPositiveInfinityBits;
-        maxBits = std::max(maxBits, bits);
-        ++histograms[lane * kBuckets + (bits >> kBucketShift)];
-      }
-    }
-    for (; i < size; ++i) {
-      const auto bits = std::bit_cast<std::uint64_t>(values[i]);
+    const auto tally = [&](std::size_t table, double value) {
+      const auto bits = std::bit_cast<std::uint64_t>(value);
       ordinary &= bits <= kPositiveInfinityBits;
       maxBits = std::max(maxBits, bits);
-      ++histograms[bits >> kBucketShift];
+      ++histograms[table * kBuckets + (bits >> kBucketShift)];
+    };
+    std::size_t i = 0;
+    for (; i + 4 <= size; i += 4) {
+      for (std::size_t table = 0; table < 4; ++table) tally(table, values[i + table]);
     }
+    for (; i < size; ++i) tally(0, values[i]);
   }
   std::vector<std::uint32_t> histogram(kBuckets);
   for (std::size_t b = 0; b < kBuckets; ++b) {
@@ -986,13 +989,9 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                 tolerance = model.analyticDepthTolerance(rayId, ray, hit.t);
               } else {
                 // depthToleranceAtClip, sharing the hit's depth and quantum.
-                const std::uint32_t slot = model.slotOfId_[rayId];
-                tolerance = triangleDepthTolerance(
-                    slot != ToleranceModel::kNoSlot
-                        ? model.pixelTerms_[slot]
-                        : ToleranceModel::pixelTermsOf(model.polygon(rayId)),
-                    hitClip, zNdc, rayDepth, quantum, model.windowFromNdcScale_,
-                    model.subpixelStep_, viewport);
+                tolerance = triangleDepthTolerance(model.pixelTerms(rayId), hitClip, zNdc, rayDepth,
+                                                   quantum, model.windowFromNdcScale_,
+                                                   model.subpixelStep_, viewport);
               }
               if (analyticSurface && !(error <= tolerance) &&
                   model.analyticEdgeAmbiguous(rayId, centre)) {

@@ -165,6 +165,8 @@ class ToleranceModel {
   };
   static constexpr std::uint32_t kNoSlot = 0xffffffffu;
   static PixelTerms pixelTermsOf(const ScreenPolygon& polygon);
+  // The primitive's PixelTerms: built up front, else from its polygon now.
+  PixelTerms pixelTerms(std::uint32_t primitiveId) const;
   // The clipped screen polygon of a primitive (an empty one for analytic primitives and ids that
   // name no primitive), as computed by buildPolygon.
   const ScreenPolygon& polygon(std::uint32_t primitiveId) const;
