@@ -294,6 +294,13 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
       [&] { binnedTiles = intersectFrame(binnedFrame, intersector, camera, 2); });
   add("clipray fast path (screen bins + 8x8 packets)", tris, viewport, 1,
       [&] { binnedTiles = intersectFrame(binnedFrame, intersector, camera, 1); });
+  // What a reconcile runs: no ray stored, each tile's rays computed where it is traced (the row
+  // above plus this one's bins and tiles, without the stored rays' 112 MB).
+  AnalyticFrame computedFrame = robustRayFrame(camera);
+  add("clipray fast path, rays computed per tile", tris, viewport, 2,
+      [&] { intersectFrame(computedFrame, intersector, camera, 2); });
+  add("clipray fast path, rays computed per tile", tris, viewport, 1,
+      [&] { intersectFrame(computedFrame, intersector, camera, 1); });
   add("clipray BVH packets (8x8 packets, AVX2)", tris, viewport, 2,
       [&] { intersectFrame(frame, intersector, 2); });
   add("clipray BVH packets (8x8 packets, AVX2)", tris, viewport, 1,
@@ -377,10 +384,12 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
   // Agreement: the binned fast path vs the BVH packets and closestHit on every ray, vs
   // closestHitLinear on a sample.
   intersectFrame(frame, intersector, 2);
-  std::size_t packetDiffer = 0;
+  std::size_t packetDiffer = 0, computedDiffer = 0;
   for (std::size_t i = 0; i < frame.rays.size(); ++i) {
     packetDiffer += binnedFrame.hits[i].primitiveId != frame.hits[i].primitiveId ||
                     binnedFrame.hits[i].t != frame.hits[i].t;
+    computedDiffer += binnedFrame.hits[i].primitiveId != computedFrame.hits[i].primitiveId ||
+                      binnedFrame.hits[i].t != computedFrame.hits[i].t;
   }
   frame.hits = binnedFrame.hits;
   std::size_t differ = 0, hits = 0;
@@ -391,9 +400,9 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
   }
   std::printf(
       "screen bins: %zu of %zu tiles traced from the bins; binned vs BVH packets: %zu "
-      "differ\n",
+      "differ; stored vs computed rays: %zu differ\n",
       binnedTiles, static_cast<std::size_t>((viewport.width + 7) / 8) * ((viewport.height + 7) / 8),
-      packetDiffer);
+      packetDiffer, computedDiffer);
   std::size_t linearDiffer = 0, sampled = 0;
   for (std::size_t i = 0; i < frame.rays.size(); i += frame.rays.size() / 1500 + 1, ++sampled) {
     const Hit h = intersector.closestHitLinear(frame.rays[i]);
@@ -425,10 +434,10 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
   std::printf("peak RSS of this process: %.0f MiB\n", peakRssMiB());
 }
 
-// One scaling case, in this (child) process: build, rays, intersect (2 threads), median of runs.
 // One scaling case, in this (child) process, as a reconcile runs it: the intersector without a
-// BVH (built only if a tile needs it), rays, intersect (screen bins, 2 threads); then the BVH
-// build on its own. Medians of runs.
+// BVH (built only if a tile needs it), the frame of computed rays (robustRayFrame: no ray stored),
+// intersect (screen bins, each tile's rays computed there, 2 threads); then the BVH build on its
+// own. Medians of runs.
 void scalingCase(std::size_t triangleTarget, Viewport viewport, int runs) {
   const Terrain terrain = makeTerrain(triangleTarget);
   Scene scene;
@@ -443,7 +452,7 @@ void scalingCase(std::size_t triangleTarget, Viewport viewport, int runs) {
                                        SceneIntersector::BvhBuild::WhenFirstNeeded);
     setup.push_back(msSince(t0));
     t0 = Clock::now();
-    AnalyticFrame frame = generateRobustRays(camera, 2);
+    AnalyticFrame frame = robustRayFrame(camera);
     rays.push_back(msSince(t0));
     t0 = Clock::now();
     intersectFrame(frame, intersector, camera, 2);
@@ -467,7 +476,8 @@ void scalingCase(std::size_t triangleTarget, Viewport viewport, int runs) {
 void scalingTable(int runs) {
   std::printf(
       "\nScaling (terrain, 2 threads, median of %d; each case in its own process; setup, rays and"
-      " intersect as a reconcile runs them, the BVH build timed apart; peak RSS before it):\n",
+      " intersect as a reconcile runs them: rays only sets up their generator, intersect computes"
+      " each tile's; the BVH build timed apart; peak RSS before it):\n",
       runs);
   std::printf("%9s %10s %9s %9s %13s %9s %10s %11s %10s\n", "triangles", "frame", "setup ms",
               "rays ms", "intersect ms", "BVH ms", "BVH used", "tris MiB", "peak MiB");

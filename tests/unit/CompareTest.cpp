@@ -5,6 +5,8 @@
 
 #include <bit>
 #include <cstring>
+#include <stdexcept>
+#include <vector>
 
 #include "clipray/compare/Reconcile.hpp"
 #include "clipray/math/Projections.hpp"
@@ -177,6 +179,20 @@ TEST(Compare, RobustRaysByRowsAreTheRaysOfEachPixel) {
       const RobustRayGenerator generator(camera.clipFromWorld, camera.mode);
       const AnalyticFrame frame = generateRobustRays(camera, 2);
       ASSERT_EQ(frame.rays.size(), std::size_t{131} * 23);
+      // Pieces of rows as a frame's tiles and rows compute them (any start, any length).
+      const PixelCentreRays pixelCentreRays(camera.clipFromWorld, camera.mode, viewport);
+      std::vector<Ray> piece(viewport.width);
+      for (const auto& [x0, count] : {std::pair(0, 131), std::pair(8, 8), std::pair(125, 6),
+                                      std::pair(3, 1), std::pair(61, 67)}) {
+        for (int y = 0; y < viewport.height; y += 5) {
+          pixelCentreRays.row(y, x0, count, piece.data());
+          for (int k = 0; k < count; ++k) {
+            const Ray expected = generator.generateForPixel(x0 + k, y, viewport);
+            ASSERT_EQ(std::memcmp(&expected, &piece[k], sizeof(Ray)), 0)
+                << "piece at " << x0 << " of " << count << ", pixel " << x0 + k << ", " << y;
+          }
+        }
+      }
       for (int y = 0; y < viewport.height; ++y) {
         for (int x = 0; x < viewport.width; ++x) {
           const Ray expected = generator.generateForPixel(x, y, viewport);
@@ -255,6 +271,55 @@ TEST(Compare, FiguresDoNotDependOnTheThreadCount) {
   EXPECT_TRUE(sameBits(one.byKind[0].toleranceRatio.p99, one.toleranceRatio.p99));
   // Every seventh depth moved by one float ulp: the largest error is about a whole quantum.
   EXPECT_GT(one.depthErrorQuanta.max, 0.5);
+}
+
+TEST(Compare, RaysComputedPerRowGiveTheStoredRaysFigures) {
+  // A reconcile compares a robustRayFrame, whose rays are computed row by row where the compare
+  // reads them: every figure and every image must be the stored rays' (the same bits), with
+  // pixels of every class (moved depths, a missing raster pixel, an edge, an id past the scene).
+  Fixture f({61, 47});
+  for (std::size_t i = 0; i < f.raster.depth.size(); i += 5) {
+    if (f.raster.ids[i] != 0) f.raster.depth[i] = std::nextafter(f.raster.depth[i], 2.0f);
+  }
+  f.raster.depth[f.index(45, 20)] += 1e-4f;
+  f.raster.ids[f.index(50, 30)] = 0;
+  f.raster.ids[f.index(30, 12)] = f.raster.ids[f.index(30, 12)] == 0 ? 1 : 0;
+  f.raster.ids[f.index(40, 40)] = 99;
+  AnalyticFrame computed = robustRayFrame(f.camera);
+  intersectFrame(computed, *f.intersector, f.camera, 2);
+  for (const unsigned threads : {1u, 2u}) {
+    const ComparisonResult a =
+        compareFrames(f.raster, f.analytic, *f.intersector, f.setup, threads);
+    const ComparisonResult b = compareFrames(f.raster, computed, *f.intersector, f.setup, threads);
+    const RunMetrics &x = a.metrics, &y = b.metrics;
+    EXPECT_EQ(x.rayHits, y.rayHits);
+    EXPECT_EQ(x.depthCompared, y.depthCompared);
+    EXPECT_EQ(x.depthBeyondTolerance, y.depthBeyondTolerance);
+    EXPECT_EQ(x.coverageMismatch.total, y.coverageMismatch.total);
+    EXPECT_EQ(x.coverageMismatch.unexplained, y.coverageMismatch.unexplained);
+    EXPECT_EQ(x.idMismatch.total, y.idMismatch.total);
+    for (const auto& [p, q] : {std::pair(x.depthErrorQuanta, y.depthErrorQuanta),
+                               std::pair(x.distanceRelError, y.distanceRelError),
+                               std::pair(x.toleranceRatio, y.toleranceRatio)}) {
+      EXPECT_TRUE(sameBits(p.max, q.max));
+      EXPECT_TRUE(sameBits(p.p50, q.p50));
+      EXPECT_TRUE(sameBits(p.p99, q.p99));
+    }
+    const auto sameBytes = [](const auto& u, const auto& v) {
+      return u.size() == v.size() && std::memcmp(u.data(), v.data(), u.size() * sizeof(u[0])) == 0;
+    };
+    EXPECT_TRUE(sameBytes(a.pixels.analyticDepth, b.pixels.analyticDepth));
+    EXPECT_TRUE(sameBytes(a.pixels.rasterDepth, b.pixels.rasterDepth));
+    EXPECT_TRUE(sameBytes(a.pixels.toleranceRatio, b.pixels.toleranceRatio));
+    EXPECT_TRUE(sameBytes(a.pixels.classes, b.pixels.classes));
+    EXPECT_EQ(x.depthBeyondTolerance, 1);  // the moved pixel; the ulp moves stay within tolerance
+    EXPECT_GE(x.coverageMismatch.unexplained, 2);
+  }
+  // A frame with neither stored nor computed rays is refused.
+  AnalyticFrame none;
+  none.viewport = f.camera.viewport;
+  none.hits = computed.hits;
+  EXPECT_THROW(compareFrames(f.raster, none, *f.intersector, f.setup, 1), std::invalid_argument);
 }
 
 TEST(Compare, ToleranceRatiosAreTheToleranceModelsOwn) {

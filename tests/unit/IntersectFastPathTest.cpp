@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -393,6 +394,69 @@ TEST(FastPathBinned, CameraRaysUseTheBinsAndMatchTheLinearScan) {
     EXPECT_GT(hits, 61 * 47 / 3);
     expectFrameMatchesTheLinearScan(intersector, frame, c.name);
   }
+}
+
+TEST(FastPathBinned, RaysComputedPerTileHitWhatTheStoredRaysHit) {
+  // robustRayFrame stores no ray: each tile's rays are computed where they are traced. Its hits
+  // must be the stored rays' hits bit for bit (61x47: tiles cut short at the right and the top),
+  // binned, walking the BVH, and through intersectFrame's fallback for another camera size.
+  const Scene scene = testSceneWithPrimitives();
+  std::vector<BinnedCase> cases = binnedCases();
+  // A NO matrix drawn under reversed-Z ZO (scenes/no_matrix_under_zo.json): its rays start
+  // where that convention's near plane lies, and the bins of some tiles, left empty, do not
+  // hold what those rays hit. Such tiles must still compute their rays and walk the BVH.
+  BinnedCase mismatched = cases[0];
+  mismatched.name = "NO matrix under reversed-Z ZO";
+  mismatched.camera.mode = kZeroToOneReversed;
+  cases.push_back(mismatched);
+  for (const BinnedCase& c : cases) {
+    SCOPED_TRACE(c.name);
+    const SceneIntersector intersector = intersectorSeenFrom(scene, c.camera);
+    AnalyticFrame stored = generateRobustRays(c.camera, 2);
+    AnalyticFrame computed = robustRayFrame(c.camera);
+    EXPECT_TRUE(computed.rays.empty());
+    EXPECT_TRUE(computed.hasRays());
+    PickingCamera otherSize = c.camera;
+    otherSize.viewport.width += 1;
+    const auto expectSameHits = [&](const char* path) {
+      ASSERT_EQ(computed.hits.size(), stored.hits.size()) << path;
+      int hits = 0;
+      for (std::size_t i = 0; i < stored.hits.size(); ++i) {
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(computed.hits[i].t),
+                  std::bit_cast<std::uint64_t>(stored.hits[i].t))
+            << path << ", pixel " << i;
+        ASSERT_EQ(computed.hits[i].primitiveId, stored.hits[i].primitiveId)
+            << path << ", pixel " << i;
+        hits += stored.hits[i].hit() ? 1 : 0;
+      }
+      EXPECT_GT(hits, 61 * 47 / 3) << path;
+    };
+    const std::size_t binned = intersectFrame(computed, intersector, c.camera, 2);
+    EXPECT_EQ(binned, intersectFrame(stored, intersector, c.camera, 2));
+    if (&c == &cases.back()) {
+      EXPECT_LT(binned, tileCount(c.camera.viewport));  // some tiles stray from their bins
+    } else {
+      EXPECT_EQ(binned, tileCount(c.camera.viewport));
+    }
+    expectSameHits("binned");
+    intersectFrame(computed, intersector, 2);
+    intersectFrame(stored, intersector, 2);
+    expectSameHits("BVH");
+    EXPECT_EQ(intersectFrame(computed, intersector, otherSize, 1), 0u);
+    expectSameHits("fallback");
+  }
+}
+
+TEST(FastPathBinned, AFrameWithoutRaysIsRefused) {
+  const Scene scene = testSceneWithPrimitives();
+  const BinnedCase c = binnedCases()[0];
+  const SceneIntersector intersector = intersectorSeenFrom(scene, c.camera);
+  AnalyticFrame frame;
+  frame.viewport = c.camera.viewport;  // no rays stored, none computed
+  EXPECT_THROW(intersectFrame(frame, intersector, c.camera, 1), std::invalid_argument);
+  EXPECT_THROW(intersectFrame(frame, intersector, 1), std::invalid_argument);
+  frame.rays.resize(frame.pixelCount() - 1);  // one short
+  EXPECT_THROW(intersectFrame(frame, intersector, 1), std::invalid_argument);
 }
 
 TEST(FastPathBinned, RaysOffTheirPixelsWalkTheBvhAndStillMatch) {

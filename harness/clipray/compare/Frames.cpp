@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <mutex>
+#include <stdexcept>
 #include <system_error>
 #include <thread>
 
@@ -111,87 +113,127 @@ AnalyticFrame generateRays(const PickingCamera& camera, const PickRayFunction& r
 
 AnalyticFrame generateRobustRays(const PickingCamera& camera, unsigned threadCount) {
   const Viewport viewport = camera.viewport;
-  const RobustRayGenerator generator(camera.clipFromWorld, camera.mode);
+  const PixelCentreRays pixelCentreRays(camera.clipFromWorld, camera.mode, viewport);
   AnalyticFrame frame;
   frame.viewport = viewport;
-  frame.rays.resize(static_cast<std::size_t>(viewport.width) * viewport.height);
-  // clipXYOfPixelCentre's x depends on the column only and y on the row only: computed once each
-  // (the same arithmetic, so the same rays as generateForPixel), and generateRow hoists what the
-  // generator computes per row.
-  std::vector<double> clipXOfColumn(static_cast<std::size_t>(std::max(viewport.width, 0)));
-  for (int x = 0; x < viewport.width; ++x) clipXOfColumn[x] = clipXYOfPixelCentre(x, 0, viewport).x;
+  frame.rays.resize(frame.pixelCount());
   parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
     for (int y = rowBegin; y < rowEnd; ++y) {
-      Ray* row = frame.rays.data() + static_cast<std::size_t>(y) * viewport.width;
-      generator.generateRow(clipXYOfPixelCentre(0, y, viewport).y, clipXOfColumn, row);
+      pixelCentreRays.row(y, 0, viewport.width,
+                          frame.rays.data() + static_cast<std::size_t>(y) * viewport.width);
     }
   });
   return frame;
 }
 
+AnalyticFrame robustRayFrame(const PickingCamera& camera) {
+  AnalyticFrame frame;
+  frame.viewport = camera.viewport;
+  frame.pixelCentreRays =
+      std::make_shared<const PixelCentreRays>(camera.clipFromWorld, camera.mode, camera.viewport);
+  return frame;
+}
+
+namespace {
+
+// Runs trace(tileX, tileY, rays, hits, rowStride, columns, rows) on each kTile x kTile tile of the
+// frame, tile rows split across the threads, and sums what it returns. Stored rays are traced
+// where they lie (prefetched a few tiles ahead); computed rays are computed per tile into the
+// worker's tile buffers and their hits copied out.
+template <typename TraceTile>
+std::size_t forEachTile(AnalyticFrame& frame, int kTile, unsigned threadCount,
+                        const TraceTile& trace) {
+  const Viewport viewport = frame.viewport;
+  const int width = viewport.width;
+  // Every tile writes every hit of its pixels: no need to initialize them first.
+  frame.hits.resize(frame.pixelCount());
+  const int tileRows = (viewport.height + kTile - 1) / kTile;
+  std::atomic<std::size_t> total{0};
+  parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
+    std::size_t sum = 0;
+    std::vector<Ray> tileRays;
+    std::vector<Hit> tileHits;
+    if (frame.pixelCentreRays) {
+      tileRays.resize(static_cast<std::size_t>(kTile) * kTile);
+      tileHits.resize(static_cast<std::size_t>(kTile) * kTile);
+    }
+    for (int tileY = tileRowBegin; tileY < tileRowEnd; ++tileY) {
+      const int y0 = tileY * kTile;
+      const int rows = std::min(kTile, viewport.height - y0);
+      for (int tileX = 0; tileX * kTile < width; ++tileX) {
+        const int x0 = tileX * kTile;
+        const int columns = std::min(kTile, width - x0);
+        const std::size_t first = static_cast<std::size_t>(y0) * width + x0;
+        if (!frame.pixelCentreRays) {
+          if (x0 + kPrefetchTiles * kTile < width) {
+            prefetchTileRays(frame.rays.data() + first + kPrefetchTiles * kTile,
+                             static_cast<std::size_t>(width),
+                             std::min(kTile, width - x0 - kPrefetchTiles * kTile), rows);
+          }
+          sum += trace(tileX, tileY, frame.rays.data() + first, frame.hits.data() + first,
+                       static_cast<std::size_t>(width), columns, rows);
+          continue;
+        }
+        for (int y = 0; y < rows; ++y) {
+          frame.pixelCentreRays->row(y0 + y, x0, columns,
+                                     tileRays.data() + static_cast<std::size_t>(y) * kTile);
+        }
+        sum += trace(tileX, tileY, tileRays.data(), tileHits.data(),
+                     static_cast<std::size_t>(kTile), columns, rows);
+        for (int y = 0; y < rows; ++y) {
+          std::memcpy(frame.hits.data() + first + static_cast<std::size_t>(y) * width,
+                      tileHits.data() + static_cast<std::size_t>(y) * kTile,
+                      static_cast<std::size_t>(columns) * sizeof(Hit));
+        }
+      }
+    }
+    total += sum;
+  });
+  return total.load();
+}
+
+void requireRays(const AnalyticFrame& frame) {
+  if (!frame.hasRays()) {
+    throw std::invalid_argument("intersectFrame: the frame has no ray for each pixel");
+  }
+}
+
+}  // namespace
+
 void intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
                     unsigned threadCount) {
+  requireRays(frame);
   // Tiles of 8x8 neighbouring pixels: their rays are coherent, and closestHits traces each tile
   // as SIMD packets sharing one BVH walk (bit-identical to closestHit per ray). A pixel without
   // a ray (tMax < 0) gets the empty hit, as closestHit gives it.
   constexpr int kTile = 8;
   static_assert(kTile * kTile <= SceneIntersector::kMaxPacket);
-  const Viewport viewport = frame.viewport;
-  const int width = viewport.width;
-  // Every tile writes every hit of its pixels: no need to initialize them first.
-  frame.hits.resize(frame.rays.size());
-  const int tileRows = (viewport.height + kTile - 1) / kTile;
-  parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
-    for (int y0 = tileRowBegin * kTile; y0 < std::min(viewport.height, tileRowEnd * kTile);
-         y0 += kTile) {
-      const int rows = std::min(kTile, viewport.height - y0);
-      for (int x0 = 0; x0 < width; x0 += kTile) {
-        const std::size_t first = static_cast<std::size_t>(y0) * width + x0;
-        intersector.closestHitsTile(frame.rays.data() + first, frame.hits.data() + first,
-                                    static_cast<std::size_t>(width), std::min(kTile, width - x0),
-                                    rows);
-      }
-    }
-  });
+  forEachTile(
+      frame, kTile, threadCount,
+      [&](int, int, const Ray* rays, Hit* hits, std::size_t rowStride, int columns, int rows) {
+        intersector.closestHitsTile(rays, hits, rowStride, columns, rows);
+        return std::size_t{0};
+      });
 }
 
 std::size_t intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,
                            const PickingCamera& camera, unsigned threadCount) {
-  constexpr int kTile = FrameBins::kTile;
   const Viewport viewport = frame.viewport;
   if (intersector.primitiveIdCount() == 0 || !SceneIntersector::packetKernelsAvailable() ||
       viewport.width != camera.viewport.width || viewport.height != camera.viewport.height) {
     intersectFrame(frame, intersector, threadCount);
     return 0;
   }
+  requireRays(frame);
   const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, viewport, threadCount);
-  const int width = viewport.width;
-  frame.hits.resize(frame.rays.size());
-  const int tileRows = (viewport.height + kTile - 1) / kTile;
-  std::atomic<std::size_t> binnedTiles{0};
-  parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
-    std::size_t binned = 0;
-    for (int tileY = tileRowBegin; tileY < tileRowEnd; ++tileY) {
-      const int y0 = tileY * kTile;
-      const int rows = std::min(kTile, viewport.height - y0);
-      for (int tileX = 0; tileX * kTile < width; ++tileX) {
-        const int x0 = tileX * kTile;
-        const std::size_t first = static_cast<std::size_t>(y0) * width + x0;
-        if (x0 + kPrefetchTiles * kTile < width) {
-          prefetchTileRays(frame.rays.data() + first + kPrefetchTiles * kTile,
-                           static_cast<std::size_t>(width),
-                           std::min(kTile, width - x0 - kPrefetchTiles * kTile), rows);
-        }
-        binned += intersector.closestHitsTileBinned(
-                      bins, tileX, tileY, frame.rays.data() + first, frame.hits.data() + first,
-                      static_cast<std::size_t>(width), std::min(kTile, width - x0), rows)
-                      ? 1
-                      : 0;
-      }
-    }
-    binnedTiles += binned;
-  });
-  return binnedTiles.load();
+  return forEachTile(frame, FrameBins::kTile, threadCount,
+                     [&](int tileX, int tileY, const Ray* rays, Hit* hits, std::size_t rowStride,
+                         int columns, int rows) {
+                       return intersector.closestHitsTileBinned(bins, tileX, tileY, rays, hits,
+                                                                rowStride, columns, rows)
+                                  ? std::size_t{1}
+                                  : std::size_t{0};
+                     });
 }
 
 }  // namespace clipray

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <new>
 #include <optional>
 #include <type_traits>
@@ -15,6 +16,7 @@
 #include "clipray/intersect/SceneIntersector.hpp"
 #include "clipray/math/Conventions.hpp"
 #include "clipray/rays/Ray.hpp"
+#include "clipray/rays/RobustRays.hpp"
 #include "clipray/util/FrameBuffers.hpp"
 
 namespace clipray {
@@ -29,8 +31,17 @@ struct RasterFrame {
 // What the analytic pass found: the ray of each pixel and its closest hit.
 struct AnalyticFrame {
   Viewport viewport;
-  FrameVector<Ray> rays;  // resize() leaves rays unwritten: every pass writes every ray
+  // The rays, one per pixel (resize() leaves them unwritten: every pass writes every ray); or
+  // none stored, and pixelCentreRays computes them where a pass needs them (robustRayFrame).
+  FrameVector<Ray> rays;
+  std::shared_ptr<const PixelCentreRays> pixelCentreRays;
   FrameVector<Hit> hits;
+
+  std::size_t pixelCount() const {
+    return static_cast<std::size_t>(viewport.width) * static_cast<std::size_t>(viewport.height);
+  }
+  // Whether the frame has a ray for each pixel, stored or computed.
+  bool hasRays() const { return pixelCentreRays ? true : rays.size() == pixelCount(); }
 };
 
 // The camera a ray function is asked about: the matrix the app drew with, the conventions it
@@ -55,6 +66,9 @@ AnalyticFrame generateRays(const PickingCamera& camera, const PickRayFunction& r
                            unsigned threadCount = 0);
 // The same with clipray's robust rays, called directly (no per-pixel std::function dispatch).
 AnalyticFrame generateRobustRays(const PickingCamera& camera, unsigned threadCount = 0);
+// A frame with the same rays, bit for bit, that stores none: intersectFrame and compareFrames
+// compute each tile's or row's rays where they use them (what a reconcile runs).
+AnalyticFrame robustRayFrame(const PickingCamera& camera);
 // Pass 2: the closest hit of every ray, multi-threaded over rows: 8x8 tiles traced as SIMD
 // packets walking the BVH.
 void intersectFrame(AnalyticFrame& frame, const SceneIntersector& intersector,

@@ -799,7 +799,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
   const Viewport viewport = raster.viewport;
   const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;
   if (analytic.viewport != viewport || raster.depth.size() != count || raster.ids.size() != count ||
-      analytic.rays.size() != count || analytic.hits.size() != count) {
+      !analytic.hasRays() || analytic.hits.size() != count) {
     throw std::invalid_argument("compareFrames: raster and analytic frames differ in size");
   }
   const std::uint32_t primitiveCount = intersector.primitiveIdCount();
@@ -881,13 +881,13 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
 #if CLIPRAY_COMPARE_AVX2
         // Pixels first .. first + 3 when each shows the same triangle on both sides (with a ray
         // and a polygon built up front): their figures as the scalar loop below computes them.
-        const auto compareFour = [&](std::size_t first) {
+        const auto compareFour = [&](std::size_t first, const Ray* rays) {
           FourPolygons polygons;
           for (std::size_t l = 0; l < 4; ++l) {
             const std::uint32_t rasterId = raster.ids[first + l];
             const std::uint32_t rayId = analytic.hits[first + l].primitiveId;
             if (rasterId == 0 || rasterId != rayId || rasterId > primitiveCount ||
-                analytic.rays[first + l].tMax < 0.0 || intersector.isAnalytic(rayId)) {
+                rays[l].tMax < 0.0 || intersector.isAnalytic(rayId)) {
               return false;
             }
             const std::uint32_t slot = model.slotOfId_[rayId];
@@ -901,8 +901,8 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
             polygons.interpolation[l] = terms.interpolation;
           }
           FourPixels figures;
-          if (!fourTrianglePixels(fourInput, &analytic.rays[first], &analytic.hits[first],
-                                  &raster.depth[first], polygons, figures)) {
+          if (!fourTrianglePixels(fourInput, rays, &analytic.hits[first], &raster.depth[first],
+                                  polygons, figures)) {
             return false;
           }
           // The four pixels' figures and images, as the scalar loop below writes them one by one
@@ -926,12 +926,36 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
           return true;
         };
 #endif
+        // A row's rays where the frame computes them (robustRayFrame): 107 KB at 1920 pixels, so
+        // the row's loop reads them from this core's cache. Only runs of pixels that show
+        // something get theirs: a background pixel reads no ray (a terrain's sky is a third of
+        // its frame).
+        std::vector<Ray> rowScratch(analytic.pixelCentreRays ? width : 0);
         for (int y = rowBegin; y < rowEnd; ++y) {
           const std::size_t rowStart = static_cast<std::size_t>(y) * width;
           const double centreY = y + 0.5;
+          const Ray* rowRays = nullptr;
+          if (analytic.pixelCentreRays) {
+            rowRays = rowScratch.data();
+            constexpr std::size_t kRun = 64;
+            for (std::size_t x0 = 0; x0 < width; x0 += kRun) {
+              const std::size_t n = std::min(kRun, width - x0);
+              std::uint32_t shown = 0;
+              for (std::size_t k = rowStart + x0; k < rowStart + x0 + n; ++k) {
+                shown |= raster.ids[k] | analytic.hits[k].primitiveId;
+              }
+              if (shown != 0) {
+                analytic.pixelCentreRays->row(y, static_cast<int>(x0), static_cast<int>(n),
+                                              rowScratch.data() + x0);
+              }
+            }
+          } else {
+            rowRays = analytic.rays.data() + rowStart;
+          }
           for (std::size_t x = 0; x < width; ++x) {
 #if CLIPRAY_COMPARE_AVX2
-            if (fourAtOnce && x % 4 == 0 && x + 4 <= width && compareFour(rowStart + x)) {
+            if (fourAtOnce && x % 4 == 0 && x + 4 <= width &&
+                compareFour(rowStart + x, rowRays + x)) {
               x += 3;
               continue;
             }
@@ -947,7 +971,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
             pixels.classes[i] = PixelClass::Background;
             if (rasterId == 0 && rayId == 0) continue;  // background
             const glm::dvec2 centre(static_cast<double>(x) + 0.5, centreY);
-            const Ray& ray = analytic.rays[i];
+            const Ray& ray = rowRays[x];
             if (rasterId != 0) {
               ++local.rasterHits;
               pixels.rasterDepth[i] = raster.depth[i];

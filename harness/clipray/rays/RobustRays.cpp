@@ -33,6 +33,7 @@ RobustRayGenerator::RobustRayGenerator(const glm::dmat4& clipFromWorld, DepthMod
   // plane; for reversed-Z the near plane is z - w, which is <= 0 inside.
   nearSign_ = mode.reversed ? -1.0 : 1.0;
   parallel_ = mw == glm::dvec3(0.0);
+  depthPart_ = worldFromClip_[2] * mode_.nearNdcZ() + worldFromClip_[3] * 1.0;
 }
 
 Ray RobustRayGenerator::generate(glm::dvec2 clipXY) const noexcept {
@@ -182,16 +183,22 @@ __attribute__((target("avx2"))) void finishRowBlock(const RowConstants& c, const
 
 }  // namespace
 
-void RobustRayGenerator::generateRow(double clipY, std::span<const double> clipX,
-                                     Ray* rays) const noexcept {
+RobustRayGenerator::RowTerms RobustRayGenerator::rowTerms(double clipY) const noexcept {
   // generate() computes d[c] = fma(x, myCrossMw, fma(y, mwCrossMx, mxCrossMy)) and the near point
   // as glm's matrix-vector product ((M0 x + M1 y) + (M2 z + M3 w)): the inner fma, M1 y and
   // (M2 z + M3 w) are the same for the whole row. Computed once, the same operations on the same
   // operands give the same bits.
-  glm::dvec3 rowTerm;
-  for (int c = 0; c < 3; ++c) rowTerm[c] = std::fma(clipY, mwCrossMx_[c], mxCrossMy_[c]);
-  const glm::dvec4 rowPart = worldFromClip_[1] * clipY;
-  const glm::dvec4 depthPart = worldFromClip_[2] * mode_.nearNdcZ() + worldFromClip_[3] * 1.0;
+  RowTerms terms;
+  for (int c = 0; c < 3; ++c) terms.direction[c] = std::fma(clipY, mwCrossMx_[c], mxCrossMy_[c]);
+  terms.nearPoint = worldFromClip_[1] * clipY;
+  return terms;
+}
+
+void RobustRayGenerator::generateRow(const RowTerms& row, std::span<const double> clipX,
+                                     Ray* rays) const noexcept {
+  const glm::dvec3& rowTerm = row.direction;
+  const glm::dvec4& rowPart = row.nearPoint;
+  const glm::dvec4& depthPart = depthPart_;
 #if CLIPRAY_ROW_KERNELS
   if (rowKernelsAllowed && cpuHasAvx2Fma()) {
     const RowConstants constants{worldFromClip_[0], rowPart,   depthPart,
@@ -254,6 +261,28 @@ Ray RobustRayGenerator::finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld
                  ? t
                  : std::numeric_limits<double>::infinity();
   return ray;
+}
+
+PixelCentreRays::PixelCentreRays(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport)
+    : generator_(clipFromWorld, mode), viewport_(viewport) {
+  clipXOfColumn_.resize(static_cast<std::size_t>(std::max(viewport.width, 0)));
+  for (int x = 0; x < viewport.width; ++x) {
+    clipXOfColumn_[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, viewport).x;
+  }
+  rowTermsOfRow_.resize(static_cast<std::size_t>(std::max(viewport.height, 0)));
+  for (int y = 0; y < viewport.height; ++y) {
+    // The same clip y as clipXYOfPixelCentre(x, y): generateRow gives generateForPixel's bits.
+    rowTermsOfRow_[static_cast<std::size_t>(y)] =
+        generator_.rowTerms(clipXYOfPixelCentre(0, y, viewport).y);
+  }
+}
+
+void PixelCentreRays::row(int y, int xBegin, int count, Ray* rays) const noexcept {
+  generator_.generateRow(
+      rowTermsOfRow_[static_cast<std::size_t>(y)],
+      std::span<const double>(clipXOfColumn_)
+          .subspan(static_cast<std::size_t>(xBegin), static_cast<std::size_t>(count)),
+      rays);
 }
 
 }  // namespace clipray

@@ -5,6 +5,7 @@
 // oblique, mirrored, reversed-Z and infinite far without per-case switches from the caller.
 
 #include <span>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -26,7 +27,18 @@ class RobustRayGenerator {
   // rays[k] = generate({clipX[k], clipY}) for a whole row, bit for bit, with the terms that only
   // depend on the row computed once, and four pixels per instruction where the CPU has AVX2 and
   // FMA (the same operations in the same order: the same bits).
-  void generateRow(double clipY, std::span<const double> clipX, Ray* rays) const noexcept;
+  void generateRow(double clipY, std::span<const double> clipX, Ray* rays) const noexcept {
+    generateRow(rowTerms(clipY), clipX, rays);
+  }
+  // What generateRow computes once per row: the direction's and the near point's parts that
+  // depend on clip y alone. Kept per row, they let a few pixels of a row be generated at a time
+  // (a tile's row of eight) without computing them again.
+  struct RowTerms {
+    glm::dvec3 direction;  // fma(y, mw x mx, mx x my)
+    glm::dvec4 nearPoint;  // worldFromClip column 1 times y
+  };
+  RowTerms rowTerms(double clipY) const noexcept;
+  void generateRow(const RowTerms& row, std::span<const double> clipX, Ray* rays) const noexcept;
   // Whether generateRow may use its AVX2 + FMA kernels (the default, where the CPU has them).
   // Tests pin the portable loop too. Not thread-safe with concurrent generateRow calls.
   static void allowRowKernels(bool allowed);
@@ -46,10 +58,33 @@ class RobustRayGenerator {
   DepthMode mode_;
   // Precomputed plane-cross terms (seed 002 listing 3): d = x'(my x mw) + y'(mw x mx) + mx x my.
   glm::dvec3 myCrossMw_, mwCrossMx_, mxCrossMy_;
+  glm::dvec4 depthPart_;  // worldFromClip columns 2 and 3 times (z_near, 1): the same every row
   glm::dvec4 nearPlane_;  // row2 - z_near * row3: zero on the near clip plane
   glm::dvec4 farPlane_;   // row2 - z_far * row3
   double nearSign_;       // +1, or -1 for reversed-Z: sign of nearPlane inside the frustum
   bool parallel_;
+};
+
+// The robust rays through the pixel centres of a viewport, computed where they are needed instead
+// of stored: a 1920x1080 frame of rays is 116 MB, and writing it once and reading it back in the
+// intersection and again in the compare cost more than computing each ray twice.
+class PixelCentreRays {
+ public:
+  PixelCentreRays(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport);
+
+  // rays[k] = generator().generateForPixel(xBegin + k, y, viewport()), bit for bit, for
+  // k < count (the pixels must lie in the viewport).
+  void row(int y, int xBegin, int count, Ray* rays) const noexcept;
+
+  const RobustRayGenerator& generator() const { return generator_; }
+  Viewport viewport() const { return viewport_; }
+
+ private:
+  RobustRayGenerator generator_;
+  Viewport viewport_;
+  // clipXYOfPixelCentre's x depends on the column only: computed once per column.
+  std::vector<double> clipXOfColumn_;
+  std::vector<RobustRayGenerator::RowTerms> rowTermsOfRow_;
 };
 
 }  // namespace clipray
