@@ -294,8 +294,8 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
       [&] { binnedTiles = intersectFrame(binnedFrame, intersector, camera, 2); });
   add("clipray fast path (screen bins + 8x8 packets)", tris, viewport, 1,
       [&] { binnedTiles = intersectFrame(binnedFrame, intersector, camera, 1); });
-  // What a reconcile runs: no ray stored, each tile's rays computed where it is traced (the row
-  // above plus this one's bins and tiles, without the stored rays' 112 MB).
+  // What a reconcile runs: no ray stored, each tile's rays computed where it is traced (the
+  // rays row's work and the fast path's in one, without the stored rays' 116 MB).
   AnalyticFrame computedFrame = robustRayFrame(camera);
   add("clipray fast path, rays computed per tile", tris, viewport, 2,
       [&] { intersectFrame(computedFrame, intersector, camera, 2); });

@@ -31,8 +31,8 @@ class RobustRayGenerator {
     generateRow(rowTerms(clipY), clipX, rays);
   }
   // What generateRow computes once per row: the direction's and the near point's parts that
-  // depend on clip y alone. Kept per row, they let a few pixels of a row be generated at a time
-  // (a tile's row of eight) without computing them again.
+  // depend on clip y alone. Kept per row, they let a piece of a row be generated at a time (the
+  // 64 pixels under eight tiles) without computing them again.
   struct RowTerms {
     glm::dvec3 direction;  // fma(y, mw x mx, mx x my)
     glm::dvec4 nearPoint;  // worldFromClip column 1 times y
@@ -66,8 +66,9 @@ class RobustRayGenerator {
 };
 
 // The robust rays through the pixel centres of a viewport, computed where they are needed instead
-// of stored: a 1920x1080 frame of rays is 116 MB, and writing it once and reading it back in the
-// intersection and again in the compare cost more than computing each ray twice.
+// of stored. A 1920x1080 frame of rays is 116 MB (464 MB at 3840x2160): writing it once and
+// reading it back in the intersection and again in the compare cost about what computing each
+// ray twice does, and the first run of a process paid for every fresh page of it on top.
 class PixelCentreRays {
  public:
   PixelCentreRays(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport);

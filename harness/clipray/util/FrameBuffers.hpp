@@ -9,7 +9,7 @@
 
 namespace clipray {
 
-// Allocator of the per-pixel frame buffers (a 1080p frame of rays is 112 MB). Two costs dominate
+// Allocator of the per-pixel frame buffers (a 1080p frame of rays is 116 MB). Two costs dominate
 // filling such a buffer, not the work per pixel: std::vector value-initializes every element in
 // the allocating thread before the worker threads overwrite it, and the first touch of each 4 KiB
 // page faults. So resize() leaves elements uninitialized (the passes write every element; Ray and
