@@ -148,6 +148,17 @@ bool sameBits(double a, double b) {
   return std::bit_cast<std::uint64_t>(a) == std::bit_cast<std::uint64_t>(b);
 }
 
+// The three overall distributions of two runs hold the same bits.
+void expectSameDistributions(const RunMetrics& x, const RunMetrics& y) {
+  for (const auto& [a, b] : {std::pair(x.depthErrorQuanta, y.depthErrorQuanta),
+                             std::pair(x.distanceRelError, y.distanceRelError),
+                             std::pair(x.toleranceRatio, y.toleranceRatio)}) {
+    EXPECT_TRUE(sameBits(a.max, b.max));
+    EXPECT_TRUE(sameBits(a.p50, b.p50));
+    EXPECT_TRUE(sameBits(a.p99, b.p99));
+  }
+}
+
 TEST(Compare, RobustRaysByRowsAreTheRaysOfEachPixel) {
   // generateRobustRays hoists per-row terms and computes directions in blocks, four pixels per
   // instruction where the CPU can: each ray must still be generateForPixel's, bit for bit (a width
@@ -260,13 +271,7 @@ TEST(Compare, FiguresDoNotDependOnTheThreadCount) {
   const RunMetrics one = compareFrames(f.raster, f.analytic, *f.intersector, f.setup, 1).metrics;
   const RunMetrics three = compareFrames(f.raster, f.analytic, *f.intersector, f.setup, 3).metrics;
   EXPECT_EQ(one.depthCompared, three.depthCompared);
-  for (const auto& [a, b] : {std::pair(one.depthErrorQuanta, three.depthErrorQuanta),
-                             std::pair(one.distanceRelError, three.distanceRelError),
-                             std::pair(one.toleranceRatio, three.toleranceRatio)}) {
-    EXPECT_TRUE(sameBits(a.max, b.max));
-    EXPECT_TRUE(sameBits(a.p50, b.p50));
-    EXPECT_TRUE(sameBits(a.p99, b.p99));
-  }
+  expectSameDistributions(one, three);
   ASSERT_EQ(one.byKind.size(), 1u);
   EXPECT_TRUE(sameBits(one.byKind[0].toleranceRatio.p99, one.toleranceRatio.p99));
   // Every seventh depth moved by one float ulp: the largest error is about a whole quantum.
@@ -298,13 +303,7 @@ TEST(Compare, RaysComputedPerRowGiveTheStoredRaysFigures) {
     EXPECT_EQ(x.coverageMismatch.total, y.coverageMismatch.total);
     EXPECT_EQ(x.coverageMismatch.unexplained, y.coverageMismatch.unexplained);
     EXPECT_EQ(x.idMismatch.total, y.idMismatch.total);
-    for (const auto& [p, q] : {std::pair(x.depthErrorQuanta, y.depthErrorQuanta),
-                               std::pair(x.distanceRelError, y.distanceRelError),
-                               std::pair(x.toleranceRatio, y.toleranceRatio)}) {
-      EXPECT_TRUE(sameBits(p.max, q.max));
-      EXPECT_TRUE(sameBits(p.p50, q.p50));
-      EXPECT_TRUE(sameBits(p.p99, q.p99));
-    }
+    expectSameDistributions(x, y);
     const auto sameBytes = [](const auto& u, const auto& v) {
       return u.size() == v.size() && std::memcmp(u.data(), v.data(), u.size() * sizeof(u[0])) == 0;
     };
