@@ -282,14 +282,19 @@ TEST(Compare, RaysComputedPerRowGiveTheStoredRaysFigures) {
   // A reconcile compares a robustRayFrame, whose rays are computed row by row where the compare
   // reads them: every figure and every image must be the stored rays' (the same bits), with
   // pixels of every class (moved depths, a missing raster pixel, an edge, an id past the scene).
-  Fixture f({61, 47});
+  // 133 wide: three runs of 64 pixels per row. The quad covers columns 66-132 of rows 10-36.
+  Fixture f({133, 47});
   for (std::size_t i = 0; i < f.raster.depth.size(); i += 5) {
     if (f.raster.ids[i] != 0) f.raster.depth[i] = std::nextafter(f.raster.depth[i], 2.0f);
   }
-  f.raster.depth[f.index(45, 20)] += 1e-4f;
-  f.raster.ids[f.index(50, 30)] = 0;
-  f.raster.ids[f.index(30, 12)] = f.raster.ids[f.index(30, 12)] == 0 ? 1 : 0;
-  f.raster.ids[f.index(40, 40)] = 99;
+  ASSERT_NE(f.raster.ids[f.index(100, 20)], 0u);
+  ASSERT_EQ(f.raster.ids[f.index(20, 40)], 0u);
+  f.raster.depth[f.index(100, 20)] += 1e-4f;
+  f.raster.ids[f.index(110, 30)] = 0;
+  f.raster.ids[f.index(67, 12)] = f.raster.ids[f.index(67, 12)] == 0 ? 1 : 0;
+  f.raster.ids[f.index(20, 40)] = 99;  // an id past the scene, in a run that shows nothing else
+  // A run whose pixels only the rays show (the raster has none there): their rays are needed.
+  for (int x = 64; x < 128; ++x) f.raster.ids[f.index(x, 25)] = 0;
   AnalyticFrame computed = robustRayFrame(f.camera);
   intersectFrame(computed, *f.intersector, f.camera, 2);
   for (const unsigned threads : {1u, 2u}) {

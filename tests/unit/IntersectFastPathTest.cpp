@@ -328,9 +328,9 @@ PickingCamera lookingAt(const glm::dmat4& clipFromView, DepthMode mode, const gl
   return {clipFromView * viewFromWorldLookAt(eye, target, {0, 1, 0}), mode, viewport};
 }
 
-std::vector<BinnedCase> binnedCases() {
-  const Viewport v{61, 47};  // partial tiles at the right and top
-  const double aspect = 61.0 / 47.0;
+// 61x47 by default: partial tiles at the right and top.
+std::vector<BinnedCase> binnedCases(Viewport v = {61, 47}) {
+  const double aspect = static_cast<double>(v.width) / v.height;
   return {
       {"perspective NO",
        lookingAt(perspectiveClipFromView(0.9, aspect, 0.1, 100.0, kNegativeOneToOne),
@@ -402,6 +402,9 @@ TEST(FastPathBinned, RaysComputedPerTileHitWhatTheStoredRaysHit) {
   // binned, walking the BVH, and through intersectFrame's fallback for another camera size.
   const Scene scene = testSceneWithPrimitives();
   std::vector<BinnedCase> cases = binnedCases();
+  // 133 pixels wide: rays are computed 64 columns at a time, so three groups, the last of five
+  // columns (a partial tile).
+  for (const BinnedCase& wide : binnedCases({133, 47})) cases.push_back(wide);
   // A NO matrix drawn under reversed-Z ZO (scenes/no_matrix_under_zo.json): its rays start
   // where that convention's near plane lies, and the bins of some tiles, left empty, do not
   // hold what those rays hit. Such tiles must still compute their rays and walk the BVH.
@@ -410,7 +413,9 @@ TEST(FastPathBinned, RaysComputedPerTileHitWhatTheStoredRaysHit) {
   mismatched.camera.mode = kZeroToOneReversed;
   cases.push_back(mismatched);
   for (const BinnedCase& c : cases) {
-    SCOPED_TRACE(c.name);
+    SCOPED_TRACE(std::string(c.name) + " at " + std::to_string(c.camera.viewport.width) + "x" +
+                 std::to_string(c.camera.viewport.height));
+    const int pixels = c.camera.viewport.width * c.camera.viewport.height;
     const SceneIntersector intersector = intersectorSeenFrom(scene, c.camera);
     AnalyticFrame stored = generateRobustRays(c.camera, 2);
     AnalyticFrame computed = robustRayFrame(c.camera);
@@ -429,7 +434,7 @@ TEST(FastPathBinned, RaysComputedPerTileHitWhatTheStoredRaysHit) {
             << path << ", pixel " << i;
         hits += stored.hits[i].hit() ? 1 : 0;
       }
-      EXPECT_GT(hits, 61 * 47 / 3) << path;
+      EXPECT_GT(hits, pixels / 3) << path;
     };
     const std::size_t binned = intersectFrame(computed, intersector, c.camera, 2);
     EXPECT_EQ(binned, intersectFrame(stored, intersector, c.camera, 2));
@@ -457,6 +462,17 @@ TEST(FastPathBinned, AFrameWithoutRaysIsRefused) {
   EXPECT_THROW(intersectFrame(frame, intersector, 1), std::invalid_argument);
   frame.rays.resize(frame.pixelCount() - 1);  // one short
   EXPECT_THROW(intersectFrame(frame, intersector, 1), std::invalid_argument);
+  // Computed rays for another viewport, or stored and computed rays both: refused too.
+  PickingCamera wider = c.camera;
+  wider.viewport.width += 8;
+  AnalyticFrame otherSize = robustRayFrame(wider);
+  otherSize.viewport = c.camera.viewport;
+  EXPECT_THROW(intersectFrame(otherSize, intersector, c.camera, 1), std::invalid_argument);
+  AnalyticFrame both = generateRobustRays(c.camera, 1);
+  both.pixelCentreRays = robustRayFrame(c.camera).pixelCentreRays;
+  EXPECT_THROW(intersectFrame(both, intersector, c.camera, 1), std::invalid_argument);
+  both.rays.clear();  // computed only: taken
+  EXPECT_EQ(intersectFrame(both, intersector, c.camera, 1), tileCount(c.camera.viewport));
 }
 
 TEST(FastPathBinned, RaysOffTheirPixelsWalkTheBvhAndStillMatch) {

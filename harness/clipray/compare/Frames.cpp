@@ -205,7 +205,8 @@ std::size_t forEachTile(AnalyticFrame& frame, int kTile, unsigned threadCount,
 
 void requireRays(const AnalyticFrame& frame) {
   if (!frame.hasRays()) {
-    throw std::invalid_argument("intersectFrame: the frame has no ray for each pixel");
+    throw std::invalid_argument(
+        "intersectFrame: the frame needs one ray per pixel, stored or computed (not both)");
   }
 }
 

@@ -33,6 +33,7 @@ struct AnalyticFrame {
   Viewport viewport;
   // The rays, one per pixel (resize() leaves them unwritten: every pass writes every ray); or
   // none stored, and pixelCentreRays computes them where a pass needs them (robustRayFrame).
+  // Never both: the passes refuse a frame that has both, or neither for each pixel.
   FrameVector<Ray> rays;
   std::shared_ptr<const PixelCentreRays> pixelCentreRays;
   FrameVector<Hit> hits;
@@ -40,8 +41,11 @@ struct AnalyticFrame {
   std::size_t pixelCount() const {
     return static_cast<std::size_t>(viewport.width) * static_cast<std::size_t>(viewport.height);
   }
-  // Whether the frame has a ray for each pixel, stored or computed.
-  bool hasRays() const { return pixelCentreRays ? true : rays.size() == pixelCount(); }
+  // Whether the frame has a ray for each pixel: stored, or computed for this viewport.
+  bool hasRays() const {
+    return pixelCentreRays ? rays.empty() && pixelCentreRays->viewport() == viewport
+                           : rays.size() == pixelCount();
+  }
 };
 
 // The camera a ray function is asked about: the matrix the app drew with, the conventions it

@@ -799,8 +799,12 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
   const Viewport viewport = raster.viewport;
   const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;
   if (analytic.viewport != viewport || raster.depth.size() != count || raster.ids.size() != count ||
-      !analytic.hasRays() || analytic.hits.size() != count) {
+      analytic.hits.size() != count) {
     throw std::invalid_argument("compareFrames: raster and analytic frames differ in size");
+  }
+  if (!analytic.hasRays()) {
+    throw std::invalid_argument(
+        "compareFrames: the analytic frame needs one ray per pixel, stored or computed (not both)");
   }
   const std::uint32_t primitiveCount = intersector.primitiveIdCount();
   // Screen polygons only for the primitives the frames show (a big scene's other triangles are
@@ -938,6 +942,8 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
           if (analytic.pixelCentreRays) {
             rowRays = rowScratch.data();
             constexpr std::size_t kRun = 64;
+            // Runs start at multiples of 4: compareFour's four pixels never straddle two.
+            static_assert(kRun % 4 == 0);
             for (std::size_t x0 = 0; x0 < width; x0 += kRun) {
               const std::size_t n = std::min(kRun, width - x0);
               std::uint32_t shown = 0;
