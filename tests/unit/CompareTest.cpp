@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <bit>
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 #include <vector>
@@ -75,6 +76,27 @@ TEST(Compare, ExactRasterIsConsistent) {
   // Rounding to float is at most half an ulp: half a quantum of 32F.
   EXPECT_LE(m.depthErrorQuanta.max, 0.5);
   EXPECT_LT(m.toleranceRatio.max, 1.0);
+}
+
+TEST(Compare, BackgroundPixelsShowNoDepthWhereverTheyLie) {
+  // A run of 64 pixels that shows nothing is written at once; a background pixel beside the quad
+  // in a run that shows it goes through the per-pixel loop. Both must read as background: no
+  // depth on either side, no ratio.
+  const Fixture f({133, 47});
+  const ComparisonResult r = f.compare();
+  for (const auto& [x, y] : {std::pair(0, 40), std::pair(63, 40), std::pair(10, 20),
+                             std::pair(64, 20), std::pair(65, 20), std::pair(100, 45)}) {
+    const std::size_t i = f.index(x, y);
+    ASSERT_EQ(f.raster.ids[i], 0u) << x << ", " << y;
+    ASSERT_FALSE(f.analytic.hits[i].hit()) << x << ", " << y;
+    EXPECT_EQ(r.pixels.classes[i], PixelClass::Background) << x << ", " << y;
+    EXPECT_TRUE(std::isnan(r.pixels.analyticDepth[i])) << x << ", " << y;
+    EXPECT_TRUE(std::isnan(r.pixels.rasterDepth[i])) << x << ", " << y;
+    EXPECT_TRUE(std::isnan(r.pixels.toleranceRatio[i])) << x << ", " << y;
+  }
+  // Beside them in the same run, the quad's pixels are compared.
+  EXPECT_EQ(r.pixels.classes[f.index(100, 20)], PixelClass::Agree);
+  EXPECT_EQ(r.metrics.pixels, 133 * 47);
 }
 
 TEST(Compare, CoverageMismatchAwayFromEdgesIsUnexplained) {
