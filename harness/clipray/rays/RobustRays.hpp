@@ -24,20 +24,17 @@ class RobustRayGenerator {
   Ray generateForPixel(int i, int j, Viewport viewport) const noexcept {
     return generate(clipXYOfPixelCentre(i, j, viewport));
   }
-  // rays[k] = generate({clipX[k], clipY}) for a whole row, bit for bit, with the terms that only
-  // depend on the row computed once, and four pixels per instruction where the CPU has AVX2 and
-  // FMA (the same operations in the same order: the same bits).
-  void generateRow(double clipY, std::span<const double> clipX, Ray* rays) const noexcept {
-    generateRow(rowTerms(clipY), clipX, rays);
-  }
-  // What generateRow computes once per row: the direction's and the near point's parts that
-  // depend on clip y alone. Kept per row, they let a piece of a row be generated at a time (the
-  // 64 pixels under eight tiles) without computing them again.
+  // What the row generator computes once per row: the direction's and the near point's parts
+  // that depend on clip y alone (kept per row by PixelCentreRays, so that a piece of a row can be
+  // generated at a time).
   struct RowTerms {
     glm::dvec3 direction;  // fma(y, mw x mx, mx x my)
     glm::dvec4 nearPoint;  // worldFromClip column 1 times y
   };
   RowTerms rowTerms(double clipY) const noexcept;
+  // rays[k] = generate({clipX[k], clipY}) for the row whose terms are `row`, bit for bit, four
+  // pixels per instruction where the CPU has AVX2 and FMA (the same operations in the same order:
+  // the same bits).
   void generateRow(const RowTerms& row, std::span<const double> clipX, Ray* rays) const noexcept;
   // Whether generateRow may use its AVX2 + FMA kernels (the default, where the CPU has them).
   // Tests pin the portable loop too. Not thread-safe with concurrent generateRow calls.
