@@ -5,6 +5,10 @@
 #include <cmath>
 #include <thread>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "clipray/intersect/SceneIntersector.hpp"
 
 namespace clipray {
@@ -166,6 +170,32 @@ void triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, double wC
   }
 }
 
+// Bit r set where row r of a tile row lies outside one of the three edges at x: A' x + rowPart
+// (B' y + C') < 0 for some edge (see forEachTile). NaN (not for finite corners) counts as inside:
+// conservative. No branches: which half rows a triangle covers is what a predictor cannot guess.
+inline unsigned rowsOutside(const double (&rowPart)[3][FrameBins::kTile], const double (&edgeA)[3],
+                            double x) {
+  unsigned outside = 0;
+#if defined(__SSE2__)
+  static_assert(FrameBins::kTile % 2 == 0);
+  for (int k = 0; k < 3; ++k) {  // two rows per instruction
+    const __m128d columnPart = _mm_set1_pd(edgeA[k] * x);
+    for (int row = 0; row < FrameBins::kTile; row += 2) {
+      const __m128d sum = _mm_add_pd(columnPart, _mm_load_pd(&rowPart[k][row]));
+      outside |= static_cast<unsigned>(_mm_movemask_pd(_mm_cmplt_pd(sum, _mm_setzero_pd()))) << row;
+    }
+  }
+#else
+  for (int k = 0; k < 3; ++k) {
+    const double columnPart = edgeA[k] * x;
+    for (int row = 0; row < FrameBins::kTile; ++row) {
+      outside |= static_cast<unsigned>(columnPart + rowPart[k][row] < 0.0) << row;
+    }
+  }
+#endif
+  return outside;
+}
+
 // Calls emit(tileX, tileY, groupMask) for every tile the rect's triangle may be hit in, with the
 // half rows (FrameBins's group bits) it may be hit in: those its padded bounds touch and, where the
 // rect has its corners, those whose padded centres the triangle may cover.
@@ -195,13 +225,21 @@ void forEachTile(const PixelRect& r, Emit&& emit) {
                             std::abs(B) * (std::abs(a.y) + 4.0) + std::abs(C) + reach);
     }
   }
+  static_assert(kTile == 8, "a tile row's rows are the 8 bits of rowsOutside");
   for (int ty = r.y0 / kTile; ty <= r.y1 / kTile; ++ty) {
     const int rowBegin = std::max(r.y0, ty * kTile),
               rowEnd = std::min(r.y1, ty * kTile + kTile - 1);
-    double rowPart[kTile][3];  // B' y + C' of each edge, per row of the tile row
+    // The tile row's rows the bounds keep, one bit each.
+    const unsigned rowsKept =
+        ((1u << (rowEnd - ty * kTile + 1)) - 1u) & ~((1u << (rowBegin - ty * kTile)) - 1u);
+    // B' y + C' of each edge, for all 8 rows of the tile row (those outside the bounds are
+    // dropped by rowsKept).
+    alignas(16) double rowPart[3][kTile];
     if (r.hasCorners) {
-      for (int y = rowBegin; y <= rowEnd; ++y) {
-        for (int k = 0; k < 3; ++k) rowPart[y - ty * kTile][k] = edgeB[k] * y + edgeC[k];
+      for (int k = 0; k < 3; ++k) {
+        for (int row = 0; row < kTile; ++row) {
+          rowPart[k][row] = edgeB[k] * (ty * kTile + row) + edgeC[k];
+        }
       }
     }
     for (int tx = r.x0 / kTile; tx <= r.x1 / kTile; ++tx) {
@@ -211,22 +249,15 @@ void forEachTile(const PixelRect& r, Emit&& emit) {
       if (!r.hasCorners) {
         for (int y = rowBegin; y <= rowEnd; ++y) mask |= halves << (2 * (y - ty * kTile));
       } else {
-        double columnPart[2][3];  // A' x of each edge at each half row's middle
         for (int half = 0; half < 2; ++half) {
-          const double middle = left + 4 * half + 1.5;
-          for (int k = 0; k < 3; ++k) columnPart[half][k] = edgeA[k] * middle;
-        }
-        for (int y = rowBegin; y <= rowEnd; ++y) {
-          const int row = y - ty * kTile;
-          for (int half = 0; half < 2; ++half) {
-            // NaN (not for finite corners) counts as inside: conservative. No branches: which
-            // half rows a triangle covers is what a predictor cannot guess.
-            const unsigned outside =
-                static_cast<unsigned>(columnPart[half][0] + rowPart[row][0] < 0.0) |
-                static_cast<unsigned>(columnPart[half][1] + rowPart[row][1] < 0.0) |
-                static_cast<unsigned>(columnPart[half][2] + rowPart[row][2] < 0.0);
-            mask |= (halves & ((outside ^ 1u) << half)) << (2 * row);
-          }
+          if ((halves & (1u << half)) == 0) continue;
+          const unsigned outside = rowsOutside(rowPart, edgeA, left + 4 * half + 1.5);
+          // Row bits to the mask's layout: row r's half rows are bits 2 r and 2 r + 1.
+          std::uint32_t inside = ~outside & rowsKept;
+          inside = (inside | (inside << 4)) & 0x0f0fu;
+          inside = (inside | (inside << 2)) & 0x3333u;
+          inside = (inside | (inside << 1)) & 0x5555u;
+          mask |= inside << half;
         }
       }
       if (mask != 0) emit(tx, ty, static_cast<std::uint16_t>(mask));
