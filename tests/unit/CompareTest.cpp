@@ -11,6 +11,7 @@
 
 #include "clipray/compare/Reconcile.hpp"
 #include "clipray/math/Projections.hpp"
+#include "clipray/scene/Terrain.hpp"
 #include "support/TestScenes.hpp"
 
 namespace clipray {
@@ -280,6 +281,92 @@ TEST(Compare, ToleranceModelOfSomeIdsAnswersAsTheFullModel) {
           sameBits(full.depthTolerance(id, hit),
                    partial.depthToleranceAtClip(id, f.setup.clipFromWorld * glm::dvec4(hit, 1.0))));
     }
+  }
+}
+
+TEST(Compare, ModelsAskedInTurnAboutIdsNotBuiltUpFrontEachAnswerTheirOwn) {
+  // Ids not built up front are built when asked and kept in the asking thread's cache: two
+  // models of other cameras asked in turn on one thread, and models made one after another in
+  // the same place, must each answer as their full model does, never with another's polygon.
+  Fixture f({17, 13});
+  f.scene.objects.push_back(
+      testing::quad("far quad", {-3, -1, -2}, {-1, -1, -2}, {-1, 1, -2}, {-3, 1, -2}));
+  // Over a thousand triangles: ids that share a cache entry.
+  f.scene.objects.push_back(makeTerrainMesh(2500, 7, "terrain"));
+  const SceneIntersector intersector(f.scene, glm::dvec3(0, 0, 2.9));
+  ASSERT_GT(intersector.primitiveIdCount(), 2048u);
+  RasterSetup other = f.setup;
+  other.clipFromWorld = perspectiveClipFromView(glm::radians(40.0), 1.0, 0.1, 100.0, kZeroToOne) *
+                        viewFromWorldLookAt({0.5, 0.25, 4}, {0, 0, 0}, {0, 1, 0});
+  const ToleranceModel fullA(intersector, f.setup, f.camera.viewport);
+  const ToleranceModel fullB(intersector, other, f.camera.viewport);
+  const auto sameAnswers = [&](const ToleranceModel& full, const ToleranceModel& lazy,
+                               std::uint32_t id) {
+    for (const glm::dvec2 pixel : {glm::dvec2(0.5, 0.5), glm::dvec2(8.5, 6.5)}) {
+      EXPECT_TRUE(sameBits(full.edgeDistancePixels(id, pixel), lazy.edgeDistancePixels(id, pixel)));
+      EXPECT_TRUE(sameBits(full.planeDepthAt(id, pixel), lazy.planeDepthAt(id, pixel)));
+    }
+    EXPECT_TRUE(sameBits(full.edgeEpsilonPixels(id), lazy.edgeEpsilonPixels(id)));
+    const glm::dvec3 hit(0.25 * id, 0.5, -0.125 * id);
+    EXPECT_TRUE(sameBits(full.depthTolerance(id, hit), lazy.depthTolerance(id, hit)));
+  };
+  {
+    const ToleranceModel lazyA(intersector, f.setup, f.camera.viewport, {}, 1);
+    const ToleranceModel lazyB(intersector, other, f.camera.viewport, {}, 1);
+    for (int pass = 0; pass < 2; ++pass) {  // the second pass reads the cache
+      for (std::uint32_t id = 1; id <= intersector.primitiveIdCount(); ++id) {
+        SCOPED_TRACE(::testing::Message() << "pass " << pass << " id " << id);
+        sameAnswers(fullA, lazyA, id);
+        sameAnswers(fullB, lazyB, id);
+      }
+    }
+  }
+  for (int k = 0; k < 4; ++k) {
+    const RasterSetup& setup = k % 2 == 0 ? f.setup : other;
+    const ToleranceModel lazy(intersector, setup, f.camera.viewport, {}, 1);
+    for (std::uint32_t id = 1; id <= intersector.primitiveIdCount(); ++id) {
+      SCOPED_TRACE(::testing::Message() << "model " << k << " id " << id);
+      sameAnswers(k % 2 == 0 ? fullA : fullB, lazy, id);
+    }
+  }
+}
+
+TEST(Compare, ARasterThatDrawsNothingHasEveryRayPixelJudgedByItsOwnPolygon) {
+  // Every id then shows on the ray side only (none is built up front): each hit pixel is a
+  // coverage mismatch, edge-ambiguous exactly where the model of every triangle says so.
+  Fixture f({61, 47});
+  f.scene.objects.push_back(
+      testing::quad("second", {-2, -1, -1}, {-0.5, -1, -1}, {-0.5, 0.5, -1}, {-2, 0.5, -1}));
+  f.intersector.emplace(f.scene, glm::dvec3(0, 0, 2.9));
+  intersectFrame(f.analytic, *f.intersector, 1);
+  std::fill(f.raster.ids.begin(), f.raster.ids.end(), 0u);
+  std::fill(f.raster.depth.begin(), f.raster.depth.end(), 1.0f);
+  for (const unsigned threads : {1u, 2u}) {
+    const ComparisonResult r =
+        compareFrames(f.raster, f.analytic, *f.intersector, f.setup, threads);
+    const ToleranceModel full(*f.intersector, f.setup, f.camera.viewport);
+    std::int64_t rayPixels = 0, ambiguous = 0;
+    for (int y = 0; y < 47; ++y) {
+      for (int x = 0; x < 61; ++x) {
+        const std::size_t i = f.index(x, y);
+        const std::uint32_t id = f.analytic.hits[i].primitiveId;
+        if (id == 0) {
+          EXPECT_EQ(r.pixels.classes[i], PixelClass::Background);
+          continue;
+        }
+        ++rayPixels;
+        const bool edge = full.edgeAmbiguous(id, {x + 0.5, y + 0.5});
+        ambiguous += edge ? 1 : 0;
+        EXPECT_EQ(r.pixels.classes[i],
+                  edge ? PixelClass::CoverageEdgeAmbiguous : PixelClass::CoverageUnexplained)
+            << x << ", " << y;
+      }
+    }
+    EXPECT_GT(rayPixels, 500);
+    EXPECT_GT(ambiguous, 0);
+    EXPECT_EQ(r.metrics.coverageMismatch.total, rayPixels);
+    EXPECT_EQ(r.metrics.coverageMismatch.edgeAmbiguous, ambiguous);
+    EXPECT_EQ(r.metrics.depthCompared, 0);
   }
 }
 

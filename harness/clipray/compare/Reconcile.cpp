@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <utility>
@@ -122,6 +123,8 @@ const char* pixelClassName(PixelClass value) {
   return "?";
 }
 
+std::atomic<std::uint64_t> ToleranceModel::nextSerial{1};
+
 ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup,
                                Viewport viewport)
     : ToleranceModel(intersector, setup, viewport, std::span<const std::uint32_t>()) {
@@ -145,6 +148,7 @@ ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const Raster
                                        glm::dvec4(0, 0, 1, 0),
                                        glm::dvec4(setup.vertexReference, 1.0))),
       slotOfId_(std::size_t{intersector.primitiveIdCount()} + 1, kNoSlot),
+      serial_(nextSerial.fetch_add(1, std::memory_order_relaxed)),
       windowFromNdcScale_(1.0 / (1.0 - setup.mode.clipVolumeMinZ())),
       subpixelStep_(std::ldexp(1.0, -setup.subpixelBits)) {
   const std::uint32_t firstAnalytic = static_cast<std::uint32_t>(intersector.triangleCount()) + 1;
@@ -191,11 +195,29 @@ void ToleranceModel::buildPolygons(std::span<const std::uint32_t> primitiveIds,
 const ToleranceModel::ScreenPolygon& ToleranceModel::polygon(std::uint32_t primitiveId) const {
   const std::uint32_t slot = primitiveId < slotOfId_.size() ? slotOfId_[primitiveId] : kNoSlot;
   if (slot != kNoSlot) return polygons_[slot];
-  // Not built up front: build it now into this thread's scratch (each query uses one polygon
-  // and is done with it before the next).
-  thread_local ScreenPolygon scratch;
-  scratch = buildPolygon(primitiveId);
-  return scratch;
+  // Not built up front (an id only the rays show, when the model was built from the raster's):
+  // from this thread's cache of the polygons it built for this model, else built into it. A
+  // frame whose rays show many ids the raster does not (a raster that draws nothing) then builds
+  // each about once per thread: 1024 entries keep a 1080p row's ids until the next row asks
+  // again. Allocated by the threads that need one only. Each query uses one polygon and is done
+  // with it before the next.
+  struct Cache {
+    std::uint64_t model = 0;  // the serial of the model the entries are for
+    std::array<std::uint32_t, 1024> ids;
+    std::array<ScreenPolygon, 1024> polygons;
+  };
+  thread_local std::unique_ptr<Cache> cache;
+  if (!cache) cache = std::make_unique<Cache>();
+  if (cache->model != serial_) {
+    cache->model = serial_;
+    cache->ids.fill(kNoSlot);  // no id is kNoSlot: ids are below primitiveIdCount() + 1
+  }
+  const std::size_t entry = primitiveId % cache->ids.size();
+  if (cache->ids[entry] != primitiveId) {
+    cache->polygons[entry] = buildPolygon(primitiveId);
+    cache->ids[entry] = primitiveId;
+  }
+  return cache->polygons[entry];
 }
 
 ToleranceModel::PixelTerms ToleranceModel::pixelTerms(std::uint32_t primitiveId) const {
@@ -515,10 +537,13 @@ double ToleranceModel::depthToleranceAtClip(std::uint32_t primitiveId,
 
 namespace {
 
-// The triangles and primitives a frame pair can ask the tolerance model about: every valid id
-// either side shows (ascending). On a big scene far fewer than all of them.
-std::vector<std::uint32_t> idsInFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
-                                       std::uint32_t primitiveCount, unsigned threadCount) {
+// The triangles and primitives the raster shows (ascending): the ids the tolerance model is
+// asked about in every pixel that compares depth (there the rays show the same id). On a big
+// scene far fewer than all of them. The few ids only the rays show are asked about at mismatched
+// pixels alone, and built there (ToleranceModel::polygon); reading the hits here too read 40 MB
+// of a 1080p frame where the raster ids are 8 MB.
+std::vector<std::uint32_t> idsInRaster(const RasterFrame& raster, std::uint32_t primitiveCount,
+                                       unsigned threadCount) {
   std::vector<std::uint8_t> shown(std::size_t{primitiveCount} + 1, 0);
   const Viewport viewport = raster.viewport;
   parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
@@ -527,15 +552,12 @@ std::vector<std::uint32_t> idsInFrames(const RasterFrame& raster, const Analytic
     // id: relaxed atomics make that well-defined (plain byte stores on x86). Background and
     // invalid ids mark a byte of this thread's own, not one every thread writes.
     std::uint8_t elsewhere = 0;
-    const auto mark = [&](std::uint32_t id) {
-      std::uint8_t& flag = id != 0 && id <= primitiveCount ? shown[id] : elsewhere;
-      std::atomic_ref<std::uint8_t>(flag).store(1, std::memory_order_relaxed);
-    };
     const std::size_t begin = static_cast<std::size_t>(rowBegin) * viewport.width;
     const std::size_t end = static_cast<std::size_t>(rowEnd) * viewport.width;
     for (std::size_t i = begin; i < end; ++i) {
-      mark(raster.ids[i]);
-      mark(analytic.hits[i].primitiveId);
+      const std::uint32_t id = raster.ids[i];
+      std::uint8_t& flag = id != 0 && id <= primitiveCount ? shown[id] : elsewhere;
+      std::atomic_ref<std::uint8_t>(flag).store(1, std::memory_order_relaxed);
     }
   });
   std::vector<std::uint32_t> ids;
@@ -810,8 +832,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
   // Screen polygons only for the primitives the frames show (a big scene's other triangles are
   // never asked about), clipped across the threads.
   const ToleranceModel model(intersector, setup, viewport,
-                             idsInFrames(raster, analytic, primitiveCount, threadCount),
-                             threadCount);
+                             idsInRaster(raster, primitiveCount, threadCount), threadCount);
   const glm::dmat4& m = setup.clipFromWorld;
   const glm::dmat4 worldFromClip = glm::inverse(m);
   // Figures per surface kind: 0 triangles, 1 + PrimitiveKind for analytic primitives.

@@ -4,6 +4,7 @@
 // derived from the depth format, the convention, the matrix and the vertex mode.
 
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <span>
@@ -105,7 +106,8 @@ class ToleranceModel {
   ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup, Viewport viewport);
   // Clips up front only the triangles among primitiveIds (those a frame shows: the rest of a big
   // scene is never asked about), across threadCount threads (0: all cores). Any other primitive
-  // may still be asked about: its polygon is then clipped on each query (same answers, slower).
+  // may still be asked about: its polygon is then clipped when asked, and kept in a small cache of
+  // the asking thread's (same answers).
   ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup, Viewport viewport,
                  std::span<const std::uint32_t> primitiveIds, unsigned threadCount = 0);
   // Window-depth tolerance for a hit on primitive id at a world hit point.
@@ -179,6 +181,9 @@ class ToleranceModel {
   RobustRayGenerator rays_;
   glm::dmat4 cameraRelativeMatrix_;      // the matrix the GPU multiplies in CameraRelative mode
   std::vector<std::uint32_t> slotOfId_;  // primitive id -> index in polygons_, or kNoSlot
+  // Tells this model's entries apart in a thread's cache of polygons not built up front.
+  static std::atomic<std::uint64_t> nextSerial;
+  std::uint64_t serial_;
   FrameVector<ScreenPolygon> polygons_;  // the polygons built up front (kept from run to run)
   FrameVector<PixelTerms> pixelTerms_;   // the same slots' PixelTerms
   // Per analytic primitive (in the intersector's order): clipFromWorld * worldFromLocal, the
