@@ -61,6 +61,7 @@ struct ReconcileOptions {
   std::string out = "report";
   bool json = false;
   unsigned threads = 0;
+  unsigned rounds = 1;
 };
 
 int runReconcile(const ReconcileOptions& options) {
@@ -149,34 +150,44 @@ int runReconcile(const ReconcileOptions& options) {
 
   // 3. The runs: scene x camera x convention (one analytic pass) x format x vertex mode.
   //    A progress line on stderr only when a person is watching it.
+  //    With --rounds, all of it again, round after round (images in the last round only).
   const bool progress = isatty(STDERR_FILENO) != 0;
-  std::vector<RunRecord> runs;
-  for (const Scene& scene : scenes) {
-    const std::vector<DepthMode> sceneConventions =
-        conventions
-            ? *conventions
-            : (scene.conventions.empty() ? std::vector<DepthMode>{kNegativeOneToOne, kZeroToOne}
-                                         : scene.conventions);
-    for (const Camera& camera : scene.cameras) {
-      const Viewport viewport = sizeOverride.value_or(camera.viewport);
-      for (const DepthMode mode : sceneConventions) {
-        const gl::AnalyticPass pass =
-            gl::runAnalyticPass(scene, camera, mode, viewport, options.threads);
-        for (const DepthFormat format : formats) {
-          for (const VertexMode vertexMode : vertexModes) {
-            if (progress) {
-              std::cerr << "clipray: " << scene.name << "/" << camera.name << " " << mode.name()
-                        << " " << depthFormatName(format) << " " << vertexModeName(vertexMode)
-                        << "\x1b[K\r" << std::flush;
+  std::vector<std::vector<RunRecord>> rounds;
+  for (unsigned round = 1; round <= options.rounds; ++round) {
+    const bool lastRound = round == options.rounds;
+    std::vector<RunRecord>& runs = rounds.emplace_back();
+    for (const Scene& scene : scenes) {
+      const std::vector<DepthMode> sceneConventions =
+          conventions
+              ? *conventions
+              : (scene.conventions.empty() ? std::vector<DepthMode>{kNegativeOneToOne, kZeroToOne}
+                                           : scene.conventions);
+      for (const Camera& camera : scene.cameras) {
+        const Viewport viewport = sizeOverride.value_or(camera.viewport);
+        for (const DepthMode mode : sceneConventions) {
+          const gl::AnalyticPass pass =
+              gl::runAnalyticPass(scene, camera, mode, viewport, options.threads);
+          for (const DepthFormat format : formats) {
+            for (const VertexMode vertexMode : vertexModes) {
+              if (progress) {
+                std::cerr << "clipray: ";
+                if (options.rounds > 1) {
+                  std::cerr << "round " << round << "/" << options.rounds << " ";
+                }
+                std::cerr << scene.name << "/" << camera.name << " " << mode.name() << " "
+                          << depthFormatName(format) << " " << vertexModeName(vertexMode)
+                          << "\x1b[K\r" << std::flush;
+              }
+              runs.push_back(gl::rasterAndCompare(renderer, pass, format, vertexMode, lastRound,
+                                                  options.threads));
             }
-            runs.push_back(
-                gl::rasterAndCompare(renderer, pass, format, vertexMode, true, options.threads));
           }
         }
       }
     }
   }
   if (progress) std::cerr << "\x1b[K" << std::flush;
+  const std::vector<RunRecord> runs = mergeRounds(std::move(rounds));
 
   // 4. Outputs, all at the end and each atomically.
   writeReport(options.out, runs, renderer.info());
@@ -213,6 +224,11 @@ CommandRunner addReconcileOptions(CLI::App& app) {
   app.add_flag("--json", options->json, "Also print report.json to stdout");
   app.add_option("--threads", options->threads, "Threads for the analytic pass (0: all cores)")
       ->check(CLI::Range(0u, 256u))
+      ->capture_default_str();
+  app.add_option("--rounds", options->rounds,
+                 "Make every run this many times, round after round; timings_ms then holds each "
+                 "timing's median over rounds 2.. (the first, cold round is reported apart)")
+      ->check(CLI::Range(1u, 1000u))
       ->capture_default_str();
   return [options] { return runReconcile(*options); };
 }

@@ -61,6 +61,53 @@ TEST(ReconcileCli, WritesTheReportAndExitsZeroWhenConsistent) {
       << result.err;
 }
 
+TEST(ReconcileCli, RoundsRepeatEveryRunAndMeasureNothingElseDifferently) {
+  TempFolder folder;
+  const std::string scene =
+      "reconcile '" + kSource + "/scenes/standard.json' --conventions no,zo --depth-formats 32f ";
+  const auto once = runClipray(scene + "--out once", folder.path());
+  const auto thrice = runClipray(scene + "--rounds 3 --out thrice", folder.path());
+  ASSERT_EQ(once.status, 0) << once.err;
+  ASSERT_EQ(thrice.status, 0) << thrice.err;
+  const auto a = nlohmann::json::parse(testing::readText(folder.path() / "once/report.json"));
+  const auto b = nlohmann::json::parse(testing::readText(folder.path() / "thrice/report.json"));
+  ASSERT_EQ(a["runs"].size(), 2u);
+  ASSERT_EQ(b["runs"].size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    nlohmann::json runA = a["runs"][i], runB = b["runs"][i];
+    EXPECT_FALSE(runA.contains("rounds"));
+    EXPECT_EQ(runB["rounds"], 3);
+    const nlohmann::json& first = runB["first_round_timings_ms"];
+    for (const char* timing : {"raster", "readback", "rays", "intersect", "compare"}) {
+      EXPECT_GT(first[timing].get<double>(), 0.0) << timing;
+      EXPECT_GT(runB["timings_ms"][timing].get<double>(), 0.0) << timing;
+    }
+    for (const nlohmann::json& run : {runA, runB}) {
+      const nlohmann::json& t = run["timings_ms"];
+      const double ratio = run["analytic_over_raster"].get<double>();
+      EXPECT_GT(ratio, 0.0);
+      if (!run.contains("rounds")) {  // one round: the run's own timings' ratio
+        EXPECT_DOUBLE_EQ(ratio, (t["rays"].get<double>() + t["intersect"].get<double>() +
+                                 t["compare"].get<double>()) /
+                                    t["raster"].get<double>());
+      }
+    }
+    // The last round's images are written.
+    for (const auto& [name, path] : runB["images"].items()) {
+      EXPECT_TRUE(
+          std::filesystem::is_regular_file(folder.path() / "thrice" / path.get<std::string>()))
+          << name;
+    }
+    // Everything measured but time is the same, round after round.
+    for (const char* timed :
+         {"timings_ms", "analytic_over_raster", "rounds", "first_round_timings_ms", "images"}) {
+      runA.erase(timed);
+      runB.erase(timed);
+    }
+    EXPECT_EQ(runA, runB);
+  }
+}
+
 TEST(ReconcileCli, DefaultsToEveryShippedScene) {
   TempFolder folder;
   std::filesystem::create_directory_symlink(kSource + "/scenes", folder.path() / "scenes");
@@ -189,7 +236,9 @@ INSTANTIATE_TEST_SUITE_P(
                       "/tests/data/meshes/quads.obj: the file has no cameras; give it one (glTF) "
                       "or reference it from a scene file with cameras (\"type\": \"meshFile\")"},
         BadInvocation{"NoSubcommand", "", "", "A subcommand is required"},
-        BadInvocation{"UnknownOption", "reconcile --frobnicate", "", "frobnicate"}),
+        BadInvocation{"UnknownOption", "reconcile --frobnicate", "", "frobnicate"},
+        BadInvocation{"ZeroRounds", "reconcile " + kStandard + " --rounds 0", "",
+                      "--rounds: Value 0 not in range 1 to 1000"}),
     [](const ::testing::TestParamInfo<BadInvocation>& param) {
       return std::string(param.param.name);
     });

@@ -104,6 +104,7 @@ RunRecord sampleRun() {
   sphere.toleranceRatio = {0.25, 0.0625, 0.125};
   m.byKind = {sphere};
   run.timings = {1.5, 2.5, 3.25, 40.0, 5.0};
+  run.analyticOverRaster = 32.5;
   return run;
 }
 
@@ -198,12 +199,94 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
                            "tolerance_ratio": {"max": 0.25, "p99": 0.125}}},
     "verdict": "inconsistent",
     "timings_ms": {"raster": 1.5, "readback": 2.5, "rays": 3.25, "intersect": 40.0, "compare": 5.0},
+    "analytic_over_raster": 32.5,
     "images": {"raster_depth": "standard/main-zo-24-world/raster_depth.png",
                "ray_depth": "standard/main-zo-24-world/ray_depth.png",
                "error_heatmap": "standard/main-zo-24-world/error_heatmap.png",
                "mismatch": "standard/main-zo-24-world/mismatch.png"}
   })");
   EXPECT_EQ(j["runs"][0], expected) << j["runs"][0].dump(2);
+}
+
+TEST(ReportJson, ARunMadeInRoundsAlsoGivesItsFirstRound) {
+  RunRecord run = sampleRun();
+  run.rounds = 5;
+  run.firstRound = {80.0, 12.5, 0.25, 160.0, 96.0};
+  const nlohmann::json r = reportJson({run}, sampleGl())["runs"][0];
+  EXPECT_EQ(r["rounds"], 5);
+  EXPECT_EQ(r["first_round_timings_ms"],
+            nlohmann::json::parse(R"({"raster": 80.0, "readback": 12.5, "rays": 0.25,
+                                      "intersect": 160.0, "compare": 96.0})"));
+  EXPECT_EQ(r["timings_ms"]["intersect"], 40.0);
+  EXPECT_EQ(r["analytic_over_raster"], 32.5);
+  // One round: neither key (the run's timings are that round's).
+  const nlohmann::json once = reportJson({sampleRun()}, sampleGl())["runs"][0];
+  EXPECT_FALSE(once.contains("rounds"));
+  EXPECT_FALSE(once.contains("first_round_timings_ms"));
+}
+
+// Run i of a round whose timings are t (and analyticOverRaster their own ratio), named by i.
+RunRecord roundRun(int i, RunTimings t) {
+  RunRecord run = sampleRun();
+  run.camera = "camera" + std::to_string(i);
+  run.timings = t;
+  run.analyticOverRaster = t.analyticOverRaster();
+  return run;
+}
+
+TEST(MergeRounds, EachTimingIsItsMedianOverRoundsTwoOnAndTheRatioTheMedianOfRatios) {
+  // Run 0: round 1 is cold; rounds 2 and 3 give ratios (1 + 6 + 3) / 10 = 1 and (1 + 10 + 10) /
+  // 14 = 1.5, so 1.25, where the ratio of the medians would be (1 + 8 + 6.5) / 12 = 1.2917.
+  // Run 1: three steady rounds, medians of three.
+  std::vector<std::vector<RunRecord>> rounds = {
+      {roundRun(0, {100, 20, 2, 90, 70}), roundRun(1, {50, 5, 1, 40, 30})},
+      {roundRun(0, {10, 2, 1, 6, 3}), roundRun(1, {8, 1, 1, 4, 2})},
+      {roundRun(0, {14, 4, 1, 10, 10}), roundRun(1, {6, 3, 1, 5, 1})},
+  };
+  rounds[2][0].images = {{"standard/camera0-zo-24-world/mismatch.png", "last"}};
+  rounds[2][1].metrics.depthCompared = 7;
+  std::vector<std::vector<RunRecord>> fourRounds = rounds;
+  fourRounds.push_back({roundRun(0, {12, 3, 1, 8, 5}), roundRun(1, {7, 2, 1, 3, 3})});
+
+  const std::vector<RunRecord> merged = mergeRounds(rounds);
+  ASSERT_EQ(merged.size(), 2u);
+  EXPECT_EQ(merged[0].rounds, 3);
+  EXPECT_EQ(merged[0].timings.raster, 12.0);
+  EXPECT_EQ(merged[0].timings.readback, 3.0);
+  EXPECT_EQ(merged[0].timings.rays, 1.0);
+  EXPECT_EQ(merged[0].timings.intersect, 8.0);
+  EXPECT_EQ(merged[0].timings.compare, 6.5);
+  EXPECT_EQ(merged[0].analyticOverRaster, 1.25);
+  EXPECT_EQ(merged[0].firstRound.raster, 100.0);
+  EXPECT_EQ(merged[0].firstRound.compare, 70.0);
+  // The last round's record: its images and metrics.
+  ASSERT_EQ(merged[0].images.size(), 1u);
+  EXPECT_EQ(merged[0].images[0].pngBytes, "last");
+  EXPECT_EQ(merged[1].metrics.depthCompared, 7);
+
+  // Rounds 2, 3 and 4 of run 1: rasters (8, 6, 7) -> 7; ratios 7/8, 7/6, 7/7 -> 1.
+  const std::vector<RunRecord> mergedFour = mergeRounds(fourRounds);
+  EXPECT_EQ(mergedFour[1].rounds, 4);
+  EXPECT_EQ(mergedFour[1].timings.raster, 7.0);
+  EXPECT_EQ(mergedFour[1].timings.intersect, 4.0);
+  EXPECT_EQ(mergedFour[1].timings.compare, 2.0);
+  EXPECT_EQ(mergedFour[1].analyticOverRaster, 1.0);
+  EXPECT_EQ(mergedFour[1].firstRound.raster, 50.0);
+}
+
+TEST(MergeRounds, OneRoundIsReturnedAsItIs) {
+  const std::vector<RunRecord> merged = mergeRounds({{roundRun(0, {10, 2, 1, 6, 3})}});
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_EQ(merged[0].rounds, 1);
+  EXPECT_EQ(merged[0].timings.intersect, 6.0);
+  EXPECT_EQ(merged[0].analyticOverRaster, 1.0);
+}
+
+TEST(MergeRounds, RoundsOfDifferentRunsAreRefused) {
+  EXPECT_THROW(mergeRounds({}), std::invalid_argument);
+  EXPECT_THROW(mergeRounds({{roundRun(0, {})}, {roundRun(1, {})}}), std::invalid_argument);
+  EXPECT_THROW(mergeRounds({{roundRun(0, {})}, {roundRun(0, {}), roundRun(1, {})}}),
+               std::invalid_argument);
 }
 
 TEST(ReportJson, ConsistentRunsAndAnEmptyReport) {

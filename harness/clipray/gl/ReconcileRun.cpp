@@ -101,6 +101,7 @@ RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFo
   run.metrics = comparison.metrics;
   run.timings = {renderTimings.raster, renderTimings.readback, pass.raysMilliseconds,
                  pass.intersectMilliseconds, compareMilliseconds};
+  run.analyticOverRaster = run.timings.analyticOverRaster();
   if (images) encodeRunImages(run, comparison.pixels);
   return run;
 }

@@ -84,9 +84,17 @@ nlohmann::json byKindJson(const RunMetrics& m) {
   return kinds;
 }
 
+nlohmann::json timingsJson(const RunTimings& t) {
+  return {{"raster", number(t.raster)},
+          {"readback", number(t.readback)},
+          {"rays", number(t.rays)},
+          {"intersect", number(t.intersect)},
+          {"compare", number(t.compare)}};
+}
+
 nlohmann::json runJson(const RunRecord& run) {
   const RunMetrics& m = run.metrics;
-  return {
+  nlohmann::json json = {
       {"scene", run.scene},
       {"camera", run.camera},
       {"convention", run.convention.name()},
@@ -112,14 +120,15 @@ nlohmann::json runJson(const RunRecord& run) {
       {"tolerance_ratio", distribution(m.toleranceRatio, false)},
       {"by_kind", byKindJson(m)},
       {"verdict", m.consistent() ? "consistent" : "inconsistent"},
-      {"timings_ms",
-       {{"raster", number(run.timings.raster)},
-        {"readback", number(run.timings.readback)},
-        {"rays", number(run.timings.rays)},
-        {"intersect", number(run.timings.intersect)},
-        {"compare", number(run.timings.compare)}}},
+      {"timings_ms", timingsJson(run.timings)},
+      {"analytic_over_raster", number(run.analyticOverRaster)},
       {"images", imagesJson(run)},
   };
+  if (run.rounds > 1) {
+    json["rounds"] = run.rounds;
+    json["first_round_timings_ms"] = timingsJson(run.firstRound);
+  }
+  return json;
 }
 
 std::int64_t unexplainedCount(const RunMetrics& m) {
@@ -214,6 +223,49 @@ nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl) 
 //   unexplained >tol N             same-primitive pixels whose depth error exceeds the predicted
 //   tolerance q MAX/P99          depth error in quanta of the depth format tol MAX/P99        depth
 //   error / predicted tolerance rel P99            relative distance error along the ray
+namespace {
+
+double median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+}  // namespace
+
+std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds) {
+  if (rounds.empty()) throw std::invalid_argument("mergeRounds: no rounds");
+  for (const std::vector<RunRecord>& round : rounds) {
+    bool same = round.size() == rounds.front().size();
+    for (std::size_t i = 0; same && i < round.size(); ++i) {
+      same = runFolderName(round[i]) == runFolderName(rounds.front()[i]);
+    }
+    if (!same) throw std::invalid_argument("mergeRounds: the rounds made different runs");
+  }
+  std::vector<RunRecord> runs = std::move(rounds.back());
+  if (rounds.size() == 1) return runs;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    std::vector<double> raster, readback, rays, intersect, compare, ratio;
+    for (std::size_t r = 1; r < rounds.size(); ++r) {
+      // The last round's record was moved into runs.
+      const RunTimings& t = r + 1 == rounds.size() ? runs[i].timings : rounds[r][i].timings;
+      raster.push_back(t.raster);
+      readback.push_back(t.readback);
+      rays.push_back(t.rays);
+      intersect.push_back(t.intersect);
+      compare.push_back(t.compare);
+      ratio.push_back(t.analyticOverRaster());
+    }
+    RunRecord& run = runs[i];
+    run.rounds = static_cast<int>(rounds.size());
+    run.firstRound = rounds.front()[i].timings;
+    run.timings = {median(raster), median(readback), median(rays), median(intersect),
+                   median(compare)};
+    run.analyticOverRaster = median(ratio);
+  }
+  return runs;
+}
+
 std::string textSummary(const std::vector<RunRecord>& runs) {
   std::vector<std::size_t> order(runs.size());
   std::iota(order.begin(), order.end(), std::size_t{0});

@@ -4,6 +4,7 @@
 // and only after every run has finished, so a failed reconcile leaves nothing half-written.
 
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,9 @@ namespace clipray {
 
 struct RunTimings {  // milliseconds
   double raster = 0, readback = 0, rays = 0, intersect = 0, compare = 0;
+  // What clipray adds to the raster pass it checks, relative to it: (rays + intersect + compare)
+  // / raster.
+  double analyticOverRaster() const { return (rays + intersect + compare) / raster; }
 };
 
 struct GlInfo {
@@ -38,8 +42,22 @@ struct RunRecord {
   Viewport size;
   RunMetrics metrics;
   RunTimings timings;
+  // How many times the run was made (clipray reconcile --rounds). With more than one, timings
+  // holds each timing's median over rounds 2.., analyticOverRaster the median of those rounds'
+  // own ratios, and firstRound the first (cold) round's timings.
+  int rounds = 1;
+  double analyticOverRaster = std::numeric_limits<double>::quiet_NaN();  // set with the timings
+  RunTimings firstRound;
   std::vector<EncodedImage> images;  // filled by encodeRunImages
 };
+
+// The same runs made round after round (rounds[r][i]: run i of round r; clipray reconcile
+// --rounds) as one record per run: the last round's (with its images), whose timings are each
+// timing's median over rounds 2.. (the first round pays for cold caches, page faults and the GL
+// driver's first draws), whose analyticOverRaster is the median of those rounds' own ratios, and
+// whose firstRound keeps round 1's. One round is returned as it is. Throws std::invalid_argument
+// for no rounds or rounds of different runs.
+std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds);
 
 // "<scene>/<camera>-<convention>-<format>-<vertex mode>": the run's folder under the output folder.
 std::string runFolderName(const RunRecord& run);
