@@ -328,6 +328,12 @@ TEST(Compare, ModelsAskedInTurnAboutIdsNotBuiltUpFrontEachAnswerTheirOwn) {
       SCOPED_TRACE(::testing::Message() << "model " << k << " id " << id);
       sameAnswers(k % 2 == 0 ? fullA : fullB, lazy, id);
     }
+    // Ids no triangle has have no polygon, whatever the cache holds from the ids above.
+    for (const std::uint32_t none : {0u, intersector.primitiveIdCount() + 1, 0xffffffffu}) {
+      EXPECT_EQ(lazy.edgeDistancePixels(none, {8.5, 6.5}), std::numeric_limits<double>::infinity())
+          << none;
+      EXPECT_FALSE(lazy.insidePolygon(none, {8.5, 6.5})) << none;
+    }
   }
 }
 

@@ -237,16 +237,17 @@ RunRecord roundRun(int i, RunTimings t) {
 TEST(MergeRounds, EachTimingIsItsMedianOverRoundsTwoOnAndTheRatioTheMedianOfRatios) {
   // Run 0: round 1 is cold; rounds 2 and 3 give ratios (1 + 6 + 3) / 10 = 1 and (1 + 10 + 10) /
   // 14 = 1.5, so 1.25, where the ratio of the medians would be (1 + 8 + 6.5) / 12 = 1.2917.
-  // Run 1: three steady rounds, medians of three.
+  // Run 1: rounds 2 and 3 give (8 + 6) / 2 = 7 and ratios 7/8 and 7/6.
   std::vector<std::vector<RunRecord>> rounds = {
       {roundRun(0, {100, 20, 2, 90, 70}), roundRun(1, {50, 5, 1, 40, 30})},
       {roundRun(0, {10, 2, 1, 6, 3}), roundRun(1, {8, 1, 1, 4, 2})},
       {roundRun(0, {14, 4, 1, 10, 10}), roundRun(1, {6, 3, 1, 5, 1})},
   };
   rounds[2][0].images = {{"standard/camera0-zo-24-world/mismatch.png", "last"}};
-  rounds[2][1].metrics.depthCompared = 7;
+  for (auto& round : rounds) round[1].metrics.depthCompared = 7;  // what every round measured
   std::vector<std::vector<RunRecord>> fourRounds = rounds;
   fourRounds.push_back({roundRun(0, {12, 3, 1, 8, 5}), roundRun(1, {7, 2, 1, 3, 3})});
+  fourRounds[3][1].metrics.depthCompared = 7;
 
   const std::vector<RunRecord> merged = mergeRounds(rounds);
   ASSERT_EQ(merged.size(), 2u);
@@ -263,6 +264,10 @@ TEST(MergeRounds, EachTimingIsItsMedianOverRoundsTwoOnAndTheRatioTheMedianOfRati
   ASSERT_EQ(merged[0].images.size(), 1u);
   EXPECT_EQ(merged[0].images[0].pngBytes, "last");
   EXPECT_EQ(merged[1].metrics.depthCompared, 7);
+  EXPECT_EQ(merged[1].timings.raster, 7.0);
+  EXPECT_EQ(merged[1].timings.intersect, 4.5);
+  EXPECT_EQ(merged[1].timings.compare, 1.5);
+  EXPECT_EQ(merged[1].analyticOverRaster, 0.5 * (7.0 / 8.0 + 7.0 / 6.0));
 
   // Rounds 2, 3 and 4 of run 1: rasters (8, 6, 7) -> 7; ratios 7/8, 7/6, 7/7 -> 1.
   const std::vector<RunRecord> mergedFour = mergeRounds(fourRounds);
@@ -280,6 +285,33 @@ TEST(MergeRounds, OneRoundIsReturnedAsItIs) {
   EXPECT_EQ(merged[0].rounds, 1);
   EXPECT_EQ(merged[0].timings.intersect, 6.0);
   EXPECT_EQ(merged[0].analyticOverRaster, 1.0);
+}
+
+TEST(MergeRounds, ARoundThatMeasuredARunDifferentlyIsReported) {
+  std::vector<std::vector<RunRecord>> rounds = {{roundRun(0, {10, 2, 1, 6, 3})},
+                                                {roundRun(0, {10, 2, 1, 6, 3})},
+                                                {roundRun(0, {10, 2, 1, 6, 3})}};
+  rounds[1][0].metrics.toleranceRatio.p99 = 0.5000001;
+  try {
+    mergeRounds(rounds);
+    ADD_FAILURE() << "no error";
+  } catch (const std::runtime_error& error) {
+    EXPECT_STREQ(error.what(),
+                 "standard/camera0-zo-24-world: round 2 measured it differently from round 3 (a "
+                 "nondeterministic renderer or a clipray bug)");
+  }
+}
+
+TEST(MergeRounds, ATimingThatIsNaNInARoundMakesItsMedianNaN) {
+  RunTimings bad{10, 2, 1, 6, 3};
+  bad.compare = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<RunRecord> merged = mergeRounds({{roundRun(0, {10, 2, 1, 6, 3})},
+                                                     {roundRun(0, {10, 2, 1, 6, 3})},
+                                                     {roundRun(0, bad)},
+                                                     {roundRun(0, {12, 2, 1, 6, 3})}});
+  EXPECT_TRUE(std::isnan(merged[0].timings.compare));
+  EXPECT_TRUE(std::isnan(merged[0].analyticOverRaster));
+  EXPECT_EQ(merged[0].timings.raster, 10.0);
 }
 
 TEST(MergeRounds, RoundsOfDifferentRunsAreRefused) {

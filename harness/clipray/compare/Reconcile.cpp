@@ -195,22 +195,31 @@ void ToleranceModel::buildPolygons(std::span<const std::uint32_t> primitiveIds,
 const ToleranceModel::ScreenPolygon& ToleranceModel::polygon(std::uint32_t primitiveId) const {
   const std::uint32_t slot = primitiveId < slotOfId_.size() ? slotOfId_[primitiveId] : kNoSlot;
   if (slot != kNoSlot) return polygons_[slot];
-  // Not built up front (an id only the rays show, when the model was built from the raster's):
-  // from this thread's cache of the polygons it built for this model, else built into it. A
-  // frame whose rays show many ids the raster does not (a raster that draws nothing) then builds
-  // each about once per thread: 1024 entries keep a 1080p row's ids until the next row asks
-  // again. Allocated by the threads that need one only. Each query uses one polygon and is done
-  // with it before the next.
+  // No triangle's (0, analytic, or past the scene): buildPolygon's empty polygon.
+  if (primitiveId == 0 || primitiveId >= slotOfId_.size() || intersector_.isAnalytic(primitiveId)) {
+    static const ScreenPolygon empty{};
+    return empty;
+  }
+  // A triangle not built up front (one only the rays show, when the model was built from the
+  // raster's ids): from this thread's cache of the polygons it built for this model, else built
+  // into it. A frame whose rays show many ids the raster does not (a raster that draws nothing)
+  // then builds each about once per thread: 1024 entries keep a 1080p row's ids until the next
+  // row asks again. The entries are left unwritten until used (a thread is new for each frame's
+  // workers: zeroing 300 KB each time would cost more than the polygons it meets). Each query
+  // uses one polygon and is done with it before the next.
   struct Cache {
     std::uint64_t model = 0;  // the serial of the model the entries are for
     std::array<std::uint32_t, 1024> ids;
-    std::array<ScreenPolygon, 1024> polygons;
+    FrameVector<ScreenPolygon> polygons;
   };
   thread_local std::unique_ptr<Cache> cache;
-  if (!cache) cache = std::make_unique<Cache>();
+  if (!cache) {
+    cache = std::make_unique<Cache>();
+    cache->polygons.resize(cache->ids.size());  // unwritten (FrameBufferAllocator)
+  }
   if (cache->model != serial_) {
     cache->model = serial_;
-    cache->ids.fill(kNoSlot);  // no id is kNoSlot: ids are below primitiveIdCount() + 1
+    cache->ids.fill(0);  // no entry: 0 is no triangle's id
   }
   const std::size_t entry = primitiveId % cache->ids.size();
   if (cache->ids[entry] != primitiveId) {

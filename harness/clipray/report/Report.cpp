@@ -217,18 +217,26 @@ nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl) 
   };
 }
 
-// Columns: verdict, scene/camera, convention, depth format, vertex mode, size; then
-//   cov T (eE uU)      coverage mismatches: total, edge-ambiguous, unexplained
-//   id T (zZ eE uU)    id mismatches: total, depth-ambiguous (z-fighting), edge-ambiguous,
-//   unexplained >tol N             same-primitive pixels whose depth error exceeds the predicted
-//   tolerance q MAX/P99          depth error in quanta of the depth format tol MAX/P99        depth
-//   error / predicted tolerance rel P99            relative distance error along the ray
 namespace {
 
+// The median of values; NaN if any is NaN (a timing that failed to measure).
 double median(std::vector<double> values) {
+  if (std::any_of(values.begin(), values.end(), [](double v) { return std::isnan(v); })) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
   std::sort(values.begin(), values.end());
   const std::size_t n = values.size();
   return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+// What a run measured, less its timings and images: the same in every round.
+nlohmann::json measuredJson(const RunRecord& run) {
+  nlohmann::json json = runJson(run);
+  for (const char* timed :
+       {"timings_ms", "analytic_over_raster", "rounds", "first_round_timings_ms", "images"}) {
+    json.erase(timed);
+  }
+  return json;
 }
 
 }  // namespace
@@ -245,6 +253,17 @@ std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds) {
   std::vector<RunRecord> runs = std::move(rounds.back());
   if (rounds.size() == 1) return runs;
   for (std::size_t i = 0; i < runs.size(); ++i) {
+    // Rendering and tracing are deterministic: a round that measured a run differently is a bug
+    // to hear about, not a figure to drop.
+    const nlohmann::json measured = measuredJson(runs[i]);
+    for (std::size_t r = 0; r + 1 < rounds.size(); ++r) {
+      if (measuredJson(rounds[r][i]) != measured) {
+        throw std::runtime_error(runFolderName(runs[i]) + ": round " + std::to_string(r + 1) +
+                                 " measured it differently from round " +
+                                 std::to_string(rounds.size()) +
+                                 " (a nondeterministic renderer or a clipray bug)");
+      }
+    }
     std::vector<double> raster, readback, rays, intersect, compare, ratio;
     for (std::size_t r = 1; r < rounds.size(); ++r) {
       // The last round's record was moved into runs.
@@ -266,6 +285,12 @@ std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds) {
   return runs;
 }
 
+// Columns: verdict, scene/camera, convention, depth format, vertex mode, size; then
+//   cov T (eE uU)      coverage mismatches: total, edge-ambiguous, unexplained
+//   id T (zZ eE uU)    id mismatches: total, depth-ambiguous (z-fighting), edge-ambiguous,
+//   unexplained >tol N             same-primitive pixels whose depth error exceeds the predicted
+//   tolerance q MAX/P99          depth error in quanta of the depth format tol MAX/P99        depth
+//   error / predicted tolerance rel P99            relative distance error along the ray
 std::string textSummary(const std::vector<RunRecord>& runs) {
   std::vector<std::size_t> order(runs.size());
   std::iota(order.begin(), order.end(), std::size_t{0});

@@ -56,7 +56,8 @@ struct RunRecord {
 // timing's median over rounds 2.. (the first round pays for cold caches, page faults and the GL
 // driver's first draws), whose analyticOverRaster is the median of those rounds' own ratios, and
 // whose firstRound keeps round 1's. One round is returned as it is. Throws std::invalid_argument
-// for no rounds or rounds of different runs.
+// for no rounds or rounds of different runs, and std::runtime_error naming the run when a round
+// measured it differently from the last (anything but timings and images).
 std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds);
 
 // "<scene>/<camera>-<convention>-<format>-<vertex mode>": the run's folder under the output folder.
