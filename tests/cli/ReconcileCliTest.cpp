@@ -4,8 +4,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
+#include <thread>
 
 #include "support/RunCommand.hpp"
 
@@ -40,7 +42,7 @@ TEST(ReconcileCli, WritesTheReportAndExitsZeroWhenConsistent) {
     EXPECT_EQ(run["pixels"], 320 * 240);
     for (const char* field :
          {"raster_hits", "ray_hits", "coverage_mismatch", "id_mismatch", "depth_error_quanta",
-          "distance_rel_error", "tolerance_ratio", "timings_ms", "images"}) {
+          "distance_rel_error", "tolerance_ratio", "timings_ms", "cpu_ms", "images"}) {
       EXPECT_TRUE(run.contains(field)) << field;
     }
     for (const auto& [name, path] : run["images"].items()) {
@@ -82,6 +84,16 @@ TEST(ReconcileCli, RoundsRepeatEveryRunAndMeasureNothingElseDifferently) {
       EXPECT_GT(first[timing].get<double>(), 0.0) << timing;
       EXPECT_GT(runB["timings_ms"][timing].get<double>(), 0.0) << timing;
     }
+    // CPU time: measured where there is work to time, and never more than every core busy for
+    // the phase's wall time in the same round (1 ms for the clocks' granularity and for reading
+    // them apart; the medians of rounds 2.. may come from different rounds).
+    const double cores = std::max(1u, std::thread::hardware_concurrency());
+    for (const char* timing : {"raster", "intersect", "compare"}) {
+      EXPECT_GT(runB["cpu_ms"][timing].get<double>(), 0.0) << timing;
+      const double firstCpu = runB["first_round_cpu_ms"][timing].get<double>();
+      EXPECT_GT(firstCpu, 0.0) << timing;
+      EXPECT_LE(firstCpu, cores * first[timing].get<double>() + 1.0) << timing;
+    }
     for (const nlohmann::json& run : {runA, runB}) {
       const nlohmann::json& t = run["timings_ms"];
       const double ratio = run["analytic_over_raster"].get<double>();
@@ -99,8 +111,8 @@ TEST(ReconcileCli, RoundsRepeatEveryRunAndMeasureNothingElseDifferently) {
           << name;
     }
     // Everything measured but time is the same, round after round.
-    for (const char* timed :
-         {"timings_ms", "analytic_over_raster", "rounds", "first_round_timings_ms", "images"}) {
+    for (const char* timed : {"timings_ms", "cpu_ms", "analytic_over_raster", "rounds",
+                              "first_round_timings_ms", "first_round_cpu_ms", "images"}) {
       runA.erase(timed);
       runB.erase(timed);
     }

@@ -104,6 +104,7 @@ RunRecord sampleRun() {
   sphere.toleranceRatio = {0.25, 0.0625, 0.125};
   m.byKind = {sphere};
   run.timings = {1.5, 2.5, 3.25, 40.0, 5.0};
+  run.cpu = {2.75, 2.5, 3.0, 78.5, 9.75};
   run.analyticOverRaster = 32.5;
   return run;
 }
@@ -199,6 +200,7 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
                            "tolerance_ratio": {"max": 0.25, "p99": 0.125}}},
     "verdict": "inconsistent",
     "timings_ms": {"raster": 1.5, "readback": 2.5, "rays": 3.25, "intersect": 40.0, "compare": 5.0},
+    "cpu_ms": {"raster": 2.75, "readback": 2.5, "rays": 3.0, "intersect": 78.5, "compare": 9.75},
     "analytic_over_raster": 32.5,
     "images": {"raster_depth": "standard/main-zo-24-world/raster_depth.png",
                "ray_depth": "standard/main-zo-24-world/ray_depth.png",
@@ -212,24 +214,32 @@ TEST(ReportJson, ARunMadeInRoundsAlsoGivesItsFirstRound) {
   RunRecord run = sampleRun();
   run.rounds = 5;
   run.firstRound = {80.0, 12.5, 0.25, 160.0, 96.0};
+  run.firstRoundCpu = {120.0, 12.25, 0.5, 310.0, 180.0};
   const nlohmann::json r = reportJson({run}, sampleGl())["runs"][0];
   EXPECT_EQ(r["rounds"], 5);
   EXPECT_EQ(r["first_round_timings_ms"],
             nlohmann::json::parse(R"({"raster": 80.0, "readback": 12.5, "rays": 0.25,
                                       "intersect": 160.0, "compare": 96.0})"));
+  EXPECT_EQ(r["first_round_cpu_ms"],
+            nlohmann::json::parse(R"({"raster": 120.0, "readback": 12.25, "rays": 0.5,
+                                      "intersect": 310.0, "compare": 180.0})"));
+  EXPECT_EQ(r["cpu_ms"]["intersect"], 78.5);
   EXPECT_EQ(r["timings_ms"]["intersect"], 40.0);
   EXPECT_EQ(r["analytic_over_raster"], 32.5);
   // One round: neither key (the run's timings are that round's).
   const nlohmann::json once = reportJson({sampleRun()}, sampleGl())["runs"][0];
   EXPECT_FALSE(once.contains("rounds"));
   EXPECT_FALSE(once.contains("first_round_timings_ms"));
+  EXPECT_FALSE(once.contains("first_round_cpu_ms"));
 }
 
-// Run i of a round whose timings are t (and analyticOverRaster their own ratio), named by i.
-RunRecord roundRun(int i, RunTimings t) {
+// Run i of a round whose timings are t and CPU times cpu (and analyticOverRaster their own ratio),
+// named by i.
+RunRecord roundRun(int i, RunTimings t, RunTimings cpu = {}) {
   RunRecord run = sampleRun();
   run.camera = "camera" + std::to_string(i);
   run.timings = t;
+  run.cpu = cpu;
   run.analyticOverRaster = t.analyticOverRaster();
   return run;
 }
@@ -238,10 +248,11 @@ TEST(MergeRounds, EachTimingIsItsMedianOverRoundsTwoOnAndTheRatioTheMedianOfRati
   // Run 0: round 1 is cold; rounds 2 and 3 give ratios (1 + 6 + 3) / 10 = 1 and (1 + 10 + 10) /
   // 14 = 1.5, so 1.25, where the ratio of the medians would be (1 + 8 + 6.5) / 12 = 1.2917.
   // Run 1: rounds 2 and 3 give (8 + 6) / 2 = 7 and ratios 7/8 and 7/6.
+  // Run 0's CPU times: medians of rounds 2 and 3 apart from the wall times'.
   std::vector<std::vector<RunRecord>> rounds = {
-      {roundRun(0, {100, 20, 2, 90, 70}), roundRun(1, {50, 5, 1, 40, 30})},
-      {roundRun(0, {10, 2, 1, 6, 3}), roundRun(1, {8, 1, 1, 4, 2})},
-      {roundRun(0, {14, 4, 1, 10, 10}), roundRun(1, {6, 3, 1, 5, 1})},
+      {roundRun(0, {100, 20, 2, 90, 70}, {200, 21, 3, 170, 130}), roundRun(1, {50, 5, 1, 40, 30})},
+      {roundRun(0, {10, 2, 1, 6, 3}, {19, 3, 1, 11, 5}), roundRun(1, {8, 1, 1, 4, 2})},
+      {roundRun(0, {14, 4, 1, 10, 10}, {27, 5, 2, 21, 19}), roundRun(1, {6, 3, 1, 5, 1})},
   };
   rounds[2][0].images = {{"standard/camera0-zo-24-world/mismatch.png", "last"}};
   for (auto& round : rounds) round[1].metrics.depthCompared = 7;  // what every round measured
@@ -260,6 +271,13 @@ TEST(MergeRounds, EachTimingIsItsMedianOverRoundsTwoOnAndTheRatioTheMedianOfRati
   EXPECT_EQ(merged[0].analyticOverRaster, 1.25);
   EXPECT_EQ(merged[0].firstRound.raster, 100.0);
   EXPECT_EQ(merged[0].firstRound.compare, 70.0);
+  EXPECT_EQ(merged[0].cpu.raster, 23.0);
+  EXPECT_EQ(merged[0].cpu.readback, 4.0);
+  EXPECT_EQ(merged[0].cpu.rays, 1.5);
+  EXPECT_EQ(merged[0].cpu.intersect, 16.0);
+  EXPECT_EQ(merged[0].cpu.compare, 12.0);
+  EXPECT_EQ(merged[0].firstRoundCpu.raster, 200.0);
+  EXPECT_EQ(merged[0].firstRoundCpu.intersect, 170.0);
   // The last round's record: its images and metrics.
   ASSERT_EQ(merged[0].images.size(), 1u);
   EXPECT_EQ(merged[0].images[0].pngBytes, "last");

@@ -1,16 +1,10 @@
 #include "clipray/gl/ReconcileRun.hpp"
 
-#include <chrono>
 #include <cmath>
 
-namespace clipray::gl {
+#include "clipray/util/PhaseClock.hpp"
 
-namespace {
-using Clock = std::chrono::steady_clock;
-double millisecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
-}  // namespace
+namespace clipray::gl {
 
 glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode) {
   const glm::dmat4 worldFromClip = glm::inverse(clipFromWorld);
@@ -37,19 +31,21 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
   pass.camera.viewport = viewport;
   pass.reference = nearPlaneCentre(pass.camera.clipFromWorld, mode);
 
-  const auto raysStart = Clock::now();
+  const PhaseClock raysClock;
   // An app's ray function is asked once per pixel and its rays stored; clipray's own rays are
   // computed where the intersection and the compare use them (their cost lands in those two
   // timings; rays then only times setting up the generator).
   pass.frame = rayFunction ? generateRays(pass.camera, *rayFunction, threadCount)
                            : robustRayFrame(pass.camera);
-  pass.raysMilliseconds = millisecondsSince(raysStart);
+  pass.raysMilliseconds = raysClock.wallMilliseconds();
+  pass.raysCpuMilliseconds = raysClock.cpuMilliseconds();
 
-  const auto intersectStart = Clock::now();
+  const PhaseClock intersectClock;
   // The BVH only when a tile of rays needs it: camera rays traced from screen-space bins never do.
   pass.intersector.emplace(scene, pass.reference, SceneIntersector::BvhBuild::WhenFirstNeeded);
   intersectFrame(pass.frame, *pass.intersector, pass.camera, threadCount);
-  pass.intersectMilliseconds = millisecondsSince(intersectStart);
+  pass.intersectMilliseconds = intersectClock.wallMilliseconds();
+  pass.intersectCpuMilliseconds = intersectClock.cpuMilliseconds();
   return pass;
 }
 
@@ -86,10 +82,11 @@ RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFo
   setup.vertexMode = vertexMode;
   setup.vertexReference = pass.reference;
   setup.subpixelBits = renderer.info().subpixelBits;
-  const auto compareStart = Clock::now();
+  const PhaseClock compareClock;
   const ComparisonResult comparison =
       compareFrames(raster, pass.frame, *pass.intersector, setup, threadCount);
-  const double compareMilliseconds = millisecondsSince(compareStart);
+  const double compareMilliseconds = compareClock.wallMilliseconds();
+  const double compareCpuMilliseconds = compareClock.cpuMilliseconds();
 
   RunRecord run;
   run.scene = pass.scene->name;
@@ -101,6 +98,8 @@ RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFo
   run.metrics = comparison.metrics;
   run.timings = {renderTimings.raster, renderTimings.readback, pass.raysMilliseconds,
                  pass.intersectMilliseconds, compareMilliseconds};
+  run.cpu = {renderTimings.rasterCpu, renderTimings.readbackCpu, pass.raysCpuMilliseconds,
+             pass.intersectCpuMilliseconds, compareCpuMilliseconds};
   run.analyticOverRaster = run.timings.analyticOverRaster();
   if (images) encodeRunImages(run, comparison.pixels);
   return run;

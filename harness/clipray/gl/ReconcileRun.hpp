@@ -29,6 +29,9 @@ struct AnalyticPass {
   AnalyticFrame frame;
   double raysMilliseconds = 0.0;
   double intersectMilliseconds = 0.0;
+  // The process's CPU time in each (PhaseClock).
+  double raysCpuMilliseconds = 0.0;
+  double intersectCpuMilliseconds = 0.0;
 };
 
 // With clipray's robust rays.

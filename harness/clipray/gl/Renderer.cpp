@@ -3,12 +3,12 @@
 #include <glad/gl.h>
 
 #include <cctype>
-#include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
 #include "clipray/math/Projections.hpp"
+#include "clipray/util/PhaseClock.hpp"
 
 namespace clipray::shaders {
 extern const char* const raster_vert;
@@ -24,11 +24,6 @@ extern const char* const primitive_frag_file;
 namespace clipray::gl {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double millisecondsSince(Clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-}
 
 const char* glErrorName(GLenum error) {
   switch (error) {
@@ -259,7 +254,7 @@ Renderer::~Renderer() {
 RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timings) {
   const Scene& scene = *request.scene;
   const Viewport viewport = request.viewport;
-  const auto rasterStart = Clock::now();
+  const PhaseClock rasterClock;
 
   // Vertex data as the vertex mode prescribes; the matrix row comments are in raster.vert.
   const glm::dmat4& clipFromWorld = request.clipFromWorld;
@@ -422,9 +417,12 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
   }
   glFinish();
   checkGl("drawing");
-  if (timings) timings->raster = millisecondsSince(rasterStart);
+  if (timings) {
+    timings->raster = rasterClock.wallMilliseconds();
+    timings->rasterCpu = rasterClock.cpuMilliseconds();
+  }
 
-  const auto readbackStart = Clock::now();
+  const PhaseClock readbackClock;
   RasterFrame frame;
   frame.viewport = viewport;
   const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;
@@ -438,7 +436,10 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
                frame.ids.data());
   checkGl("readback");
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  if (timings) timings->readback = millisecondsSince(readbackStart);
+  if (timings) {
+    timings->readback = readbackClock.wallMilliseconds();
+    timings->readbackCpu = readbackClock.cpuMilliseconds();
+  }
   return frame;
 }
 

@@ -39,6 +39,9 @@ struct RenderRequest {
 struct RenderTimings {  // milliseconds
   double raster = 0.0;
   double readback = 0.0;
+  // The process's CPU time in each (all threads: the driver's too; see PhaseClock).
+  double rasterCpu = 0.0;
+  double readbackCpu = 0.0;
 };
 
 class Renderer {

@@ -121,12 +121,14 @@ nlohmann::json runJson(const RunRecord& run) {
       {"by_kind", byKindJson(m)},
       {"verdict", m.consistent() ? "consistent" : "inconsistent"},
       {"timings_ms", timingsJson(run.timings)},
+      {"cpu_ms", timingsJson(run.cpu)},
       {"analytic_over_raster", number(run.analyticOverRaster)},
       {"images", imagesJson(run)},
   };
   if (run.rounds > 1) {
     json["rounds"] = run.rounds;
     json["first_round_timings_ms"] = timingsJson(run.firstRound);
+    json["first_round_cpu_ms"] = timingsJson(run.firstRoundCpu);
   }
   return json;
 }
@@ -229,11 +231,23 @@ double median(std::vector<double> values) {
   return n % 2 == 1 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }
 
+// Each timing's median.
+RunTimings medianTimings(const std::vector<RunTimings>& timings) {
+  const auto medianOf = [&](double RunTimings::*field) {
+    std::vector<double> values;
+    for (const RunTimings& t : timings) values.push_back(t.*field);
+    return median(std::move(values));
+  };
+  return {medianOf(&RunTimings::raster), medianOf(&RunTimings::readback),
+          medianOf(&RunTimings::rays), medianOf(&RunTimings::intersect),
+          medianOf(&RunTimings::compare)};
+}
+
 // What a run measured, less its timings and images: the same in every round.
 nlohmann::json measuredJson(const RunRecord& run) {
   nlohmann::json json = runJson(run);
-  for (const char* timed :
-       {"timings_ms", "analytic_over_raster", "rounds", "first_round_timings_ms", "images"}) {
+  for (const char* timed : {"timings_ms", "cpu_ms", "analytic_over_raster", "rounds",
+                            "first_round_timings_ms", "first_round_cpu_ms", "images"}) {
     json.erase(timed);
   }
   return json;
@@ -264,22 +278,23 @@ std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds) {
                                  " (a nondeterministic renderer or a clipray bug)");
       }
     }
-    std::vector<double> raster, readback, rays, intersect, compare, ratio;
+    // Rounds 2.. (the last round's record was moved into runs).
+    const auto roundRecord = [&](std::size_t r) -> const RunRecord& {
+      return r + 1 == rounds.size() ? runs[i] : rounds[r][i];
+    };
+    std::vector<RunTimings> timings, cpu;
+    std::vector<double> ratio;
     for (std::size_t r = 1; r < rounds.size(); ++r) {
-      // The last round's record was moved into runs.
-      const RunTimings& t = r + 1 == rounds.size() ? runs[i].timings : rounds[r][i].timings;
-      raster.push_back(t.raster);
-      readback.push_back(t.readback);
-      rays.push_back(t.rays);
-      intersect.push_back(t.intersect);
-      compare.push_back(t.compare);
-      ratio.push_back(t.analyticOverRaster());
+      timings.push_back(roundRecord(r).timings);
+      cpu.push_back(roundRecord(r).cpu);
+      ratio.push_back(roundRecord(r).timings.analyticOverRaster());
     }
     RunRecord& run = runs[i];
     run.rounds = static_cast<int>(rounds.size());
     run.firstRound = rounds.front()[i].timings;
-    run.timings = {median(raster), median(readback), median(rays), median(intersect),
-                   median(compare)};
+    run.firstRoundCpu = rounds.front()[i].cpu;
+    run.timings = medianTimings(timings);
+    run.cpu = medianTimings(cpu);
     run.analyticOverRaster = median(ratio);
   }
   return runs;

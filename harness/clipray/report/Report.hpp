@@ -42,22 +42,27 @@ struct RunRecord {
   Viewport size;
   RunMetrics metrics;
   RunTimings timings;
+  // The CPU time the process spent in each phase, every thread's (the GL driver's in the raster
+  // pass): cpu / timings is how many cores a phase kept busy (PhaseClock).
+  RunTimings cpu;
   // How many times the run was made (clipray reconcile --rounds). With more than one, timings
   // holds each timing's median over rounds 2.., analyticOverRaster the median of those rounds'
-  // own ratios, and firstRound the first (cold) round's timings.
+  // own ratios, cpu each CPU time's median over rounds 2.., and firstRound and firstRoundCpu the
+  // first (cold) round's.
   int rounds = 1;
   double analyticOverRaster = std::numeric_limits<double>::quiet_NaN();  // set with the timings
   RunTimings firstRound;
+  RunTimings firstRoundCpu;
   std::vector<EncodedImage> images;  // filled by encodeRunImages
 };
 
 // The same runs made round after round (rounds[r][i]: run i of round r; clipray reconcile
-// --rounds) as one record per run: the last round's (with its images), whose timings are each
-// timing's median over rounds 2.. (the first round pays for cold caches, page faults and the GL
-// driver's first draws), whose analyticOverRaster is the median of those rounds' own ratios, and
-// whose firstRound keeps round 1's. One round is returned as it is. Throws std::invalid_argument
-// for no rounds or rounds of different runs, and std::runtime_error naming the run when a round
-// measured it differently from the last (anything but timings and images).
+// --rounds) as one record per run: the last round's (with its images), whose timings and CPU times
+// are each one's median over rounds 2.. (the first round pays for cold caches, page faults and the
+// GL driver's first draws), whose analyticOverRaster is the median of those rounds' own ratios,
+// and whose firstRound and firstRoundCpu keep round 1's. One round is returned as it is. Throws
+// std::invalid_argument for no rounds or rounds of different runs, and std::runtime_error naming
+// the run when a round measured it differently from the last (anything but timings and images).
 std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds);
 
 // "<scene>/<camera>-<convention>-<format>-<vertex mode>": the run's folder under the output folder.
