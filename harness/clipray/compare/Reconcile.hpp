@@ -1,34 +1,22 @@
 #pragma once
-// Reconciliation of a raster frame with an analytic frame (DESIGN.md section 5): coverage, id and
-// depth comparisons, ambiguous pixels counted apart, and a predicted per-pixel depth tolerance
-// derived from the depth format, the convention, the matrix and the vertex mode.
+// Reconciliation of a raster frame with an analytic frame, pixel for pixel: coverage, id and depth
+// compared, ambiguous pixels counted apart, depth errors measured against the predicted tolerance
+// (ToleranceModel.hpp; pixel classes and outputs: docs/reconcile.md). The only matrix is
+// RasterSetup::clipFromWorld (column-major, p_clip = clipFromWorld * p_world, for setup.mode).
 
-#include <array>
-#include <atomic>
-#include <cmath>
 #include <cstdint>
-#include <span>
 #include <string>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 #include "clipray/compare/Frames.hpp"
+#include "clipray/compare/ToleranceModel.hpp"
 #include "clipray/math/Conventions.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/scene/Scene.hpp"
 
 namespace clipray {
-
-// What the raster side was: needed to predict what it may legitimately differ by.
-struct RasterSetup {
-  glm::dmat4 clipFromWorld{1.0};  // the exact (double) matrix of the camera
-  DepthMode mode;
-  DepthFormat depthFormat = DepthFormat::Float32;
-  VertexMode vertexMode = VertexMode::World;
-  glm::dvec3 vertexReference{0.0};  // the point removed on the CPU in CameraRelative mode
-  int subpixelBits = 4;             // GL_SUBPIXEL_BITS of the rasterizer
-};
 
 // Per-pixel verdict.
 enum class PixelClass : std::uint8_t {
@@ -97,105 +85,5 @@ struct ComparisonResult {
 ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
                                const SceneIntersector& intersector, const RasterSetup& setup,
                                unsigned threadCount = 0);
-
-// The predicted tolerance model, exposed for tests: window-depth tolerance at a pixel whose
-// analytic hit lies on primitive `primitiveId` at window depth `windowDepth`.
-class ToleranceModel {
- public:
-  // Clips every triangle of the scene to its screen polygon up front.
-  ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup, Viewport viewport);
-  // Clips up front only the triangles among primitiveIds (those a frame shows: the rest of a big
-  // scene is never asked about), across threadCount threads (0: all cores). Any other primitive
-  // may still be asked about: its polygon is then clipped when asked, and kept in a small cache of
-  // the asking thread's (same answers).
-  ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup, Viewport viewport,
-                 std::span<const std::uint32_t> primitiveIds, unsigned threadCount = 0);
-  // Window-depth tolerance for a hit on primitive id at a world hit point.
-  double depthTolerance(std::uint32_t primitiveId, const glm::dvec3& hitWorld) const;
-  // The same, given the hit's clip coordinates clipFromWorld * (hitWorld, 1) (callers that have
-  // them already save the matrix product).
-  double depthToleranceAtClip(std::uint32_t primitiveId, const glm::dvec4& hitClip) const;
-  // Distance in pixels from a window position to the boundary of the primitive's clipped screen
-  // polygon (+inf for a primitive clipped away entirely).
-  double edgeDistancePixels(std::uint32_t primitiveId, glm::dvec2 pixel) const;
-  bool insidePolygon(std::uint32_t primitiveId, glm::dvec2 pixel) const;
-  // How close to an edge a pixel centre must be for coverage to be ambiguous, in pixels.
-  double edgeEpsilonPixels(std::uint32_t primitiveId) const;
-  // Window depth of the primitive's plane at a window position (NaN if it has no screen polygon).
-  double planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel) const;
-
-  // Analytic primitives (drawn by a fragment shader that intersects the surface in float):
-  // window-depth tolerance for the hit at parameter t of a (double, robust) ray.
-  double analyticDepthTolerance(std::uint32_t primitiveId, const Ray& ray, double t) const;
-  // Whether the primitive's coverage (hit or miss, and entering or leaving the surface) changes
-  // within kAnalyticEdgeEpsilonPixels of the pixel position: the float ray of the shader may
-  // then legitimately land on the other side.
-  bool analyticEdgeAmbiguous(std::uint32_t primitiveId, glm::dvec2 pixel) const;
-  // Window depth where the primitive (triangle plane or analytic surface) lies along the robust
-  // ray of a pixel position (NaN: misses), and the tolerance of that depth.
-  double surfaceDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel) const;
-  double surfaceToleranceAt(std::uint32_t primitiveId, glm::dvec2 pixel) const;
-  // Coverage of the primitive is ambiguous at this pixel position (any primitive kind).
-  bool edgeAmbiguous(std::uint32_t primitiveId, glm::dvec2 pixel) const;
-  // The float rays of primitive.frag differ from the double robust rays by far less than this
-  // (issue #3: robust float rays are within 0.01 px of the exact ray for fov >= 1 deg; the
-  // shader's construction is the same, evaluated in the primitive's local frame).
-  static constexpr double kAnalyticEdgeEpsilonPixels = 1.0 / 64.0;
-
- private:
-  // Its per-pixel loop reads the polygons directly (the hit's depth and depth quantum, which
-  // depthToleranceAtClip would compute again, are shared with the figures of the pixel).
-  friend ComparisonResult compareFrames(const RasterFrame&, const AnalyticFrame&,
-                                        const SceneIntersector&, const RasterSetup&, unsigned);
-  // A triangle clipped against the six clip planes has at most 3 + 6 vertices.
-  static constexpr int kMaxPolygonVertices = 9;
-  struct ScreenPolygon {
-    std::array<glm::dvec3, kMaxPolygonVertices> vertices;  // window x, y (pixels), window depth
-    int vertexCount = 0;
-    glm::dvec3 depthPlane{std::nan("")};  // d = a x + b y + c in window coordinates
-    double maxDepth = 0.0;
-    double edgeEpsilon = 0.0;  // pixels
-    // Bounds of the float vertex-transform error in clip space, per clip row (x, y, z, w).
-    glm::dvec4 clipErrorBound{0.0};
-  };
-  // What the tolerance of each pixel of a triangle reads from its polygon, packed: 48 bytes in
-  // place of the polygon's 300 (the per-pixel loop's cache misses were a quarter of its time).
-  struct PixelTerms {
-    glm::dvec4 clipErrorBound;  // the polygon's
-    double gradient;            // |a| + |b| of the depth plane, 0 where it has none
-    double interpolation;       // 8 u maxDepth: the rounding of evaluating the plane in float
-  };
-  static constexpr std::uint32_t kNoSlot = 0xffffffffu;
-  static PixelTerms pixelTermsOf(const ScreenPolygon& polygon);
-  // The primitive's PixelTerms: built up front, else from its polygon now.
-  PixelTerms pixelTerms(std::uint32_t primitiveId) const;
-  // The clipped screen polygon of a primitive (an empty one for analytic primitives and ids that
-  // name no primitive), as computed by buildPolygon.
-  const ScreenPolygon& polygon(std::uint32_t primitiveId) const;
-  ScreenPolygon buildPolygon(std::uint32_t primitiveId) const;
-  // Builds the polygons of the given ids (each at most once) across threads.
-  void buildPolygons(std::span<const std::uint32_t> primitiveIds, unsigned threadCount);
-  RasterSetup setup_;
-  Viewport viewport_;
-  const SceneIntersector& intersector_;
-  RobustRayGenerator rays_;
-  glm::dmat4 cameraRelativeMatrix_;      // the matrix the GPU multiplies in CameraRelative mode
-  std::vector<std::uint32_t> slotOfId_;  // primitive id -> index in polygons_, or kNoSlot
-  // Tells this model's entries apart in a thread's cache of polygons not built up front.
-  static std::atomic<std::uint64_t> nextSerial;
-  std::uint64_t serial_;
-  FrameVector<ScreenPolygon> polygons_;  // the polygons built up front (kept from run to run)
-  FrameVector<PixelTerms> pixelTerms_;   // the same slots' PixelTerms
-  // Per analytic primitive (in the intersector's order): clipFromWorld * worldFromLocal, the
-  // matrix its shader rounds to float, and the magnitudes of its z and w rows (the tolerance of
-  // each of its pixels reads them).
-  struct AnalyticTransform {
-    glm::dmat4 clipFromLocal;
-    glm::dvec4 magnitudeRowZ, magnitudeRowW;
-  };
-  std::vector<AnalyticTransform> analyticTransforms_;
-  double windowFromNdcScale_;  // 1 / (1 - z_n): NDC depth to window depth
-  double subpixelStep_;        // 2^-subpixelBits pixels
-};
 
 }  // namespace clipray

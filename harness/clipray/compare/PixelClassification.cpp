@@ -1,0 +1,447 @@
+// The per-pixel classification of a reconcile: the scalar kernel (any pixel) and, beside it, the
+// AVX2 kernel for four neighbouring pixels that show the same triangle on both sides, which
+// computes the scalar kernel's operations in its order and so gives the same bits.
+
+#include "clipray/compare/PixelClassification.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#if defined(__x86_64__) && defined(__GNUC__)
+#define CLIPRAY_COMPARE_AVX2 1
+#include <immintrin.h>
+#else
+#define CLIPRAY_COMPARE_AVX2 0
+#endif
+
+#include "clipray/compare/ToleranceTerms.hpp"
+#include "clipray/math/Projections.hpp"
+#include "clipray/rays/FourRays.hpp"
+
+namespace clipray::detail {
+
+namespace {
+
+#if CLIPRAY_COMPARE_AVX2
+// The per-pixel figures of four neighbouring pixels where both sides show the same triangle, four
+// lanes per instruction: the scalar loop's operations in its order (glm's mat4 * vec4 is
+// (m0 x + m1 y) + (m2 z + m3 w), its dot products (x + y) + z and (x + y) + (z + w); division and
+// square root are correctly rounded; std::max(a, b) is maxpd(b, a), NaN included), so the same
+// bits. No FMA in this target: each multiply and add rounds as in the scalar code.
+struct FourPolygons {  // the lanes' screen polygons' fields
+  double boundX[4], boundY[4], boundZ[4], boundW[4], gradient[4], interpolation[4];
+};
+struct FourPixels {
+  double rayDepth[4], ratio[4], quanta[4], relative[4];
+};
+
+// Appends four values with one size check (the samples are reserved for the frame up front).
+void appendFour(FrameVector<double>& values, const double four[4]) {
+  const std::size_t size = values.size();
+  values.resize(size + 4);  // left unwritten by the allocator; written here
+  std::memcpy(values.data() + size, four, 4 * sizeof(double));
+}
+
+// Free functions, not lambdas: GCC 12 does not give a lambda its enclosing function's target.
+__attribute__((target("avx2"))) inline __m256d broadcast(double v) {
+  return _mm256_set1_pd(v);
+}
+__attribute__((target("avx2"))) inline __m256d absolute(__m256d v) {
+  return _mm256_andnot_pd(_mm256_set1_pd(-0.0), v);
+}
+// glm::dot(row, (x, y, z, 1)) = (r.x x + r.y y) + (r.z z + r.w 1), and of (x, y, z) alone
+// (r.x x + r.y y) + r.z z.
+__attribute__((target("avx2"))) inline __m256d dotPoint(const glm::dvec4& row, __m256d x, __m256d y,
+                                                        __m256d z) {
+  return _mm256_add_pd(
+      _mm256_add_pd(_mm256_mul_pd(broadcast(row.x), x), _mm256_mul_pd(broadcast(row.y), y)),
+      _mm256_add_pd(_mm256_mul_pd(broadcast(row.z), z),
+                    _mm256_mul_pd(broadcast(row.w), broadcast(1.0))));
+}
+__attribute__((target("avx2"))) inline __m256d dotDirection(const glm::dvec4& row, __m256d x,
+                                                            __m256d y, __m256d z) {
+  return _mm256_add_pd(
+      _mm256_add_pd(_mm256_mul_pd(broadcast(row.x), x), _mm256_mul_pd(broadcast(row.y), y)),
+      _mm256_mul_pd(broadcast(row.z), z));
+}
+
+// Returns false (and computes nothing useful) when a lane's window depth is not a finite float
+// (quantumAt then asks depthQuantum): the caller takes the scalar path for those four.
+__attribute__((target("avx2"))) bool fourTrianglePixels(const FourPixelsInput& in, const Ray* rays,
+                                                        const Hit* hits,
+                                                        const float* rasterDepthFloat,
+                                                        const FourPolygons& polygons,
+                                                        FourPixels& out) {
+  const simd::FourRays four = simd::loadFourRays(rays);
+  const __m256d ox = four.originX, oy = four.originY, oz = four.originZ;
+  const __m256d dx = four.directionX, dy = four.directionY, dz = four.directionZ;
+  const __m256d tMax = four.tMax;
+  const __m256d t = _mm256_set_pd(hits[3].t, hits[2].t, hits[1].t, hits[0].t);
+  const __m256d rasterDepth = _mm256_cvtps_pd(_mm_loadu_ps(rasterDepthFloat));
+
+  // The hit in clip space: m * (o + t d, 1).
+  const __m256d px = _mm256_add_pd(ox, _mm256_mul_pd(t, dx));
+  const __m256d py = _mm256_add_pd(oy, _mm256_mul_pd(t, dy));
+  const __m256d pz = _mm256_add_pd(oz, _mm256_mul_pd(t, dz));
+  const glm::dmat4& m = in.clipFromWorld;
+  __m256d c[4];
+  for (int row = 0; row < 4; ++row) {
+    c[row] =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(broadcast(m[0][row]), px),
+                                    _mm256_mul_pd(broadcast(m[1][row]), py)),
+                      _mm256_add_pd(_mm256_mul_pd(broadcast(m[2][row]), pz), broadcast(m[3][row])));
+  }
+  const __m256d zNdc = _mm256_div_pd(c[2], c[3]);
+  const __m256d rayDepth =
+      _mm256_mul_pd(_mm256_sub_pd(zNdc, broadcast(in.zn)), broadcast(in.toWindowDepth));
+  const __m256d error = absolute(_mm256_sub_pd(rasterDepth, rayDepth));
+
+  // quantumAt for Float32: the next float up minus the depth, at least FLT_MIN.
+  const __m128 depthFloat = _mm256_cvtpd_ps(absolute(rayDepth));
+  const __m128i bits = _mm_castps_si128(depthFloat);
+  // Unsigned bits >= 0x7f800000 (inf, NaN; the sign bit is clear): not this path.
+  if (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(bits, _mm_set1_epi32(0x7f7fffff)))) != 0) {
+    return false;
+  }
+  const __m128 next = _mm_castsi128_ps(_mm_add_epi32(bits, _mm_set1_epi32(1)));
+  const __m256d quantum =
+      _mm256_max_pd(broadcast(static_cast<double>(std::numeric_limits<float>::min())),
+                    _mm256_cvtps_pd(_mm_sub_ps(next, depthFloat)));
+
+  // triangleDepthTolerance.
+  const double u = kFloatUnitRoundoff;
+  const __m256d boundX = _mm256_loadu_pd(polygons.boundX),
+                boundY = _mm256_loadu_pd(polygons.boundY),
+                boundZ = _mm256_loadu_pd(polygons.boundZ),
+                boundW = _mm256_loadu_pd(polygons.boundW);
+  const __m256d xNdc = _mm256_div_pd(c[0], c[3]);
+  const __m256d yNdc = _mm256_div_pd(c[1], c[3]);
+  const __m256d errorX = _mm256_mul_pd(
+      _mm256_mul_pd(_mm256_add_pd(boundX, _mm256_mul_pd(absolute(xNdc), boundW)), broadcast(0.5)),
+      broadcast(in.width));
+  const __m256d errorY = _mm256_mul_pd(
+      _mm256_mul_pd(_mm256_add_pd(boundY, _mm256_mul_pd(absolute(yNdc), boundW)), broadcast(0.5)),
+      broadcast(in.height));
+  const __m256d xyError = _mm256_max_pd(errorY, errorX);  // std::max(errorX, errorY)
+  const __m256d absW = absolute(c[3]);
+  const __m256d vertexNdc =
+      _mm256_div_pd(_mm256_add_pd(boundZ, _mm256_mul_pd(absolute(zNdc), boundW)), absW);
+  const __m256d xyErrorPixels = _mm256_div_pd(xyError, absW);
+  const __m256d vertex = _mm256_add_pd(_mm256_mul_pd(vertexNdc, broadcast(in.toWindow)),
+                                       _mm256_mul_pd(broadcast(2.0 * u), absolute(rayDepth)));
+  const __m256d xyShift = _mm256_add_pd(broadcast(in.subpixelStep), xyErrorPixels);
+  const __m256d snap = _mm256_mul_pd(_mm256_loadu_pd(polygons.gradient), xyShift);
+  const __m256d tolerance = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(quantum, vertex), snap),
+                                          _mm256_loadu_pd(polygons.interpolation));
+  const __m256d ratio = _mm256_div_pd(error, tolerance);
+  const __m256d quanta = _mm256_div_pd(error, quantum);
+
+  // Distance along the ray to the raster depth, relative to the distance from the eye (or the view
+  // volume's depth).
+  const __m256d zRaster =
+      _mm256_add_pd(_mm256_mul_pd(rasterDepth, broadcast(1.0 - in.zn)), broadcast(in.zn));
+  const __m256d z0 = dotPoint(in.rowZ, ox, oy, oz), z1 = dotDirection(in.rowZ, dx, dy, dz);
+  const __m256d w0 = dotPoint(in.rowW, ox, oy, oz), w1 = dotDirection(in.rowW, dx, dy, dz);
+  const __m256d tRaster = _mm256_div_pd(_mm256_sub_pd(z0, _mm256_mul_pd(zRaster, w0)),
+                                        _mm256_sub_pd(_mm256_mul_pd(zRaster, w1), z1));
+  __m256d scale;
+  if (in.parallel) {
+    const __m256d finite = _mm256_cmp_pd(
+        absolute(tMax), broadcast(std::numeric_limits<double>::infinity()), _CMP_LT_OQ);
+    scale = _mm256_blendv_pd(t, tMax, finite);
+  } else {
+    const __m256d ex = _mm256_sub_pd(ox, broadcast(in.eye.x));
+    const __m256d ey = _mm256_sub_pd(oy, broadcast(in.eye.y));
+    const __m256d ez = _mm256_sub_pd(oz, broadcast(in.eye.z));
+    const __m256d length = _mm256_sqrt_pd(_mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)), _mm256_mul_pd(ez, ez)));
+    scale = _mm256_add_pd(t, length);
+  }
+  const __m256d relative = _mm256_div_pd(absolute(_mm256_sub_pd(tRaster, t)), scale);
+  _mm256_storeu_pd(out.rayDepth, rayDepth);
+  _mm256_storeu_pd(out.ratio, ratio);
+  _mm256_storeu_pd(out.quanta, quanta);
+  _mm256_storeu_pd(out.relative, relative);
+  return true;
+}
+
+bool cpuHasAvx2() {
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+}
+#endif
+
+}  // namespace
+
+FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame& analytic,
+                                 const SceneIntersector& intersector, const RasterSetup& setup,
+                                 const ToleranceModel& model, PixelComparison& pixels,
+                                 unsigned workerCount)
+    : raster_(raster),
+      analytic_(analytic),
+      intersector_(intersector),
+      setup_(setup),
+      model_(model),
+      pixels_(pixels),
+      pixelCount_(static_cast<std::size_t>(raster.viewport.width) * raster.viewport.height),
+      workerCount_(workerCount),
+      primitiveCount_(intersector.primitiveIdCount()),
+      rowZ_(matrixRow(setup.clipFromWorld, 2)),
+      rowW_(matrixRow(setup.clipFromWorld, 3)),
+      parallel_(glm::dvec3(rowW_) == glm::dvec3(0.0)) {
+  const glm::dmat4 worldFromClip = glm::inverse(setup.clipFromWorld);
+  const glm::dvec4 eyeHomogeneous = worldFromClip * glm::dvec4(0.0, 0.0, 1.0, 0.0);
+  eye_ = glm::dvec3(eyeHomogeneous) / eyeHomogeneous.w;
+#if CLIPRAY_COMPARE_AVX2
+  const DepthConvention convention = setup.mode.convention;
+  fourAtOnce_ = setup.depthFormat == DepthFormat::Float32 && cpuHasAvx2();
+  fourInput_ = {setup.clipFromWorld,
+                rowZ_,
+                rowW_,
+                eye_,
+                parallel_,
+                convention == DepthConvention::ZeroToOne ? 0.0 : -1.0,
+                convention == DepthConvention::ZeroToOne ? 1.0 : 0.5,
+                model.windowFromNdcScale_,
+                model.subpixelStep_,
+                static_cast<double>(raster.viewport.width),
+                static_cast<double>(raster.viewport.height)};
+#endif
+}
+
+KindSamples& FrameClassifier::samplesOf(WorkerSamples& samples, std::size_t kindIndex) const {
+  KindSamples& kind = samples[kindIndex];
+  if (kind.quanta.capacity() == 0) {
+    // Room for this worker's share of the frame up front: growing would copy and touch fresh
+    // pages again (reserving only maps address space).
+    const std::size_t share = pixelCount_ / workerCount_ + pixelCount_ / 8 + 1;
+    kind.quanta.reserve(share);
+    kind.relative.reserve(share);
+    kind.ratios.reserve(share);
+  }
+  return kind;
+}
+
+std::size_t FrameClassifier::kindOf(std::uint32_t id) const {
+  return intersector_.isAnalytic(id)
+             ? 1 + static_cast<std::size_t>(intersector_.analyticPrimitive(id).kind)
+             : 0;
+}
+
+void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray& ray,
+                                    RunMetrics& metrics, WorkerSamples& samples) const {
+  const std::uint32_t rasterId = raster_.ids[i];
+  const Hit& hit = analytic_.hits[i];
+  const std::uint32_t rayId = hit.primitiveId;
+  // What the images show where nothing below writes: no depth, not compared.
+  pixels_.analyticDepth[i] = kNaN;
+  pixels_.rasterDepth[i] = std::numeric_limits<float>::quiet_NaN();
+  pixels_.toleranceRatio[i] = std::numeric_limits<float>::quiet_NaN();
+  pixels_.classes[i] = PixelClass::Background;
+  if (rasterId == 0 && rayId == 0) return;  // background
+  if (rasterId != 0) {
+    ++metrics.rasterHits;
+    pixels_.rasterDepth[i] = raster_.depth[i];
+  }
+  glm::dvec4 hitClip(0.0);
+  double zNdc = kNaN, rayDepth = kNaN;
+  if (rayId != 0) {
+    ++metrics.rayHits;
+    const glm::dvec3 hitPoint = ray.origin + hit.t * ray.direction;
+    hitClip = setup_.clipFromWorld * glm::dvec4(hitPoint, 1.0);
+    zNdc = hitClip.z / hitClip.w;
+    rayDepth = windowDepthFromNdc(zNdc, setup_.mode.convention);
+    pixels_.analyticDepth[i] = rayDepth;
+  }
+  PixelClass& cls = pixels_.classes[i];
+  if (rasterId > primitiveCount_ || ray.tMax < 0.0) {
+    // An id no primitive has (a renderer bug) or a pixel without a ray: nothing explains it.
+    ++metrics.coverageMismatch.total;
+    ++metrics.coverageMismatch.unexplained;
+    cls = PixelClass::CoverageUnexplained;
+  } else if (rasterId == 0 || rayId == 0) {
+    const std::uint32_t only = rasterId != 0 ? rasterId : rayId;
+    ++metrics.coverageMismatch.total;
+    if (model_.edgeAmbiguous(only, centre)) {
+      ++metrics.coverageMismatch.edgeAmbiguous;
+      cls = PixelClass::CoverageEdgeAmbiguous;
+    } else {
+      ++metrics.coverageMismatch.unexplained;
+      cls = PixelClass::CoverageUnexplained;
+    }
+  } else if (rasterId == rayId) {
+    const bool analyticSurface = intersector_.isAnalytic(rayId);
+    const double rasterDepth = raster_.depth[i];
+    const double error = std::abs(rasterDepth - rayDepth);
+    const double quantum = quantumAt(setup_.depthFormat, rayDepth);
+    double tolerance = 0.0;
+    if (analyticSurface) {
+      tolerance = model_.analyticDepthTolerance(rayId, ray, hit.t);
+    } else {
+      // depthToleranceAtClip, sharing the hit's depth and quantum.
+      tolerance = triangleDepthTolerance(model_.pixelTerms(rayId), hitClip, zNdc, rayDepth, quantum,
+                                         model_.windowFromNdcScale_, model_.subpixelStep_,
+                                         raster_.viewport);
+    }
+    if (analyticSurface && !(error <= tolerance) && model_.analyticEdgeAmbiguous(rayId, centre)) {
+      // The same sphere or box, but one side entered the surface where the other
+      // started inside it (the near plane cuts the shape within float error of this
+      // pixel): the front surface's coverage is ambiguous here, not the depth of
+      // either surface.
+      ++metrics.coverageMismatch.total;
+      ++metrics.coverageMismatch.edgeAmbiguous;
+      cls = PixelClass::CoverageEdgeAmbiguous;
+      return;
+    }
+    const auto [ratio, quanta] = divideTwo(error, tolerance, error, quantum);
+    // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1 t).
+    const double zRaster = ndcFromWindowDepth(rasterDepth, setup_.mode.convention);
+    const double z0 = glm::dot(rowZ_, glm::dvec4(ray.origin, 1.0));
+    const double z1 = glm::dot(glm::dvec3(rowZ_), ray.direction);
+    const double w0 = glm::dot(rowW_, glm::dvec4(ray.origin, 1.0));
+    const double w1 = glm::dot(glm::dvec3(rowW_), ray.direction);
+    const double tRaster = (z0 - zRaster * w0) / (zRaster * w1 - z1);
+    // Relative to the distance from the eye (perspective) or the view volume's depth
+    // (orthographic), so the figure reads the same at any scale.
+    const double scale = parallel_ ? (std::isfinite(ray.tMax) ? ray.tMax : hit.t)
+                                   : hit.t + glm::length(ray.origin - eye_);
+    ++metrics.depthCompared;
+    KindSamples& kind = samplesOf(samples, analyticSurface ? kindOf(rayId) : 0);
+    kind.quanta.push_back(quanta);
+    kind.relative.push_back(std::abs(tRaster - hit.t) / scale);
+    kind.ratios.push_back(ratio);
+    pixels_.toleranceRatio[i] = static_cast<float>(ratio);
+    if (!(ratio <= 1.0)) {  // NaN counts as beyond tolerance
+      ++metrics.depthBeyondTolerance;
+      cls = PixelClass::DepthBeyondTolerance;
+    } else {
+      cls = PixelClass::Agree;
+    }
+  } else {
+    ++metrics.idMismatch.total;
+    // Where does the raster's primitive lie along this pixel? Its depth at the centre
+    // (plane or analytic surface) and the tolerance there.
+    const double rasterPlaneDepth = model_.surfaceDepthAt(rasterId, centre);
+    const double rayTolerance = intersector_.isAnalytic(rayId)
+                                    ? model_.analyticDepthTolerance(rayId, ray, hit.t)
+                                    : model_.depthToleranceAtClip(rayId, hitClip);
+    const double tolerance = rayTolerance + model_.surfaceToleranceAt(rasterId, centre);
+    if (std::abs(rasterPlaneDepth - rayDepth) <= tolerance) {
+      ++metrics.idMismatch.depthAmbiguous;
+      cls = PixelClass::IdDepthAmbiguous;
+    } else if (model_.edgeAmbiguous(rasterId, centre) || model_.edgeAmbiguous(rayId, centre)) {
+      ++metrics.idMismatch.edgeAmbiguous;
+      cls = PixelClass::IdEdgeAmbiguous;
+    } else {
+      ++metrics.idMismatch.unexplained;
+      cls = PixelClass::IdUnexplained;
+    }
+  }
+}
+
+bool FrameClassifier::classifyFour(std::size_t first, const Ray* rays, RunMetrics& metrics,
+                                   WorkerSamples& samples) const {
+#if CLIPRAY_COMPARE_AVX2
+  FourPolygons polygons;
+  for (std::size_t l = 0; l < 4; ++l) {
+    const std::uint32_t rasterId = raster_.ids[first + l];
+    const std::uint32_t rayId = analytic_.hits[first + l].primitiveId;
+    if (rasterId == 0 || rasterId != rayId || rasterId > primitiveCount_ || rays[l].tMax < 0.0 ||
+        intersector_.isAnalytic(rayId)) {
+      return false;
+    }
+    const std::uint32_t slot = model_.slotOfId_[rayId];
+    if (slot == ToleranceModel::kNoSlot) return false;
+    const ToleranceModel::PixelTerms& terms = model_.pixelTerms_[slot];
+    polygons.boundX[l] = terms.clipErrorBound.x;
+    polygons.boundY[l] = terms.clipErrorBound.y;
+    polygons.boundZ[l] = terms.clipErrorBound.z;
+    polygons.boundW[l] = terms.clipErrorBound.w;
+    polygons.gradient[l] = terms.gradient;
+    polygons.interpolation[l] = terms.interpolation;
+  }
+  FourPixels figures;
+  if (!fourTrianglePixels(fourInput_, rays, &analytic_.hits[first], &raster_.depth[first], polygons,
+                          figures)) {
+    return false;
+  }
+  // The four pixels' figures and images, as classifyPixel writes them one by one
+  // (the samples in the same order).
+  KindSamples& kind = samplesOf(samples, 0);
+  metrics.rasterHits += 4;
+  metrics.rayHits += 4;
+  metrics.depthCompared += 4;
+  std::memcpy(&pixels_.rasterDepth[first], &raster_.depth[first], 4 * sizeof(float));
+  std::memcpy(&pixels_.analyticDepth[first], figures.rayDepth, 4 * sizeof(double));
+  appendFour(kind.quanta, figures.quanta);
+  appendFour(kind.relative, figures.relative);
+  appendFour(kind.ratios, figures.ratio);
+  for (std::size_t l = 0; l < 4; ++l) {
+    pixels_.toleranceRatio[first + l] = static_cast<float>(figures.ratio[l]);
+    const bool beyond = !(figures.ratio[l] <= 1.0);  // NaN counts as beyond tolerance
+    metrics.depthBeyondTolerance += beyond ? 1 : 0;
+    pixels_.classes[first + l] = beyond ? PixelClass::DepthBeyondTolerance : PixelClass::Agree;
+  }
+  return true;
+#else
+  (void)first, (void)rays, (void)metrics, (void)samples;
+  return false;
+#endif
+}
+
+void FrameClassifier::classifyRows(int rowBegin, int rowEnd, RunMetrics& metrics,
+                                   WorkerSamples& samples) const {
+  const std::size_t width = static_cast<std::size_t>(raster_.viewport.width);
+  metrics.pixels = static_cast<std::int64_t>(width) * (rowEnd - rowBegin);
+  // The row goes in runs of 64 pixels. A run that shows nothing on either side (a terrain's
+  // sky, most of a small scene's frame) only gets the background's images, written at once.
+  // The others get their rays where the frame computes them (robustRayFrame: 107 KB at 1920
+  // pixels, read from this core's cache); a background pixel never reads its ray.
+  constexpr std::size_t kRun = 64;
+  // Runs start at multiples of 4: classifyFour's four pixels never straddle two.
+  static_assert(kRun % 4 == 0);
+  std::vector<Ray> rowScratch(analytic_.pixelCentreRays ? width : 0);
+  std::vector<std::uint8_t> runShows((width + kRun - 1) / kRun);
+  for (int y = rowBegin; y < rowEnd; ++y) {
+    const std::size_t rowStart = static_cast<std::size_t>(y) * width;
+    const double centreY = y + 0.5;
+    const Ray* rowRays =
+        analytic_.pixelCentreRays ? rowScratch.data() : analytic_.rays.data() + rowStart;
+    for (std::size_t x0 = 0; x0 < width; x0 += kRun) {
+      const std::size_t n = std::min(kRun, width - x0);
+      std::uint32_t shown = 0;
+      for (std::size_t k = rowStart + x0; k < rowStart + x0 + n; ++k) {
+        shown |= raster_.ids[k] | analytic_.hits[k].primitiveId;
+      }
+      runShows[x0 / kRun] = shown != 0 ? 1 : 0;
+      if (shown != 0 && analytic_.pixelCentreRays) {
+        analytic_.pixelCentreRays->row(y, static_cast<int>(x0), static_cast<int>(n),
+                                       rowScratch.data() + x0);
+      }
+    }
+    for (std::size_t x = 0; x < width; ++x) {
+      if (x % kRun == 0 && runShows[x / kRun] == 0) {
+        // What the loop below writes at a background pixel, for the whole run.
+        const std::size_t first = rowStart + x, n = std::min(kRun, width - x);
+        std::fill_n(&pixels_.analyticDepth[first], n, kNaN);
+        std::fill_n(&pixels_.rasterDepth[first], n, std::numeric_limits<float>::quiet_NaN());
+        std::fill_n(&pixels_.toleranceRatio[first], n, std::numeric_limits<float>::quiet_NaN());
+        std::fill_n(&pixels_.classes[first], n, PixelClass::Background);
+        x += n - 1;
+        continue;
+      }
+      if (fourAtOnce_ && x % 4 == 0 && x + 4 <= width &&
+          classifyFour(rowStart + x, rowRays + x, metrics, samples)) {
+        x += 3;
+        continue;
+      }
+      classifyPixel(rowStart + x, glm::dvec2(static_cast<double>(x) + 0.5, centreY), rowRays[x],
+                    metrics, samples);
+    }
+  }
+}
+
+}  // namespace clipray::detail

@@ -1,0 +1,85 @@
+#pragma once
+// Internal to compare/: the per-pixel classification of a reconcile. Each pixel gets its class,
+// its images' values and (where both sides show the same primitive) its depth figures; the
+// scalar kernel takes any pixel, the AVX2 kernel four neighbouring pixels of one triangle, with
+// the same bits.
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/glm.hpp>
+
+#include "clipray/compare/Reconcile.hpp"
+
+namespace clipray::detail {
+
+// Surface kinds the depth figures are split by: 0 triangles, 1 + PrimitiveKind for analytic
+// primitives.
+inline constexpr std::size_t kSurfaceKinds = 1 + static_cast<std::size_t>(PrimitiveKind::Plane) + 1;
+
+// The three figures of one kind, as gathered by one worker (kept apart until the end: the
+// distributions read the parts where they lie).
+struct KindSamples {
+  FrameVector<double> quanta, relative, ratios;
+};
+using WorkerSamples = std::array<KindSamples, kSurfaceKinds>;
+
+// What the AVX2 kernel reads besides the pixels: the frame's constants, as doubles.
+struct FourPixelsInput {
+  glm::dmat4 clipFromWorld;
+  glm::dvec4 rowZ, rowW;
+  glm::dvec3 eye;
+  bool parallel;
+  double zn;             // the convention's near NDC z
+  double toWindowDepth;  // 1 / (1 - zn): exact (a power of two), so (z - zn) / (1 - zn) too
+  double toWindow;       // the tolerance model's 1 / (1 - clipVolumeMinZ)
+  double subpixelStep;
+  double width, height;  // the viewport, as doubles
+};
+
+// The per-frame constants of the classification; classifyRows runs on any number of threads at
+// once, each with its own rows, metrics and samples.
+class FrameClassifier {
+ public:
+  // pixels' images must be sized to the frame already; workerCount sizes each worker's samples.
+  FrameClassifier(const RasterFrame& raster, const AnalyticFrame& analytic,
+                  const SceneIntersector& intersector, const RasterSetup& setup,
+                  const ToleranceModel& model, PixelComparison& pixels, unsigned workerCount);
+
+  // Classifies rows [rowBegin, rowEnd): writes their pixels' images, counts them into metrics
+  // and appends their depth figures to samples (in pixel order).
+  void classifyRows(int rowBegin, int rowEnd, RunMetrics& metrics, WorkerSamples& samples) const;
+
+ private:
+  // The samples of one surface kind, with room for this worker's share of the frame.
+  KindSamples& samplesOf(WorkerSamples& samples, std::size_t kindIndex) const;
+  std::size_t kindOf(std::uint32_t id) const;
+  // The scalar kernel: pixel i, whose centre lies at window position centre, its ray given (read
+  // only where the pixel shows something).
+  void classifyPixel(std::size_t i, glm::dvec2 centre, const Ray& ray, RunMetrics& metrics,
+                     WorkerSamples& samples) const;
+  // Pixels first .. first + 3 when each shows the same triangle on both sides (with a ray and a
+  // polygon built up front), through the AVX2 kernel; false (nothing written) otherwise.
+  bool classifyFour(std::size_t first, const Ray* rays, RunMetrics& metrics,
+                    WorkerSamples& samples) const;
+
+  const RasterFrame& raster_;
+  const AnalyticFrame& analytic_;
+  const SceneIntersector& intersector_;
+  const RasterSetup& setup_;
+  const ToleranceModel& model_;
+  PixelComparison& pixels_;
+  std::size_t pixelCount_;
+  unsigned workerCount_;
+  std::uint32_t primitiveCount_;
+  glm::dvec4 rowZ_, rowW_;  // rows 2 and 3 of clipFromWorld
+  bool parallel_;           // an orthographic camera: no eye point
+  glm::dvec3 eye_;
+  // Four pixels at a time where all four show the same triangle on both sides (most pixels of a
+  // mesh), with a float depth buffer (quantumAt's bit trick) on a CPU with AVX2.
+  bool fourAtOnce_ = false;
+  FourPixelsInput fourInput_{};
+};
+
+}  // namespace clipray::detail

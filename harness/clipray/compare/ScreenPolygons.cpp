@@ -1,0 +1,173 @@
+// The screen polygon of a triangle for the tolerance model: the triangle clipped to the view
+// volume in double, its window-space vertices, depth plane, vertex-transform error bound and
+// coverage epsilon, and the distance and inside queries on it.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "clipray/compare/ToleranceModel.hpp"
+#include "clipray/compare/ToleranceTerms.hpp"
+#include "clipray/math/Projections.hpp"
+
+namespace clipray {
+
+namespace {
+
+using detail::kFloatUnitRoundoff;
+using detail::kInf;
+
+// Sutherland-Hodgman against one homogeneous clip plane: inside where dot(plane, c) >= 0.
+int clipPolygon(const glm::dvec4* in, int count, const glm::dvec4& plane, glm::dvec4* out) {
+  int written = 0;
+  for (int k = 0; k < count; ++k) {
+    const glm::dvec4& a = in[k];
+    const glm::dvec4& b = in[k + 1 == count ? 0 : k + 1];
+    const double da = glm::dot(plane, a);
+    const double db = glm::dot(plane, b);
+    if (da >= 0.0) out[written++] = a;
+    if ((da >= 0.0) != (db >= 0.0)) out[written++] = a + (b - a) * (da / (da - db));
+  }
+  return written;
+}
+
+double pointSegmentDistance(glm::dvec2 p, glm::dvec2 a, glm::dvec2 b) {
+  const glm::dvec2 ab = b - a;
+  const double lengthSquared = glm::dot(ab, ab);
+  const double s =
+      lengthSquared > 0.0 ? std::clamp(glm::dot(p - a, ab) / lengthSquared, 0.0, 1.0) : 0.0;
+  return glm::length(p - (a + s * ab));
+}
+
+}  // namespace
+
+ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primitiveId) const {
+  ScreenPolygon polygon;
+  if (primitiveId == 0 || primitiveId > intersector_.primitiveIdCount() ||
+      intersector_.isAnalytic(primitiveId)) {
+    return polygon;
+  }
+  const glm::dmat4& m = setup_.clipFromWorld;
+  const double zn = setup_.mode.clipVolumeMinZ();
+  // The clip volume z_n w <= z <= w, -w <= x, y <= w as six planes (>= 0 inside).
+  const glm::dvec4 planes[6] = {{0, 0, 1, -zn}, {0, 0, -1, 1}, {1, 0, 0, 1},
+                                {-1, 0, 0, 1},  {0, 1, 0, 1},  {0, -1, 0, 1}};
+  const double u = kFloatUnitRoundoff;
+  const double subpixel = std::ldexp(1.0, -setup_.subpixelBits);
+  const std::array<glm::dvec3, 3> world = intersector_.worldTriangle(primitiveId);
+
+  // Float error of the vertex transform, bounded per clip row r by k u max_v sum_i |M_ri p_i|:
+  // World/CameraRelative: matrix and position each rounded to float (2u) plus a 4-term float
+  // dot product (gamma_4 ~ 4u): k = 6. Pretransformed: clip coordinates rounded once: k = 1.
+  glm::dvec4 bound(0.0);
+  for (const glm::dvec3& v : world) {
+    for (int r = 0; r < 4; ++r) {
+      double magnitude = 0.0;
+      if (setup_.vertexMode == VertexMode::Pretransformed) {
+        magnitude = std::abs(glm::dot(matrixRow(m, r), glm::dvec4(v, 1.0)));
+      } else {
+        const glm::dmat4& gpuMatrix =
+            setup_.vertexMode == VertexMode::World ? m : cameraRelativeMatrix_;
+        const glm::dvec3 gpuPosition =
+            setup_.vertexMode == VertexMode::World ? v : v - setup_.vertexReference;
+        const glm::dvec4 row = matrixRow(gpuMatrix, r);
+        magnitude = std::abs(row.x * gpuPosition.x) + std::abs(row.y * gpuPosition.y) +
+                    std::abs(row.z * gpuPosition.z) + std::abs(row.w);
+      }
+      bound[r] = std::max(bound[r], magnitude);
+    }
+  }
+  polygon.clipErrorBound =
+      bound * (setup_.vertexMode == VertexMode::Pretransformed ? 1.0 : 6.0) * u;
+  const glm::dvec4& error = polygon.clipErrorBound;
+
+  glm::dvec4 bufferA[kMaxPolygonVertices + 3], bufferB[kMaxPolygonVertices + 3];
+  int count = 3;
+  for (int k = 0; k < 3; ++k) bufferA[k] = m * glm::dvec4(world[k], 1.0);
+  glm::dvec4* current = bufferA;
+  glm::dvec4* next = bufferB;
+  // Most triangles of a frame lie inside the clip volume, and clipping leaves those as they are
+  // (the same test clipPolygon makes): skip the six passes for them.
+  bool inside = true;
+  for (const glm::dvec4& plane : planes) {
+    for (int k = 0; k < 3; ++k) inside &= glm::dot(plane, bufferA[k]) >= 0.0;
+  }
+  for (const glm::dvec4& plane : planes) {
+    if (inside) break;
+    count = clipPolygon(current, count, plane, next);
+    std::swap(current, next);
+    if (count == 0) break;
+  }
+  polygon.vertexCount = std::min(count, kMaxPolygonVertices);
+  double xyError = 0.0;
+  for (int k = 0; k < polygon.vertexCount; ++k) {
+    const glm::dvec4 c = current[k];
+    const double w = c.w;
+    polygon.vertices[k] = {(c.x / w + 1.0) * 0.5 * viewport_.width,
+                           (c.y / w + 1.0) * 0.5 * viewport_.height,
+                           windowDepthFromNdc(c.z / w, setup_.mode.convention)};
+    polygon.maxDepth = std::max(polygon.maxDepth, std::abs(polygon.vertices[k].z));
+    // Vertex xy error in pixels: (dx + |x_ndc| dw) / w, scaled to the viewport.
+    const double ex = (error.x + std::abs(c.x / w) * error.w) / w * 0.5 * viewport_.width;
+    const double ey = (error.y + std::abs(c.y / w) * error.w) / w * 0.5 * viewport_.height;
+    xyError = std::max({xyError, ex, ey});
+  }
+  // Snapping to the subpixel grid moves each edge by at most one subpixel step; the float
+  // vertex transform moves it by the xy error (either endpoint, any direction).
+  polygon.edgeEpsilon = subpixel + std::sqrt(2.0) * xyError;
+
+  // Window depth is affine in window xy over a planar triangle: fit it from the largest-area
+  // triple of polygon vertices.
+  double bestArea = 0.0;
+  for (int a = 0; a < polygon.vertexCount; ++a) {
+    for (int b = a + 1; b < polygon.vertexCount; ++b) {
+      for (int c = b + 1; c < polygon.vertexCount; ++c) {
+        const glm::dvec3 pa = polygon.vertices[a], pb = polygon.vertices[b],
+                         pc = polygon.vertices[c];
+        const double area = (pb.x - pa.x) * (pc.y - pa.y) - (pc.x - pa.x) * (pb.y - pa.y);
+        if (std::abs(area) <= std::abs(bestArea)) continue;
+        bestArea = area;
+        const double gx = ((pb.z - pa.z) * (pc.y - pa.y) - (pc.z - pa.z) * (pb.y - pa.y)) / area;
+        const double gy = ((pc.z - pa.z) * (pb.x - pa.x) - (pb.z - pa.z) * (pc.x - pa.x)) / area;
+        polygon.depthPlane = {gx, gy, pa.z - gx * pa.x - gy * pa.y};
+      }
+    }
+  }
+  return polygon;
+}
+
+double ToleranceModel::edgeDistancePixels(std::uint32_t primitiveId, glm::dvec2 pixel) const {
+  const ScreenPolygon& polygon = this->polygon(primitiveId);
+  if (polygon.vertexCount == 0) return kInf;
+  double best = kInf;
+  for (int k = 0; k < polygon.vertexCount; ++k) {
+    const glm::dvec3& a = polygon.vertices[k];
+    const glm::dvec3& b = polygon.vertices[(k + 1) % polygon.vertexCount];
+    best = std::min(best, pointSegmentDistance(pixel, {a.x, a.y}, {b.x, b.y}));
+  }
+  return best;
+}
+
+bool ToleranceModel::insidePolygon(std::uint32_t primitiveId, glm::dvec2 pixel) const {
+  const ScreenPolygon& polygon = this->polygon(primitiveId);
+  if (polygon.vertexCount < 3) return false;
+  bool positive = false, negative = false;
+  for (int k = 0; k < polygon.vertexCount; ++k) {
+    const glm::dvec3& a = polygon.vertices[k];
+    const glm::dvec3& b = polygon.vertices[(k + 1) % polygon.vertexCount];
+    const double side = (b.x - a.x) * (pixel.y - a.y) - (b.y - a.y) * (pixel.x - a.x);
+    positive |= side > 0.0;
+    negative |= side < 0.0;
+  }
+  return !(positive && negative);
+}
+
+double ToleranceModel::edgeEpsilonPixels(std::uint32_t primitiveId) const {
+  return polygon(primitiveId).edgeEpsilon;
+}
+
+double ToleranceModel::planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel) const {
+  const glm::dvec3& plane = polygon(primitiveId).depthPlane;
+  return plane.x * pixel.x + plane.y * pixel.y + plane.z;
+}
+}  // namespace clipray
