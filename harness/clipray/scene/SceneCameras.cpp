@@ -1,0 +1,140 @@
+// The cameras of a scene file: a raw clipFromWorld, or a projection with a view ("view": look-at,
+// or "viewFromWorld"), each checked to stay finite under every convention it may be drawn under.
+
+#include <cmath>
+#include <string_view>
+#include <tuple>
+#include <utility>
+
+#include "clipray/math/Projections.hpp"
+#include "clipray/scene/SceneReader.hpp"
+
+namespace clipray::detail {
+
+Camera SceneReader::camera(const json& value, const Pointer& at,
+                           std::map<std::string, Pointer>& names) const {
+  expectObject(value, at);
+  expectKnownKeys(
+      value, at,
+      {"name", "viewport", "clipFromWorld", "view", "viewFromWorld", "projection", "builtFor"});
+  Camera camera;
+  camera.name = name(value, at, "camera", names);
+  camera.viewport = viewport(required(value, at, "viewport"), at / "viewport");
+
+  const json* raw = optional(value, "clipFromWorld");
+  const json* view = optional(value, "view");
+  const json* viewFromWorld = optional(value, "viewFromWorld");
+  const json* projectionValue = optional(value, "projection");
+  const json* builtFor = optional(value, "builtFor");
+
+  if (raw) {
+    for (std::string_view other : {"view", "viewFromWorld", "projection", "builtFor"}) {
+      if (optional(value, other)) {
+        fail(at, "expected either \"clipFromWorld\" or " + jsonString(other) + ", got both");
+      }
+    }
+    camera.rawClipFromWorld = clipMatrix(*raw, at / "clipFromWorld");
+    camera.projection = std::monostate{};
+    return camera;
+  }
+
+  if (!view && !viewFromWorld && !projectionValue) {
+    fail(at,
+         "missing required field \"clipFromWorld\", or \"projection\" with \"view\" or "
+         "\"viewFromWorld\"");
+  }
+  if (view && viewFromWorld) fail(at, "expected either \"view\" or \"viewFromWorld\", got both");
+  if (!view && !viewFromWorld) fail(at, "missing required field \"view\" or \"viewFromWorld\"");
+  camera.viewFromWorld =
+      view ? lookAt(*view, at / "view") : affineMatrix(*viewFromWorld, at / "viewFromWorld");
+  if (!projectionValue) fail(at, "missing required field \"projection\"");
+  camera.projection = projection(*projectionValue, at / "projection");
+  if (builtFor) camera.builtFor = depthMode(*builtFor, at / "builtFor");
+
+  // Extreme but individually valid numbers can still overflow the product.
+  for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed}) {
+    if (!allFinite(camera.clipFromWorld(mode, camera.viewport))) {
+      fail(at, "the camera's clipFromWorld overflows double when drawn under " +
+                   jsonString(mode.name()));
+    }
+  }
+  return camera;
+}
+
+glm::dmat4 SceneReader::lookAt(const json& value, const Pointer& at) const {
+  expectObject(value, at);
+  expectKnownKeys(value, at, {"eye", "target", "up"});
+  const glm::dvec3 eye = vector3(required(value, at, "eye"), at / "eye");
+  const glm::dvec3 target = vector3(required(value, at, "target"), at / "target");
+  const glm::dvec3 up = vector3(required(value, at, "up"), at / "up");
+  if (target == eye) {
+    fail(at / "target", "expected a point different from \"eye\" (" + describe(value["eye"]) +
+                            "), got " + describe(value["target"]));
+  }
+  if (up == glm::dvec3(0.0))
+    fail(at / "up", "expected a non-zero direction, got " + describe(value["up"]));
+  const glm::dvec3 forward = target - eye;
+  if (std::isfinite(forward.x) && std::isfinite(forward.y) && std::isfinite(forward.z) &&
+      glm::length(glm::cross(safeNormalize(forward), safeNormalize(up))) < kParallelThreshold) {
+    fail(at / "up", "expected a direction not parallel to the view direction (target - eye), got " +
+                        describe(value["up"]));
+  }
+  return viewFromWorldLookAt(eye, target, up);
+}
+
+std::variant<PerspectiveProjection, OrthographicProjection, std::monostate> SceneReader::projection(
+    const json& value, const Pointer& at) const {
+  expectObject(value, at);
+  const json& type = required(value, at, "type");
+  const auto bigger = [&](const json& object, std::string_view lowKey, std::string_view highKey,
+                          double low) {
+    const json& high = required(object, at, highKey);
+    const double x = number(high, at / std::string(highKey));
+    if (!(x > low)) {
+      fail(at / std::string(highKey), "expected a number greater than " + jsonString(lowKey) +
+                                          " (" + describe(object[std::string(lowKey)]) + "), got " +
+                                          describe(high));
+    }
+    return x;
+  };
+  const auto different = [&](const json& object, std::string_view firstKey,
+                             std::string_view secondKey) {
+    const double first = number(required(object, at, firstKey), at / std::string(firstKey));
+    const json& second = required(object, at, secondKey);
+    if (number(second, at / std::string(secondKey)) == first) {
+      fail(at / std::string(secondKey), "expected a number different from " + jsonString(firstKey) +
+                                            " (" + describe(object[std::string(firstKey)]) +
+                                            "), got " + describe(second));
+    }
+    return std::pair{first, second.get<double>()};
+  };
+
+  if (type == "perspective") {
+    expectKnownKeys(value, at, {"type", "fovYDegrees", "aspect", "near", "far"});
+    PerspectiveProjection p;
+    const json& fov = required(value, at, "fovYDegrees");
+    p.fovYDegrees = number(fov, at / "fovYDegrees");
+    if (!(p.fovYDegrees > 0.0 && p.fovYDegrees < 180.0)) {
+      fail(at / "fovYDegrees", "expected a number in (0, 180), got " + describe(fov));
+    }
+    if (const json* aspect = optional(value, "aspect")) {
+      p.aspect = positiveNumber(*aspect, at / "aspect");
+    }
+    p.nearDistance = positiveNumber(required(value, at, "near"), at / "near");
+    if (value.contains("far")) p.farDistance = bigger(value, "near", "far", p.nearDistance);
+    return p;
+  }
+  if (type == "orthographic") {
+    expectKnownKeys(value, at, {"type", "left", "right", "bottom", "top", "near", "far"});
+    OrthographicProjection o;
+    std::tie(o.left, o.right) = different(value, "left", "right");
+    std::tie(o.bottom, o.top) = different(value, "bottom", "top");
+    o.nearDistance = number(required(value, at, "near"), at / "near");
+    o.farDistance = bigger(value, "near", "far", o.nearDistance);
+    return o;
+  }
+  fail(at / "type", "expected one of " + quotedList({"perspective", "orthographic"}) + ", got " +
+                        describe(type));
+}
+
+}  // namespace clipray::detail

@@ -1,0 +1,65 @@
+#pragma once
+// Internal to scene/: the reader of a scene file's JSON document, one member per part of the
+// format (cameras, object placement, one reader per object "type"), each appending to the Scene.
+// Matrices produced: viewFromWorld and worldFromObject column-major, p' = M * p.
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <variant>
+
+#include <glm/glm.hpp>
+
+#include "clipray/scene/Scene.hpp"
+#include "clipray/scene/SceneValidation.hpp"
+
+namespace clipray::detail {
+
+class SceneReader : public SceneValidator {
+ public:
+  using SceneValidator::SceneValidator;
+
+  // The whole document: version, comment, conventions, cameras, objects (SceneLoader.cpp).
+  Scene read(const json& root);
+
+  // Object readers, one per "type"; each appends to the scene. worldFromObject is the object's
+  // placement ("transform" or "worldFromObject").
+  // Meshes (SceneMeshObjects.cpp):
+  void readMesh(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                std::string name, Scene& scene) const;
+  void readMeshFile(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                    std::string name, Scene& scene) const;
+  void readTerrain(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                   std::string name, Scene& scene) const;
+  // Analytic primitives (ScenePrimitiveObjects.cpp):
+  void readSphere(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                  std::string name, Scene& scene) const;
+  void readDisk(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                std::string name, Scene& scene) const;
+  void readQuad(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                std::string name, Scene& scene) const;
+  void readBox(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+               std::string name, Scene& scene) const;
+  void readPlane(const json& object, const Pointer& at, const glm::dmat4& worldFromObject,
+                 std::string name, Scene& scene) const;
+
+ private:
+  // Cameras (SceneCameras.cpp).
+  Camera camera(const json& value, const Pointer& at, std::map<std::string, Pointer>& names) const;
+  glm::dmat4 lookAt(const json& value, const Pointer& at) const;
+  std::variant<PerspectiveProjection, OrthographicProjection, std::monostate> projection(
+      const json& value, const Pointer& at) const;
+  // One object: its type's reader with its placement (SceneLoader.cpp).
+  void object(const json& value, const Pointer& at, std::map<std::string, Pointer>& names,
+              Scene& scene) const;
+  glm::dmat4 placement(const json& object, const Pointer& at) const;
+  glm::dmat4 transform(const json& value, const Pointer& at) const;  // world = T * R * S * p
+  // A unit direction from a non-zero vector3.
+  glm::dvec3 direction(const json& value, const Pointer& at) const;
+  void addPrimitive(PrimitiveKind kind, const glm::dmat4& worldFromLocal, const Pointer& at,
+                    std::string name, Scene& scene) const;
+
+  mutable std::uint64_t terrainTriangles_ = 0;  // generated so far (see readTerrain)
+};
+
+}  // namespace clipray::detail
