@@ -1,3 +1,6 @@
+// The demo's app state: the window, the renderer and the display pass, the camera and settings
+// the handlers change, the raster kept for picking, and the script and screenshot runs.
+
 #include "PickDemo.hpp"
 
 #include <glad/gl.h>
@@ -14,11 +17,14 @@
 #include <limits>
 #include <ostream>
 
+#include "PickDemoDetail.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/InputError.hpp"
 
 namespace clipray::demo {
+
+using detail::translation;
 
 namespace {
 
@@ -30,6 +36,7 @@ void main() {
   const vec2 corner = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);
   gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
 }
+
 )";
 
 const char* const kDisplayFragment = R"(#version 450 core
@@ -46,6 +53,7 @@ void main() {
   }
   fragColour = vec4(texelFetch(uColours, int(id)).rgb, 1.0);
 }
+
 )";
 
 GLuint compile(GLenum kind, const char* source) {
@@ -62,23 +70,6 @@ GLuint compile(GLenum kind, const char* source) {
   return shader;
 }
 
-glm::dmat4 translation(const glm::dvec3& t) {
-  glm::dmat4 m(1.0);
-  m[3] = glm::dvec4(t, 1.0);
-  return m;
-}
-
-glm::dmat4 rotation(double radians, glm::dvec3 axis) {
-  axis = glm::normalize(axis);
-  const double c = std::cos(radians), s = std::sin(radians), k = 1.0 - c;
-  const double x = axis.x, y = axis.y, z = axis.z;
-  glm::dmat4 m(1.0);
-  m[0] = {c + x * x * k, y * x * k + z * s, z * x * k - y * s, 0.0};
-  m[1] = {x * y * k - z * s, c + y * y * k, z * y * k + x * s, 0.0};
-  m[2] = {x * z * k + y * s, y * z * k - x * s, c + z * z * k, 0.0};
-  return m;
-}
-
 glm::vec3 objectColour(int object) {
   static const glm::vec3 palette[] = {{0.55f, 0.60f, 0.52f}, {0.85f, 0.45f, 0.30f},
                                       {0.35f, 0.55f, 0.85f}, {0.85f, 0.75f, 0.35f},
@@ -86,75 +77,7 @@ glm::vec3 objectColour(int object) {
   return palette[object % 6];
 }
 
-std::string formatPoint(const std::optional<glm::dvec3>& p) {
-  if (!p) return "-";
-  char text[128];
-  std::snprintf(text, sizeof text, "(%.6f, %.6f, %.6f)", p->x, p->y, p->z);
-  return text;
-}
-
-std::string objectName(const Scene& scene, int object) {
-  return surfaceName(scene, object);
-}
-
 }  // namespace
-
-struct PickDemo::Gpu {
-  GLuint program = 0;
-  GLuint vertexArray = 0;
-  GLuint idTexture = 0;
-  glm::ivec2 idTextureSize{0};
-  GLuint colourBuffer = 0;
-  GLuint colourTexture = 0;
-  std::vector<unsigned char> lastFrame;  // RGBA of the last drawn frame, bottom row first
-  glm::ivec2 lastFrameSize{0};
-};
-
-// GLFW calls these with the demo in the window's user pointer; ImGui chains to them.
-struct Callbacks {
-  static PickDemo& demo(GLFWwindow* window) {
-    return *static_cast<PickDemo*>(glfwGetWindowUserPointer(window));
-  }
-  static void mouseButton(GLFWwindow* window, int button, int action, int) {
-    PickDemo& d = demo(window);
-    if (button != GLFW_MOUSE_BUTTON_LEFT && button != GLFW_MOUSE_BUTTON_RIGHT) return;
-    double x = 0, y = 0;
-    glfwGetCursorPos(window, &x, &y);
-    if (action == GLFW_PRESS) {
-      if (ImGui::GetIO().WantCaptureMouse) return;
-      d.pressedButton_ = button;
-      d.pressCursor_ = d.lastCursor_ = {x, y};
-      d.dragged_ = false;
-    } else if (action == GLFW_RELEASE && d.pressedButton_ == button) {
-      if (!d.dragged_ && button == GLFW_MOUSE_BUTTON_LEFT) d.onClick(d.pressCursor_);
-      d.pressedButton_ = -1;
-    }
-  }
-  static void cursor(GLFWwindow* window, double x, double y) {
-    PickDemo& d = demo(window);
-    if (d.pressedButton_ < 0) return;
-    const glm::dvec2 now{x, y};
-    if (!d.dragged_ && glm::distance(now, d.pressCursor_) < 3.0) return;
-    d.dragged_ = true;
-    d.onDrag(d.lastCursor_, now, d.pressedButton_ == GLFW_MOUSE_BUTTON_RIGHT);
-    d.lastCursor_ = now;
-  }
-  static void scroll(GLFWwindow* window, double, double dy) {
-    if (ImGui::GetIO().WantCaptureMouse) return;
-    demo(window).onScroll(dy);
-  }
-  static void key(GLFWwindow* window, int key, int, int action, int) {
-    if (action != GLFW_PRESS || ImGui::GetIO().WantCaptureKeyboard) return;
-    if (key == GLFW_KEY_ESCAPE || key == GLFW_KEY_Q) {
-      glfwSetWindowShouldClose(window, GLFW_TRUE);
-      return;
-    }
-    if (key >= GLFW_KEY_A && key <= GLFW_KEY_Z) {
-      const char letter = static_cast<char>('a' + (key - GLFW_KEY_A));
-      if (std::string(kScriptKeys).find(letter) != std::string::npos) demo(window).onKey(letter);
-    }
-  }
-};
 
 PickDemo::PickDemo(Scene scene, const DemoSettings& settings, std::ostream& pickLines)
     : baseScene_(std::move(scene)), settings_(settings), pickLines_(pickLines) {
@@ -205,11 +128,7 @@ PickDemo::PickDemo(Scene scene, const DemoSettings& settings, std::ostream& pick
   glCreateTextures(GL_TEXTURE_BUFFER, 1, &gpu_->colourTexture);
   glTextureBuffer(gpu_->colourTexture, GL_RGBA32F, gpu_->colourBuffer);
 
-  glfwSetWindowUserPointer(window_->handle(), this);
-  glfwSetMouseButtonCallback(window_->handle(), &Callbacks::mouseButton);
-  glfwSetCursorPosCallback(window_->handle(), &Callbacks::cursor);
-  glfwSetScrollCallback(window_->handle(), &Callbacks::scroll);
-  glfwSetKeyCallback(window_->handle(), &Callbacks::key);
+  installInputCallbacks();
 
   IMGUI_CHECKVERSION();
   ImGui::CreateContext();
@@ -331,201 +250,6 @@ void PickDemo::repick() {
       lastPick_->pixel, glm::ivec2(raster_.viewport.width - 1, raster_.viewport.height - 1));
   const PickView view{&shownScene_, rasterCamera_, settings_.depthFormat, &raster_, &*intersector_};
   lastPick_ = pick(view, settings_.ray, pixel);
-}
-
-void PickDemo::onClick(glm::dvec2 cursor) {
-  updateRaster();
-  const glm::ivec2 pixel = window_->geometry().pixelFromCursor(cursor);
-  const PickView view{&shownScene_, rasterCamera_, settings_.depthFormat, &raster_, &*intersector_};
-  lastPick_ = pick(view, settings_.ray, pixel);
-  pickLines_ << pickJson(*lastPick_, shownScene_, teleported_).dump() << std::endl;
-}
-
-void PickDemo::onDrag(glm::dvec2 from, glm::dvec2 to, bool rightButton) {
-  if (camera_.rawClipFromWorld) return;  // a raw matrix has no view to orbit
-  const glm::dvec2 delta = to - from;
-  glm::dmat4 worldFromView = glm::inverse(viewFromWorld_);
-  const glm::dvec3 right = glm::normalize(glm::dvec3(worldFromView[0]));
-  const glm::dvec3 up = glm::normalize(glm::dvec3(worldFromView[1]));
-  if (rightButton) {
-    // Pan: the pivot and the camera move together by the drag, measured at the pivot's distance.
-    const double distance = glm::distance(glm::dvec3(worldFromView[3]), pivot_);
-    const WindowGeometry geometry = window_->geometry();
-    double height = 2.0 * distance * std::tan(glm::radians(30.0));
-    if (const auto* p = std::get_if<PerspectiveProjection>(&camera_.projection)) {
-      height = 2.0 * distance * std::tan(glm::radians(p->fovYDegrees) / 2.0);
-    } else if (const auto* o = std::get_if<OrthographicProjection>(&camera_.projection)) {
-      height = o->top - o->bottom;
-    }
-    const glm::dvec3 move = (-delta.x * right + delta.y * up) * height / geometry.windowSize.y;
-    pivot_ += move;
-    worldFromView = translation(move) * worldFromView;
-  } else {
-    // Orbit about the pivot: yaw about world +y, pitch about the camera's right axis.
-    const glm::dmat4 yaw = rotation(-delta.x * 0.008, glm::dvec3(0, 1, 0));
-    const glm::dmat4 pitch = rotation(-delta.y * 0.008, right);
-    glm::dmat4 turned = translation(pivot_) * yaw * pitch * translation(-pivot_) * worldFromView;
-    if (std::abs(glm::normalize(glm::dvec3(turned[2])).y) > 0.995) {
-      turned = translation(pivot_) * yaw * translation(-pivot_) * worldFromView;
-    }
-    worldFromView = turned;
-  }
-  viewFromWorld_ = glm::inverse(worldFromView);
-  rasterDirty_ = true;
-  repick();
-}
-
-void PickDemo::onScroll(double steps) {
-  if (camera_.rawClipFromWorld) return;
-  const glm::dmat4 worldFromView = glm::inverse(viewFromWorld_);
-  const glm::dvec3 eye(worldFromView[3]);
-  const double distance = glm::distance(eye, pivot_);
-  if (!(distance > 0.0)) return;
-  const double wanted = std::max(distance * std::pow(0.85, steps), 1e-3);
-  const glm::dvec3 move = (pivot_ - eye) / distance * (distance - wanted);
-  viewFromWorld_ = glm::inverse(translation(move) * worldFromView);
-  rasterDirty_ = true;
-  repick();
-}
-
-void PickDemo::onKey(char key) {
-  switch (key) {
-    case 'c':  // no -> zo -> zo-reversed -> no
-      settings_.mode = settings_.mode == kNegativeOneToOne ? kZeroToOne
-                       : settings_.mode == kZeroToOne      ? kZeroToOneReversed
-                                                           : kNegativeOneToOne;
-      break;
-    case 'd':  // 16 -> 24 -> 32f -> 16
-      settings_.depthFormat = settings_.depthFormat == DepthFormat::Unorm16 ? DepthFormat::Unorm24
-                              : settings_.depthFormat == DepthFormat::Unorm24
-                                  ? DepthFormat::Float32
-                                  : DepthFormat::Unorm16;
-      break;
-    case 'm':
-      settings_.ray = nextRayChoice(settings_.ray);
-      break;
-    case 'v':
-      settings_.vertexMode = settings_.vertexMode == VertexMode::World ? VertexMode::CameraRelative
-                             : settings_.vertexMode == VertexMode::CameraRelative
-                                 ? VertexMode::Pretransformed
-                                 : VertexMode::World;
-      break;
-    case 't': {
-      teleported_ = !teleported_;
-      shownScene_ = baseScene_;
-      const glm::dvec3 offset = teleportOffset();
-      for (MeshObject& object : shownScene_.objects) {
-        for (glm::dvec3& p : object.worldPositions) p += offset;
-      }
-      break;
-    }
-    case 'r':
-      resetView();
-      break;
-    case 'h':
-      showHelp_ = !showHelp_;
-      return;
-    default:
-      return;
-  }
-  rasterDirty_ = true;
-  repick();
-}
-
-void PickDemo::drawPanel() {
-  const WindowGeometry geometry = window_->geometry();
-  ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
-  ImGui::SetNextWindowBgAlpha(0.82f);
-  ImGui::Begin("clipray-pick", nullptr,
-               ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
-                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
-  ImGui::Text("scene %s   %s", baseScene_.name.c_str(),
-              teleported_ ? "TELEPORTED 1e5 from the origin" : "at the origin");
-  ImGui::Text("convention %s   depth %s   vertices %s   rays %s", settings_.mode.name().c_str(),
-              depthFormatName(settings_.depthFormat).c_str(),
-              vertexModeName(settings_.vertexMode).c_str(), rayChoiceName(settings_.ray).c_str());
-  ImGui::Text("framebuffer %dx%d   window %.0fx%.0f", geometry.framebufferSize.x,
-              geometry.framebufferSize.y, geometry.windowSize.x, geometry.windowSize.y);
-  ImGui::Separator();
-  if (!lastPick_) {
-    ImGui::TextUnformatted("left-click to pick");
-  } else {
-    const PickResult& p = *lastPick_;
-    ImGui::Text("pixel (%d, %d)", p.pixel.x, p.pixel.y);
-    if (p.rayUnavailable.empty()) {
-      ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s",
-                         objectName(shownScene_, p.rayObject).c_str(),
-                         formatPoint(p.rayPoint).c_str());
-    } else {
-      ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s", "n/a",
-                         p.rayUnavailable.c_str());
-    }
-    ImGui::TextColored(ImVec4(1.0f, 0.65f, 0.2f, 1.0f), "2 depth %-12s %s", "",
-                       formatPoint(p.depthPoint).c_str());
-    ImGui::TextColored(ImVec4(0.4f, 0.9f, 1.0f, 1.0f), "3 id    %s",
-                       objectName(shownScene_, p.idObject).c_str());
-    if (p.gapWorld) {
-      ImGui::Text("gap 1-2: %.3g world units, %.3g px", *p.gapWorld, p.gapPixels.value_or(0.0));
-    } else {
-      ImGui::TextUnformatted("gap 1-2: -");
-    }
-    if (!p.rayUnavailable.empty()) {
-      ImGui::TextUnformatted("1 and 3: n/a (no ray)");
-    } else if (p.agree()) {
-      ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 and 3 agree");
-    } else {
-      ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.35f, 1.0f), "1 and 3 DISAGREE");
-    }
-  }
-  ImGui::End();
-
-  if (showHelp_) {
-    ImGui::SetNextWindowPos(ImVec2(8, static_cast<float>(geometry.windowSize.y) - 8),
-                            ImGuiCond_Always, ImVec2(0, 1));
-    ImGui::SetNextWindowBgAlpha(0.7f);
-    ImGui::Begin("keys", nullptr,
-                 ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
-                     ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
-    ImGui::TextUnformatted(
-        "left-click pick   left-drag orbit   right-drag pan   wheel zoom\n"
-        "C convention (no / zo / zo-reversed)   D depth format (16 / 24 / 32f)\n"
-        "M ray method: unproject_glm / two_point / inverse_pv / fov_tangent / plane_cross /\n"
-        "  plane_cross_pre / full / robust (float), then robust double\n"
-        "V vertex mode (world / camera-relative / pretransformed)   T teleport 1e5\n"
-        "R reset view   H this help   Esc quit");
-    ImGui::End();
-  }
-
-  // Markers: 1 where the ray hit, 2 where the depth readback unprojects to, 3 the picked pixel.
-  if (lastPick_) {
-    ImDrawList* draw = ImGui::GetForegroundDrawList();
-    const Viewport viewport = raster_.viewport;
-    auto toScreen = [&](const glm::dvec2& framebuffer) {
-      const glm::dvec2 w = geometry.cursorFromFramebuffer(framebuffer);
-      return ImVec2(static_cast<float>(w.x), static_cast<float>(w.y));
-    };
-    const glm::dvec2 centre = glm::dvec2(lastPick_->pixel) + 0.5;
-    const ImVec2 c = toScreen(centre);
-    const float half = std::max(5.0f, static_cast<float>(0.5 / geometry.scale().x));
-    draw->AddRect(ImVec2(c.x - half, c.y - half), ImVec2(c.x + half, c.y + half),
-                  IM_COL32(100, 230, 255, 255), 0.0f, 0, 1.5f);
-    if (lastPick_->rayPoint) {
-      if (auto f =
-              framebufferFromWorld(rasterCamera_.clipFromWorld, viewport, *lastPick_->rayPoint)) {
-        draw->AddCircle(toScreen(*f), 9.0f, IM_COL32(100, 255, 100, 255), 20, 2.0f);
-      }
-    }
-    if (lastPick_->depthPoint) {
-      if (auto f =
-              framebufferFromWorld(rasterCamera_.clipFromWorld, viewport, *lastPick_->depthPoint)) {
-        const ImVec2 p = toScreen(*f);
-        draw->AddLine(ImVec2(p.x - 7, p.y - 7), ImVec2(p.x + 7, p.y + 7),
-                      IM_COL32(255, 165, 50, 255), 2.0f);
-        draw->AddLine(ImVec2(p.x - 7, p.y + 7), ImVec2(p.x + 7, p.y - 7),
-                      IM_COL32(255, 165, 50, 255), 2.0f);
-      }
-    }
-  }
 }
 
 void PickDemo::drawFrame() {

@@ -61,7 +61,8 @@ class PickDemo {
   // projection and view separately, and for a perspective one the fov scalars too.
   CameraInputs cameraInputs(Viewport viewport) const;
   glm::dvec3 teleportOffset() const;
-  void drawPanel();
+  void drawPanel();              // PickDemoPanel.cpp
+  void installInputCallbacks();  // PickDemoInput.cpp, like the handlers
   void resetView();
 
   Scene baseScene_;
