@@ -1,5 +1,8 @@
 #pragma once
-// The two sides of a reconcile, pixel for pixel. Row 0 is the bottom row (GL's lower-left origin).
+// The two sides of a reconcile, pixel for pixel (the raster's depth and ids, the rays' hits), and
+// the row-parallel loops that fill and compare them. Row 0 is the bottom row (GL's lower-left
+// origin). PickingCamera::clipFromWorld: column-major, p_clip = clipFromWorld * p_world, for its
+// mode.
 
 #include <cstddef>
 #include <cstdint>

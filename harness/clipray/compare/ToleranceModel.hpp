@@ -94,7 +94,7 @@ class ToleranceModel {
     glm::dvec4 clipErrorBound{0.0};
   };
   // What the tolerance of each pixel of a triangle reads from its polygon, packed: 48 bytes in
-  // place of the polygon's 300 (the per-pixel loop's cache misses were a quarter of its time).
+  // place of the polygon's 300, so that the per-pixel loop's reads stay in cache.
   struct PixelTerms {
     glm::dvec4 clipErrorBound;  // the polygon's
     double gradient;            // |a| + |b| of the depth plane, 0 where it has none

@@ -7,6 +7,8 @@
 //   EXPECT_TRUE(run.metrics.consistent());
 //
 // The ray function is the app's own picking code (PickRayFunction); robustPickRays() is clipray's.
+// Every clipFromWorld here is column-major, p_clip = clipFromWorld * p_world, built for the
+// DepthMode passed beside it.
 
 #include <optional>
 

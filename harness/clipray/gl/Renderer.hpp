@@ -1,6 +1,7 @@
 #pragma once
 // The raster pass: draws a scene into an FBO (selected depth format + R32UI primitive ids) under
 // a depth convention and vertex mode, and reads depth (GL_FLOAT) and ids back.
+// RenderRequest::clipFromWorld: column-major, p_clip = clipFromWorld * p_world, built for its mode.
 
 #include <memory>
 #include <stdexcept>

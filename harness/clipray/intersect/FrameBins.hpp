@@ -1,6 +1,7 @@
 #pragma once
 // Screen-space bins of a scene's triangles for one camera and viewport: the fast path for a
-// frame of primary rays (intersectFrame with a camera).
+// frame of primary rays (intersectFrame with a camera). clipFromWorld: column-major,
+// p_clip = clipFromWorld * p_world, built for the DepthMode given.
 //
 // A ray that stays on its pixel centre's line of sight (every point of it projects within
 // kRayTolerancePx of the centre) can only hit triangles whose projection covers that neighbourhood.

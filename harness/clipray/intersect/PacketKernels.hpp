@@ -1,5 +1,7 @@
 #pragma once
-// SIMD packet tracing behind SceneIntersector::closestHits (internal header).
+// SIMD packet tracing behind SceneIntersector::closestHits (internal header): AVX2 kernels that
+// trace four rays at once through the BVH or a tile's screen-space bins, with the scalar path's
+// answers bit for bit.
 
 #include <span>
 

@@ -1,6 +1,7 @@
 #pragma once
 // Builders for clip-from-view matrices in every depth convention clipray draws, in double.
-// Right-handed view space: the camera looks down -z, w_clip = -z_view for perspective.
+// Right-handed view space: the camera looks down -z, w_clip = -z_view for perspective. Every
+// matrix is column-major, p' = M * p (clipFromView * p_view, viewFromWorld * p_world).
 
 #include <optional>
 

@@ -1,6 +1,6 @@
 #pragma once
-// The named hard cases every ray method is measured on (issue 3): cameras that break the usual
-// methods. Each case carries its matrices and the inputs each method's source takes (separate
+// The named hard cases every ray method is measured on (docs/bench.md): cameras that break the
+// usual methods. Each case carries its matrices and the inputs each method's source takes (separate
 // projection and view, fov scalars where the camera is a symmetric perspective), its viewport and
 // the convention it is drawn under. Most cases come in two variants, built for and drawn under
 // NegativeOneToOne ("no") and ZeroToOne ("zo").

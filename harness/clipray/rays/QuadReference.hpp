@@ -3,6 +3,7 @@
 // (as stored: pass float entries widened to double), evaluated in __float128 (113-bit mantissa,
 // software arithmetic from libgcc/libquadmath). Rounding in the reference is ~1e-34 relative, far
 // below any error a float or double method can make, so "error" means the method's own error.
+// clipFromWorld: column-major, p_clip = clipFromWorld * p_world, built for the DepthMode given.
 //
 // Results are handed out as double-double (hi + lo) so the metrics can subtract a double result
 // from them without losing the bits that a double method's 1e-16 errors live in.
@@ -46,7 +47,7 @@ inline double toDouble(Float128 q) {
 glm::dvec3 toDouble(const QuadVec3& v);
 
 // The camera a clipFromWorld matrix describes, derived in quad from the matrix alone
-// (DESIGN.md section 2: "the projection type, eye, near/far and fov follow from the matrix").
+// (docs/bench.md: "the projection type, eye, near/far and fov follow from the matrix").
 struct ProjectionFacts {
   bool parallel = false;      // row 3 has no xyz part: w is constant (orthographic-like)
   glm::dvec3 eye{0.0};        // perspective: the null vector of rows 0, 1, 3
@@ -76,7 +77,7 @@ struct ReferenceRay {
   DoubleDouble origin[3];
   DoubleDouble direction[3];  // unit length to ~1e-32
   double tMax = 0.0;          // +inf for an infinite far plane
-  // Units the errors are reported in, at this pixel (DESIGN.md section 2):
+  // Units the errors are reported in, at this pixel (docs/bench.md):
   double pixelAngle = 0.0;      // radians between this pixel's ray and its nearer neighbour's;
                                 // parallel projections: footprint / depth of the view volume
   double pixelFootprint = 0.0;  // one pixel's width on the near plane, across the ray

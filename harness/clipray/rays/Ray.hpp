@@ -1,4 +1,6 @@
 #pragma once
+// The ray every part of clipray passes around: a world-space origin on the near clip plane, a unit
+// direction into the view volume and the parameter range [0, tMax] it is valid for.
 
 #include <glm/glm.hpp>
 

@@ -1,5 +1,5 @@
 #pragma once
-// Error metrics of computed rays against the quad-precision reference (DESIGN.md section 2):
+// Error metrics of computed rays against the quad-precision reference (docs/bench.md):
 // - angle: angle between the computed and the exact direction, in units of one pixel's angle;
 // - origin lateral: distance of the computed origin from the exact ray line, in pixel footprints
 //   on the near plane (sliding along the ray is harmless, so only the part across counts);

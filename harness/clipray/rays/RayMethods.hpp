@@ -1,9 +1,11 @@
 #pragma once
-// Every ray method of DESIGN.md section 2, in float and double, behind one API: precompute once
+// Every ray method of docs/bench.md, in float and double, behind one API: precompute once
 // per camera and viewport (makeRayGenerator), then a scalar call per pixel (pixelRay) or a batch
 // call per pixel row (generateRow, structure-of-arrays output). Each method takes the inputs its
 // source takes (inverse_pv: separate projection and view; fov_tangent: scalars), rounded to the
 // method's precision, so the comparison is honest. No method throws on the hot path.
+// Matrices are column-major, p' = M * p: CameraInputs::clipFromWorld (built for its mode) =
+// clipFromView * viewFromWorld; PerspectiveScalars::worldFromView is the camera's placement.
 
 #include <array>
 #include <memory>
@@ -26,7 +28,7 @@ enum class RayMethod {
   PlaneCross,     // u = mx - x' mw, v = my - y' mw, d = u x v (seed 002 listing 2)
   PlaneCrossPre,  // d = x'(my x mw) + y'(mw x mx) + mx x my, 6 FMA (seed 002 listing 3)
   Full,           // origin + plane-cross direction + t_max + sign fix (seed 002 listing 4)
-  Robust,         // ours (DESIGN.md section 2)
+  Robust,         // ours (RobustRays.hpp)
 };
 inline constexpr std::array<RayMethod, 8> kRayMethods = {
     RayMethod::UnprojectGlm, RayMethod::TwoPoint,      RayMethod::InversePv, RayMethod::FovTangent,

@@ -1,8 +1,9 @@
 #pragma once
-// The `robust` ray method (DESIGN.md section 2): direction from the plane-cross product of rows of
+// The `robust` ray method (docs/bench.md): direction from the plane-cross product of rows of
 // clipFromWorld, its sign fixed by the near plane (which always exists), origin on the near plane
 // the rasterizer clips at, tMax at the far plane or +inf. Works for perspective, orthographic,
 // oblique, mirrored, reversed-Z and infinite far without per-case switches from the caller.
+// clipFromWorld: column-major, p_clip = clipFromWorld * p_world, built for the DepthMode given.
 
 #include <span>
 #include <vector>

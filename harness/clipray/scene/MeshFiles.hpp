@@ -2,6 +2,7 @@
 // Triangle meshes from glTF 2.0 (.gltf, .glb), Wavefront OBJ (.obj) and PLY (.ply) files, validated
 // as strictly as scene files: every problem is an InputError that names the file, the element and
 // the offending value. No GL here; the result feeds the same MeshObject/Camera types as scenes.
+// worldFromFile: column-major, p_world = worldFromFile * p_file.
 
 #include <string>
 #include <string_view>

@@ -1,8 +1,11 @@
 #pragma once
 // What a scene models: cameras and geometry, nothing else (no materials, no lights).
-// The JSON format (version 1) is documented in README.md, section "Scene format".
+// The JSON format (version 1) is documented in docs/scene-format.md. Matrices are column-major,
+// p' = M * p: Camera::viewFromWorld, rawClipFromWorld and clipFromWorld (built for a DepthMode),
+// AnalyticPrimitive::worldFromLocal.
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string>
 #include <variant>
@@ -90,6 +93,8 @@ struct Scene {
 // primitive p has id firstAnalyticId + p (after every triangle).
 // The raster pass writes these to the R32UI attachment; the analytic pass returns the same.
 struct PrimitiveIdTable {
+  // The most primitives (triangles and analytic) a scene may hold: ids are 32-bit, 0 is background.
+  static constexpr std::uint64_t kMaxPrimitives = std::numeric_limits<std::uint32_t>::max() - 1u;
   std::vector<std::uint32_t> firstIdOfObject;  // one per object, starting at 1
   std::uint32_t firstAnalyticId = 1;
   std::uint32_t analyticCount = 0;

@@ -1,5 +1,7 @@
 #pragma once
-// Storage for big per-frame arrays (rays, hits, per-pixel figures, screen-space bins).
+// Storage for big per-frame arrays (rays, hits, per-pixel figures, screen-space bins): vectors
+// whose allocator leaves elements unwritten and keeps released pages for the next frame of the
+// same size, so a frame's arrays are written once, by the threads that fill them.
 
 #include <cstddef>
 #include <new>
@@ -19,9 +21,9 @@ namespace clipray {
 inline constexpr std::size_t kFrameBufferAlignment = 64;
 // Released large buffers kept for reuse stay below this many bytes in all.
 inline constexpr std::size_t kMaxKeptFrameBufferBytes = std::size_t{512} << 20;
-// Buffers from this size on are large: whole huge pages, kept when released. Half a huge page: a
-// 1080p frame's per-pixel class image (2,073,600 bytes, just under 2 MiB) was malloc's, which
-// gave it back to the kernel on free, so every run faulted its 506 small pages in again.
+// Buffers from this size on are large: whole huge pages, kept when released. Half a huge page, so
+// that a 1080p frame's per-pixel class image (2,073,600 bytes, just under 2 MiB) is kept too:
+// malloc would give it back to the kernel on free, and every run would fault its pages in again.
 inline constexpr std::size_t kMinKeptFrameBufferBytes = std::size_t{1} << 20;
 void* allocateFrameBuffer(std::size_t bytes);  // throws std::bad_alloc
 void releaseFrameBuffer(void* pointer, std::size_t bytes) noexcept;

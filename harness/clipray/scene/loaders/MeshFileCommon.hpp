@@ -1,6 +1,7 @@
 #pragma once
 // Shared by the mesh file readers (internal to clipray_core): number formatting for messages,
-// transform checks and the final validation every object goes through.
+// transform checks and the final validation every object goes through. Transforms are
+// column-major, p' = M * p (worldFromObject, worldFromFile).
 
 #include <cstdint>
 #include <string>
