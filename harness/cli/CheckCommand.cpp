@@ -29,6 +29,8 @@ struct CheckOptions {
   std::string viewport = "1920x1080";
   std::string depthBits = "24";
   std::string sceneExtent;
+  std::string precision;
+  std::string nearPlane, farPlane;
   bool json = false;
   bool verify = false;
   std::string backend = "osmesa";
@@ -83,6 +85,12 @@ void readCheckFile(CheckOptions& options) {
       options.sceneExtent = text("sceneExtent");
     else if (key == "depthRange")
       options.depthRange = text("depthRange");
+    else if (key == "near" && value.is_number())
+      options.nearPlane = value.dump();
+    else if (key == "far" && value.is_number())
+      options.farPlane = value.dump();
+    else if (key == "precision" && value.is_string())
+      options.precision = value.get<std::string>();
     else if (key == "layout" && value.is_string())
       options.layout = value.get<std::string>();
     else if (key == "declaredDepth" && value.is_string())
@@ -108,7 +116,8 @@ void readCheckFile(CheckOptions& options) {
           options.file, "/" + key,
           "unknown key or wrong type (" + value.dump() +
               "); valid keys: clipFromWorld, projection, view, layout, declaredDepth, reversed, "
-              "depthRange, origin, viewport, depthBits, sceneExtent, comment");
+              "depthRange, origin, viewport, depthBits, sceneExtent, precision, near, far, "
+              "comment");
     }
   }
 }
@@ -133,8 +142,9 @@ int runCheck(CheckOptions options) {
     throw InputError(
         where + "--view needs --projection (for a combined matrix use --clip-from-world alone)");
   }
+  // xmmatrix: a DirectXMath matrix in memory is the column-major listing of the GL matrix.
   const bool rowMajor = requireOneOf(options.layout, where + "--layout",
-                                     {"column-major", "row-major"}) == "row-major";
+                                     {"column-major", "row-major", "xmmatrix"}) == "row-major";
   CheckInput input;
   if (!options.clipFromWorld.empty()) {
     input.clipFromWorld =
@@ -181,6 +191,25 @@ int runCheck(CheckOptions options) {
     }
     input.sceneExtent = std::make_pair(glm::dvec3(e[0], e[1], e[2]), glm::dvec3(e[3], e[4], e[5]));
   }
+  if (!options.precision.empty()) {
+    input.precision =
+        requireOneOf(options.precision, where + "--precision", {"float", "double"}) == "float"
+            ? EntryPrecision::Arithmetic::Float32
+            : EntryPrecision::Arithmetic::Double;
+  }
+  const auto plane = [&](const std::string& text, const std::string& what) {
+    const std::vector<double> value = parseNumberList(text, where + what);
+    if (value.size() != 1 || !std::isfinite(value[0])) {
+      throw InputError(where + what + ": expected one finite number, got \"" + text + "\"");
+    }
+    return value[0];
+  };
+  if (!options.nearPlane.empty()) input.statedNear = plane(options.nearPlane, "--near");
+  if (!options.farPlane.empty()) input.statedFar = plane(options.farPlane, "--far");
+  if (input.statedNear && input.statedFar && !(*input.statedFar > *input.statedNear)) {
+    throw InputError(where + "--far: expected a number greater than --near (" + options.nearPlane +
+                     "), got " + options.farPlane);
+  }
   if (!input.declaredDepth && input.declaredReversed) {
     // Reversed-Z without a declared depth mode: the GL default, NEGATIVE_ONE_TO_ONE, is what runs.
     input.declaredDepth = DepthConvention::NegativeOneToOne;
@@ -221,7 +250,10 @@ CommandRunner addCheckOptions(CLI::App& app) {
   app.add_option("--projection", options->projection, "The projection (clipFromView): 16 numbers");
   app.add_option("--view", options->view, "The view (viewFromWorld): 16 numbers");
   app.add_option("--layout", options->layout,
-                 "How the numbers are listed: column-major (GL) or row-major (D3D)")
+                 "Order of the 16 numbers. column-major: a GL mat4 in memory (glm::value_ptr, "
+                 "glUniformMatrix4fv with transpose GL_FALSE); a DirectXMath XMMATRIX in memory is "
+                 "this order too (alias xmmatrix: row vectors store the transpose). row-major: the "
+                 "matrix written row by row, as in a maths text or a C array m[row][col]")
       ->capture_default_str();
   app.add_option("--declared-depth", options->declaredDepth,
                  "What the app draws under: no or zo (glClipControl)");
@@ -234,6 +266,12 @@ CommandRunner addCheckOptions(CLI::App& app) {
       ->capture_default_str();
   app.add_option("--scene-extent", options->sceneExtent,
                  "World box of the geometry: minx miny minz maxx maxy maxz");
+  app.add_option("--precision", options->precision,
+                 "Arithmetic the app built the matrix in: float or double (default: detected from "
+                 "the values; short decimals count as float)");
+  app.add_option("--near", options->nearPlane,
+                 "The near plane the app meant: settles a matrix that reads as NO or ZO");
+  app.add_option("--far", options->farPlane, "The far plane the app meant (checked)");
   app.add_flag("--json", options->json, "Print the report as JSON");
   app.add_flag(
       "--verify", options->verify,
@@ -241,9 +279,10 @@ CommandRunner addCheckOptions(CLI::App& app) {
   app.add_option("--backend", options->backend, "GL backend for --verify: osmesa, egl")
       ->capture_default_str();
   return [options, &app] {
-    for (const char* name : {"--clip-from-world", "--projection", "--view", "--layout",
-                             "--declared-depth", "--reversed", "--depth-range", "--origin",
-                             "--viewport", "--depth-bits", "--scene-extent"}) {
+    for (const char* name :
+         {"--clip-from-world", "--projection", "--view", "--layout", "--declared-depth",
+          "--reversed", "--depth-range", "--origin", "--viewport", "--depth-bits", "--scene-extent",
+          "--precision", "--near", "--far"}) {
       options->optionsGiven += app.count(name);
     }
     return runCheck(*options);

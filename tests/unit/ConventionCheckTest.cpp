@@ -53,11 +53,11 @@ TEST(ConventionCheck, GlmPerspectiveRhNoDrawnUnderNo) {
   EXPECT_FALSE(p.oblique || p.offAxis || p.leftHanded || p.reversed || p.yFlipped ||
                p.likelyTransposed);
   EXPECT_EQ(p.builtFor, "no");
-  EXPECT_NEAR(*p.nearDistance, 0.1, 0.1 * kRelative);
-  EXPECT_NEAR(*p.farDistance, 100.0, 100.0 * kRelative);
+  EXPECT_NEAR(p.near->value, 0.1, 0.1 * kRelative);
+  EXPECT_NEAR(p.far->value, 100.0, 100.0 * kRelative);
   EXPECT_FALSE(p.infiniteFar);
-  EXPECT_NEAR(p.fovYDegrees, 60.0, 60.0 * kRelative);
-  EXPECT_NEAR(p.fovXDegrees, 2 * glm::degrees(std::atan(std::tan(kFov / 2) * 16.0 / 9.0)),
+  EXPECT_NEAR(p.fovYDegrees.value, 60.0, 60.0 * kRelative);
+  EXPECT_NEAR(p.fovXDegrees.value, 2 * glm::degrees(std::atan(std::tan(kFov / 2) * 16.0 / 9.0)),
               kRelative * 100);
   EXPECT_NEAR(glm::distance(*p.eye, glm::dvec3(0, 2, 5)), 0.0, 1e-12);
   EXPECT_NEAR(glm::distance(p.viewDirection, glm::normalize(glm::dvec3(0, -2, -5))), 0.0, 1e-12);
@@ -69,13 +69,14 @@ TEST(ConventionCheck, GlmPerspectiveRhNoDrawnUnderZoIsAMismatch) {
       checkConventions(combined(glm::perspectiveRH_NO(kFov, 16.0 / 9.0, 0.1, 100.0) * kViewRH, ZO));
   EXPECT_EQ(codes(r), std::vector<std::string>{"error:depth-convention-mismatch"});
   // Under ZO the rasterizer clips at z_ndc = 0: distance 2fn/(f+n).
-  EXPECT_NEAR(*r.properties.nearDistance, 2 * 100 * 0.1 / 100.1, 1e-12);
+  EXPECT_NEAR(r.properties.near->value, 2 * 100 * 0.1 / 100.1, 1e-12);
   EXPECT_EQ(r.findings[0].message,
             "built for NEGATIVE_ONE_TO_ONE (near 0.1) but drawn under ZERO_TO_ONE: the rasterizer "
             "clips at z_ndc = 0, "
             "so the effective near plane moves to 0.1998 (1.998x) and NDC [-1, 0), half the depth "
             "range, is never "
-            "used");
+            "used (read as built for no: the NO reading 0.1 is a round number (1 significant "
+            "digit at this precision), the ZO reading 0.1998 is not (13 significant digits))");
   EXPECT_TRUE(r.hasErrors());
 }
 
@@ -83,12 +84,12 @@ TEST(ConventionCheck, GlmPerspectiveRhZo) {
   const glm::dmat4 m = glm::perspectiveRH_ZO(kFov, 1.5, 0.25, 400.0) * kViewRH;
   const CheckReport underZo = checkConventions(combined(m, ZO));
   EXPECT_EQ(underZo.properties.builtFor, "zo");
-  EXPECT_NEAR(*underZo.properties.nearDistance, 0.25, 0.25 * kRelative);
+  EXPECT_NEAR(underZo.properties.near->value, 0.25, 0.25 * kRelative);
   EXPECT_TRUE(underZo.findings.empty());
   const CheckReport underNo = checkConventions(combined(m, NO));
   EXPECT_EQ(codes(underNo), std::vector<std::string>{"error:depth-convention-mismatch"});
   // Under NO the rasterizer keeps geometry down to z_ndc = -1: fn/(2f - n).
-  EXPECT_NEAR(*underNo.properties.nearDistance, 400 * 0.25 / (800 - 0.25), 1e-12);
+  EXPECT_NEAR(underNo.properties.near->value, 400 * 0.25 / (800 - 0.25), 1e-12);
 }
 
 TEST(ConventionCheck, GlmPerspectiveLhZoIsLeftHanded) {
@@ -96,7 +97,7 @@ TEST(ConventionCheck, GlmPerspectiveLhZoIsLeftHanded) {
       checkConventions(combined(glm::perspectiveLH_ZO(kFov, 1.5, 0.5, 50.0) * kViewLH, ZO));
   EXPECT_TRUE(r.properties.leftHanded);
   EXPECT_EQ(r.properties.builtFor, "zo");
-  EXPECT_NEAR(*r.properties.farDistance, 50.0, 50.0 * kRelative);
+  EXPECT_NEAR(r.properties.far->value, 50.0, 50.0 * kRelative);
   EXPECT_EQ(codes(r), std::vector<std::string>{"info:mirrored"});
 }
 
@@ -105,11 +106,11 @@ TEST(ConventionCheck, GlmInfinitePerspective) {
       checkConventions(combined(glm::infinitePerspective(kFov, 1.5, 0.1) * kViewRH, NO));
   const MatrixProperties& p = r.properties;
   EXPECT_TRUE(p.infiniteFar);
-  EXPECT_FALSE(p.farDistance.has_value());
+  EXPECT_FALSE(p.far.has_value());
   // 1 - 2n/d (NO, near 0.1) and 1 - n/d (ZO, near 0.2) are the same matrix: both round.
   EXPECT_EQ(p.builtFor, "ambiguous");
-  EXPECT_NEAR(*p.nearIfBuiltForNo, 0.1, 1e-12);
-  EXPECT_NEAR(*p.nearIfBuiltForZo, 0.2, 1e-12);
+  EXPECT_NEAR(p.nearIfBuiltForNo->value, 0.1, 1e-12);
+  EXPECT_NEAR(p.nearIfBuiltForZo->value, 0.2, 1e-12);
   EXPECT_EQ(codes(r), (std::vector<std::string>{"info:depth-convention-ambiguous",
                                                 "warning:infinite-far-plane"}));
 }
@@ -120,16 +121,24 @@ TEST(ConventionCheck, GlmOrthoVariants) {
   const MatrixProperties& p = r.properties;
   EXPECT_FALSE(p.perspective);
   EXPECT_FALSE(p.eye.has_value());
-  EXPECT_NEAR(p.extentX, 4.0, 1e-12);
-  EXPECT_NEAR(p.extentY, 2.0, 1e-12);
-  EXPECT_NEAR(p.depthExtent, 49.5, 1e-12);
-  EXPECT_EQ(p.builtFor, "ambiguous");  // no view: no origin to measure near from
-  EXPECT_TRUE(r.findings.empty());
+  EXPECT_NEAR(p.extentX.value, 4.0, 1e-12);
+  EXPECT_NEAR(p.extentY.value, 2.0, 1e-12);
+  EXPECT_NEAR(*p.depthExtent, 49.5, 1e-12);
+  // No view: near and far are offsets from the world origin along the view direction, where the
+  // NO reading (-0.5 + 5.385 = 4.885...) and the ZO reading are neither round.
+  EXPECT_EQ(p.orthographicAnchor, "world-origin");
+  EXPECT_EQ(p.builtFor, "ambiguous");
+  EXPECT_EQ(codes(r), std::vector<std::string>{"info:depth-convention-ambiguous"});
+  // The projection alone: measured from the camera, near 0.5 reads round under NO.
+  const CheckReport alone = checkConventions(combined(projection, NO));
+  EXPECT_EQ(alone.properties.builtFor, "no");
+  EXPECT_NEAR(alone.properties.near->value, 0.5, 1e-12);
+  EXPECT_NEAR(alone.properties.far->value, 50.0, 1e-12);
   // With the view given, near 0.5 reads round under NO (ZO's reading: 25.25).
   const CheckReport withView = checkConventions(separate(projection, kViewRH, NO));
   EXPECT_EQ(withView.properties.builtFor, "no");
-  EXPECT_NEAR(*withView.properties.nearDistance, 0.5, 1e-12);
-  EXPECT_NEAR(*withView.properties.farDistance, 50.0, 1e-12);
+  EXPECT_NEAR(withView.properties.near->value, 0.5, 1e-12);
+  EXPECT_NEAR(withView.properties.far->value, 50.0, 1e-12);
   const CheckReport zoUnderNo =
       checkConventions(separate(glm::orthoRH_ZO(-2.0, 2.0, -1.0, 1.0, 0.5, 50.0), kViewRH, NO));
   EXPECT_EQ(zoUnderNo.properties.builtFor, "zo");
@@ -154,7 +163,7 @@ TEST(ConventionCheck, HandMadeReversedInfinite) {
   EXPECT_TRUE(p.reversed);
   EXPECT_TRUE(p.infiniteFar);
   EXPECT_EQ(p.builtFor, "zo-reversed");
-  EXPECT_NEAR(*p.nearDistance, 0.05, 1e-12);
+  EXPECT_NEAR(p.near->value, 0.05, 1e-12);
   EXPECT_EQ(codes(r), std::vector<std::string>{"warning:infinite-far-plane"});
   // Drawn without the reversed depth test: the farthest surface wins.
   EXPECT_EQ(codes(checkConventions(combined(m, ZO, false))),
@@ -172,16 +181,24 @@ TEST(ConventionCheck, VulkanStyleYFlip) {
   input.origin = WindowOrigin::LowerLeft;
   const CheckReport r = checkConventions(input);
   EXPECT_TRUE(r.properties.yFlipped);
-  EXPECT_TRUE(r.properties.leftHanded);  // flipping one axis flips the frame
-  EXPECT_EQ(codes(r), (std::vector<std::string>{"warning:y-flipped", "info:mirrored"}));
+  // Flipping y flips the frame; with the flip undone the camera is right-handed, not a mirror.
+  EXPECT_FALSE(r.properties.leftHanded);
+  EXPECT_EQ(codes(r), (std::vector<std::string>{"warning:y-flipped"}));
   input.origin = WindowOrigin::UpperLeft;
-  EXPECT_EQ(codes(checkConventions(input)),
-            (std::vector<std::string>{"info:y-flipped", "info:mirrored"}));
+  EXPECT_EQ(codes(checkConventions(input)), (std::vector<std::string>{"info:y-flipped"}));
+  // Given as one matrix, the flip shows as a left-handed frame whose screen up points down a
+  // Y-up world; GL's default lower-left origin is assumed when none is declared.
+  const CheckReport one = checkConventions(combined(projection * kViewRH, ZO));
+  EXPECT_TRUE(one.properties.yFlipped);
+  EXPECT_FALSE(one.properties.leftHanded);
+  EXPECT_EQ(one.properties.builtFor, "zo");
+  EXPECT_EQ(codes(one), (std::vector<std::string>{"warning:y-flipped"}));
 }
 
-TEST(ConventionCheck, D3DRowMajorListing) {
+TEST(ConventionCheck, RowByRowListing) {
   const glm::dmat4 m = glm::perspectiveLH_ZO(kFov, 1.5, 0.1, 100.0) * kViewLH;
-  // A D3D app lists m[row][col]: read as column-major, that is the transpose.
+  // The matrix written row by row (a maths text, a C array m[row][col] of a column-vector
+  // matrix): read as column-major, that is the transpose.
   std::vector<double> rowMajor;
   for (int r = 0; r < 4; ++r) {
     for (int c = 0; c < 4; ++c) rowMajor.push_back(m[c][r]);

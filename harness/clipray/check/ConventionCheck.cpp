@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include "clipray/check/MatrixReading.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/QuadReference.hpp"
 #include "clipray/rays/RayErrors.hpp"
@@ -19,6 +20,14 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+// A stated near or far plane agrees with a reading within the reading's uncertainty plus this
+// (an app's own constant, typed again by hand).
+constexpr double kStatedPlaneTolerance = 1e-4;
+// A reading is taken for the plane an app typed when it needs at most kRoundDigits significant
+// digits and the other reading kRoundMargin more: 0.1 against 0.1998 (1 against 4 or more).
+constexpr int kRoundDigits = 3;
+constexpr int kRoundMargin = 3;
+
 std::string number(double value) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.6g", value + 0.0);  // + 0.0: no "-0"
@@ -31,33 +40,79 @@ std::string vec(const glm::dvec3& v) {
   return buffer;
 }
 
-// Significant decimal digits needed to write v to within the precision it was recovered with: the
-// build whose near plane is the "rounder" number is the one the app wrote.
-int decimalDigits(double v, double relativeTolerance) {
-  for (int digits = 1; digits <= 17; ++digits) {
-    char buffer[40];
-    std::snprintf(buffer, sizeof buffer, "%.*e", digits - 1, v);
-    if (std::abs(std::strtod(buffer, nullptr) - v) <= relativeTolerance * std::abs(v))
-      return digits;
-  }
-  return 18;
+// Two readings of one plane, NO's and ZO's: which was built, and why. A stated plane settles it;
+// otherwise the reading that is a round number at the precision it was recovered with (what an
+// app types: 0.1, 0.05, 1000) is taken when the other is clearly not round, and neither is
+// taken when both or neither are.
+struct BuildReading {
+  std::string builtFor;
+  std::string reason;
+  std::optional<bool> statedMatches;
+};
+
+// Significant digits a reading needs at its own uncertainty (never finer than double).
+int readingDigits(const Uncertain& reading) {
+  const double tolerance =
+      std::max(reading.error / std::abs(reading.value), 4.0 * std::ldexp(1.0, -53));
+  return significantDigits(reading.value, tolerance);
 }
 
-// Relative precision the matrix entries carry: float values (2^-24), decimals printed with d
-// significant digits (half a unit in the d-th digit), or full doubles (2^-53).
-double entryPrecision(const glm::dmat4& m) {
-  bool allFloat = true;
-  int mostDigits = 0;
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) {
-      const double v = m[c][r];
-      allFloat = allFloat && static_cast<double>(static_cast<float>(v)) == v;
-      if (v != 0.0) mostDigits = std::max(mostDigits, decimalDigits(v, 0.0));
+// behindCamera: readings are offsets from a camera position (orthographic), so a negative one puts
+// the plane behind the camera, which an app rarely means when the other reading does not.
+BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<Uncertain>& zo,
+                       std::optional<double> stated, const std::string& what,
+                       bool behindCamera = false) {
+  if (no && !zo) return {"no", "the ZO reading puts the " + what + " behind the eye", {}};
+  if (!no && zo) return {"zo", "the NO reading puts the " + what + " behind the eye", {}};
+  if (!no && !zo) return {"ambiguous", "neither reading gives a " + what + " in front", {}};
+  if (stated) {
+    const auto matches = [&](const Uncertain& r) {
+      return std::abs(r.value - *stated) <= r.error + kStatedPlaneTolerance * std::abs(*stated);
+    };
+    const bool byNo = matches(*no), byZo = matches(*zo);
+    if (byNo != byZo) {
+      return {byNo ? "no" : "zo", "the stated near plane, " + number(*stated), true};
+    }
+    if (!byNo) {
+      BuildReading fallback = readBuild(no, zo, std::nullopt, what, behindCamera);
+      fallback.statedMatches = false;
+      return fallback;
     }
   }
-  if (allFloat) return std::ldexp(1.0, -24);
-  if (mostDigits >= 16) return std::ldexp(1.0, -53);
-  return 0.5 * std::pow(10.0, 1 - mostDigits);
+  if (behindCamera && (no->clearlyNegative() != zo->clearlyNegative())) {
+    const bool noBehind = no->clearlyNegative();
+    return {noBehind ? "zo" : "no",
+            std::string("the ") + (noBehind ? "NO" : "ZO") + " reading puts the " + what + " at " +
+                number((noBehind ? no : zo)->value) + ", behind the camera",
+            {}};
+  }
+  const int digitsNo = readingDigits(*no), digitsZo = readingDigits(*zo);
+  const auto digits = [](int d) {
+    return d > 17 ? std::string("more than 17 digits")
+                  : std::to_string(d) + " significant digit" + (d == 1 ? "" : "s");
+  };
+  const std::string both = " (" + number(no->value) + " if NO, " + number(zo->value) + " if ZO)";
+  if (digitsNo <= kRoundDigits && digitsZo >= digitsNo + kRoundMargin) {
+    return {"no",
+            "the NO reading " + number(no->value) + " is a round number (" + digits(digitsNo) +
+                " at this precision), the ZO reading " + number(zo->value) + " is not (" +
+                digits(digitsZo) + ")",
+            {}};
+  }
+  if (digitsZo <= kRoundDigits && digitsNo >= digitsZo + kRoundMargin) {
+    return {"zo",
+            "the ZO reading " + number(zo->value) + " is a round number (" + digits(digitsZo) +
+                " at this precision), the NO reading " + number(no->value) + " is not (" +
+                digits(digitsNo) + ")",
+            {}};
+  }
+  if (digitsNo <= kRoundDigits && digitsZo <= kRoundDigits) {
+    return {"ambiguous", "both readings of the " + what + " are round numbers" + both, {}};
+  }
+  return {"ambiguous",
+          "neither reading of the " + what + " is clearly rounder than the other" + both +
+              "; --near settles it",
+          {}};
 }
 
 void requireFinite(const glm::dmat4& m, const std::string& what) {
@@ -124,15 +179,6 @@ int projectionStructureScore(const glm::dmat4& m) {
   score += perpendicular(x, y);
   score += orthographic ? w.w > 0.0 : 1;
   return score;
-}
-
-double angleDegrees(const glm::dvec3& a, const glm::dvec3& b) {
-  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b)) * 180.0 / kPi;
-}
-
-glm::dvec3 unproject(const glm::dmat4& worldFromClip, const glm::dvec3& ndc) {
-  const glm::dvec4 p = worldFromClip * glm::dvec4(ndc, 1.0);
-  return glm::dvec3(p) / p.w;
 }
 
 std::string conventionName(DepthConvention c) {
@@ -250,113 +296,107 @@ CheckReport checkConventions(const CheckInput& input) {
   requireFinite(worldFromClip,
                 std::string(input.projection ? "--projection * --view" : "--clip-from-world") +
                     " (its inverse)");
-  const glm::dvec4 rowZ = matrixRow(m, 2), rowW = matrixRow(m, 3);
 
   p.likelyTransposed =
       projectionStructureScore(glm::transpose(m)) == 5 && projectionStructureScore(m) <= 3;
-  p.perspective =
-      glm::length(glm::dvec3(rowW)) >
-      1e-12 * (glm::length(glm::dvec3(matrixRow(m, 0))) + glm::length(glm::dvec3(matrixRow(m, 1))));
 
+  // The precision the entries carry, and the uncertainty of every figure read from them.
+  std::vector<glm::dmat4> listed = {m};
+  if (input.projection) listed = {*input.projection, input.view.value_or(glm::dmat4(1.0))};
+  EntryPrecision precision = detectEntryPrecision(listed);
+  if (input.precision) precision.arithmetic = *input.precision;
+  p.precision = precision.description();
+  const std::optional<glm::dvec3> viewOrigin =
+      input.view ? std::optional<glm::dvec3>(glm::dvec3(glm::inverse(*input.view)[3]))
+                 : std::nullopt;
+  const glm::dvec3 anchor = translationAnchor(m);
+  const MatrixReading reading =
+      readMatrix(m, entryErrorBounds(m, precision, anchor), viewOrigin.value_or(glm::dvec3(0.0)));
+  p.perspective = reading.perspective;
+  p.viewDirection = reading.viewDirection;
+  p.viewDirectionErrorDegrees = reading.viewDirectionAngle.error * 180.0 / kPi;
+
+  const auto distance = [](const Uncertain& u) -> std::optional<Uncertain> {
+    return std::isfinite(u.value) ? std::optional<Uncertain>(u) : std::nullopt;
+  };
+  const DepthMode drawn{declared, false};
   if (p.perspective) {
-    // Eye: the null vector of rows 0, 1, 3 (x = y = w = 0): worldFromClip * (0, 0, 1, 0).
-    const glm::dvec4 eyeH = worldFromClip * glm::dvec4(0, 0, 1, 0);
-    p.eye = glm::dvec3(eyeH) / eyeH.w;
-    // w grows into the view: the view direction is row 3's xyz.
-    p.viewDirection = glm::normalize(glm::dvec3(rowW));
-    // Along the view direction at distance s from the eye: z_ndc(s) = B + A / s.
-    const double wLength = glm::length(glm::dvec3(rowW));
-    const double a = glm::dot(rowZ, glm::dvec4(*p.eye, 1.0)) / wLength;
-    const double b = glm::dot(glm::dvec3(rowZ), p.viewDirection) / wLength;
-    p.reversed = a > 0.0;
-    auto distanceAt = [&](double zNdc) -> std::optional<double> {
-      const double s = a / (zNdc - b);
-      return (std::isfinite(s) && s > 0.0) ? std::optional<double>(s) : std::nullopt;
-    };
+    p.eye = reading.eye;
+    p.eyeError = reading.eyeError;
+    // z_ndc = b + a / s along the view: a > 0 means depth falls with distance.
+    p.reversed = reading.a.clearlyPositive();
     if (p.reversed) {
       p.builtFor = "zo-reversed";
-      p.nearDistance = distanceAt(1.0);
-      p.infiniteFar = std::abs(b) <= 1e-9;
-      if (!p.infiniteFar) p.farDistance = distanceAt(0.0);
+      p.near = distance(reading.nearIfReversed);
+      p.infiniteFar = reading.b.withinErrorOfZero();
+      if (!p.infiniteFar) p.far = distance(reading.farIfReversed);
+      p.oblique = reading.obliqueAngleReversed.clearlyPositive();
     } else {
-      p.nearIfBuiltForNo = distanceAt(-1.0);
-      p.nearIfBuiltForZo = distanceAt(0.0);
-      p.infiniteFar = std::abs(1.0 - b) <= 1e-9;
-      if (!p.infiniteFar) p.farDistance = distanceAt(1.0);
-      if (p.nearIfBuiltForNo && !p.nearIfBuiltForZo) {
-        p.builtFor = "no";
-      } else if (!p.nearIfBuiltForNo && p.nearIfBuiltForZo) {
-        p.builtFor = "zo";
-      } else {
-        // Near is recovered through r2 . (eye, 1), which cancels when the eye is far from the
-        // origin: float entries carry u = 2^-24 relative error, amplified by sum |r2_i e_i| / |r2 .
-        // e|.
-        const glm::dvec4 e(*p.eye, 1.0);
-        const double cancellation = (std::abs(rowZ.x * e.x) + std::abs(rowZ.y * e.y) +
-                                     std::abs(rowZ.z * e.z) + std::abs(rowZ.w)) /
-                                    std::abs(glm::dot(rowZ, e));
-        const double tolerance = 4.0 * entryPrecision(m) * cancellation;
-        const int digitsNo = decimalDigits(*p.nearIfBuiltForNo, tolerance);
-        const int digitsZo = decimalDigits(*p.nearIfBuiltForZo, tolerance);
-        p.builtFor = digitsNo < digitsZo ? "no" : digitsZo < digitsNo ? "zo" : "ambiguous";
-      }
-      const DepthMode drawn{declared, false};
-      p.nearDistance = distanceAt(drawn.nearNdcZ());
+      p.nearIfBuiltForNo = distance(reading.nearIfNo);
+      p.nearIfBuiltForZo = distance(reading.nearIfZo);
+      p.infiniteFar = !(std::abs(1.0 - reading.b.value) > reading.b.error);
+      if (!p.infiniteFar) p.far = distance(reading.far);
+      const BuildReading build =
+          readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear, "near plane");
+      p.builtFor = build.builtFor;
+      p.builtForReason = build.reason;
+      p.statedNearMatches = build.statedMatches;
+      p.near = declared == DepthConvention::ZeroToOne ? p.nearIfBuiltForZo : p.nearIfBuiltForNo;
+      p.oblique =
+          (declared == DepthConvention::ZeroToOne ? reading.obliqueAngleZo : reading.obliqueAngleNo)
+              .clearlyPositive();
     }
+    p.offAxis = reading.offAxisAngle.clearlyPositive();
+    p.fovYDegrees = reading.fovYDegrees;
+    p.fovXDegrees = reading.fovXDegrees;
+  } else {
+    // Orthographic: near and far are offsets along the view direction from the camera position
+    // (--view), else from the world origin (the camera position when the matrix is a projection
+    // alone). Reversal does not show in a parallel projection's matrix: it is what is declared.
+    p.reversed = input.declaredReversed;
+    p.orthographicAnchor = viewOrigin ? "view" : "world-origin";
+    p.extentX = reading.extentX;
+    p.extentY = reading.extentY;
+    p.oblique = reading.obliqueAngleZo.clearlyPositive();
+    if (p.reversed) {
+      p.builtFor = "zo-reversed";
+      p.near = reading.nearIfReversed;
+      p.far = reading.farIfReversed;
+    } else {
+      p.nearIfBuiltForNo = reading.nearIfNo;
+      p.nearIfBuiltForZo = reading.nearIfZo;
+      p.far = reading.far;
+      const BuildReading build =
+          readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear,
+                    viewOrigin ? "near plane" : "near plane offset", viewOrigin.has_value());
+      p.builtFor = build.builtFor;
+      p.builtForReason = build.reason;
+      p.statedNearMatches = build.statedMatches;
+      p.near = declared == DepthConvention::ZeroToOne ? p.nearIfBuiltForZo : p.nearIfBuiltForNo;
+    }
+    if (p.near && p.far) p.depthExtent = std::abs(p.far->value - p.near->value);
+  }
+  if (input.statedFar && !p.infiniteFar && p.far &&
+      std::abs(p.far->value - *input.statedFar) >
+          p.far->error + kStatedPlaneTolerance * std::abs(*input.statedFar)) {
+    p.statedFarMatches = false;
+  } else if (input.statedFar && p.infiniteFar && std::isfinite(*input.statedFar)) {
+    // An infinite reading covers any far plane beyond what the precision can tell apart.
+    p.statedFarMatches = *input.statedFar * (1.0 - reading.b.value) >= 0.0;
   }
 
-  // Ray geometry under the conventions the app draws with (reversed as the matrix says, or as
-  // declared for orthographic matrices, whose reversal the matrix cannot show).
-  const DepthMode mode = p.perspective
-                             ? (p.reversed ? kZeroToOneReversed : DepthMode{declared, false})
-                             : DepthMode{declared, input.declaredReversed};
-  const RobustRayGenerator rays(m, mode);
-  const Ray centre = rays.generate({0.0, 0.0});
-  if (!p.perspective) {
-    p.reversed = input.declaredReversed;
-    p.viewDirection = centre.direction;
-    const glm::dvec3 nearCentre = unproject(worldFromClip, {0, 0, mode.nearNdcZ()});
-    const glm::dvec3 farCentre = unproject(worldFromClip, {0, 0, mode.farNdcZ()});
-    p.depthExtent = glm::length(farCentre - nearCentre);
-    p.extentX = glm::length(unproject(worldFromClip, {1, 0, mode.nearNdcZ()}) -
-                            unproject(worldFromClip, {-1, 0, mode.nearNdcZ()}));
-    p.extentY = glm::length(unproject(worldFromClip, {0, 1, mode.nearNdcZ()}) -
-                            unproject(worldFromClip, {0, -1, mode.nearNdcZ()}));
-    p.builtFor = "ambiguous";
-    if (input.view) {
-      const glm::dvec3 origin = glm::dvec3(glm::inverse(*input.view)[3]);
-      p.nearDistance = glm::dot(nearCentre - origin, p.viewDirection);
-      p.farDistance = glm::dot(farCentre - origin, p.viewDirection);
-      if (!p.reversed) {
-        const double no = glm::dot(unproject(worldFromClip, {0, 0, -1}) - origin, p.viewDirection);
-        const double zo = glm::dot(unproject(worldFromClip, {0, 0, 0}) - origin, p.viewDirection);
-        p.nearIfBuiltForNo = no;
-        p.nearIfBuiltForZo = zo;
-        const int digitsNo = decimalDigits(no, 1e-6), digitsZo = decimalDigits(zo, 1e-6);
-        p.builtFor = digitsNo < digitsZo ? "no" : digitsZo < digitsNo ? "zo" : "ambiguous";
-      } else {
-        p.builtFor = "zo-reversed";
-      }
-    }
-  } else {
-    const auto dir = [&](double x, double y) { return rays.generate({x, y}).direction; };
-    p.fovYDegrees = angleDegrees(dir(0, -1), dir(0, 1));
-    p.fovXDegrees = angleDegrees(dir(-1, 0), dir(1, 0));
-    p.offAxis = angleDegrees(centre.direction, p.viewDirection) > 1e-7;
-  }
-  // Handedness of the camera frame (screen right, screen up, forward): GL's right-handed camera
-  // has right x up pointing back at the viewer.
-  const glm::dvec3 right =
-      p.perspective ? rays.generate({0.5, 0}).direction - rays.generate({-0.5, 0}).direction
-                    : rays.generate({0.5, 0}).origin - rays.generate({-0.5, 0}).origin;
-  const glm::dvec3 up = p.perspective
-                            ? rays.generate({0, 0.5}).direction - rays.generate({0, -0.5}).direction
-                            : rays.generate({0, 0.5}).origin - rays.generate({0, -0.5}).origin;
-  p.leftHanded = glm::dot(glm::cross(right, up), p.viewDirection) > 0.0;
-  const glm::dvec3 nearNormal = glm::dvec3(rowZ - mode.nearNdcZ() * rowW);
-  p.oblique = angleDegrees(glm::normalize(nearNormal), p.viewDirection) > 1e-7 &&
-              angleDegrees(-glm::normalize(nearNormal), p.viewDirection) > 1e-7;
-  p.yFlipped = input.projection ? (*input.projection)[1][1] < 0.0 : glm::normalize(up).y < -1e-9;
+  // Handedness, and a Vulkan-style y flip: negating the clip y row also flips the frame, so a
+  // left-handed frame whose screen up points down a Y-up world reads as that flip, not a mirror.
+  const bool frameLeftHanded = reading.handedness.value > 0.0;
+  p.yFlipped = input.projection ? (*input.projection)[1][1] < 0.0
+                                : frameLeftHanded && reading.screenUpY.clearlyNegative();
+  p.leftHanded = frameLeftHanded != p.yFlipped;
+
+  // Ray geometry for the method predictions, under the conventions the app draws with (reversed as
+  // the matrix says, or as declared for orthographic matrices).
+  const DepthMode mode = p.perspective ? (p.reversed ? kZeroToOneReversed : drawn)
+                                       : DepthMode{declared, input.declaredReversed};
+  (void)worldFromClip;
 
   // ---- Findings ----
   const std::string declaredName =
@@ -372,42 +412,63 @@ CheckReport checkConventions(const CheckInput& input) {
     // Everything else would describe the scrambled matrix: say only what matters.
     return report;
   }
+  const std::string nearWord = p.perspective ? "near" : "near plane offset";
   if (input.declaredDepth && (p.builtFor == "no" || p.builtFor == "zo") &&
       p.builtFor != declaredName) {
+    const double no = p.nearIfBuiltForNo->value, zo = p.nearIfBuiltForZo->value;
+    const std::string why = " (read as built for " + p.builtFor + ": " + p.builtForReason + ")";
     if (p.builtFor == "no") {
       findings.push_back(
           {"error", "depth-convention-mismatch",
-           "built for NEGATIVE_ONE_TO_ONE (near " + number(*p.nearIfBuiltForNo) +
-               ") but drawn under ZERO_TO_ONE: "
-               "the rasterizer clips at z_ndc = 0, so the effective near plane moves to " +
-               number(*p.nearIfBuiltForZo) + " (" +
-               number(*p.nearIfBuiltForZo / *p.nearIfBuiltForNo) +
-               "x) and NDC [-1, 0), half the depth range, is never used",
+           "built for NEGATIVE_ONE_TO_ONE (" + nearWord + " " + number(no) +
+               ") but drawn under ZERO_TO_ONE: the rasterizer clips at z_ndc = 0, so the "
+               "effective near plane moves to " +
+               number(zo) + (p.perspective ? " (" + number(zo / no) + "x)" : std::string()) +
+               " and NDC [-1, 0), half the depth range, is never used" + why,
            "build the projection for ZO (glm::perspectiveRH_ZO) or draw with "
-           "glClipControl(GL_LOWER_LEFT, "
-           "GL_NEGATIVE_ONE_TO_ONE)"});
+           "glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE)"});
     } else {
-      findings.push_back({"error", "depth-convention-mismatch",
-                          "built for ZERO_TO_ONE (near " + number(*p.nearIfBuiltForZo) +
-                              ") but drawn under NEGATIVE_ONE_TO_ONE: "
-                              "the rasterizer keeps geometry down to z_ndc = -1, at " +
-                              number(*p.nearIfBuiltForNo) +
-                              ", nearer than the intended near plane, and spends half the depth "
-                              "range on that sliver",
-                          "build the projection for NO (glm::perspectiveRH_NO) or draw with "
-                          "glClipControl(GL_LOWER_LEFT, "
-                          "GL_ZERO_TO_ONE)"});
+      findings.push_back(
+          {"error", "depth-convention-mismatch",
+           "built for ZERO_TO_ONE (" + nearWord + " " + number(zo) +
+               ") but drawn under NEGATIVE_ONE_TO_ONE: the rasterizer keeps geometry down to "
+               "z_ndc = -1, at " +
+               number(no) +
+               ", nearer than the intended near plane, and spends half the depth range on that "
+               "sliver" +
+               why,
+           "build the projection for NO (glm::perspectiveRH_NO) or draw with "
+           "glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)"});
     }
   } else if (input.declaredDepth && p.builtFor == "ambiguous" && p.nearIfBuiltForNo &&
              p.nearIfBuiltForZo) {
     findings.push_back(
         {"info", "depth-convention-ambiguous",
-         "this matrix reads as built for NO with near " + number(*p.nearIfBuiltForNo) +
-             " or for ZO with near " + number(*p.nearIfBuiltForZo) + "; under the declared " +
-             conventionName(declared) + " the near plane is at " +
-             number(declared == DepthConvention::ZeroToOne ? *p.nearIfBuiltForZo
-                                                           : *p.nearIfBuiltForNo),
-         "if that is not your near plane, the projection was built for the other convention"});
+         "this matrix reads as built for NO with " + nearWord + " " +
+             number(p.nearIfBuiltForNo->value) + " or for ZO with " + nearWord + " " +
+             number(p.nearIfBuiltForZo->value) + " (" + p.builtForReason +
+             "); under the declared " + conventionName(declared) + " the near plane is at " +
+             number(p.near->value),
+         "if that is not your near plane, the projection was built for the other convention; "
+         "--near states the plane you meant"});
+  }
+  if (p.statedNearMatches == false) {
+    findings.push_back(
+        {"error", "near-plane-mismatch",
+         "the stated near plane " + number(*input.statedNear) +
+             " is neither reading of the matrix (" +
+             (p.nearIfBuiltForNo ? number(p.nearIfBuiltForNo->value) : std::string("none")) +
+             " if built for NO, " +
+             (p.nearIfBuiltForZo ? number(p.nearIfBuiltForZo->value) : std::string("none")) +
+             " if built for ZO)",
+         "check which matrix the app uploads, and the near value it builds it with"});
+  }
+  if (p.statedFarMatches == false) {
+    findings.push_back({"error", "far-plane-mismatch",
+                        "the stated far plane " + number(*input.statedFar) +
+                            " is not the matrix's (" +
+                            (p.infiniteFar ? std::string("infinite") : number(p.far->value)) + ")",
+                        "check which matrix the app uploads, and the far value it builds it with"});
   }
   const bool reversedRange = input.depthRange.x > input.depthRange.y;
   if ((p.reversed || input.declaredReversed || reversedRange) &&
@@ -436,13 +497,15 @@ CheckReport checkConventions(const CheckInput& input) {
              ? "draw with glDepthFunc(GL_GREATER) and glClearDepth(0), or pass --reversed if you do"
              : "build the projection reversed (near -> 1, far -> 0) or use GL_LESS and clear 1"});
   }
-  if (input.origin && p.yFlipped) {
-    if (*input.origin == WindowOrigin::LowerLeft) {
+  if (p.yFlipped) {
+    if (input.origin != WindowOrigin::UpperLeft) {
       findings.push_back(
           {"warning", "y-flipped",
-           "the projection flips y (Vulkan-style, screen up along world -Y): under GL's lower-left "
-           "origin the image is upside down and triangle winding flips",
-           "drop the flip for GL, or keep it and use glClipControl(GL_UPPER_LEFT, ...)"});
+           "the projection flips y (Vulkan-style, screen up along world -Y): under GL's " +
+               std::string(input.origin ? "" : "default ") +
+               "lower-left origin the image is upside down and triangle winding flips",
+           "drop the flip for GL, or keep it and use glClipControl(GL_UPPER_LEFT, ...) (then "
+           "--origin upper-left)"});
     } else {
       findings.push_back(
           {"info", "y-flipped",
@@ -480,7 +543,7 @@ CheckReport checkConventions(const CheckInput& input) {
          "(clipray's robust method); t_max = +inf"});
   }
   // Float precision: what each ray method errs by at this camera, from the ray library.
-  report.methods = predictMethodErrors(input, mode);
+  if (input.predictMethods) report.methods = predictMethodErrors(input, mode);
   {
     double worstClassic = 0.0;
     std::string table;
@@ -499,11 +562,11 @@ CheckReport checkConventions(const CheckInput& input) {
                (prediction.backward ? " (backward)" : "");
     }
     if (worstClassic > 0.5) {
-      const std::string where = p.perspective && p.eye && p.nearDistance
+      const std::string where = p.perspective && p.eye && p.near
                                     ? "the eye is " + number(glm::length(*p.eye)) +
                                           " units from the origin with near " +
-                                          number(*p.nearDistance) + " (ratio " +
-                                          number(glm::length(*p.eye) / *p.nearDistance) + ")"
+                                          number(p.near->value) + " (ratio " +
+                                          number(glm::length(*p.eye) / p.near->value) + ")"
                                     : "at this camera";
       findings.push_back(
           {"warning", "float-precision-risk",
@@ -520,13 +583,14 @@ CheckReport checkConventions(const CheckInput& input) {
 
   // Depth precision over the scene: two surfaces 1% apart are separable while the depth they map
   // to differs by more than one stored quantum; dz ~ z^2 (1/n - 1/f) dd for perspective.
-  if (input.sceneExtent && p.perspective && p.nearDistance) {
+  if (input.sceneExtent && p.perspective && p.near) {
     const auto [lo, hi] = *input.sceneExtent;
     double farthest = 0.0;
     for (int k = 0; k < 8; ++k) {
       const glm::dvec3 corner(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
       farthest = std::max(farthest, glm::dot(corner - *p.eye, p.viewDirection));
     }
+    const glm::dvec4 rowZ = matrixRow(m, 2), rowW = matrixRow(m, 3);
     const double wLength = glm::length(glm::dvec3(rowW));
     const double a = glm::dot(rowZ, glm::dvec4(*p.eye, 1.0)) / wLength;
     // Window depth under the convention the app actually draws with (not the matrix's own).
@@ -540,8 +604,8 @@ CheckReport checkConventions(const CheckInput& input) {
       const double slope = std::abs(a) / (s * s) * windowScale;  // |d window depth / ds|
       return slope * 0.01 * s > depthQuantum(input.depthFormat, windowDepth);
     };
-    if (farthest > *p.nearDistance && !separable(farthest)) {
-      double low = *p.nearDistance, high = farthest;  // separable at low, not at high
+    if (farthest > p.near->value && !separable(farthest)) {
+      double low = p.near->value, high = farthest;  // separable at low, not at high
       for (int i = 0; i < 200 && high / low > 1.0 + 1e-9; ++i) {
         const double mid = std::sqrt(low * high);
         (separable(mid) ? low : high) = mid;
@@ -552,7 +616,7 @@ CheckReport checkConventions(const CheckInput& input) {
                std::string(input.depthFormat == DepthFormat::Float32
                                ? "32F"
                                : depthFormatName(input.depthFormat) + "-bit") +
-               " depth and near " + number(*p.nearDistance) +
+               " depth and near " + number(p.near->value) +
                ", surfaces 1% apart stop being separable beyond " + number(low) +
                " units from the eye; the scene reaches " + number(farthest),
            "move the near plane out, or use reversed-Z with a 32F depth buffer under ZERO_TO_ONE "
@@ -564,33 +628,47 @@ CheckReport checkConventions(const CheckInput& input) {
 
 nlohmann::json checkReportJson(const CheckReport& report, const CheckInput& input) {
   const MatrixProperties& p = report.properties;
-  auto optional = [](const std::optional<double>& v) {
-    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+  const auto reading = [](const std::optional<Uncertain>& v) {
+    return v ? nlohmann::json(v->value) : nlohmann::json(nullptr);
+  };
+  const auto error = [](const std::optional<Uncertain>& v) {
+    return v ? nlohmann::json(v->error) : nlohmann::json(nullptr);
   };
   nlohmann::json properties = {
+      {"precision", p.precision},
       {"projection", p.perspective ? "perspective" : "orthographic"},
       {"oblique", p.oblique},
       {"off_axis", p.offAxis},
       {"handedness", p.leftHanded ? "left-handed" : "right-handed"},
       {"mirrored", p.leftHanded},
       {"view_direction", {p.viewDirection.x, p.viewDirection.y, p.viewDirection.z}},
-      {"near", optional(p.nearDistance)},
-      {"far", p.infiniteFar ? nlohmann::json("infinite") : optional(p.farDistance)},
+      {"view_direction_error_degrees", p.viewDirectionErrorDegrees},
+      {"near", reading(p.near)},
+      {"near_error", error(p.near)},
+      {"far", p.infiniteFar ? nlohmann::json(nullptr) : reading(p.far)},
+      {"far_error", p.infiniteFar ? nlohmann::json(nullptr) : error(p.far)},
+      {"infinite_far", p.infiniteFar},
       {"built_for", p.builtFor},
-      {"near_if_built_for_no", optional(p.nearIfBuiltForNo)},
-      {"near_if_built_for_zo", optional(p.nearIfBuiltForZo)},
+      {"built_for_reason", p.builtForReason},
+      {"near_if_built_for_no", reading(p.nearIfBuiltForNo)},
+      {"near_if_built_for_zo", reading(p.nearIfBuiltForZo)},
       {"reversed", p.reversed},
       {"y_flipped", p.yFlipped},
       {"likely_transposed", p.likelyTransposed},
   };
-  if (p.eye) properties["eye"] = {p.eye->x, p.eye->y, p.eye->z};
+  if (p.eye) {
+    properties["eye"] = {p.eye->x, p.eye->y, p.eye->z};
+    properties["eye_error"] = {p.eyeError.x, p.eyeError.y, p.eyeError.z};
+  }
   if (p.perspective) {
-    properties["fov_y_degrees"] = p.fovYDegrees;
-    properties["fov_x_degrees"] = p.fovXDegrees;
+    properties["fov_y_degrees"] = p.fovYDegrees.value;
+    properties["fov_x_degrees"] = p.fovXDegrees.value;
+    properties["fov_error_degrees"] = std::max(p.fovYDegrees.error, p.fovXDegrees.error);
   } else {
-    properties["extent_x"] = p.extentX;
-    properties["extent_y"] = p.extentY;
-    properties["depth_extent"] = p.depthExtent;
+    properties["extent_x"] = p.extentX.value;
+    properties["extent_y"] = p.extentY.value;
+    properties["depth_extent"] = p.depthExtent ? nlohmann::json(*p.depthExtent) : nullptr;
+    properties["measured_from"] = p.orthographicAnchor;
   }
   nlohmann::json methods = nlohmann::json::array();
   for (const MethodPrediction& m : report.methods) {
@@ -635,23 +713,34 @@ std::string checkReportText(const CheckReport& report, const CheckInput& input) 
       << (p.reversed ? ", reversed-Z" : "") << (p.yFlipped ? ", y flipped" : "") << "\n";
   if (p.eye) out << "  eye " << vec(*p.eye) << ", looking along " << vec(p.viewDirection) << "\n";
   if (!p.eye) out << "  looking along " << vec(p.viewDirection) << "\n";
-  out << "  near " << (p.nearDistance ? number(*p.nearDistance) : "-") << ", far "
-      << (p.infiniteFar   ? "infinite"
-          : p.farDistance ? number(*p.farDistance)
-                          : "-");
+  const auto withError = [](const Uncertain& u) {
+    // The error only where it shows at the printed precision.
+    return number(u.value) +
+           (u.error > 5e-7 * std::abs(u.value) ? " (+-" + number(u.error) + ")" : std::string());
+  };
+  out << "  " << (p.perspective ? "near " : "near plane at ")
+      << (p.near ? withError(*p.near) : std::string("-")) << ", far "
+      << (p.infiniteFar ? std::string("infinite")
+          : p.far       ? withError(*p.far)
+                        : std::string("-"));
   if (p.perspective) {
-    out << ", fov " << number(p.fovYDegrees) << " deg vertical x " << number(p.fovXDegrees)
+    out << ", fov " << withError(p.fovYDegrees) << " deg vertical x " << withError(p.fovXDegrees)
         << " deg horizontal\n";
   } else {
-    out << ", view volume " << number(p.extentX) << " x " << number(p.extentY) << " x "
-        << number(p.depthExtent) << "\n";
+    out << (p.orthographicAnchor == "view" ? " from the camera" : " from the world origin")
+        << ", view volume " << number(p.extentX.value) << " x " << number(p.extentY.value) << " x "
+        << (p.depthExtent ? number(*p.depthExtent) : std::string("-")) << "\n";
   }
   out << "  built for: " << p.builtFor;
   if (p.nearIfBuiltForNo && p.nearIfBuiltForZo && p.builtFor != "zo-reversed") {
-    out << " (near " << number(*p.nearIfBuiltForNo) << " if NO, " << number(*p.nearIfBuiltForZo)
-        << " if ZO)";
+    out << " (near " << number(p.nearIfBuiltForNo->value) << " if NO, "
+        << number(p.nearIfBuiltForZo->value) << " if ZO)";
   }
   out << "\n";
+  if (!p.builtForReason.empty() && p.builtFor != "zo-reversed") {
+    out << "    because " << p.builtForReason << "\n";
+  }
+  out << "  entries read as " << p.precision << "\n";
   if (!report.methods.empty()) {
     out << "float picking rays at this camera, max error in pixels (direction / origin):\n";
     for (const MethodPrediction& m : report.methods) {

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "clipray/check/MatrixReading.hpp"
 #include "clipray/math/Conventions.hpp"
 
 namespace clipray {
@@ -19,9 +20,11 @@ namespace clipray {
 enum class WindowOrigin { LowerLeft, UpperLeft };
 
 struct CheckInput {
-  glm::dmat4 clipFromWorld{1.0};         // as the app uploads it, after applying the listing layout
-  std::optional<glm::dmat4> projection;  // clipFromView, when given separately
-  std::optional<glm::dmat4> view;        // viewFromWorld, when given separately
+  // As the app uploads it, after applying the listing layout: column-major, p_clip =
+  // clipFromWorld * p_world, GL clip space under the convention the app draws with.
+  glm::dmat4 clipFromWorld{1.0};
+  std::optional<glm::dmat4> projection;          // clipFromView, when given separately
+  std::optional<glm::dmat4> view;                // viewFromWorld (affine), when given separately
   std::optional<DepthConvention> declaredDepth;  // what the app draws under (glClipControl)
   bool declaredReversed = false;                 // depth test GREATER, clear 0
   glm::dvec2 depthRange{0.0, 1.0};               // glDepthRange
@@ -29,30 +32,42 @@ struct CheckInput {
   Viewport viewport{1920, 1080};
   DepthFormat depthFormat = DepthFormat::Unorm24;
   std::optional<std::pair<glm::dvec3, glm::dvec3>> sceneExtent;  // world-space box (min, max)
+  // The arithmetic the app built the matrix in (--precision); detected from the values if unset.
+  std::optional<EntryPrecision::Arithmetic> precision;
+  // The near and far planes the app meant (--near, --far): settle NO against ZO.
+  std::optional<double> statedNear, statedFar;
+  bool predictMethods = true;  // the ray-method table (the slow part: __float128 references)
 };
 
 struct MatrixProperties {
+  std::string precision;    // what the entries were read as: "float32", "double", ...
   bool perspective = true;  // false: orthographic (parallel)
   bool oblique = false;     // the near plane is not perpendicular to the view direction
   bool offAxis = false;     // the centre of the image is not on the view direction
-  bool leftHanded = false;  // (right, up, forward) is left-handed: a mirrored image in a RH world
+  // (right, up, forward) is left-handed once a y flip is undone: a mirrored image in a RH world.
+  bool leftHanded = false;
   std::optional<glm::dvec3> eye;  // perspective only
+  glm::dvec3 eyeError{0.0};
   glm::dvec3 viewDirection{0.0};
-  // Distances along the view direction from the eye (perspective) or from the view origin
-  // (orthographic with --view); nullopt far = infinite far plane.
-  std::optional<double> nearDistance;
-  std::optional<double> farDistance;
+  double viewDirectionErrorDegrees = 0.0;
+  // Distances along the view direction from the eye (perspective), or offsets from the camera
+  // position (orthographic with --view) or the world origin (orthographic alone); the near plane
+  // is the one in force under the declared convention. No far with an infinite far plane.
+  std::optional<Uncertain> near, far;
   bool infiniteFar = false;
-  double depthExtent = 0.0;  // orthographic: distance between the near and far planes
-  double fovYDegrees = 0.0, fovXDegrees = 0.0;  // perspective
-  double extentX = 0.0, extentY = 0.0;          // orthographic: view-volume width and height
-  bool reversed = false;                        // depth decreases with distance
-  // The convention whose near plane the matrix was built for: NO and ZO builds of a perspective
-  // matrix are the same family (a NO matrix with near n is a ZO matrix with near 2fn/(f+n)), so
-  // the build is recognised by which reading gives the rounder near value.
+  std::optional<double> depthExtent;   // orthographic: |far - near|
+  std::string orthographicAnchor;      // "view" or "world-origin"
+  Uncertain fovYDegrees, fovXDegrees;  // perspective
+  Uncertain extentX, extentY;          // orthographic: view-volume width and height
+  bool reversed = false;               // depth decreases with distance
+  // The convention whose near plane the matrix was built for. NO and ZO builds are one family (a
+  // NO perspective with near n is a ZO perspective with near 2fn/(f+n)), so both readings are
+  // kept and one is taken only for a stated reason.
   std::string builtFor;  // "no", "zo", "zo-reversed", or "ambiguous"
-  std::optional<double> nearIfBuiltForNo, nearIfBuiltForZo;
-  bool yFlipped = false;          // screen up points along world -Y, or the projection has m11 < 0
+  std::string builtForReason;
+  std::optional<Uncertain> nearIfBuiltForNo, nearIfBuiltForZo;
+  std::optional<bool> statedNearMatches, statedFarMatches;  // with --near / --far
+  bool yFlipped = false;          // Vulkan-style: clip y negated (screen up along world -Y)
   bool likelyTransposed = false;  // the transpose looks like a projection, the matrix does not
 };
 
@@ -89,8 +104,11 @@ CheckReport checkConventions(const CheckInput& input);
 nlohmann::json checkReportJson(const CheckReport& report, const CheckInput& input);
 std::string checkReportText(const CheckReport& report, const CheckInput& input);
 
-// Parses 16 numbers listed column-major (GL, glm::value_ptr) or row-major (D3D, a C array
-// m[row][col]); `what` names the option or field in messages.
+// Parses 16 numbers in memory order. Column-major: a GL mat4 as glm::value_ptr or
+// glUniformMatrix4fv(..., GL_FALSE, ...) reads it; a DirectXMath XMMATRIX in memory is this order
+// too (it stores the transpose, row vectors times the matrix, row by row). Row-major: the matrix
+// written out row by row, as in a maths text or a C array m[row][col] of a column-vector matrix.
+// `what` names the option or field in messages.
 glm::dmat4 parseMatrix16(const std::vector<double>& numbers, bool rowMajor,
                          const std::string& what);
 

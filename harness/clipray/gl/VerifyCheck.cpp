@@ -62,17 +62,18 @@ VerifyResult verifyCheck(const CheckInput& input, const CheckReport& report, Ren
 
   VerifyResult result;
   // Depths to probe: from the nearest plausible near plane to the far plane (or 1000x near).
-  const double nearest = p.perspective ? std::min(p.nearIfBuiltForNo.value_or(*p.nearDistance),
-                                                  p.nearIfBuiltForZo.value_or(*p.nearDistance))
+  const Uncertain drawnNear = p.near.value_or(Uncertain{});
+  const double nearest = p.perspective ? std::min(p.nearIfBuiltForNo.value_or(drawnNear).value,
+                                                  p.nearIfBuiltForZo.value_or(drawnNear).value)
                                        : 0.0;
-  const double farthest = p.farDistance
-                              ? *p.farDistance
-                              : (p.perspective ? 1000.0 * std::max(nearest, 1e-6) : p.depthExtent);
+  const double farthest =
+      p.far ? p.far->value
+            : (p.perspective ? 1000.0 * std::max(nearest, 1e-6) : p.depthExtent.value_or(1.0));
   // Band 1: the near probe, at 1.5x the near plane the matrix was built for.
   std::optional<double> builtNear;
-  if (p.builtFor == "no") builtNear = p.nearIfBuiltForNo;
-  if (p.builtFor == "zo") builtNear = p.nearIfBuiltForZo;
-  if (p.builtFor == "zo-reversed") builtNear = p.nearDistance;
+  if (p.builtFor == "no" && p.nearIfBuiltForNo) builtNear = p.nearIfBuiltForNo->value;
+  if (p.builtFor == "zo" && p.nearIfBuiltForZo) builtNear = p.nearIfBuiltForZo->value;
+  if (p.builtFor == "zo-reversed" && p.near) builtNear = p.near->value;
   if (p.perspective && builtNear) {
     result.nearProbeDistance = 1.5 * *builtNear;
     addQuad("near_probe", -0.8, 0.8, 0.4, 0.8, result.nearProbeDistance);
@@ -125,9 +126,8 @@ VerifyResult verifyCheck(const CheckInput& input, const CheckReport& report, Ren
         std::string("a probe at 1.5x the near plane the matrix was built for (") +
         number(result.nearProbeDistance) + ") is " +
         (*result.nearProbeDrawn ? "drawn" : "clipped away") + " under the declared conventions" +
-        (p.nearDistance && !*result.nearProbeDrawn
-             ? " (effective near plane " + number(*p.nearDistance) + ")"
-             : ""));
+        (p.near && !*result.nearProbeDrawn ? " (effective near plane " + number(p.near->value) + ")"
+                                           : ""));
   }
   // In the overlap (clip x in [-0.2, 0.2]) the nearer probe should own the pixels.
   std::int64_t nearerOwned = 0, fartherOwned = 0;

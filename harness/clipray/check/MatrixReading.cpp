@@ -1,0 +1,273 @@
+#include "clipray/check/MatrixReading.hpp"
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+
+#include "clipray/math/Projections.hpp"
+
+namespace clipray {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// Error terms per rounded operation a matrix typically went through: building the projection and
+// the view (normalize, cross, dot: a few roundings each on unit-sized terms) and multiplying them
+// (a 4-term dot product). Generated cameras of every engine stay within 8 (tests/unit/
+// CheckPropertyTest.cpp).
+constexpr double kRoundingsPerEntry = 8.0;
+
+double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
+  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+}
+
+// Angle between two lines (either sign of either vector).
+double lineAngle(const glm::dvec3& a, const glm::dvec3& b) {
+  return std::atan2(glm::length(glm::cross(a, b)), std::abs(glm::dot(a, b)));
+}
+
+bool isFloat(double v) {
+  return static_cast<double>(static_cast<float>(v)) == v;
+}
+
+// Within the rounding of a float32 printed with %.9g (which round-trips every float32).
+bool isNineDigitFloat(double v) {
+  const double f = static_cast<float>(v);
+  return std::abs(v - f) <= 5e-9 * std::abs(f);
+}
+
+// The figures of a matrix as plain numbers; readMatrix perturbs the entries and reads them again.
+struct Figures {
+  double a = kNaN, b = kNaN;
+  glm::dvec3 eye{kNaN};
+  glm::dvec3 forward{0.0};
+  double nearNo = kNaN, nearZo = kNaN, atOne = kNaN;  // distances at z_ndc = -1, 0, 1
+  double obliqueNo = 0.0, obliqueZo = 0.0, obliqueReversed = 0.0, offAxis = 0.0;
+  double handedness = 0.0, upY = 0.0, fovY = 0.0, fovX = 0.0, extentX = 0.0, extentY = 0.0;
+};
+
+glm::dvec3 xyz(const glm::dvec4& v) {
+  return glm::dvec3(v);
+}
+
+Figures perspectiveFigures(const glm::dmat4& m) {
+  Figures f;
+  const glm::dvec4 x = matrixRow(m, 0), y = matrixRow(m, 1), z = matrixRow(m, 2),
+                   w = matrixRow(m, 3);
+  const double wLength = glm::length(xyz(w));
+  f.forward = xyz(w) / wLength;
+  // The eye: x = y = w = 0 (rows 0, 1 and 3), independent of row 2, which oblique clipping edits.
+  const glm::dmat3 rows = glm::transpose(glm::dmat3(xyz(x), xyz(y), xyz(w)));
+  f.eye = glm::inverse(rows) * -glm::dvec3(x.w, y.w, w.w);
+  f.a = glm::dot(z, glm::dvec4(f.eye, 1.0)) / wLength;
+  f.b = glm::dot(xyz(z), f.forward) / wLength;
+  const auto distanceAt = [&](double zNdc) {
+    const double s = f.a / (zNdc - f.b);
+    return std::isfinite(s) && s > 0.0 ? s : kNaN;
+  };
+  f.nearNo = distanceAt(-1.0);
+  f.nearZo = distanceAt(0.0);
+  f.atOne = distanceAt(1.0);
+  f.obliqueNo = lineAngle(xyz(z) + xyz(w), f.forward);
+  f.obliqueZo = lineAngle(xyz(z), f.forward);
+  f.obliqueReversed = lineAngle(xyz(z) - xyz(w), f.forward);
+  // The line of sight through NDC (x', y'): the planes x = x' w and y = y' w cross along it; its
+  // sign is the one along which w grows (in front of the eye), whatever the near plane does.
+  const auto sight = [&](double xn, double yn) {
+    const glm::dvec3 d = glm::cross(xyz(x) - xn * xyz(w), xyz(y) - yn * xyz(w));
+    return glm::normalize(glm::dot(d, xyz(w)) < 0.0 ? -d : d);
+  };
+  f.offAxis = angleBetween(sight(0, 0), f.forward);
+  const glm::dvec3 right = glm::normalize(sight(0.5, 0) - sight(-0.5, 0));
+  const glm::dvec3 up = glm::normalize(sight(0, 0.5) - sight(0, -0.5));
+  f.handedness = glm::dot(glm::cross(right, up), f.forward);
+  f.upY = up.y;
+  f.fovY = angleBetween(sight(0, -1), sight(0, 1)) * 180.0 / kPi;
+  f.fovX = angleBetween(sight(-1, 0), sight(1, 0)) * 180.0 / kPi;
+  return f;
+}
+
+Figures orthographicFigures(const glm::dmat4& m, const glm::dvec3& anchor) {
+  Figures f;
+  const glm::dvec4 x = matrixRow(m, 0), y = matrixRow(m, 1), z = matrixRow(m, 2),
+                   w = matrixRow(m, 3);
+  // Parallel rays run along the line x = y = 0; forward is where depth grows.
+  const glm::dvec3 d = glm::normalize(glm::cross(xyz(x), xyz(y)));
+  f.forward = glm::dot(d, xyz(z)) < 0.0 ? -d : d;
+  const double zRate = glm::dot(xyz(z), f.forward);
+  const double zAtAnchor = glm::dot(z, glm::dvec4(anchor, 1.0));
+  const auto offsetAt = [&](double zNdc) { return (zNdc * w.w - zAtAnchor) / zRate; };
+  f.nearNo = offsetAt(-1.0);
+  f.nearZo = offsetAt(0.0);
+  f.atOne = offsetAt(1.0);
+  f.obliqueNo = f.obliqueZo = f.obliqueReversed = lineAngle(xyz(z), f.forward);
+  const glm::dvec3 xPerp = xyz(x) - glm::dot(xyz(x), f.forward) * f.forward;
+  const glm::dvec3 yPerp = xyz(y) - glm::dot(xyz(y), f.forward) * f.forward;
+  f.extentX = 2.0 * std::abs(w.w) / glm::length(xPerp);
+  f.extentY = 2.0 * std::abs(w.w) / glm::length(yPerp);
+  const glm::dvec3 right = glm::normalize(xPerp), up = glm::normalize(yPerp);
+  f.handedness = glm::dot(glm::cross(right, up), f.forward);
+  f.upY = up.y;
+  return f;
+}
+
+Figures figuresOf(const glm::dmat4& m, bool perspective, const glm::dvec3& anchor) {
+  return perspective ? perspectiveFigures(m) : orthographicFigures(m, anchor);
+}
+
+// |a - b| where NaN on one side only counts as an unbounded change (a reading that stops existing
+// under a rounding error is not known), and NaN on both as none.
+double change(double a, double b) {
+  if (std::isnan(a) && std::isnan(b)) return 0.0;
+  if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<double>::infinity();
+  return std::abs(a - b);
+}
+
+}  // namespace
+
+double EntryPrecision::unitRoundoff() const {
+  return arithmetic == Arithmetic::Float32 ? std::ldexp(1.0, -24) : std::ldexp(1.0, -53);
+}
+
+double EntryPrecision::decimalRelative() const {
+  return decimalDigits > 0 ? 0.5 * std::pow(10.0, 1 - decimalDigits) : 0.0;
+}
+
+std::string EntryPrecision::description() const {
+  const std::string base = arithmetic == Arithmetic::Float32 ? "float32" : "double";
+  if (decimalDigits == 0) return base;
+  return base + " as " + std::to_string(decimalDigits) + "-digit decimals";
+}
+
+int significantDigits(double v, double relativeTolerance) {
+  if (v == 0.0) return 1;
+  for (int digits = 1; digits <= 17; ++digits) {
+    char buffer[40];
+    std::snprintf(buffer, sizeof buffer, "%.*e", digits - 1, v);
+    if (std::abs(std::strtod(buffer, nullptr) - v) <= relativeTolerance * std::abs(v))
+      return digits;
+  }
+  return 18;
+}
+
+EntryPrecision detectEntryPrecision(const std::vector<glm::dmat4>& matrices) {
+  bool allFloat = true, allNineDigitFloat = true;
+  int mostDigits = 0;
+  for (const glm::dmat4& m : matrices) {
+    for (int c = 0; c < 4; ++c) {
+      for (int r = 0; r < 4; ++r) {
+        const double v = m[c][r];
+        allFloat = allFloat && isFloat(v);
+        allNineDigitFloat = allNineDigitFloat && isNineDigitFloat(v);
+        if (v != 0.0) mostDigits = std::max(mostDigits, significantDigits(v, 0.0));
+      }
+    }
+  }
+  EntryPrecision precision;
+  if (allFloat || allNineDigitFloat) {
+    precision.arithmetic = EntryPrecision::Arithmetic::Float32;
+  } else if (mostDigits >= 16) {
+    precision.arithmetic = EntryPrecision::Arithmetic::Double;
+  } else {
+    // Short decimals say nothing of the arithmetic behind them: assume float32, the coarser.
+    precision.arithmetic = EntryPrecision::Arithmetic::Float32;
+    precision.decimalDigits = mostDigits;
+  }
+  return precision;
+}
+
+glm::dvec3 translationAnchor(const glm::dmat4& clipFromWorld) {
+  const glm::dvec4 x = matrixRow(clipFromWorld, 0), y = matrixRow(clipFromWorld, 1),
+                   w = matrixRow(clipFromWorld, 3);
+  const glm::dmat3 rows = glm::transpose(glm::dmat3(xyz(x), xyz(y), xyz(w)));
+  if (glm::length(xyz(w)) > 0.0 && std::abs(glm::determinant(rows)) > 0.0) {
+    const glm::dvec3 eye = glm::inverse(rows) * -glm::dvec3(x.w, y.w, w.w);
+    if (std::isfinite(eye.x) && std::isfinite(eye.y) && std::isfinite(eye.z)) return eye;
+  }
+  const glm::dvec4 centre = glm::inverse(clipFromWorld) * glm::dvec4(0, 0, 0, 1);
+  return glm::dvec3(centre) / centre.w;
+}
+
+glm::dmat4 entryErrorBounds(const glm::dmat4& m, const EntryPrecision& precision,
+                            const glm::dvec3& anchor) {
+  const double arithmetic = kRoundingsPerEntry * precision.unitRoundoff();
+  const double decimal = precision.decimalRelative();
+  glm::dmat4 errors(0.0);
+  for (int r = 0; r < 4; ++r) {
+    const glm::dvec4 row = matrixRow(m, r);
+    const double rowLength = glm::length(xyz(row));
+    for (int c = 0; c < 3; ++c) errors[c][r] = arithmetic * rowLength + decimal * std::abs(row[c]);
+    const double terms = std::abs(row.w) + std::abs(row.x * anchor.x) + std::abs(row.y * anchor.y) +
+                         std::abs(row.z * anchor.z);
+    errors[3][r] = arithmetic * terms + decimal * std::abs(row.w);
+  }
+  return errors;
+}
+
+MatrixReading readMatrix(const glm::dmat4& m, const glm::dmat4& errors,
+                         const glm::dvec3& orthographicAnchor) {
+  MatrixReading reading;
+  const glm::dvec3 wXyz = xyz(matrixRow(m, 3));
+  const glm::dvec3 wErrors(errors[0][3], errors[1][3], errors[2][3]);
+  reading.perspective = glm::length(wXyz) > glm::length(wErrors) && glm::length(wXyz) > 0.0;
+  reading.anchor = orthographicAnchor;
+  const Figures base = figuresOf(m, reading.perspective, orthographicAnchor);
+
+  Figures spread;  // summed changes under each entry's error
+  spread.a = spread.b = spread.nearNo = spread.nearZo = spread.atOne = 0.0;
+  glm::dvec3 eyeSpread(0.0);
+  double forwardSpread = 0.0;
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      if (!(errors[c][r] > 0.0)) continue;
+      glm::dmat4 moved = m;
+      moved[c][r] += errors[c][r];
+      const Figures f = figuresOf(moved, reading.perspective, orthographicAnchor);
+      spread.a += change(f.a, base.a);
+      spread.b += change(f.b, base.b);
+      for (int k = 0; k < 3; ++k) eyeSpread[k] += change(f.eye[k], base.eye[k]);
+      forwardSpread += angleBetween(f.forward, base.forward);
+      spread.nearNo += change(f.nearNo, base.nearNo);
+      spread.nearZo += change(f.nearZo, base.nearZo);
+      spread.atOne += change(f.atOne, base.atOne);
+      spread.obliqueNo += change(f.obliqueNo, base.obliqueNo);
+      spread.obliqueZo += change(f.obliqueZo, base.obliqueZo);
+      spread.obliqueReversed += change(f.obliqueReversed, base.obliqueReversed);
+      spread.offAxis += change(f.offAxis, base.offAxis);
+      spread.handedness += change(f.handedness, base.handedness);
+      spread.upY += change(f.upY, base.upY);
+      spread.fovY += change(f.fovY, base.fovY);
+      spread.fovX += change(f.fovX, base.fovX);
+      spread.extentX += change(f.extentX, base.extentX);
+      spread.extentY += change(f.extentY, base.extentY);
+    }
+  }
+  reading.a = {base.a, spread.a};
+  reading.b = {base.b, spread.b};
+  reading.eye = base.eye;
+  reading.eyeError = eyeSpread;
+  reading.viewDirection = base.forward;
+  reading.viewDirectionAngle = {0.0, forwardSpread};
+  reading.nearIfNo = {base.nearNo, spread.nearNo};
+  reading.nearIfZo = {base.nearZo, spread.nearZo};
+  reading.nearIfReversed = {base.atOne, spread.atOne};
+  reading.far = {base.atOne, spread.atOne};
+  reading.farIfReversed = {base.nearZo, spread.nearZo};
+  reading.obliqueAngleNo = {base.obliqueNo, spread.obliqueNo};
+  reading.obliqueAngleZo = {base.obliqueZo, spread.obliqueZo};
+  reading.obliqueAngleReversed = {base.obliqueReversed, spread.obliqueReversed};
+  reading.offAxisAngle = {base.offAxis, spread.offAxis};
+  reading.handedness = {base.handedness, spread.handedness};
+  reading.screenUpY = {base.upY, spread.upY};
+  reading.fovYDegrees = {base.fovY, spread.fovY};
+  reading.fovXDegrees = {base.fovX, spread.fovX};
+  reading.extentX = {base.extentX, spread.extentX};
+  reading.extentY = {base.extentY, spread.extentY};
+  return reading;
+}
+
+}  // namespace clipray
