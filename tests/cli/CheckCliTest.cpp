@@ -45,6 +45,34 @@ TEST(CheckCli, MismatchExitsOneWithJson) {
   EXPECT_FALSE(report["findings"][0]["fix"].get<std::string>().empty());
 }
 
+TEST(CheckCli, StatedNearSettlesAnAmbiguousReading) {
+  TempFolder folder;
+  // glm::infinitePerspective(radians(60.0f), 1.5f, 0.1f) in float, printed with %.9g: near 0.1
+  // if NO, 0.2 if ZO, both round.
+  const std::string infinite = "1.1547004 0 0 0 0 1.73205066 0 0 0 0 -1 -1 0 0 -0.200000003 0";
+  const auto ambiguous = runClipray(
+      "check --clip-from-world '" + infinite + "' --declared-depth zo --json", folder.path());
+  EXPECT_EQ(ambiguous.status, 0) << ambiguous.err;
+  EXPECT_EQ(nlohmann::json::parse(ambiguous.out)["properties"]["built_for"], "ambiguous");
+  const auto settled =
+      runClipray("check --clip-from-world '" + infinite + "' --declared-depth zo --near 0.1 --json",
+                 folder.path());
+  EXPECT_EQ(settled.status, 1) << settled.err;
+  const auto report = nlohmann::json::parse(settled.out);
+  EXPECT_EQ(report["properties"]["built_for"], "no");
+  EXPECT_EQ(report["properties"]["built_for_reason"], "the stated near plane, 0.1");
+  EXPECT_EQ(report["properties"]["infinite_far"], true);
+  EXPECT_EQ(report["properties"]["far"], nullptr);
+  EXPECT_EQ(report["findings"][0]["code"], "depth-convention-mismatch");
+  const auto wrong = runClipray(
+      "check --clip-from-world '" + infinite + "' --declared-depth no --near 0.3", folder.path());
+  EXPECT_EQ(wrong.status, 1);
+  EXPECT_NE(wrong.out.find("error [near-plane-mismatch] the stated near plane 0.3 is neither "
+                           "reading of the matrix (0.1 if built for NO, 0.2 if built for ZO)"),
+            std::string::npos)
+      << wrong.out;
+}
+
 TEST(CheckCli, ReadsTheSameFieldsFromAFile) {
   TempFolder folder;
   std::ofstream(folder.path() / "app.json")
@@ -122,7 +150,17 @@ INSTANTIATE_TEST_SUITE_P(
                  "--view needs --projection (for a combined matrix use --clip-from-world alone)"},
         BadCheck{"UnknownLayout",
                  "check --clip-from-world '" + kPerspectiveNo + "' --layout diagonal",
-                 "--layout: unknown value \"diagonal\"; expected one of: column-major, row-major"},
+                 "--layout: unknown value \"diagonal\"; expected one of: column-major, row-major, "
+                 "xmmatrix"},
+        BadCheck{"UnknownPrecision",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --precision half",
+                 "--precision: unknown value \"half\"; expected one of: float, double"},
+        BadCheck{"NearNotANumber",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --near 0.1,0.2",
+                 "--near: expected one finite number, got \"0.1,0.2\""},
+        BadCheck{"FarNotBeyondNear",
+                 "check --clip-from-world '" + kPerspectiveNo + "' --near 1 --far 0.5",
+                 "--far: expected a number greater than --near (1), got 0.5"},
         BadCheck{"UnknownDepth",
                  "check --clip-from-world '" + kPerspectiveNo + "' --declared-depth zero",
                  "--declared-depth: unknown value \"zero\"; expected one of: no, zo"},
