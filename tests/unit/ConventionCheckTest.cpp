@@ -129,8 +129,9 @@ TEST(ConventionCheck, GlmOrthoVariants) {
   EXPECT_EQ(p.orthographicAnchor, "world-origin");
   EXPECT_EQ(p.builtFor, "ambiguous");
   EXPECT_EQ(codes(r), std::vector<std::string>{"info:depth-convention-ambiguous"});
-  // The projection alone: measured from the camera, near 0.5 reads round under NO.
-  const CheckReport alone = checkConventions(combined(projection, NO));
+  // The projection alone (with an identity view): measured from the camera, near 0.5 reads
+  // round under NO.
+  const CheckReport alone = checkConventions(separate(projection, glm::dmat4(1.0), NO));
   EXPECT_EQ(alone.properties.builtFor, "no");
   EXPECT_NEAR(alone.properties.near->value, 0.5, 1e-12);
   EXPECT_NEAR(alone.properties.far->value, 50.0, 1e-12);

@@ -25,7 +25,7 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kStatedPlaneTolerance = 1e-4;
 // A reading is taken for the plane an app typed when it needs at most kRoundDigits significant
 // digits and the other reading kRoundMargin more: 0.1 against 0.1998 (1 against 4 or more).
-constexpr int kRoundDigits = 3;
+constexpr int kRoundDigits = 2;
 constexpr int kRoundMargin = 3;
 
 std::string number(double value) {
@@ -62,9 +62,19 @@ int readingDigits(const Uncertain& reading) {
 BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<Uncertain>& zo,
                        std::optional<double> stated, const std::string& what,
                        bool behindCamera = false) {
-  if (no && !zo) return {"no", "the ZO reading puts the " + what + " behind the eye", {}};
-  if (!no && zo) return {"zo", "the NO reading puts the " + what + " behind the eye", {}};
-  if (!no && !zo) return {"ambiguous", "neither reading gives a " + what + " in front", {}};
+  // A reading lost to rounding (the eye far from the origin cancels the translation) is no
+  // evidence for the other one: only a precise reading may stand alone.
+  const auto precise = [](const std::optional<Uncertain>& r) {
+    return r && r->error < 0.01 * std::abs(r->value);
+  };
+  if (!no && precise(zo)) return {"zo", "the NO reading puts the " + what + " behind the eye", {}};
+  if (!zo && precise(no)) return {"no", "the ZO reading puts the " + what + " behind the eye", {}};
+  if (!no || !zo) {
+    return {"ambiguous",
+            "the entries' precision cannot place the " + what +
+                " (the camera's translation cancels it)",
+            {}};
+  }
   if (stated) {
     const auto matches = [&](const Uncertain& r) {
       return std::abs(r.value - *stated) <= r.error + kStatedPlaneTolerance * std::abs(*stated);
@@ -161,15 +171,16 @@ void requireProjection(const glm::dmat4& m, const std::string& what) {
 // view direction (on-axis), (d) screen x is perpendicular to screen y, (e) w > 0 somewhere.
 // An oblique matrix loses (a), an off-axis one (b) and/or (c); a transposed matrix with a camera
 // translation keeps at most three points while its transpose scores all five.
-int projectionStructureScore(const glm::dmat4& m) {
+// The tests are relative to the rows' lengths, at `tolerance` (from the entries' precision).
+int projectionStructureScore(const glm::dmat4& m, double tolerance) {
   const glm::dvec3 x(matrixRow(m, 0)), y(matrixRow(m, 1)), z(matrixRow(m, 2));
   const glm::dvec4 w = matrixRow(m, 3);
   const glm::dvec3 w3(w);
-  auto parallel = [](const glm::dvec3& a, const glm::dvec3& b) {
-    return glm::length(glm::cross(a, b)) <= 1e-6 * glm::length(a) * glm::length(b);
+  auto parallel = [&](const glm::dvec3& a, const glm::dvec3& b) {
+    return glm::length(glm::cross(a, b)) <= tolerance * glm::length(a) * glm::length(b);
   };
-  auto perpendicular = [](const glm::dvec3& a, const glm::dvec3& b) {
-    return std::abs(glm::dot(a, b)) <= 1e-6 * glm::length(a) * glm::length(b);
+  auto perpendicular = [&](const glm::dvec3& a, const glm::dvec3& b) {
+    return std::abs(glm::dot(a, b)) <= tolerance * glm::length(a) * glm::length(b);
   };
   const bool orthographic = glm::length(w3) <= 1e-12 * (glm::length(x) + glm::length(y));
   int score = 0;
@@ -297,15 +308,18 @@ CheckReport checkConventions(const CheckInput& input) {
                 std::string(input.projection ? "--projection * --view" : "--clip-from-world") +
                     " (its inverse)");
 
-  p.likelyTransposed =
-      projectionStructureScore(glm::transpose(m)) == 5 && projectionStructureScore(m) <= 3;
-
   // The precision the entries carry, and the uncertainty of every figure read from them.
   std::vector<glm::dmat4> listed = {m};
   if (input.projection) listed = {*input.projection, input.view.value_or(glm::dmat4(1.0))};
   EntryPrecision precision = detectEntryPrecision(listed);
   if (input.precision) precision.arithmetic = *input.precision;
   p.precision = precision.description();
+  // A row's direction carries about (roundings per entry) u of error; 16x that is still far below
+  // what a transposed camera translation does to the structure.
+  const double structureTolerance =
+      std::max(1e-6, 16.0 * (8.0 * precision.unitRoundoff() + precision.decimalRelative()));
+  p.likelyTransposed = projectionStructureScore(glm::transpose(m), structureTolerance) == 5 &&
+                       projectionStructureScore(m, structureTolerance) <= 3;
   const std::optional<glm::dvec3> viewOrigin =
       input.view ? std::optional<glm::dvec3>(glm::dvec3(glm::inverse(*input.view)[3]))
                  : std::nullopt;
@@ -323,28 +337,49 @@ CheckReport checkConventions(const CheckInput& input) {
   if (p.perspective) {
     p.eye = reading.eye;
     p.eyeError = reading.eyeError;
-    // z_ndc = b + a / s along the view: a > 0 means depth falls with distance.
-    p.reversed = reading.a.clearlyPositive();
+    // The near plane is oblique when the depth row's xyz leaves the w row's line (any convention:
+    // every near plane z = z_n w is then tilted with it).
+    p.oblique = reading.obliqueAngleZo.clearlyPositive();
+    // z_ndc = b + a / s along the view: a > 0 means depth falls with distance. Where the
+    // translation cancels a (an eye far from the origin), b still tells for a near plane facing
+    // the view: z_ndc tends to b far away, 1 or more for classic depth and 0 or less reversed.
+    // An oblique plane's b says nothing: then reversal stays undecided.
+    if (!reading.a.withinErrorOfZero()) {
+      p.reversed = reading.a.clearlyPositive();
+    } else if (!p.oblique &&
+               (reading.b.value >= 1.0 - reading.b.error || reading.b.value <= reading.b.error)) {
+      p.reversed = reading.b.value < 0.5;
+    } else {
+      p.reversedDecided = false;
+    }
     if (p.reversed) {
+      // Reversed: near at z_ndc = 1; far at 0 under ZO, at -1 under NO (Godot's GL renderer).
       p.builtFor = "zo-reversed";
       p.near = distance(reading.nearIfReversed);
-      p.infiniteFar = reading.b.withinErrorOfZero();
-      if (!p.infiniteFar) p.far = distance(reading.farIfReversed);
-      p.oblique = reading.obliqueAngleReversed.clearlyPositive();
+      const bool underNo = declared == DepthConvention::NegativeOneToOne && input.declaredDepth;
+      const Uncertain farZ{reading.b.value + (underNo ? 1.0 : 0.0), reading.b.error};
+      // No distance reaching the far depth (a ZO-reversed matrix under NO) clips nothing either;
+      // but where the translation cancels a, no distance is known at all.
+      p.far = distance(underNo ? reading.nearIfNo : reading.farIfReversed);
+      p.infiniteFar = farZ.withinErrorOfZero() || (!p.far && !reading.a.withinErrorOfZero());
+      if (p.infiniteFar) p.far.reset();
     } else {
       p.nearIfBuiltForNo = distance(reading.nearIfNo);
       p.nearIfBuiltForZo = distance(reading.nearIfZo);
       p.infiniteFar = !(std::abs(1.0 - reading.b.value) > reading.b.error);
       if (!p.infiniteFar) p.far = distance(reading.far);
-      const BuildReading build =
+      BuildReading build =
           readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear, "near plane");
+      if (p.oblique && !input.statedNear) {
+        // A tilted near plane's distance along the view is no value the app typed.
+        build = {"ambiguous",
+                 "the near plane is oblique: its distance along the view is not a typed value",
+                 {}};
+      }
       p.builtFor = build.builtFor;
       p.builtForReason = build.reason;
       p.statedNearMatches = build.statedMatches;
       p.near = declared == DepthConvention::ZeroToOne ? p.nearIfBuiltForZo : p.nearIfBuiltForNo;
-      p.oblique =
-          (declared == DepthConvention::ZeroToOne ? reading.obliqueAngleZo : reading.obliqueAngleNo)
-              .clearlyPositive();
     }
     p.offAxis = reading.offAxisAngle.clearlyPositive();
     p.fovYDegrees = reading.fovYDegrees;
@@ -366,9 +401,16 @@ CheckReport checkConventions(const CheckInput& input) {
       p.nearIfBuiltForNo = reading.nearIfNo;
       p.nearIfBuiltForZo = reading.nearIfZo;
       p.far = reading.far;
+      // Offsets from the world origin are no values an app typed: only a camera position (the
+      // view, or a projection given alone) makes the readings comparable with typed planes.
       const BuildReading build =
-          readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear,
-                    viewOrigin ? "near plane" : "near plane offset", viewOrigin.has_value());
+          viewOrigin ? readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear,
+                                 "near plane", true)
+                     : BuildReading{"ambiguous",
+                                    "an orthographic matrix alone does not fix the camera "
+                                    "position its near plane is measured from (give --projection "
+                                    "and --view)",
+                                    {}};
       p.builtFor = build.builtFor;
       p.builtForReason = build.reason;
       p.statedNearMatches = build.statedMatches;
@@ -484,7 +526,7 @@ CheckReport checkConventions(const CheckInput& input) {
   // glDepthRange(1, 0) reverses once more: what matters is whether near ends up at the larger
   // window depth, and whether the depth test says so.
   const bool nearIsDeeper = p.reversed != reversedRange;
-  if (p.perspective && nearIsDeeper != input.declaredReversed) {
+  if (p.perspective && p.reversedDecided && nearIsDeeper != input.declaredReversed) {
     findings.push_back(
         {"error", "reversed-z-mismatch",
          p.reversed ? "the matrix is reversed-Z (near maps to 1, far to 0) but the app declares a "
@@ -652,7 +694,7 @@ nlohmann::json checkReportJson(const CheckReport& report, const CheckInput& inpu
       {"built_for_reason", p.builtForReason},
       {"near_if_built_for_no", reading(p.nearIfBuiltForNo)},
       {"near_if_built_for_zo", reading(p.nearIfBuiltForZo)},
-      {"reversed", p.reversed},
+      {"reversed", p.reversedDecided ? nlohmann::json(p.reversed) : nlohmann::json("undecided")},
       {"y_flipped", p.yFlipped},
       {"likely_transposed", p.likelyTransposed},
   };

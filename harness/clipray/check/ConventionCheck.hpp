@@ -60,6 +60,7 @@ struct MatrixProperties {
   Uncertain fovYDegrees, fovXDegrees;  // perspective
   Uncertain extentX, extentY;          // orthographic: view-volume width and height
   bool reversed = false;               // depth decreases with distance
+  bool reversedDecided = true;         // false: the entries' precision cannot tell (never an error)
   // The convention whose near plane the matrix was built for. NO and ZO builds are one family (a
   // NO perspective with near n is a ZO perspective with near 2fn/(f+n)), so both readings are
   // kept and one is taken only for a stated reason.

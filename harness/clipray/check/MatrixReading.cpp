@@ -82,8 +82,10 @@ Figures perspectiveFigures(const glm::dmat4& m) {
     return glm::normalize(glm::dot(d, xyz(w)) < 0.0 ? -d : d);
   };
   f.offAxis = angleBetween(sight(0, 0), f.forward);
-  const glm::dvec3 right = glm::normalize(sight(0.5, 0) - sight(-0.5, 0));
-  const glm::dvec3 up = glm::normalize(sight(0, 0.5) - sight(0, -0.5));
+  // The camera's own right and up axes: clip x and y grow along the parts of rows 0 and 1
+  // across the view (an off-axis shear only adds a multiple of the forward axis to them).
+  const glm::dvec3 right = glm::normalize(xyz(x) - glm::dot(xyz(x), f.forward) * f.forward);
+  const glm::dvec3 up = glm::normalize(xyz(y) - glm::dot(xyz(y), f.forward) * f.forward);
   f.handedness = glm::dot(glm::cross(right, up), f.forward);
   f.upY = up.y;
   f.fovY = angleBetween(sight(0, -1), sight(0, 1)) * 180.0 / kPi;
@@ -196,14 +198,22 @@ glm::dmat4 entryErrorBounds(const glm::dmat4& m, const EntryPrecision& precision
                             const glm::dvec3& anchor) {
   const double arithmetic = kRoundingsPerEntry * precision.unitRoundoff();
   const double decimal = precision.decimalRelative();
+  const auto terms = [&](const glm::dvec4& row) {
+    return std::abs(row.w) + std::abs(row.x * anchor.x) + std::abs(row.y * anchor.y) +
+           std::abs(row.z * anchor.z);
+  };
+  const glm::dvec4 rowW = matrixRow(m, 3);
   glm::dmat4 errors(0.0);
   for (int r = 0; r < 4; ++r) {
     const glm::dvec4 row = matrixRow(m, r);
-    const double rowLength = glm::length(xyz(row));
+    // The depth row is often a difference of the w row and a multiple of it (reversed-Z and
+    // depth-remapping matrices: Godot's depth correction, Filament's): its entries then carry
+    // the rounding of terms as large as the w row's, whatever their own size.
+    const double rowLength =
+        r == 2 ? std::max(glm::length(xyz(row)), glm::length(xyz(rowW))) : glm::length(xyz(row));
+    const double rowTerms = r == 2 ? std::max(terms(row), terms(rowW)) : terms(row);
     for (int c = 0; c < 3; ++c) errors[c][r] = arithmetic * rowLength + decimal * std::abs(row[c]);
-    const double terms = std::abs(row.w) + std::abs(row.x * anchor.x) + std::abs(row.y * anchor.y) +
-                         std::abs(row.z * anchor.z);
-    errors[3][r] = arithmetic * terms + decimal * std::abs(row.w);
+    errors[3][r] = arithmetic * rowTerms + decimal * std::abs(row.w);
   }
   return errors;
 }
@@ -246,6 +256,24 @@ MatrixReading readMatrix(const glm::dmat4& m, const glm::dmat4& errors,
       spread.extentY += change(f.extentY, base.extentY);
     }
   }
+  // Each figure is itself computed in double from the entries: a few dozen roundings, relative
+  // to its size (angles and unit-vector components: to 1).
+  const double own = 32.0 * std::ldexp(1.0, -53);
+  const auto relative = [&](double value) { return own * std::abs(value); };
+  spread.a += relative(base.a);
+  spread.b += relative(base.b) + own;
+  spread.nearNo += relative(base.nearNo);
+  spread.nearZo += relative(base.nearZo);
+  spread.atOne += relative(base.atOne);
+  for (double* angle : {&spread.obliqueNo, &spread.obliqueZo, &spread.obliqueReversed,
+                        &spread.offAxis, &spread.handedness, &spread.upY})
+    *angle += own;
+  spread.fovY += relative(base.fovY);
+  spread.fovX += relative(base.fovX);
+  spread.extentX += relative(base.extentX);
+  spread.extentY += relative(base.extentY);
+  forwardSpread += own;
+  for (int k = 0; k < 3; ++k) eyeSpread[k] += relative(base.eye[k]);
   reading.a = {base.a, spread.a};
   reading.b = {base.b, spread.b};
   reading.eye = base.eye;
