@@ -7,6 +7,7 @@
 
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/scene/InputError.hpp"
+#include "support/EngineCameras.hpp"
 
 namespace clipray {
 namespace {
@@ -296,6 +297,111 @@ TEST(ConventionCheck, ReviewedEdgeCases) {
   EXPECT_EQ(codes(checkConventions(range)), std::vector<std::string>{"error:reversed-z-mismatch"});
   range.declaredReversed = true;
   EXPECT_TRUE(checkConventions(range).findings.empty());
+}
+
+// The matrices apps upload, computed in float as they compute them (tests/support/engines/), and
+// as an app logs them with %.9g.
+namespace engines = testing::engines;
+
+glm::dmat4 fromEngine(const engines::Mat4& m) {
+  glm::dmat4 out;
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r) out[c][r] = m[static_cast<std::size_t>(4 * c + r)];
+  return out;
+}
+
+glm::dmat4 printed(const glm::dmat4& m) {
+  glm::dmat4 out;
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      char text[32];
+      std::snprintf(text, sizeof text, "%.9g", m[c][r]);
+      out[c][r] = std::strtod(text, nullptr);
+    }
+  }
+  return out;
+}
+
+const float kFov60 = glm::radians(60.0f);
+const engines::Mat4 kFloatViewRH = engines::glmx::lookAtRH<float>({3, 2, 8}, {0, 0, 0}, {0, 1, 0});
+
+TEST(ConventionCheck, Float32RotatedCameraReadsAsBuilt) {
+  const glm::dmat4 m = fromEngine(engines::glmx::clipFromWorld<float>(
+      engines::glmx::perspectiveRH_NO<float>(kFov60, 16.0f / 9.0f, 0.1f, 100.0f), kFloatViewRH));
+  for (const glm::dmat4& listed : {m, printed(m)}) {
+    const CheckReport underNo = checkConventions(combined(listed, NO));
+    const MatrixProperties& p = underNo.properties;
+    EXPECT_EQ(p.precision, "float32");
+    EXPECT_FALSE(p.oblique || p.offAxis || p.leftHanded || p.yFlipped || p.reversed);
+    EXPECT_EQ(p.builtFor, "no");
+    EXPECT_NEAR(p.near->value, 0.1, p.near->error);
+    EXPECT_LT(p.near->error, 1e-4);
+    EXPECT_NEAR(p.fovYDegrees.value, 60.0, p.fovYDegrees.error + 1e-5);
+    EXPECT_TRUE(underNo.findings.empty());
+    EXPECT_EQ(codes(checkConventions(combined(listed, ZO))),
+              std::vector<std::string>{"error:depth-convention-mismatch"});
+  }
+}
+
+TEST(ConventionCheck, Float32VulkanFlipAndOffAxisFrustumReadAsBuilt) {
+  engines::Mat4 flipped = engines::glmx::perspectiveRH_ZO<float>(kFov60, 1.5f, 0.1f, 100.0f);
+  flipped[5] = -flipped[5];  // proj[1][1] *= -1
+  const CheckReport vulkan = checkConventions(combined(
+      printed(fromEngine(engines::glmx::clipFromWorld<float>(flipped, kFloatViewRH))), ZO));
+  EXPECT_EQ(vulkan.properties.builtFor, "zo");
+  EXPECT_TRUE(vulkan.properties.yFlipped);
+  EXPECT_FALSE(vulkan.properties.leftHanded);
+  EXPECT_EQ(codes(vulkan), std::vector<std::string>{"warning:y-flipped"});
+  const CheckReport frustum = checkConventions(
+      combined(printed(fromEngine(engines::glmx::clipFromWorld<float>(
+                   engines::glmx::frustumRH_NO<float>(-0.05f, 0.15f, -0.04f, 0.08f, 0.1f, 100.0f),
+                   kFloatViewRH))),
+               NO));
+  EXPECT_TRUE(frustum.properties.offAxis);
+  EXPECT_FALSE(frustum.properties.oblique);
+  EXPECT_EQ(frustum.properties.builtFor, "no");
+  EXPECT_TRUE(frustum.findings.empty());
+}
+
+TEST(ConventionCheck, DirectXMathInMemoryOrderReadsColumnMajor) {
+  namespace dx = engines::dxmath;
+  const auto view = dx::lookAtLH<float>({3, 2, 8}, {0, 0, 0}, {0, 1, 0});
+  const auto projection =
+      dx::perspectiveFovLH<float>(dx::convertToRadians(60.0f), 16.0f / 9.0f, 0.1f, 100.0f);
+  const engines::Mat4 memory = dx::memoryOrder(dx::multiply(view, projection));
+  const CheckReport r = checkConventions(combined(
+      parseMatrix16(std::vector<double>(memory.begin(), memory.end()), false, "--clip-from-world"),
+      ZO));
+  EXPECT_FALSE(r.properties.likelyTransposed);
+  EXPECT_EQ(r.properties.builtFor, "zo");
+  EXPECT_NEAR(r.properties.fovYDegrees.value, 60.0, 1e-3);         // XMScalarSinCos's approximation
+  EXPECT_EQ(codes(r), std::vector<std::string>{"info:mirrored"});  // left-handed, as D3D's world
+}
+
+TEST(ConventionCheck, LengyelObliqueWithTheHorizonInViewIsRightHanded) {
+  // A reflection camera: the eye mirrored below the water y = 0, looking up 10 degrees (the
+  // horizon in view: rays below it never reach the water), a right-handed glm::lookAtRH camera.
+  // Lengyel's clip plane is the water, the eye on its negative side, what lies above it kept.
+  const glm::dmat4 view =
+      glm::lookAtRH(glm::dvec3(0, -2, 0), glm::dvec3(0, -2 + std::tan(glm::radians(10.0)), -1),
+                    glm::dvec3(0, 1, 0));
+  const glm::dvec4 waterView = glm::transpose(glm::inverse(view)) * glm::dvec4(0, 1, 0, 0);
+  engines::Mat4 projection;
+  const glm::dmat4 glmProjection = glm::perspectiveRH_NO(kFov, 1.5, 0.1, 100.0);
+  for (int i = 0; i < 16; ++i)
+    projection[static_cast<std::size_t>(i)] = glmProjection[i / 4][i % 4];
+  const auto oblique = engines::oblique::obliqueNearPlane(
+      projection, {waterView.x, waterView.y, waterView.z, waterView.w},
+      engines::oblique::Depth::NO);
+  ASSERT_TRUE(oblique.has_value());
+  const CheckReport r = checkConventions(combined(fromEngine(*oblique) * view, NO));
+  const MatrixProperties& p = r.properties;
+  EXPECT_TRUE(p.oblique);
+  EXPECT_FALSE(p.leftHanded);
+  EXPECT_FALSE(p.yFlipped);
+  EXPECT_NEAR(p.fovYDegrees.value, 60.0, 1e-9);
+  EXPECT_EQ(p.builtFor, "ambiguous");  // a tilted near plane's distance is no typed value
+  EXPECT_EQ(codes(r), std::vector<std::string>{"info:oblique-near-plane"});
 }
 
 TEST(ConventionCheck, BadInput) {
