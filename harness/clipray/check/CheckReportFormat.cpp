@@ -1,0 +1,166 @@
+// The report of `clipray check` as JSON (stable field names) and as the text a person reads.
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "clipray/check/ConventionCheck.hpp"
+
+namespace clipray {
+
+namespace {
+
+std::string number(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value + 0.0);  // + 0.0: no "-0"
+  return buffer;
+}
+
+std::string vec(const glm::dvec3& v) {
+  char buffer[96];
+  std::snprintf(buffer, sizeof buffer, "(%.6g, %.6g, %.6g)", v.x + 0.0, v.y + 0.0, v.z + 0.0);
+  return buffer;
+}
+
+}  // namespace
+
+nlohmann::json checkReportJson(const CheckReport& report, const CheckInput& input) {
+  const MatrixProperties& p = report.properties;
+  const auto reading = [](const std::optional<Uncertain>& v) {
+    return v ? nlohmann::json(v->value) : nlohmann::json(nullptr);
+  };
+  const auto error = [](const std::optional<Uncertain>& v) {
+    return v ? nlohmann::json(v->error) : nlohmann::json(nullptr);
+  };
+  nlohmann::json properties = {
+      {"precision", p.precision},
+      {"projection", p.perspective ? "perspective" : "orthographic"},
+      {"oblique", p.oblique},
+      {"off_axis", p.offAxis},
+      {"handedness", p.leftHanded ? "left-handed" : "right-handed"},
+      {"mirrored", p.leftHanded},
+      {"view_direction", {p.viewDirection.x, p.viewDirection.y, p.viewDirection.z}},
+      {"view_direction_error_degrees", p.viewDirectionErrorDegrees},
+      {"near", reading(p.near)},
+      {"near_error", error(p.near)},
+      {"far", p.infiniteFar ? nlohmann::json(nullptr) : reading(p.far)},
+      {"far_error", p.infiniteFar ? nlohmann::json(nullptr) : error(p.far)},
+      {"infinite_far", p.infiniteFar},
+      {"built_for", p.builtFor},
+      {"built_for_reason", p.builtForReason},
+      {"near_if_built_for_no", reading(p.nearIfBuiltForNo)},
+      {"near_if_built_for_zo", reading(p.nearIfBuiltForZo)},
+      {"reversed", p.reversedDecided ? nlohmann::json(p.reversed) : nlohmann::json("undecided")},
+      {"y_flipped", p.yFlipped},
+      {"likely_transposed", p.likelyTransposed},
+  };
+  if (p.eye) {
+    properties["eye"] = {p.eye->x, p.eye->y, p.eye->z};
+    properties["eye_error"] = {p.eyeError.x, p.eyeError.y, p.eyeError.z};
+  }
+  if (p.perspective) {
+    properties["fov_y_degrees"] = p.fovYDegrees.value;
+    properties["fov_x_degrees"] = p.fovXDegrees.value;
+    properties["fov_error_degrees"] = std::max(p.fovYDegrees.error, p.fovXDegrees.error);
+  } else {
+    properties["extent_x"] = p.extentX.value;
+    properties["extent_y"] = p.extentY.value;
+    properties["depth_extent"] = p.depthExtent ? nlohmann::json(*p.depthExtent) : nullptr;
+    properties["measured_from"] = p.orthographicAnchor;
+  }
+  nlohmann::json methods = nlohmann::json::array();
+  for (const MethodPrediction& m : report.methods) {
+    if (!m.unavailable.empty()) {
+      methods.push_back({{"method", m.method}, {"unavailable", m.unavailable}});
+      continue;
+    }
+    methods.push_back({{"method", m.method},
+                       {"angle_err_px", m.angleErrorPx},
+                       {"origin_lateral_err_px", m.originLateralErrorPx},
+                       {"nonfinite", m.nonfinite},
+                       {"backward", m.backward}});
+  }
+  nlohmann::json findings = nlohmann::json::array();
+  for (const Finding& f : report.findings) {
+    findings.push_back(
+        {{"severity", f.severity}, {"code", f.code}, {"message", f.message}, {"fix", f.fix}});
+  }
+  return {{"tool", "clipray check"},
+          {"declared",
+           {{"depth",
+             input.declaredDepth
+                 ? nlohmann::json(input.declaredDepth == DepthConvention::ZeroToOne ? "zo" : "no")
+                 : nlohmann::json(nullptr)},
+            {"reversed", input.declaredReversed},
+            {"depth_range", {input.depthRange.x, input.depthRange.y}},
+            {"viewport", {input.viewport.width, input.viewport.height}},
+            {"depth_bits", depthFormatName(input.depthFormat)}}},
+          {"properties", properties},
+          {"ray_methods_float", methods},
+          {"findings", findings},
+          {"verdict", report.hasErrors() ? "errors" : "ok"}};
+}
+
+std::string checkReportText(const CheckReport& report, const CheckInput& input) {
+  (void)input;
+  const MatrixProperties& p = report.properties;
+  std::ostringstream out;
+  out << "matrix: " << (p.perspective ? "perspective" : "orthographic")
+      << (p.offAxis ? ", off-axis" : "") << (p.oblique ? ", oblique near plane" : "") << ", "
+      << (p.leftHanded ? "left-handed (mirrored)" : "right-handed")
+      << (p.reversed ? ", reversed-Z" : "") << (p.yFlipped ? ", y flipped" : "") << "\n";
+  if (p.eye) out << "  eye " << vec(*p.eye) << ", looking along " << vec(p.viewDirection) << "\n";
+  if (!p.eye) out << "  looking along " << vec(p.viewDirection) << "\n";
+  const auto withError = [](const Uncertain& u) {
+    // The error only where it shows at the printed precision.
+    return number(u.value) +
+           (u.error > 5e-7 * std::abs(u.value) ? " (+-" + number(u.error) + ")" : std::string());
+  };
+  out << "  " << (p.perspective ? "near " : "near plane at ")
+      << (p.near ? withError(*p.near) : std::string("-")) << ", far "
+      << (p.infiniteFar ? std::string("infinite")
+          : p.far       ? withError(*p.far)
+                        : std::string("-"));
+  if (p.perspective) {
+    out << ", fov " << withError(p.fovYDegrees) << " deg vertical x " << withError(p.fovXDegrees)
+        << " deg horizontal\n";
+  } else {
+    out << (p.orthographicAnchor == "view" ? " from the camera" : " from the world origin")
+        << ", view volume " << number(p.extentX.value) << " x " << number(p.extentY.value) << " x "
+        << (p.depthExtent ? number(*p.depthExtent) : std::string("-")) << "\n";
+  }
+  out << "  built for: " << p.builtFor;
+  if (p.nearIfBuiltForNo && p.nearIfBuiltForZo && p.builtFor != "zo-reversed") {
+    out << " (near " << number(p.nearIfBuiltForNo->value) << " if NO, "
+        << number(p.nearIfBuiltForZo->value) << " if ZO)";
+  }
+  out << "\n";
+  if (!p.builtForReason.empty() && p.builtFor != "zo-reversed") {
+    out << "    because " << p.builtForReason << "\n";
+  }
+  out << "  entries read as " << p.precision << "\n";
+  if (!report.methods.empty()) {
+    out << "float picking rays at this camera, max error in pixels (direction / origin):\n";
+    for (const MethodPrediction& m : report.methods) {
+      if (!m.unavailable.empty()) continue;
+      out << "  " << m.method << " "
+          << (m.nonfinite ? std::string("non-finite")
+                          : number(m.angleErrorPx) + " / " + number(m.originLateralErrorPx))
+          << (m.backward ? " (backward)" : "") << "\n";
+    }
+  }
+  if (report.findings.empty()) out << "findings: none\n";
+  for (const Finding& f : report.findings) {
+    out << f.severity << " [" << f.code << "] " << f.message << "\n  fix: " << f.fix << "\n";
+  }
+  const auto count = [&](const char* severity) {
+    return std::count_if(report.findings.begin(), report.findings.end(),
+                         [&](const Finding& f) { return f.severity == severity; });
+  };
+  out << count("error") << " errors, " << count("warning") << " warnings, " << count("info")
+      << " notes\n";
+  return out.str();
+}
+
+}  // namespace clipray
