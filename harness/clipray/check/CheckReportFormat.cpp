@@ -113,9 +113,10 @@ std::string checkReportText(const CheckReport& report, const CheckInput& input) 
   if (p.eye) out << "  eye " << vec(*p.eye) << ", looking along " << vec(p.viewDirection) << "\n";
   if (!p.eye) out << "  looking along " << vec(p.viewDirection) << "\n";
   const auto withError = [](const Uncertain& u) {
-    // The error only where it shows at the printed precision.
-    return number(u.value) +
-           (u.error > 5e-7 * std::abs(u.value) ? " (+-" + number(u.error) + ")" : std::string());
+    // The digits the uncertainty allows, and the uncertainty where it shows at six digits.
+    char error[32];
+    std::snprintf(error, sizeof error, " +-%.2g", u.error);
+    return shownReading(u) + (u.error > 5e-7 * std::abs(u.value) ? std::string(error) : "");
   };
   out << "  " << (p.perspective ? "near " : "near plane at ")
       << (p.near ? withError(*p.near) : std::string("-")) << ", far "
@@ -132,8 +133,8 @@ std::string checkReportText(const CheckReport& report, const CheckInput& input) 
   }
   out << "  built for: " << p.builtFor;
   if (p.nearIfBuiltForNo && p.nearIfBuiltForZo && p.builtFor != "zo-reversed") {
-    out << " (near " << number(p.nearIfBuiltForNo->value) << " if NO, "
-        << number(p.nearIfBuiltForZo->value) << " if ZO)";
+    out << " (near " << shownReading(*p.nearIfBuiltForNo) << " if NO, "
+        << shownReading(*p.nearIfBuiltForZo) << " if ZO)";
   }
   out << "\n";
   if (!p.builtForReason.empty() && p.builtFor != "zo-reversed") {

@@ -93,7 +93,7 @@ BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<U
     const bool noBehind = no->clearlyNegative();
     return {noBehind ? "zo" : "no",
             std::string("the ") + (noBehind ? "NO" : "ZO") + " reading puts the " + what + " at " +
-                number((noBehind ? no : zo)->value) + ", behind the camera",
+                shownReading(*(noBehind ? no : zo)) + ", behind the camera",
             {}};
   }
   const int digitsNo = readingDigits(*no), digitsZo = readingDigits(*zo);
@@ -101,18 +101,18 @@ BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<U
     return d > 17 ? std::string("more than 17 digits")
                   : std::to_string(d) + " significant digit" + (d == 1 ? "" : "s");
   };
-  const std::string both = " (" + number(no->value) + " if NO, " + number(zo->value) + " if ZO)";
+  const std::string both = " (" + shownReading(*no) + " if NO, " + shownReading(*zo) + " if ZO)";
   if (digitsNo <= kRoundDigits && digitsZo >= digitsNo + kRoundMargin) {
     return {"no",
-            "the NO reading " + number(no->value) + " is a round number (" + digits(digitsNo) +
-                " at this precision), the ZO reading " + number(zo->value) + " is not (" +
+            "the NO reading " + shownReading(*no) + " is a round number (" + digits(digitsNo) +
+                " at this precision), the ZO reading " + shownReading(*zo) + " is not (" +
                 digits(digitsZo) + ")",
             {}};
   }
   if (digitsZo <= kRoundDigits && digitsNo >= digitsZo + kRoundMargin) {
     return {"zo",
-            "the ZO reading " + number(zo->value) + " is a round number (" + digits(digitsZo) +
-                " at this precision), the NO reading " + number(no->value) + " is not (" +
+            "the ZO reading " + shownReading(*zo) + " is a round number (" + digits(digitsZo) +
+                " at this precision), the NO reading " + shownReading(*no) + " is not (" +
                 digits(digitsNo) + ")",
             {}};
   }
@@ -462,20 +462,21 @@ CheckReport checkConventions(const CheckInput& input) {
     if (p.builtFor == "no") {
       findings.push_back(
           {"error", "depth-convention-mismatch",
-           "built for NEGATIVE_ONE_TO_ONE (" + nearWord + " " + number(no) +
+           "built for NEGATIVE_ONE_TO_ONE (" + nearWord + " " + shownReading(*p.nearIfBuiltForNo) +
                ") but drawn under ZERO_TO_ONE: the rasterizer clips at z_ndc = 0, so the "
                "effective near plane moves to " +
-               number(zo) + (p.perspective ? " (" + number(zo / no) + "x)" : std::string()) +
+               shownReading(*p.nearIfBuiltForZo) +
+               (p.perspective ? " (" + number(zo / no) + "x)" : std::string()) +
                " and NDC [-1, 0), half the depth range, is never used" + why,
            "build the projection for ZO (glm::perspectiveRH_ZO) or draw with "
            "glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE)"});
     } else {
       findings.push_back(
           {"error", "depth-convention-mismatch",
-           "built for ZERO_TO_ONE (" + nearWord + " " + number(zo) +
+           "built for ZERO_TO_ONE (" + nearWord + " " + shownReading(*p.nearIfBuiltForZo) +
                ") but drawn under NEGATIVE_ONE_TO_ONE: the rasterizer keeps geometry down to "
                "z_ndc = -1, at " +
-               number(no) +
+               shownReading(*p.nearIfBuiltForNo) +
                ", nearer than the intended near plane, and spends half the depth range on that "
                "sliver" +
                why,
@@ -487,8 +488,8 @@ CheckReport checkConventions(const CheckInput& input) {
     findings.push_back(
         {"info", "depth-convention-ambiguous",
          "this matrix reads as built for NO with " + nearWord + " " +
-             number(p.nearIfBuiltForNo->value) + " or for ZO with " + nearWord + " " +
-             number(p.nearIfBuiltForZo->value) + " (" + p.builtForReason +
+             shownReading(*p.nearIfBuiltForNo) + " or for ZO with " + nearWord + " " +
+             shownReading(*p.nearIfBuiltForZo) + " (" + p.builtForReason +
              "); under the declared " + conventionName(declared) + " the near plane is at " +
              number(p.near->value),
          "if that is not your near plane, the projection was built for the other convention; "
@@ -499,9 +500,9 @@ CheckReport checkConventions(const CheckInput& input) {
         {"error", "near-plane-mismatch",
          "the stated near plane " + number(*input.statedNear) +
              " is neither reading of the matrix (" +
-             (p.nearIfBuiltForNo ? number(p.nearIfBuiltForNo->value) : std::string("none")) +
+             (p.nearIfBuiltForNo ? shownReading(*p.nearIfBuiltForNo) : std::string("none")) +
              " if built for NO, " +
-             (p.nearIfBuiltForZo ? number(p.nearIfBuiltForZo->value) : std::string("none")) +
+             (p.nearIfBuiltForZo ? shownReading(*p.nearIfBuiltForZo) : std::string("none")) +
              " if built for ZO)",
          "check which matrix the app uploads, and the near value it builds it with"});
   }

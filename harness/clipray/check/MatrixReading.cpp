@@ -1,5 +1,6 @@
 #include "clipray/check/MatrixReading.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -143,6 +144,17 @@ std::string EntryPrecision::description() const {
   const std::string base = arithmetic == Arithmetic::Float32 ? "float32" : "double";
   if (decimalDigits == 0) return base;
   return base + " as " + std::to_string(decimalDigits) + "-digit decimals";
+}
+
+std::string shownReading(const Uncertain& reading) {
+  int digits = 6;
+  if (reading.error > 0.0 && reading.value != 0.0) {
+    const double resolvable = std::abs(reading.value) / reading.error;
+    digits = std::clamp(static_cast<int>(std::ceil(std::log10(resolvable))) + 1, 1, 6);
+  }
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.*g", digits, reading.value + 0.0);
+  return buffer;
 }
 
 int significantDigits(double v, double relativeTolerance) {

@@ -87,6 +87,10 @@ MatrixReading readMatrix(const glm::dmat4& clipFromWorld, const glm::dmat4& entr
 // orthographic view volume's NDC origin: where the translation column's terms are anchored.
 glm::dvec3 translationAnchor(const glm::dmat4& clipFromWorld);
 
+// The value with as many significant digits as its uncertainty allows (1 to 6): a float32
+// reading of 0.0999999 +- 1.5e-5 shows as 0.1.
+std::string shownReading(const Uncertain& reading);
+
 // Significant decimal digits needed to write v to within relativeTolerance of it (1..17; 18: not
 // at all). A plane an app typed (0.1, 0.05, 1000) needs one or two; a derived one needs many.
 int significantDigits(double v, double relativeTolerance);
