@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "clipray/check/CheckText.hpp"
 #include "clipray/check/ConventionCheck.hpp"
 
 namespace clipray {
@@ -12,15 +13,11 @@ namespace clipray {
 namespace {
 
 std::string number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value + 0.0);  // + 0.0: no "-0"
-  return buffer;
+  return detail::checkNumber(value);
 }
 
 std::string vec(const glm::dvec3& v) {
-  char buffer[96];
-  std::snprintf(buffer, sizeof buffer, "(%.6g, %.6g, %.6g)", v.x + 0.0, v.y + 0.0, v.z + 0.0);
-  return buffer;
+  return detail::checkVector(v);
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "clipray/check/ConventionCheck.hpp"
+#include "clipray/check/CheckText.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -29,15 +30,11 @@ constexpr int kRoundDigits = 2;
 constexpr int kRoundMargin = 3;
 
 std::string number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value + 0.0);  // + 0.0: no "-0"
-  return buffer;
+  return detail::checkNumber(value);
 }
 
 std::string vec(const glm::dvec3& v) {
-  char buffer[96];
-  std::snprintf(buffer, sizeof buffer, "(%.6g, %.6g, %.6g)", v.x + 0.0, v.y + 0.0, v.z + 0.0);
-  return buffer;
+  return detail::checkVector(v);
 }
 
 // Two readings of one plane, NO's and ZO's: which was built, and why. A stated plane settles it;

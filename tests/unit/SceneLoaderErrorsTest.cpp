@@ -1,0 +1,391 @@
+// The scene loader on bad input: every message names the file, the JSON pointer and the value.
+
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <variant>
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include "clipray/math/Projections.hpp"
+#include "clipray/scene/InputError.hpp"
+#include "clipray/scene/Scene.hpp"
+
+#include "support/SceneText.hpp"
+
+namespace clipray {
+namespace {
+
+using ::testing::StartsWith;
+using namespace clipray::testing;
+
+// ------------------------------------------------------------------------------------------------
+// Bad input: files and JSON
+
+TEST(SceneLoaderErrors, MissingFile) {
+  const std::string path = std::string(CLIPRAY_SOURCE_DIR) + "/scenes/does-not-exist.json";
+  try {
+    loadScene(path);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()), path + ": cannot open file");
+  }
+}
+
+TEST(SceneLoaderErrors, MalformedJson) {
+  EXPECT_EQ(errorOf("{\n  \"version\": 1,\n  x\n}"),
+            "scenes/a.json: line 3, column 3: malformed JSON: syntax error while parsing object "
+            "key - invalid literal; last read: '1,<U+000A>  x'; expected string literal");
+  EXPECT_EQ(errorOf("{\"version\": 1,\n \"cameras\": [\n"),
+            "scenes/a.json: line 3, column 1: malformed JSON: syntax error while parsing value - "
+            "unexpected end of input; expected '[', '{', or a literal");
+  EXPECT_EQ(errorOf(""),
+            "scenes/a.json: line 1, column 1: malformed JSON: syntax error while parsing value - "
+            "unexpected end of input; expected '[', '{', or a literal");
+}
+
+TEST(SceneLoaderErrors, DuplicateKey) {
+  EXPECT_EQ(errorOf(withProjection(
+                R"({"type": "perspective", "fovYDegrees": 60, "near": 0.1, "near": 1})")),
+            "scenes/a.json: /cameras/0/projection/near: duplicate key \"near\"");
+}
+
+TEST(SceneLoaderErrors, NumberOverflowsDouble) {
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh",
+    "positions": [0, 0, 0, 1, 1e999, 0, 0, 1, 0], "indices": [0, 1, 2]})")),
+            "scenes/a.json: /objects/0/positions/4: expected a finite number, got 1e999");
+  EXPECT_EQ(errorOf(withClipFromWorld("[1, 0, 0, 0, 0, -1e999, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]")),
+            "scenes/a.json: /cameras/0/clipFromWorld/5: expected a finite number, got -1e999");
+}
+
+TEST(SceneLoaderErrors, RootAndVersion) {
+  EXPECT_EQ(errorOf("[]"), "scenes/a.json: /: expected an object, got []");
+  EXPECT_EQ(errorOf(R"({"cameras": [], "objects": []})"),
+            "scenes/a.json: /: missing required field \"version\"");
+  EXPECT_EQ(errorOf(R"({"version": 2, "cameras": [], "objects": []})"),
+            "scenes/a.json: /version: unsupported version 2; this clipray reads version 1");
+  EXPECT_EQ(errorOf(R"({"version": "1", "cameras": [], "objects": []})"),
+            "scenes/a.json: /version: unsupported version \"1\"; this clipray reads version 1");
+}
+
+TEST(SceneLoaderErrors, UnknownKeys) {
+  EXPECT_EQ(errorOf(R"({"version": 1, "camera": [], "objects": []})"),
+            "scenes/a.json: /camera: unknown key \"camera\"; valid keys are \"version\", "
+            "\"comment\", \"conventions\", \"cameras\", \"objects\"");
+  // A misspelt key is reported as unknown, not as a missing required field.
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "veiwport": [640, 480]})")),
+            "scenes/a.json: /cameras/0/veiwport: unknown key \"veiwport\"; valid keys are "
+            "\"name\", \"viewport\", \"clipFromWorld\", \"view\", \"viewFromWorld\", "
+            "\"projection\", \"builtFor\"");
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "perspective", "fovY": 60, "near": 0.1})")),
+            "scenes/a.json: /cameras/0/projection/fovY: unknown key \"fovY\"; valid keys are "
+            "\"type\", \"fovYDegrees\", \"aspect\", \"near\", \"far\"");
+  EXPECT_EQ(errorOf(withPlacement(R"("transform": {"rotate": 90})")),
+            "scenes/a.json: /objects/0/transform/rotate: unknown key \"rotate\"; valid keys are "
+            "\"translate\", \"rotateDegrees\", \"scale\"");
+  EXPECT_EQ(errorOf(withPlacement(R"("color": [1, 0, 0])")),
+            "scenes/a.json: /objects/0/color: unknown key \"color\"; valid keys are \"name\", "
+            "\"type\", \"transform\", \"worldFromObject\", \"positions\", \"indices\"");
+}
+
+TEST(SceneLoaderErrors, WrongTypes) {
+  EXPECT_EQ(errorOf(R"({"version": 1, "comment": 3, "cameras": [], "objects": []})"),
+            "scenes/a.json: /comment: expected a string, got 3");
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "perspective", "fovYDegrees": 60, "near": "0.1"})")),
+            "scenes/a.json: /cameras/0/projection/near: expected a number, got \"0.1\"");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh",
+    "positions": [0, 0, 0, 1, 0, 0, 0, true, 0], "indices": [0, 1, 2]})")),
+            "scenes/a.json: /objects/0/positions/7: expected a number, got true");
+  EXPECT_EQ(errorOf(withCamera("\"main\"")),
+            "scenes/a.json: /cameras/0: expected an object, got \"main\"");
+  EXPECT_EQ(errorOf(withView(R"("view": {"eye": [0, 0], "target": [0, 0, 0], "up": [0, 1, 0]})")),
+            "scenes/a.json: /cameras/0/view/eye: expected an array of 3 numbers, got [0,0]");
+}
+
+TEST(SceneLoaderErrors, Conventions) {
+  EXPECT_EQ(errorOf(R"({"version": 1, "conventions": "no", "cameras": [], "objects": []})"),
+            "scenes/a.json: /conventions: expected an array of convention names, got \"no\"");
+  EXPECT_EQ(errorOf(R"({"version": 1, "conventions": ["zo", "no-reversed"], "cameras": []})"),
+            "scenes/a.json: /conventions/1: expected one of \"no\", \"zo\", \"zo-reversed\", got "
+            "\"no-reversed\"");
+  EXPECT_EQ(errorOf(R"({"version": 1, "conventions": ["zo", "zo"], "cameras": []})"),
+            "scenes/a.json: /conventions/1: duplicate convention \"zo\"");
+}
+
+TEST(SceneLoaderErrors, CamerasAndObjectsArrays) {
+  EXPECT_EQ(
+      errorOf(R"({"version": 1, "cameras": [], "objects": []})"),
+      "scenes/a.json: /cameras: expected a non-empty array of cameras, got [] (and no meshFile "
+      "object with \"useCameras\": true)");
+  EXPECT_EQ(errorOf(R"({"version": 1, "cameras": [)" + std::string(kCamera) + "]}"),
+            "scenes/a.json: /: missing required field \"objects\"");
+  EXPECT_EQ(
+      errorOf(R"({"version": 1, "cameras": [)" + std::string(kCamera) + R"(], "objects": {}})"),
+      "scenes/a.json: /objects: expected an array, got {}");
+}
+
+TEST(SceneLoaderErrors, Names) {
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "", "viewport": [640, 480]})")),
+            "scenes/a.json: /cameras/0/name: expected a non-empty string, got \"\"");
+  EXPECT_EQ(errorOf(withCamera(R"({"viewport": [640, 480]})")),
+            "scenes/a.json: /cameras/0: missing required field \"name\"");
+  EXPECT_EQ(errorOf(withCamera(std::string(kCamera) + ", " + kCamera)),
+            "scenes/a.json: /cameras/1/name: duplicate camera name \"main\" (first used at "
+            "/cameras/0)");
+  EXPECT_EQ(errorOf(withObject(std::string(kObject) + ", " + kObject)),
+            "scenes/a.json: /objects/1/name: duplicate object name \"tri\" (first used at "
+            "/objects/0)");
+}
+
+// ------------------------------------------------------------------------------------------------
+// Bad input: cameras
+
+TEST(SceneLoaderErrors, Viewport) {
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main"})")),
+            "scenes/a.json: /cameras/0: missing required field \"viewport\"");
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "viewport": [0, 480]})")),
+            "scenes/a.json: /cameras/0/viewport/0: expected an integer in [1, 16384], got 0");
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "viewport": [640, 16385]})")),
+            "scenes/a.json: /cameras/0/viewport/1: expected an integer in [1, 16384], got 16385");
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "viewport": [640.5, 480]})")),
+            "scenes/a.json: /cameras/0/viewport/0: expected an integer in [1, 16384], got 640.5");
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "viewport": [640]})")),
+            "scenes/a.json: /cameras/0/viewport: expected an array of 2 integers [width, height], "
+            "got [640]");
+}
+
+TEST(SceneLoaderErrors, PerspectiveProjection) {
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "perspective", "fovYDegrees": 60, "near": -1})")),
+            "scenes/a.json: /cameras/0/projection/near: expected a positive number, got -1");
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "perspective", "fovYDegrees": 60, "near": 0})")),
+            "scenes/a.json: /cameras/0/projection/near: expected a positive number, got 0");
+  EXPECT_EQ(
+      errorOf(withProjection(R"({"type": "perspective", "fovYDegrees": 60, "near": 1, "far": 1})")),
+      "scenes/a.json: /cameras/0/projection/far: expected a number greater than \"near\" "
+      "(1), got 1");
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "perspective", "fovYDegrees": 0, "near": 1})")),
+            "scenes/a.json: /cameras/0/projection/fovYDegrees: expected a number in (0, 180), got "
+            "0");
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "perspective", "fovYDegrees": 180.0, "near": 1})")),
+            "scenes/a.json: /cameras/0/projection/fovYDegrees: expected a number in (0, 180), got "
+            "180.0");
+  EXPECT_EQ(errorOf(withProjection(
+                R"({"type": "perspective", "fovYDegrees": 60, "aspect": 0, "near": 1})")),
+            "scenes/a.json: /cameras/0/projection/aspect: expected a positive number, got 0");
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "perspective", "near": 1})")),
+            "scenes/a.json: /cameras/0/projection: missing required field \"fovYDegrees\"");
+}
+
+TEST(SceneLoaderErrors, OrthographicProjection) {
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "orthographic",
+    "left": 1, "right": 1, "bottom": -1, "top": 1, "near": 0, "far": 10})")),
+            "scenes/a.json: /cameras/0/projection/right: expected a number different from "
+            "\"left\" (1), got 1");
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "orthographic",
+    "left": -1, "right": 1, "bottom": 0.5, "top": 0.5, "near": 0, "far": 10})")),
+            "scenes/a.json: /cameras/0/projection/top: expected a number different from "
+            "\"bottom\" (0.5), got 0.5");
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "orthographic",
+    "left": -1, "right": 1, "bottom": -1, "top": 1, "near": 10, "far": -10})")),
+            "scenes/a.json: /cameras/0/projection/far: expected a number greater than \"near\" "
+            "(10), got -10");
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "orthographic",
+    "left": -1, "right": 1, "bottom": -1, "top": 1, "near": 0})")),
+            "scenes/a.json: /cameras/0/projection: missing required field \"far\"");
+}
+
+TEST(SceneLoaderErrors, ProjectionType) {
+  EXPECT_EQ(errorOf(withProjection(R"({"type": "fisheye"})")),
+            "scenes/a.json: /cameras/0/projection/type: expected one of \"perspective\", "
+            "\"orthographic\", got \"fisheye\"");
+  EXPECT_EQ(errorOf(withProjection(R"({"fovYDegrees": 60, "near": 0.1})")),
+            "scenes/a.json: /cameras/0/projection: missing required field \"type\"");
+}
+
+TEST(SceneLoaderErrors, ProjectionOverflowsDouble) {
+  EXPECT_EQ(errorOf(withProjection(
+                R"({"type": "perspective", "fovYDegrees": 1e-300, "aspect": 1e-10, "near": 1})")),
+            "scenes/a.json: /cameras/0: the camera's clipFromWorld overflows double when drawn "
+            "under \"no\"");
+}
+
+TEST(SceneLoaderErrors, ClipFromWorld) {
+  EXPECT_EQ(errorOf(withClipFromWorld("[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0]")),
+            "scenes/a.json: /cameras/0/clipFromWorld: expected an array of 16 numbers "
+            "(column-major), got [1,0,0,0,0,1,0,0,0,0,1,0,0,0,0]");
+  EXPECT_EQ(errorOf(withClipFromWorld("[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, \"x\", 1]")),
+            "scenes/a.json: /cameras/0/clipFromWorld/14: expected a number, got \"x\"");
+  // Row 3 (w) all zero.
+  EXPECT_EQ(errorOf(withClipFromWorld("[0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0]")),
+            "scenes/a.json: /cameras/0/clipFromWorld: expected a projective matrix whose row 3 "
+            "(w) is positive somewhere, got row 3 = [0,0,0,0]");
+  // Row 3 a negative constant: every point has w < 0 and is clipped.
+  EXPECT_EQ(errorOf(withClipFromWorld("[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1]")),
+            "scenes/a.json: /cameras/0/clipFromWorld: expected a projective matrix whose row 3 "
+            "(w) is positive somewhere, got row 3 = [0,0,0,-1]");
+  // Column 1 is zero.
+  EXPECT_EQ(errorOf(withClipFromWorld("[1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]")),
+            "scenes/a.json: /cameras/0/clipFromWorld: expected an invertible matrix, got a "
+            "singular one (scaled determinant 0)");
+  // Nearly singular: column 1 equals column 0 to 1e-13.
+  EXPECT_THAT(
+      errorOf(withClipFromWorld("[1, 1, 0, 0, 1, 1.0000000000001, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]")),
+      StartsWith("scenes/a.json: /cameras/0/clipFromWorld: expected an invertible "
+                 "matrix, got a singular one (scaled determinant "));
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "viewport": [640, 480],
+    "clipFromWorld": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1],
+    "projection": {"type": "perspective", "fovYDegrees": 60, "near": 0.1}})")),
+            "scenes/a.json: /cameras/0: expected either \"clipFromWorld\" or \"projection\", got "
+            "both");
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "viewport": [640, 480],
+    "clipFromWorld": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], "builtFor": "zo"})")),
+            "scenes/a.json: /cameras/0: expected either \"clipFromWorld\" or \"builtFor\", got "
+            "both");
+}
+
+TEST(SceneLoaderErrors, ViewFromWorld) {
+  EXPECT_EQ(
+      errorOf(withView(R"("viewFromWorld": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, -1, 0, 0, 0, 0])")),
+      "scenes/a.json: /cameras/0/viewFromWorld: expected an affine matrix (row 3 = "
+      "[0,0,0,1]), got row 3 = [0,0,-1,0]");
+  EXPECT_EQ(
+      errorOf(withView(R"("viewFromWorld": [1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1])")),
+      "scenes/a.json: /cameras/0/viewFromWorld: expected an invertible matrix, got a "
+      "singular one (scaled determinant 0)");
+  EXPECT_EQ(errorOf(withView(R"("view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]},
+    "viewFromWorld": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1])")),
+            "scenes/a.json: /cameras/0: expected either \"view\" or \"viewFromWorld\", got both");
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "viewport": [640, 480],
+    "projection": {"type": "perspective", "fovYDegrees": 60, "near": 0.1}})")),
+            "scenes/a.json: /cameras/0: missing required field \"view\" or \"viewFromWorld\"");
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "viewport": [640, 480],
+    "view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]}})")),
+            "scenes/a.json: /cameras/0: missing required field \"projection\"");
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "viewport": [640, 480]})")),
+            "scenes/a.json: /cameras/0: missing required field \"clipFromWorld\", or "
+            "\"projection\" with \"view\" or \"viewFromWorld\"");
+  EXPECT_EQ(errorOf(withView(R"("viewFromWorld": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1],
+    "builtFor": "zo-rev")")),
+            "scenes/a.json: /cameras/0/builtFor: expected one of \"no\", \"zo\", \"zo-reversed\", "
+            "got \"zo-rev\"");
+}
+
+TEST(SceneLoaderErrors, LookAt) {
+  EXPECT_EQ(
+      errorOf(withView(R"("view": {"eye": [1, 2, 3], "target": [1, 2, 3], "up": [0, 1, 0]})")),
+      "scenes/a.json: /cameras/0/view/target: expected a point different from \"eye\" "
+      "([1,2,3]), got [1,2,3]");
+  EXPECT_EQ(
+      errorOf(withView(R"("view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 0, 0]})")),
+      "scenes/a.json: /cameras/0/view/up: expected a non-zero direction, got [0,0,0]");
+  EXPECT_EQ(
+      errorOf(withView(R"("view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 0, 2]})")),
+      "scenes/a.json: /cameras/0/view/up: expected a direction not parallel to the view "
+      "direction (target - eye), got [0,0,2]");
+  EXPECT_EQ(errorOf(withView(R"("view": {"eye": [0, 0, 5], "up": [0, 1, 0]})")),
+            "scenes/a.json: /cameras/0/view: missing required field \"target\"");
+}
+
+// ------------------------------------------------------------------------------------------------
+// Bad input: objects
+
+TEST(SceneLoaderErrors, ObjectType) {
+  EXPECT_EQ(errorOf(withObject(R"({"name": "ball", "type": "ball", "radius": 1})")),
+            "scenes/a.json: /objects/0/type: expected one of \"mesh\", \"meshFile\", \"terrain\", "
+            "\"sphere\", \"disk\", \"quad\", \"box\", \"plane\", got \"ball\"");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "positions": [], "indices": []})")),
+            "scenes/a.json: /objects/0: missing required field \"type\"");
+}
+
+TEST(SceneLoaderErrors, Positions) {
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh",
+    "positions": [0, 0, 0, 1, 0, 0, 0, 1], "indices": [0, 1, 2]})")),
+            "scenes/a.json: /objects/0/positions: expected a flat array of x, y, z coordinates of "
+            "at least 3 vertices, got [0,0,0,1,0,0,0,1]");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh",
+    "positions": [0, 0, 0, 1, 0, 0], "indices": [0, 1, 1]})")),
+            "scenes/a.json: /objects/0/positions: expected a flat array of x, y, z coordinates of "
+            "at least 3 vertices, got [0,0,0,1,0,0]");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh", "indices": [0, 1, 2]})")),
+            "scenes/a.json: /objects/0: missing required field \"positions\"");
+}
+
+TEST(SceneLoaderErrors, Indices) {
+  EXPECT_EQ(errorOf(withObject(R"({"name": "box", "type": "mesh",
+    "positions": [0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 1, 0, 1, 1, 1, 1, 0, 1, 1],
+    "indices": [0, 1, 2, 0, 2, 3, 4, 12, 6]})")),
+            "scenes/a.json: /objects/0/indices/7: index 12 out of range for 8 vertices");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh",
+    "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, -1, 2]})")),
+            "scenes/a.json: /objects/0/indices/1: expected an unsigned integer, got -1");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh",
+    "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2.0]})")),
+            "scenes/a.json: /objects/0/indices/2: expected an unsigned integer, got 2.0");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh",
+    "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": []})")),
+            "scenes/a.json: /objects/0/indices: expected a flat array of vertex indices, 3 per "
+            "triangle, at least 1 triangle, got []");
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh",
+    "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2, 0]})")),
+            "scenes/a.json: /objects/0/indices: expected a flat array of vertex indices, 3 per "
+            "triangle, at least 1 triangle, got [0,1,2,0]");
+}
+
+TEST(SceneLoaderErrors, ObjectPlacement) {
+  EXPECT_EQ(errorOf(withPlacement(R"("transform": {"scale": 2},
+    "worldFromObject": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1])")),
+            "scenes/a.json: /objects/0: expected either \"transform\" or \"worldFromObject\", got "
+            "both");
+  EXPECT_EQ(errorOf(withPlacement(
+                R"("worldFromObject": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1])")),
+            "scenes/a.json: /objects/0/worldFromObject: expected an invertible matrix, got a "
+            "singular one (scaled determinant 0)");
+  EXPECT_EQ(errorOf(withPlacement(
+                R"("worldFromObject": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 2])")),
+            "scenes/a.json: /objects/0/worldFromObject: expected an affine matrix (row 3 = "
+            "[0,0,0,1]), got row 3 = [0,0,0,2]");
+  EXPECT_EQ(errorOf(withPlacement(
+                R"("worldFromObject": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1e999])")),
+            "scenes/a.json: /objects/0/worldFromObject/15: expected a finite number, got 1e999");
+  EXPECT_EQ(errorOf(withPlacement(R"("transform": {"scale": 0})")),
+            "scenes/a.json: /objects/0/transform/scale: expected a non-zero number, got 0");
+  EXPECT_EQ(errorOf(withPlacement(R"("transform": {"scale": [1, 0.0, 1]})")),
+            "scenes/a.json: /objects/0/transform/scale/1: expected a non-zero number, got 0.0");
+  EXPECT_EQ(errorOf(withPlacement(R"("transform": {"scale": [1, 1]})")),
+            "scenes/a.json: /objects/0/transform/scale: expected a number or an array of 3 "
+            "numbers, got [1,1]");
+  EXPECT_EQ(
+      errorOf(withPlacement(R"("transform": {"rotateDegrees": {"axis": [0, 0, 0], "angle": 30}})")),
+      "scenes/a.json: /objects/0/transform/rotateDegrees/axis: expected a non-zero "
+      "direction, got [0,0,0]");
+  EXPECT_EQ(errorOf(withPlacement(R"("transform": {"rotateDegrees": {"axis": [0, 0, 1]}})")),
+            "scenes/a.json: /objects/0/transform/rotateDegrees: missing required field \"angle\"");
+  EXPECT_EQ(errorOf(withPlacement(R"("transform": {"translate": [1, 2, "3"]})")),
+            "scenes/a.json: /objects/0/transform/translate/2: expected a number, got \"3\"");
+}
+
+TEST(SceneLoaderErrors, WorldPositionOverflowsDouble) {
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh",
+    "positions": [0, 0, 0, 1e300, 0, 0, 0, 1, 0], "indices": [0, 1, 2],
+    "transform": {"scale": 1e300}})")),
+            "scenes/a.json: /objects/0/positions/3: vertex 1 has a world position that overflows "
+            "double after the transform");
+}
+
+TEST(SceneLoaderErrors, LongValuesAreCut) {
+  std::string positions = "[";
+  for (int i = 0; i < 40; ++i) {
+    if (i > 0) positions += ",";
+    positions += std::to_string(i);
+  }
+  EXPECT_EQ(errorOf(withObject(R"({"name": "tri", "type": "mesh", "positions": )" + positions +
+                               R"(], "indices": [0, 1, 2]})")),
+            "scenes/a.json: /objects/0/positions: expected a flat array of x, y, z coordinates of "
+            "at least 3 vertices, got "
+            "[0,1,2,3,4,5,6,7,8,9,10,11,12,13,14,15,16,17,18,19,20,21,22,23,24,25,26,27,28...");
+}
+
+}  // namespace
+}  // namespace clipray
