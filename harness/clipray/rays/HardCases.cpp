@@ -180,6 +180,19 @@ std::vector<HardCase> hardCases(Viewport size) {
                     {0.0, 0.2, -1.0, -0.5}, mode);
     cases.push_back(matrixCase("oblique_near", "oblique near plane (Lengyel), tilted 11 degrees",
                                oblique, view, mode, size, 60.0));
+    // A water reflection pass without its mirror: the eye 3 below the water plane y = 0 looks up
+    // 11.8 degrees (fov 60) through it, Lengyel's near plane at the water. The horizon crosses the
+    // image: the pixels below it look away from the water and have no ray (the raster shows
+    // nothing there). Right-handed, fov 60: rows x, y and w are the plain projection's.
+    const glm::dmat4 underWater = lookAt({0.0, -3.0, 12.0}, {0.0, -0.5, 0.0}, false);
+    const glm::dvec4 waterInView =
+        glm::transpose(glm::inverse(underWater)) * glm::dvec4(0.0, 1.0, 0.0, 0.0);
+    const glm::dmat4 horizon = obliqueNear(
+        perspectiveClipFromView(glm::radians(60.0), aspect, 0.1, 1000.0, mode), waterInView, mode);
+    cases.push_back(matrixCase(
+        "oblique_horizon",
+        "oblique near plane at the water level, horizon in view: pixels below it have no ray",
+        horizon, underWater, mode, size, 60.0));
   }
   cases.push_back(perspectiveCase("reversed_z_infinite", "reversed-Z with an infinite far plane",
                                   {{3.0, 2.5, 5.0}, {0.0, 0.5, 0.0}, 60.0, 0.1, kInfinity},

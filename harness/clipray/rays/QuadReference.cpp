@@ -123,6 +123,28 @@ glm::dvec3 toDouble(const QuadVec3& v) {
   return {toDouble(v.x), toDouble(v.y), toDouble(v.z)};
 }
 
+Float128 determinantQuad(const QuadMat4& matrix) {
+  const QuadVec4 rows[4] = {quadRow(matrix, 0), quadRow(matrix, 1), quadRow(matrix, 2),
+                            quadRow(matrix, 3)};
+  Float128 det = 0;
+  const Float128 first[4] = {rows[0].x, rows[0].y, rows[0].z, rows[0].w};
+  for (int k = 0; k < 4; ++k) {
+    const Float128 cofactor = minor3(rows[1], rows[2], rows[3], k);
+    det += (k % 2 == 0 ? first[k] : -first[k]) * cofactor;
+  }
+  return det;
+}
+
+int robustDirectionSign(const glm::dmat4& clipFromWorld, DepthMode mode) {
+  // The near plane's value at the eye e (the cofactor vector of rows 0, 1, 3) is det(M) / e.w up
+  // to a fixed sign, e.w = det(mx, my, mw) up to one too, and w grows along d by dot(mw, d) =
+  // det(mx, my, mw): the product leaves sign(s det M) (+1 for glm::perspectiveRH_NO). A parallel
+  // projection (mw = 0, w > 0) gets the near plane's own sign, s det(mx, my, mz).
+  const Float128 det = determinantQuad(toQuad(clipFromWorld));
+  if (det == 0) return 0;
+  return (mode.reversed ? -det : det) > 0 ? 1 : -1;
+}
+
 ProjectionCheck describeProjection(const glm::dmat4& clipFromWorld, DepthMode mode) {
   ProjectionCheck check;
   for (int c = 0; c < 4; ++c) {
@@ -154,33 +176,81 @@ ProjectionCheck describeProjection(const glm::dmat4& clipFromWorld, DepthMode mo
 
   ProjectionFacts facts;
   facts.parallel = mw.x == 0 && mw.y == 0 && mw.z == 0;
-  // Every pixel ray must cross the near plane, all the same way, at a finite point. Checking
-  // the four viewport corners suffices: both quantities are linear in (x', y').
-  Float128 orientation = 0, nearW = 0;
-  for (const Float128 x : {Float128(-1), Float128(1)}) {
-    for (const Float128 y : {Float128(-1), Float128(1)}) {
-      const QuadVec3 d = add(add(scale(p, x), scale(q, y)), r);
-      const Float128 g = dot(nearNormal, d);
-      const Float128 w = x * c0.w + y * c1.w + c23.w;
-      if (g == 0 || (orientation != 0 && (g > 0) != (orientation > 0))) {
-        check.problem =
-            "not a projection: some pixel rays run parallel to the near plane or cross it in "
-            "opposite directions";
-        return check;
+  // The eye: the null vector of rows 0, 1, 3 (every pixel plane and the w = 0 plane meet there),
+  // homogeneous; e[3] = 0 for a parallel projection.
+  const Float128 e[4] = {minor3(rowX, rowY, rowW, 0), -minor3(rowX, rowY, rowW, 1),
+                         minor3(rowX, rowY, rowW, 2), -minor3(rowX, rowY, rowW, 3)};
+  Float128 flip = 1;
+  if (facts.parallel) {
+    // w is constant: the direction's sign comes from the near plane. Every pixel ray must cross
+    // it, all the same way, at a finite point. Checking the four viewport corners suffices: both
+    // quantities are linear in (x', y').
+    Float128 orientation = 0, nearW = 0;
+    for (const Float128 x : {Float128(-1), Float128(1)}) {
+      for (const Float128 y : {Float128(-1), Float128(1)}) {
+        const QuadVec3 d = add(add(scale(p, x), scale(q, y)), r);
+        const Float128 g = dot(nearNormal, d);
+        const Float128 w = x * c0.w + y * c1.w + c23.w;
+        if (g == 0 || (orientation != 0 && (g > 0) != (orientation > 0))) {
+          check.problem =
+              "not a projection: some pixel rays run parallel to the near plane or cross it in "
+              "opposite directions";
+          return check;
+        }
+        if (w == 0 || (nearW != 0 && (w > 0) != (nearW > 0))) {
+          check.problem = "not a projection: the near plane does not meet every pixel ray";
+          return check;
+        }
+        orientation = g;
+        nearW = w;
       }
-      if (w == 0 || (nearW != 0 && (w > 0) != (nearW > 0))) {
-        check.problem = "not a projection: the near plane does not meet every pixel ray";
-        return check;
+    }
+    flip = orientation * nearSign > 0 ? 1 : -1;
+  } else {
+    // Perspective: a line of sight points where clip w grows (in front of the eye): one sign for
+    // every pixel (robustDirectionSign). The near plane may be oblique (Lengyel's clip plane:
+    // water, mirrors, portals): the eye must lie on its clipped side, and the pixels whose line of
+    // sight meets it behind the eye (N.w <= 0: beyond its horizon) have no ray, but at least one
+    // pixel must have one.
+    if (e[3] == 0) {
+      check.problem = "not a projection: the x, y and w rows meet at no finite eye point";
+      return check;
+    }
+    const Float128 spread = dot(mw, r);
+    if (spread == 0 || (nearNormal.x == 0 && nearNormal.y == 0 && nearNormal.z == 0)) {
+      check.problem =
+          "not a projection: some pixel rays run parallel to the near plane or cross it in "
+          "opposite directions";
+      return check;
+    }
+    flip = robustDirectionSign(clipFromWorld, mode);
+    // The near plane's value at the eye, signed to be positive inside the view volume.
+    const QuadVec4 nearPlane = sub(rowZ, scale(rowW, zNear));
+    const Float128 eyeSide =
+        nearSign * dot(nearPlane, QuadVec4{e[0], e[1], e[2], e[3]}) * (e[3] > 0 ? 1 : -1);
+    if (!(eyeSide < 0)) {
+      check.problem = "not a projection: the near plane lies behind the eye";
+      return check;
+    }
+    bool anyRay = false;
+    for (const Float128 x : {Float128(-1), Float128(1)}) {
+      for (const Float128 y : {Float128(-1), Float128(1)}) {
+        anyRay = anyRay || x * c0.w + y * c1.w + c23.w > 0;
       }
-      orientation = g;
-      nearW = w;
+    }
+    if (!anyRay) {
+      check.problem =
+          "not a projection: no pixel's line of sight crosses the near plane in front of the eye";
+      return check;
     }
   }
-  const Float128 flip = orientation * nearSign > 0 ? 1 : -1;
   const QuadVec3 centre = scale(r, flip);
   const Float128 centreLength = std::sqrt(toDouble(dot(centre, centre)));
   facts.forward = toDouble(centre) / toDouble(centreLength);
   facts.forward /= glm::length(facts.forward);
+  // The centre pixel's near point; in front of the eye unless the centre lies beyond an oblique
+  // near plane's horizon (then it has no ray: near and far read +inf).
+  const bool centreRay = c23.w > 0 || facts.parallel;
   const glm::dvec3 nearCentre = toDouble(QuadVec3{c23.x / c23.w, c23.y / c23.w, c23.z / c23.w});
 
   // The far plane along the centre ray: t = (z_far - z_near) / (N.w * F.d) (seed 002).
@@ -197,20 +267,18 @@ ProjectionCheck describeProjection(const glm::dmat4& clipFromWorld, DepthMode mo
     facts.nearDistance = 0.0;
     facts.farDistance = tCentre;
   } else {
-    // The eye: the null vector of rows 0, 1, 3 (every pixel plane and the w = 0 plane meet there).
-    const Float128 e[4] = {minor3(rowX, rowY, rowW, 0), -minor3(rowX, rowY, rowW, 1),
-                           minor3(rowX, rowY, rowW, 2), -minor3(rowX, rowY, rowW, 3)};
-    if (e[3] == 0) {
-      check.problem = "not a projection: the x, y and w rows meet at no finite eye point";
-      return check;
-    }
     facts.eye = {toDouble(e[0] / e[3]), toDouble(e[1] / e[3]), toDouble(e[2] / e[3])};
-    facts.nearDistance = glm::dot(nearCentre - facts.eye, facts.forward);
-    if (!(facts.nearDistance > 0)) {
-      check.problem = "not a projection: the near plane lies behind the eye";
-      return check;
+    if (centreRay) {
+      facts.nearDistance = glm::dot(nearCentre - facts.eye, facts.forward);
+      if (!(facts.nearDistance > 0)) {
+        check.problem = "not a projection: the near plane lies behind the eye";
+        return check;
+      }
+      facts.farDistance = facts.nearDistance + tCentre;
+    } else {
+      facts.nearDistance = kInfinity;
+      facts.farDistance = kInfinity;
     }
-    facts.farDistance = facts.nearDistance + tCentre;
     const QuadVec3 bottom = scale(add(r, scale(q, -1)), flip), top = scale(add(r, q), flip);
     const glm::dvec3 b = glm::normalize(toDouble(bottom)), t = glm::normalize(toDouble(top));
     facts.fovYDegrees = glm::degrees(std::atan2(glm::length(glm::cross(b, t)), glm::dot(b, t)));
@@ -231,8 +299,12 @@ QuadReference::QuadReference(const glm::dmat4& clipFromWorld, DepthMode mode, Vi
   q_ = cross(mw, mx);
   r_ = cross(mx, my);
   const Float128 zNear = mode.nearNdcZ(), zFar = mode.farNdcZ();
-  nearNormal_ = xyz(sub(rowZ, scale(rowW, zNear)));
-  nearSign_ = mode.reversed ? -1 : 1;
+  // The sign rule of RobustRayGenerator: perspective, robustDirectionSign against w's growth
+  // along d (dot(mw, d) keeps one sign over the frame); parallel (w constant), d enters the view
+  // volume through the near plane.
+  facingNormal_ = parallel_ ? xyz(sub(rowZ, scale(rowW, zNear))) : mw;
+  facingSign_ = parallel_ ? (mode.reversed ? -1 : 1)
+                          : robustDirectionSign(clipFromWorld, mode) * (dot(mw, r_) > 0 ? 1 : -1);
   farNormal_ = xyz(sub(rowZ, scale(rowW, zFar)));
   c0_ = quadColumn(inverse, 0);
   c1_ = quadColumn(inverse, 1);
@@ -251,20 +323,27 @@ void QuadReference::row(int j, std::vector<ReferenceRay>& out) const {
   for (int i = 0; i < width; ++i) {
     const Float128 x = Float128(2 * i + 1) / width - 1;  // exact pixel centre (to 1e-34)
     QuadVec3 d = add(scale(p_, x), rowD);
-    // Sign: d enters the frustum through the near plane (DESIGN.md section 2).
-    if (nearSign_ * dot(nearNormal_, d) < 0) d = scale(d, -1);
+    // Sign: d points away from the eye (parallel: enters the frustum through the near plane).
+    if (facingSign_ * dot(facingNormal_, d) < 0) d = scale(d, -1);
     const Float128 length2 = dot(d, d);
     const double guess = std::sqrt(toDouble(length2));
     const Float128 length = guess + (length2 - Float128(guess) * guess) / (2 * Float128(guess));
     const Float128 inverseLength = 1 / length;
     const QuadVec3 unit = scale(d, inverseLength);
     const QuadVec4 n = add(scale(c0_, x), rowN);
+    ReferenceRay& ray = out[static_cast<std::size_t>(i)];
+    if (!(n.w > 0)) {
+      // The line of sight meets the near plane behind the eye (or at infinity): beyond the
+      // horizon of an oblique near plane, nothing is visible and the pixel has no ray.
+      ray = ReferenceRay{};
+      ray.tMax = kNoRayTMax;
+      continue;
+    }
     const Float128 inverseW = 1 / n.w;
     const QuadVec3 origin = {n.x * inverseW, n.y * inverseW, n.z * inverseW};
     const Float128 farDot = dot(farNormal_, unit);
     const Float128 t = farDot == 0 ? Float128(-1) : depthSpan / (n.w * farDot);
 
-    ReferenceRay& ray = out[static_cast<std::size_t>(i)];
     ray.origin[0] = split(origin.x);
     ray.origin[1] = split(origin.y);
     ray.origin[2] = split(origin.z);

@@ -83,6 +83,17 @@ void ErrorAccumulator::addRow(const std::vector<ReferenceRay>& reference, const 
     const CameraRay<T> ray = rays.load(i);
     const glm::dvec3 direction(ray.direction), origin(ray.origin);
     const double tMax = static_cast<double>(ray.tMax);
+    // A method says "no ray" with a negative t_max (robust: kNoRayTMax).
+    const bool methodRay = !(tMax < 0.0);
+    if (!ref.hasRay()) {
+      ++noRay_;
+      if (methodRay) ++noRayDisagree_;
+      continue;
+    }
+    if (!methodRay) {
+      ++noRayDisagree_;
+      continue;
+    }
     ++rays_;
     const bool directionFinite = finite(direction);
     const bool originFinite = finite(origin);
@@ -126,6 +137,8 @@ void ErrorAccumulator::merge(const ErrorAccumulator& other) {
   nonfinite_ += other.nonfinite_;
   backward_ += other.backward_;
   rays_ += other.rays_;
+  noRay_ += other.noRay_;
+  noRayDisagree_ += other.noRayDisagree_;
 }
 
 MethodErrors ErrorAccumulator::result() const {
@@ -138,6 +151,8 @@ MethodErrors ErrorAccumulator::result() const {
   errors.nonfinite = nonfinite_;
   errors.backward = backward_;
   errors.rays = rays_;
+  errors.noRay = noRay_;
+  errors.noRayDisagree = noRayDisagree_;
   return errors;
 }
 
@@ -146,6 +161,7 @@ double floorAngleRowMax(const std::vector<ReferenceRay>& rounded,
   double worst = 0.0;
   const std::size_t count = std::min(rounded.size(), exact.size());
   for (std::size_t i = 0; i < count; ++i) {
+    if (!rounded[i].hasRay() || !exact[i].hasRay()) continue;
     // The rounded reference as double-double: hi + lo carries ~106 bits, plenty for ~1e-8 rad.
     const glm::dvec3 direction(rounded[i].direction[0].hi + rounded[i].direction[0].lo,
                                rounded[i].direction[1].hi + rounded[i].direction[1].lo,
@@ -159,6 +175,7 @@ template <typename T>
 double outputFloorAngleRowMax(const std::vector<ReferenceRay>& reference) {
   double worst = 0.0;
   for (const ReferenceRay& ray : reference) {
+    if (!ray.hasRay()) continue;
     // hi rounded to T is the correctly rounded hi + lo except at exact ties (lo tips them):
     // a difference far below what is measured here.
     const glm::dvec3 stored(static_cast<T>(ray.direction[0].hi),

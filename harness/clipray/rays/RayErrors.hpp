@@ -5,7 +5,11 @@
 //   on the near plane (sliding along the ray is harmless, so only the part across counts);
 // - t_max: relative error (an infinite reference wants +inf: anything finite is an infinite error);
 // - non-finite rays (any NaN/inf in origin or direction, or a NaN t_max) and backward rays
-//   (pointing away from the exact direction).
+//   (pointing away from the exact direction);
+// - pixels without a ray: where the exact ray does not exist (the line of sight meets the near
+//   plane behind the eye, beyond an oblique near plane's horizon) the pixel is counted as no_ray
+//   and measured no further; a method that gives a ray there, or none where the exact ray
+//   exists, is counted as a no-ray disagreement.
 // Medians come from a log-spaced histogram (64 bins per decade, so within 2% of the exact median):
 // a 1920x1080 grid for 16 method/precision pairs would not fit in memory as raw samples.
 
@@ -45,7 +49,9 @@ struct MethodErrors {
   double tMaxRelativeMax = 0.0;  // NaN when the method gives no t_max
   std::uint64_t nonfinite = 0;
   std::uint64_t backward = 0;
-  std::uint64_t rays = 0;
+  std::uint64_t rays = 0;           // pixels measured (the exact ray and the method's exist)
+  std::uint64_t noRay = 0;          // pixels without an exact ray
+  std::uint64_t noRayDisagree = 0;  // the method gives a ray iff the exact ray does not exist
 };
 
 class ErrorAccumulator {
@@ -61,7 +67,7 @@ class ErrorAccumulator {
   bool measureTMax_;
   LogHistogram angles_, laterals_;
   double angleMax_ = 0.0, lateralMax_ = 0.0, tMaxMax_ = 0.0;
-  std::uint64_t nonfinite_ = 0, backward_ = 0, rays_ = 0;
+  std::uint64_t nonfinite_ = 0, backward_ = 0, rays_ = 0, noRay_ = 0, noRayDisagree_ = 0;
 };
 
 extern template void ErrorAccumulator::addRow<float>(const std::vector<ReferenceRay>&,

@@ -349,10 +349,13 @@ struct FullKernel {
 //   direction  d(i, j) = sign * scale * (x' P + y' Q + R)    P = my x mw, Q = mw x mx, R = mx x my
 //   near point N(i, j) = worldFromClip (x', y', z_near, 1)           (homogeneous, 4 components)
 //   far dot    F(i, j) = sign * scale * (rowZ - z_far rowW).xyz . (x' P + y' Q + R)
-// `sign` makes d enter the frustum through the near plane: s * dot(rowZ - z_near rowW, d) > 0
-// (s = -1 for reversed-Z). That dot is linear in (x', y') and, for a matrix that is a projection,
-// never zero inside the viewport (describeProjection checks the corners), so the sign is found
-// once at the centre and folded into the coefficients. `scale` is a power of two that makes |d|
+// `sign` makes d point away from the eye, where clip w grows: dot(mw, d) = det(mx, my, mw) > 0, the
+// same at every pixel, so the sign is found once and folded into the coefficients. That holds for
+// an oblique near plane too (Lengyel's), whose dot with d changes sign at its horizon. A parallel
+// projection (mw = 0) takes it from the near plane instead, s * dot(rowZ - z_near rowW, d) > 0
+// (s = -1 for reversed-Z): linear in (x', y') and never zero inside the viewport there
+// (describeProjection checks the corners), so it too is found at the centre. For a non-oblique
+// perspective camera both rules give the same sign. `scale` is a power of two that makes |d|
 // about 1 at the viewport's centre: exact, it changes neither the direction nor t_max (F and |d|
 // scale alike), and it keeps |d|^2 inside float's range for any matrix float can hold.
 //
@@ -372,7 +375,9 @@ struct FullKernel {
 //              from the base of 8 pixels, computed in double, so the increment k < 8 adds
 //              almost no rounding);
 //   t_max:     (z_far - z_near) |d| / (N.w F)   (seed 002: F_w . n_w = F_c . n_c = z_near - z_far),
-//              and +inf when that is not a positive finite number (infinite far plane: F == 0).
+//              and +inf when that is not a positive finite number (infinite far plane: F == 0);
+//              kNoRayTMax where N.w <= 0 (the line of sight meets the near plane behind the eye:
+//              beyond an oblique near plane's horizon, no ray; one compare per pixel).
 struct RobustCoefficients {
   // Affine forms value(i, j) = at0 + i * perI + j * perJ; components: d.xyz, N.xyzw, F.
   double at0[8], perI[8], perJ[8];
@@ -393,7 +398,8 @@ RobustCoefficients robustCoefficients(const glm::dmat4& entries, DepthMode mode,
   const QuadVec3 farNormal = {rowZ.x - zFar * rowW.x, rowZ.y - zFar * rowW.y,
                               rowZ.z - zFar * rowW.z};
   const Float128 nearSign = mode.reversed ? -1 : 1;
-  const Float128 orientation = nearSign * dot(nearNormal, r) < 0 ? -1 : 1;
+  const bool parallel = mw.x == 0 && mw.y == 0 && mw.z == 0;
+  const Float128 orientation = (parallel ? nearSign * dot(nearNormal, r) : dot(mw, r)) < 0 ? -1 : 1;
   // d at the viewport's centre is R (x' = y' = 0); P and Q are added at the edges.
   const double centreLength =
       std::max({std::abs(toDouble(r.x)), std::abs(toDouble(r.y)), std::abs(toDouble(r.z)),
@@ -498,6 +504,7 @@ struct RobustKernel {
     ray.tMax = (t > T(0) && t < std::numeric_limits<T>::infinity())
                    ? t
                    : std::numeric_limits<T>::infinity();
+    if (!(nw > T(0))) ray.tMax = T(kNoRayTMax);  // near point behind the eye: no ray
     return ray;
   }
 
@@ -531,7 +538,7 @@ __attribute__((target("avx2,fma"))) inline __m256 toFloat8(__m256d low, __m256d 
 
 // What the AVX2 and AVX-512 rows share after the direction, RobustKernel<float>::finish's
 // operations 8 lanes at a time: origin N.xyz / N.w and t_max = (z_far - z_near) |d| / (N.w F), +inf
-// unless it is positive and finite (ordered compares: NaN fails both).
+// unless it is positive and finite (ordered compares: NaN fails both), kNoRayTMax unless N.w > 0.
 __attribute__((target("avx2,fma"))) inline void storeOriginsAndTMax(const RaySpan<float>& out,
                                                                     int i0, __m256 nx, __m256 ny,
                                                                     __m256 nz, __m256 nw,
@@ -545,7 +552,9 @@ __attribute__((target("avx2,fma"))) inline void storeOriginsAndTMax(const RaySpa
   _mm256_storeu_ps(out.originX + i0, _mm256_mul_ps(nx, inverseW));
   _mm256_storeu_ps(out.originY + i0, _mm256_mul_ps(ny, inverseW));
   _mm256_storeu_ps(out.originZ + i0, _mm256_mul_ps(nz, inverseW));
-  _mm256_storeu_ps(out.tMax + i0, _mm256_blendv_ps(infinity, t, valid));
+  const __m256 inFront = _mm256_cmp_ps(nw, _mm256_setzero_ps(), _CMP_GT_OQ);
+  _mm256_storeu_ps(out.tMax + i0, _mm256_blendv_ps(_mm256_set1_ps(static_cast<float>(kNoRayTMax)),
+                                                   _mm256_blendv_ps(infinity, t, valid), inFront));
 }
 
 // The last width - i0 < 8 pixels of a row, one at a time (the scalar call's own arithmetic).

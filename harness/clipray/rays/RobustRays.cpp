@@ -7,6 +7,7 @@
 
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/FourRays.hpp"
+#include "clipray/rays/QuadReference.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define CLIPRAY_ROW_KERNELS 1
@@ -29,10 +30,22 @@ RobustRayGenerator::RobustRayGenerator(const glm::dmat4& clipFromWorld, DepthMod
   mxCrossMy_ = glm::cross(mx, my);
   nearPlane_ = rowZ - mode.nearNdcZ() * rowW;
   farPlane_ = rowZ - mode.farNdcZ() * rowW;
-  // Inside the clip volume z_n w <= z <= w: the plane z - z_n w is >= 0 for the classic near
-  // plane; for reversed-Z the near plane is z - w, which is <= 0 inside.
-  nearSign_ = mode.reversed ? -1.0 : 1.0;
   parallel_ = mw == glm::dvec3(0.0);
+  if (parallel_) {
+    // Inside the clip volume z_n w <= z <= w: the plane z - z_n w is >= 0 for the classic near
+    // plane; for reversed-Z the near plane is z - w, which is <= 0 inside.
+    facingNormal_ = glm::dvec3(nearPlane_);
+    facingSign_ = mode.reversed ? -1.0 : 1.0;
+  } else {
+    // dot(mw, d) = det(mx, my, mw) at every pixel (d = x' my x mw + y' mw x mx + mx x my): one
+    // sign for the whole frame, never near zero, where the near plane's dot with d changes sign
+    // at the horizon of an oblique near plane. The direction is robustDirectionSign's: away from
+    // the eye (w growing) for every ordinary camera and for Lengyel's, towards it for a matrix
+    // whose near plane lies on the eye's visible side (a NO matrix drawn under reversed-Z).
+    facingNormal_ = mw;
+    facingSign_ = static_cast<double>(robustDirectionSign(clipFromWorld, mode)) *
+                  (glm::determinant(glm::dmat3(mx, my, mw)) < 0.0 ? -1.0 : 1.0);
+  }
   depthPart_ = worldFromClip_[2] * mode_.nearNdcZ() + worldFromClip_[3] * 1.0;
 }
 
@@ -99,8 +112,9 @@ bool cpuHasAvx2Fma() {
 // What finishRay reads of the generator, and the row's parts of the near point.
 struct RowConstants {
   glm::dvec4 column0, rowPart, depthPart;  // near point = (column0 x + rowPart) + depthPart
-  glm::dvec4 nearPlane, farPlane;
-  double nearSign;
+  glm::dvec3 facingNormal;  // facingSign * dot(facingNormal, d) > 0: see RobustRayGenerator
+  glm::dvec4 farPlane;
+  double facingSign;
 };
 
 // directionsOfRow, structure of arrays (direction[c][k]): the same fma per component.
@@ -143,11 +157,12 @@ __attribute__((target("avx2"))) void finishRowBlock(const RowConstants& c, const
     }
     __m256d d[3];
     for (int r = 0; r < 3; ++r) d[r] = _mm256_loadu_pd(direction[r] + k);
-    // Into the frustum through the near plane.
-    const __m256d facing = _mm256_mul_pd(
-        bcast(c.nearSign), _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(bcast(c.nearPlane.x), d[0]),
-                                                       _mm256_mul_pd(bcast(c.nearPlane.y), d[1])),
-                                         _mm256_mul_pd(bcast(c.nearPlane.z), d[2])));
+    // Away from the eye (parallel projections: into the frustum through the near plane).
+    const __m256d facing =
+        _mm256_mul_pd(bcast(c.facingSign),
+                      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(bcast(c.facingNormal.x), d[0]),
+                                                  _mm256_mul_pd(bcast(c.facingNormal.y), d[1])),
+                                    _mm256_mul_pd(bcast(c.facingNormal.z), d[2])));
     const __m256d flip = _mm256_and_pd(_mm256_cmp_pd(facing, zero, _CMP_LT_OQ), signBit);
     for (int r = 0; r < 3; ++r) d[r] = _mm256_xor_pd(d[r], flip);
     const __m256d length = _mm256_sqrt_pd(
@@ -202,7 +217,7 @@ void RobustRayGenerator::generateRow(const RowTerms& row, std::span<const double
 #if CLIPRAY_ROW_KERNELS
   if (rowKernelsAllowed && cpuHasAvx2Fma()) {
     const RowConstants constants{worldFromClip_[0], rowPart,   depthPart,
-                                 nearPlane_,        farPlane_, nearSign_};
+                                 facingNormal_,     farPlane_, facingSign_};
     alignas(32) double directions[3][kRowBlock];
     for (std::size_t first = 0; first < clipX.size(); first += kRowBlock) {
       const std::size_t count = std::min(kRowBlock, clipX.size() - first);
@@ -236,8 +251,9 @@ void RobustRayGenerator::allowRowKernels(bool allowed) {
 }
 
 Ray RobustRayGenerator::finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld) const noexcept {
-  // The direction must enter the frustum through the near plane.
-  if (nearSign_ * glm::dot(glm::dvec3(nearPlane_), d) < 0.0) d = -d;
+  // The direction must point away from the eye (parallel: into the frustum through the near
+  // plane).
+  if (facingSign_ * glm::dot(facingNormal_, d) < 0.0) d = -d;
   d /= std::sqrt(glm::dot(d, d));
 
   Ray ray;
@@ -246,7 +262,9 @@ Ray RobustRayGenerator::finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld
   // The near point must lie in front of the eye (clip w = 1 / w_world > 0) and be finite. It does
   // not when a matrix is drawn under conventions it was not built for in the reversed sense (a
   // reversed-Z matrix under NO puts z = -1 behind the eye, a NO infinite matrix under reversed-Z
-  // puts z = 1 at infinity): no ray, rather than one from behind the camera.
+  // puts z = 1 at infinity), nor beyond the horizon of an oblique near plane (Lengyel's water
+  // plane: a line of sight pointing below the water meets it behind the eye, and the rasterizer
+  // shows nothing there): no ray, rather than one from behind the camera.
   if (!(nearPointWorld.w > 0.0) || !std::isfinite(ray.origin.x + ray.origin.y + ray.origin.z)) {
     ray.tMax = kNoRayTMax;
     return ray;

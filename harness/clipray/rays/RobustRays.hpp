@@ -1,9 +1,13 @@
 #pragma once
 // The `robust` ray method (docs/bench.md): direction from the plane-cross product of rows of
-// clipFromWorld, its sign fixed by the near plane (which always exists), origin on the near plane
-// the rasterizer clips at, tMax at the far plane or +inf. Works for perspective, orthographic,
-// oblique, mirrored, reversed-Z and infinite far without per-case switches from the caller.
-// clipFromWorld: column-major, p_clip = clipFromWorld * p_world, built for the DepthMode given.
+// clipFromWorld, one sign per camera (where clip w grows, in front of the eye, for every ordinary
+// camera; a parallel projection, whose w is constant, takes it from its near plane), origin on the
+// near plane the rasterizer clips at, tMax at the far plane or +inf. Works for perspective,
+// orthographic, oblique (Lengyel's near plane, horizon in view), mirrored, reversed-Z and infinite
+// far without per-case switches from the caller. A pixel whose line of sight never crosses the near
+// plane in front of the eye (beyond the horizon of an oblique near plane, or a matrix drawn under a
+// convention whose near plane lies behind the eye) has no ray: tMax = kNoRayTMax. clipFromWorld:
+// column-major, p_clip = clipFromWorld * p_world, built for the DepthMode given.
 
 #include <span>
 #include <vector>
@@ -59,7 +63,14 @@ class RobustRayGenerator {
   glm::dvec4 depthPart_;  // worldFromClip columns 2 and 3 times (z_near, 1): the same every row
   glm::dvec4 nearPlane_;  // row2 - z_near * row3: zero on the near clip plane
   glm::dvec4 farPlane_;   // row2 - z_far * row3
-  double nearSign_;       // +1, or -1 for reversed-Z: sign of nearPlane inside the frustum
+  // The direction d must satisfy facingSign_ * dot(facingNormal_, d) > 0: perspective, the xyz of
+  // row 3 (dot(mw, d) = det(mx, my, mw): one sign over the frame) with robustDirectionSign's sign
+  // (QuadReference.hpp): away from the eye, where w grows, whatever the near plane's tilt, unless
+  // the near plane lies on the eye's visible side (a NO matrix under reversed-Z: towards it);
+  // parallel (w constant), the near plane's normal with +1, or -1 for reversed-Z. Either way d
+  // enters the view volume through the near plane wherever the pixel has a ray.
+  glm::dvec3 facingNormal_;
+  double facingSign_;
   bool parallel_;
 };
 
