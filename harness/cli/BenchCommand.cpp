@@ -208,6 +208,7 @@ std::string table(const std::vector<Row>& rows) {
       << std::setw(10) << "ang max" << std::setw(10) << "ang p50" << std::setw(10) << "org max"
       << std::setw(10) << "org p50" << std::setw(10) << "tmax rel" << std::setw(9) << "nonfin"
       << std::setw(9) << "backw" << std::setw(10) << "floor" << std::setw(10) << "out floor"
+      << std::setw(9) << "no ray"
       << "\n";
   for (const Row& r : rows) {
     std::ostringstream ns;
@@ -219,7 +220,7 @@ std::string table(const std::vector<Row>& rows) {
         << std::setw(10) << cell(r.errors.originLateralPx.p50) << std::setw(10)
         << cell(r.errors.tMaxRelativeMax) << std::setw(9) << r.errors.nonfinite << std::setw(9)
         << r.errors.backward << std::setw(10) << cell(r.floorAnglePx) << std::setw(10)
-        << cell(r.outputFloorAnglePx) << "\n";
+        << cell(r.outputFloorAnglePx) << std::setw(9) << r.errors.noRay << "\n";
   }
   return out.str();
 }
@@ -358,7 +359,9 @@ int runBench(const BenchOptions& options) {
             << ", one core for timings\n";
   std::cout << "errors in pixels (angle: pixel angles; org: lateral origin error in near-plane "
                "pixel footprints); floor: what the float matrix costs; out floor: what storing the "
-               "exact ray's direction in the row's precision costs\n";
+               "exact ray's direction in the row's precision costs; no ray: pixels whose line of "
+               "sight never crosses the near plane in front of the eye (an oblique near plane's "
+               "horizon in view), measured no further\n";
   std::cout << table(rows);
   if (!options.json.empty()) {
     nlohmann::json json;
@@ -383,6 +386,8 @@ int runBench(const BenchOptions& options) {
           {"backward", r.errors.backward},
           {"floor_angle_px", number(r.floorAnglePx)},
           {"floor_output_angle_px", number(r.outputFloorAnglePx)},
+          {"no_ray", r.errors.noRay},
+          {"no_ray_disagree", r.errors.noRayDisagree},
       });
     }
     writeFileAtomically(options.json, json.dump(2) + "\n");

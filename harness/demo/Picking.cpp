@@ -41,6 +41,13 @@ PickRay libraryRay(RayMethod method, const CameraInputs& camera, Viewport viewpo
   const bool finite = std::isfinite(ray.origin.x) && std::isfinite(ray.origin.y) &&
                       std::isfinite(ray.origin.z) && std::isfinite(ray.direction.x) &&
                       std::isfinite(ray.direction.y) && std::isfinite(ray.direction.z);
+  // robust says "no ray" with a negative t_max: the pixel's line of sight meets the near plane
+  // behind the eye (beyond an oblique near plane's horizon), and the raster shows nothing there.
+  if (ray.tMax < 0.0) {
+    result.unavailable =
+        "no ray: the line of sight never crosses the near plane in front of the eye";
+    return result;
+  }
   // t_max may be +inf (infinite far plane, direction-only methods) but not NaN or negative.
   if (!finite || !(glm::length(ray.direction) > 0.0) || !(ray.tMax > 0.0)) {
     result.unavailable = "non-finite ray";

@@ -85,7 +85,7 @@ TEST(BenchCli, BadInputExitsTwoWithAClearMessage) {
        "clipray: --cases: unknown case \"nope\"; valid cases: standard, seed002_renderer, "
        "eye_1e5, eye_1e7, infinite_far_eye_ppp, infinite_far_eye_mmm, telephoto, mirrored, "
        "aspect_32_9, viewport_7x3, ortho_far, ortho_symmetric_depth, ortho_negative_near, "
-       "off_axis, oblique_near, reversed_z_infinite, no_matrix_under_zo\n"},
+       "off_axis, oblique_near, oblique_horizon, reversed_z_infinite, no_matrix_under_zo\n"},
       {"--methods robust,fast",
        "clipray: --methods: unknown method \"fast\"; valid methods: unproject_glm, two_point, "
        "inverse_pv, fov_tangent, plane_cross, plane_cross_pre, full, robust\n"},
