@@ -81,6 +81,12 @@ def reconcile(build, out, arguments):
         return json.load(f)
 
 
+def worst(values):
+    """The largest of the figures that exist (a case without rays has none)."""
+    present = [v for v in values if v is not None]
+    return max(present) if present else None
+
+
 def analytic(timings):
     return timings["rays"] + timings["intersect"] + timings["compare"]
 
@@ -192,7 +198,7 @@ def ray_methods_section(build, work, quick):
                              r["nonfinite"], r["backward"], fmt(r["floor_angle_px"]),
                              fmt(r["floor_output_angle_px"])])
     robust = [r for r in rows if r["method"] == "robust" and r["precision"] == "float"]
-    worst_over_floor = max(
+    worst_over_floor = worst(
         r["angle_err_px"]["max"] / max(r["floor_angle_px"], r["floor_output_angle_px"])
         for r in robust if r["angle_err_px"]["max"] is not None)
     double = [r for r in rows if r["method"] == "robust" and r["precision"] == "double"]
@@ -200,11 +206,11 @@ def ray_methods_section(build, work, quick):
             f"(float rows unless marked; NO shown; errors in pixels; `floor`: what storing the "
             f"matrix in float costs, `out floor`: what storing the exact direction in float "
             f"costs). Over all {len(robust)} case x convention rows, `robust` float's worst angle "
-            f"is at most {worst_over_floor:.3g}x the larger floor, with "
+            f"is at most {fmt(worst_over_floor)}x the larger floor, with "
             f"{sum(r['nonfinite'] + r['backward'] for r in robust)} non-finite or backward rays; "
             f"`robust` double's worst angle is "
-            f"{fmt(max(r['angle_err_px']['max'] for r in double))} px and worst lateral origin "
-            f"error {fmt(max(r['origin_lateral_err_px']['max'] for r in double))} px.\n\n")
+            f"{fmt(worst(r['angle_err_px']['max'] for r in double))} px and worst lateral origin "
+            f"error {fmt(worst(r['origin_lateral_err_px']['max'] for r in double))} px.\n\n")
     header = ["case", "method", "ns/ray", "angle max", "origin max", "non-finite", "backward",
               "floor", "out floor"]
     return text + table(header, selected)
