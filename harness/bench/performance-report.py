@@ -202,7 +202,8 @@ def ray_methods_section(build, work, quick):
         r["angle_err_px"]["max"] / max(r["floor_angle_px"], r["floor_output_angle_px"])
         for r in robust if r["angle_err_px"]["max"] is not None)
     double = [r for r in rows if r["method"] == "robust" and r["precision"] == "double"]
-    text = (f"`clipray bench {' '.join(a for a in arguments if a != rows_path)} --json FILE` "
+    shown = [a for a in arguments if a not in ("--json", rows_path)]
+    text = (f"`clipray bench {' '.join(shown)} --json FILE` "
             f"(float rows unless marked; NO shown; errors in pixels; `floor`: what storing the "
             f"matrix in float costs, `out floor`: what storing the exact direction in float "
             f"costs). Over all {len(robust)} case x convention rows, `robust` float's worst angle "
@@ -234,7 +235,9 @@ def google_benchmark_section(build, quick):
     if robust and glm_row and robust.get("items_per_second"):
         ratio = (f" `robust` float is {robust['items_per_second'] / glm_row['items_per_second']:.0f}x "
                  f"faster than `unproject_glm` float on this machine.")
-    text = (f"`{' '.join(os.path.relpath(c, ROOT) if i == 0 else c for i, c in enumerate(command))}`"
+    binary = os.path.relpath(command[0], ROOT)
+    binary = command[0] if binary.startswith("..") else binary
+    text = (f"`{' '.join([binary] + command[1:])}`"
             f": medians of {repetitions} repetitions, one core, origin, direction and t_max of a "
             f"row of pixels written into a cache-resident buffer; the three `robust` rows are "
             f"the same bits on three code paths (the unsuffixed one is the path this CPU "
