@@ -419,12 +419,11 @@ double otherReading(const Truth& t) {
   return std::isfinite(f) ? f * n / (2 * f - n) : n / 2;
 }
 
-std::string describe(const Camera& camera, const CheckInput& input, const std::string& mistake) {
+std::string describe(const Camera& camera, const std::string& mistake) {
   char buffer[256];
   std::snprintf(buffer, sizeof buffer, "%s %s (%s) near %.9g far %.9g fov %.4g |eye| %.3g",
                 camera.engine.c_str(), camera.form.c_str(), mistake.c_str(), camera.truth.near,
                 camera.truth.far, camera.truth.fovY, glm::length(camera.truth.eye));
-  (void)input;
   return buffer;
 }
 
@@ -483,7 +482,7 @@ void checkOne(const Camera& camera, const glm::dmat4& listed, const std::string&
       return;
     }
     ++tally.wrongProperties;
-    tally.fail(describe(camera, input, mistake) + " [" + form + "]: refused: " + error.what());
+    tally.fail(describe(camera, mistake) + " [" + form + "]: refused: " + error.what());
     return;
   }
   const MatrixProperties& p = report.properties;
@@ -511,15 +510,15 @@ void checkOne(const Camera& camera, const glm::dmat4& listed, const std::string&
                     p.nearIfBuiltForNo ? p.nearIfBuiltForNo->error : -1.0,
                     p.nearIfBuiltForZo ? p.nearIfBuiltForZo->value : -1.0,
                     p.nearIfBuiltForZo ? p.nearIfBuiltForZo->error : -1.0);
-      tally.fail(describe(camera, input, mistake) + " [" + form + "]: false error " + code +
+      tally.fail(describe(camera, mistake) + " [" + form + "]: false error " + code +
                  " (built_for " + p.builtFor + ": " + p.builtForReason + ")" + detail);
     }
   }
   for (const std::string& code : injected) {
     if (decidable && !errors.count(code)) {
       ++tally.missedErrors;
-      tally.fail(describe(camera, input, mistake) + " [" + form + "]: missed " + code +
-                 " (built_for " + p.builtFor + ": " + p.builtForReason + ")");
+      tally.fail(describe(camera, mistake) + " [" + form + "]: missed " + code + " (built_for " +
+                 p.builtFor + ": " + p.builtForReason + ")");
     }
   }
   if (mistake == "transposed") return;  // the rest of the report describes the scrambled matrix
@@ -586,8 +585,7 @@ void checkOne(const Camera& camera, const glm::dmat4& listed, const std::string&
           matrix += number;
         }
     }
-    tally.fail(describe(camera, input, mistake) + " [" + form + "]: wrong" + list + detail +
-               matrix);
+    tally.fail(describe(camera, mistake) + " [" + form + "]: wrong" + list + detail + matrix);
   }
 }
 

@@ -435,7 +435,6 @@ CheckReport checkConventions(const CheckInput& input) {
   // the matrix says, or as declared for orthographic matrices).
   const DepthMode mode = p.perspective ? (p.reversed ? kZeroToOneReversed : drawn)
                                        : DepthMode{declared, input.declaredReversed};
-  (void)worldFromClip;
 
   // ---- Findings ----
   const std::string declaredName =
