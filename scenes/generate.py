@@ -93,6 +93,89 @@ def write(name, comment, cameras, objects, conventions=None):
         f.write(text + "\n")
 
 
+# ---- Matrices in double, column vectors; m[r][c] (row-major lists), written column-major. ----
+
+def mat_mul(a, b):
+    return [[sum(a[r][k] * b[k][c] for k in range(4)) for c in range(4)] for r in range(4)]
+
+
+def mat_vec(m, v):
+    return [sum(m[r][k] * v[k] for k in range(4)) for r in range(4)]
+
+
+def mat_inverse(m):
+    """Gauss-Jordan with partial pivoting."""
+    a = [list(map(float, row)) + [1.0 if r == c else 0.0 for c in range(4)] for r, row in enumerate(m)]
+    for col in range(4):
+        pivot = max(range(col, 4), key=lambda r: abs(a[r][col]))
+        a[col], a[pivot] = a[pivot], a[col]
+        inv = 1.0 / a[col][col]
+        a[col] = [x * inv for x in a[col]]
+        for r in range(4):
+            if r != col and a[r][col] != 0.0:
+                f = a[r][col]
+                a[r] = [x - f * y for x, y in zip(a[r], a[col])]
+    return [row[4:] for row in a]
+
+
+def transpose(m):
+    return [[m[c][r] for c in range(4)] for r in range(4)]
+
+
+def look_at_rh(eye, target, up):
+    """glm::lookAtRH: view space looks down -z, y up."""
+    def sub(a, b):
+        return [x - y for x, y in zip(a, b)]
+
+    def norm(v):
+        n = math.sqrt(sum(x * x for x in v))
+        return [x / n for x in v]
+
+    def cross(a, b):
+        return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+    def dot(a, b):
+        return sum(x * y for x, y in zip(a, b))
+    f = norm(sub(target, eye))
+    s = norm(cross(f, up))
+    u = cross(s, f)
+    return [[s[0], s[1], s[2], -dot(s, eye)], [u[0], u[1], u[2], -dot(u, eye)],
+            [-f[0], -f[1], -f[2], dot(f, eye)], [0.0, 0.0, 0.0, 1.0]]
+
+
+def perspective_rh(fov_y_degrees, aspect, near, far, convention):
+    """glm::perspectiveRH_NO ("no": z_ndc in [-1, 1]) or perspectiveRH_ZO ("zo": [0, 1])."""
+    f = 1.0 / math.tan(math.radians(fov_y_degrees) / 2)
+    if convention == "no":
+        a, b = -(far + near) / (far - near), -2 * far * near / (far - near)
+    else:
+        a, b = -far / (far - near), -far * near / (far - near)
+    return [[f / aspect, 0.0, 0.0, 0.0], [0.0, f, 0.0, 0.0], [0.0, 0.0, a, b], [0.0, 0.0, -1.0, 0.0]]
+
+
+def lengyel_oblique(projection, view_plane, convention):
+    """Eric Lengyel, "Oblique View Frustum Depth Projection and Clipping" (2005): the depth row of
+    `projection` is replaced so that the near plane is the view-space plane C (eye on its negative
+    side, C . p > 0 kept) and the far plane passes through the old far corner q = P^-1 (sgn C'x,
+    sgn C'y, 1, 1), C' = P^-T C. NO (his OpenGL form): row 2 := (2 / C.q) C - row 3; ZO (his Direct3D
+    form): row 2 := (1 / C.q) C. Points on C land on z_ndc = -1 (NO) or 0 (ZO)."""
+    inv = mat_inverse(projection)
+    clip_plane = mat_vec(transpose(inv), view_plane)
+    sgn = [(x > 0) - (x < 0) for x in clip_plane]
+    q = mat_vec(inv, [sgn[0], sgn[1], 1.0, 1.0])
+    cq = sum(c * x for c, x in zip(view_plane, q))
+    m = [list(row) for row in projection]
+    if convention == "no":
+        m[2] = [2.0 / cq * c - w for c, w in zip(view_plane, projection[3])]
+    else:
+        m[2] = [1.0 / cq * c for c in view_plane]
+    return m
+
+
+def column_major(m):
+    return [m[r][c] for c in range(4) for r in range(4)]
+
+
 def main():
     ground = quad("ground", (-4, 0, -4), (-4, 0, 4), (4, 0, 4), (4, 0, -4))
     write("standard",
@@ -174,6 +257,41 @@ def main():
           [perspective("main", (0, 0, 0), (0, 0, -1), 60, 1.0, 100, built_for="no")],
           [quad("slanted", (-0.6, -0.6, -1.2), (0.6, -0.6, -1.2), (0.6, 0.6, -3.0), (-0.6, 0.6, -3.0)),
            box("back", (0, 0, -6), (3, 3, 0.5))])
+
+    # A planar water reflection: the main camera's view mirrored in the water plane y = 0 (det < 0, a
+    # mirrored image, as a reflection pass renders it), with Lengyel's oblique near plane at the water
+    # level so that nothing below the water reaches the reflection. The mirrored eye (0, -3, 12) looks
+    # up 11.8 deg with a 60 deg fov: the water's horizon crosses the image, and every pixel below it
+    # looks down, away from the water: its line of sight meets the near plane only behind the eye, so
+    # it has no ray and the rasterizer must show nothing there. One camera per convention (a raw
+    # clipFromWorld is drawn unchanged under both; under the other convention its near plane tilts to
+    # another plane through the same horizon line, still a valid camera).
+    main_eye, main_target = (0.0, 3.0, 12.0), (0.0, 0.5, 0.0)
+    mirror = [[1.0, 0.0, 0.0, 0.0], [0.0, -1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]]
+    reflected_view = mat_mul(look_at_rh(main_eye, main_target, (0.0, 1.0, 0.0)), mirror)
+    # The water plane (0, 1, 0, 0) in the reflection camera's view space: C_view = V^-T C_world.
+    water_in_view = mat_vec(transpose(mat_inverse(reflected_view)), [0.0, 1.0, 0.0, 0.0])
+    reflection_cameras = []
+    for convention in ("no", "zo"):
+        projection = lengyel_oblique(perspective_rh(60, 320 / 240, 0.1, 1000, convention), water_in_view,
+                                     convention)
+        reflection_cameras.append({"name": "reflection_" + convention, "viewport": [320, 240],
+                                   "clipFromWorld": [float("%.17g" % x) for x in
+                                                     column_major(mat_mul(projection, reflected_view))]})
+    write("water_reflection",
+          "A water reflection: the view from (0, 3, 12) mirrored in the water plane y = 0, with Lengyel's oblique "
+          "near plane at the water level (camera reflection_no built for NO, reflection_zo for ZO), the horizon "
+          "in view. Pixels below the horizon look away from the water: no ray, and the raster must show nothing "
+          "there. Above the water a tower, a crate and a ball; a post, a rock and an analytic sphere (the buoy, drawn "
+          "by the primitive shader's own rays) crossing the water are cut at y = 0; a submerged box between the mirrored eye and the water and the sea floor are clipped entirely.",
+          reflection_cameras,
+          [box("tower", (-3, 4, -4), (2, 8, 2), ((0, 1, 0), 20)), box("crate", (2.5, 0.75, 2), (1.5, 1.5, 1.5)),
+           icosphere("ball", (0.5, 2.2, -1), 1.2, 2), box("post", (-1, 0.5, 4), (0.4, 3, 0.4)),
+           tetrahedron("rock", (3.5, 0.1, -2), 1.0),
+           {"name": "buoy", "type": "sphere", "centre": [-2.2, 0.2, 6.5], "radius": 0.6},
+           box("submerged", (0, -1.5, 8), (3, 1, 1)),
+           quad("sea_floor", (-30, -5, 15), (30, -5, 15), (30, -5, -30), (-30, -5, -30))],
+          conventions=["no", "zo"])
 
     # ---- Analytic primitives (drawn exactly by a fragment shader on a proxy, see shaders/) ----
     write("primitives",

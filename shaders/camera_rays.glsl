@@ -11,23 +11,34 @@ vec4 matrixRow(mat4 m, int i) { return vec4(m[0][i], m[1][i], m[2][i], m[3][i]);
 
 struct CameraRay {
   vec3 origin;     // on the near plane, where the rasterizer clips
-  vec3 direction;  // towards the far plane, not normalized
+  vec3 direction;  // into the view volume, not normalized
+  bool hasRay;     // false where the line of sight meets the near plane behind the eye
 };
 
 // The ray of the pixel whose NDC position is ndc ("robust" method, DESIGN.md section 2): the
 // intersection line of the planes x_ndc = ndc.x and y_ndc = ndc.y, i.e. row0 - x row3 and
 // row1 - y row3. No inverse matrix, so it holds for perspective, orthographic, oblique, mirrored
-// and infinite-far matrices alike.
-//   nearNdcZ:  NDC z of the near plane (-1 for GL_NEGATIVE_ONE_TO_ONE, 0 for GL_ZERO_TO_ONE,
-//              1 for reversed-Z)
-//   nearSign:  +1 when depth grows away from the near plane, -1 for reversed-Z; the plane
-//              nearSign * (row2 - nearNdcZ row3) is positive inside the view volume.
-CameraRay cameraRayThroughNdc(mat4 clipFromLocal, vec2 ndc, float nearNdcZ, float nearSign) {
+// and infinite-far matrices alike. Orientation and "no ray" are RobustRayGenerator's
+// (harness/clipray/rays/RobustRays.cpp), so that the two sides agree on which pixels show nothing:
+//   nearNdcZ:    NDC z of the near plane (-1 for GL_NEGATIVE_ONE_TO_ONE, 0 for GL_ZERO_TO_ONE,
+//                1 for reversed-Z)
+//   facingSign:  RobustRayGenerator::facingSign(): the direction d satisfies
+//                facingSign * dot(facing, d) > 0, where facing is the xyz of row3 (perspective:
+//                w grows along d, or falls for the one camera kind whose rays point at the eye),
+//                or of the near plane row2 - nearNdcZ row3 (parallel: w is constant). Both tests
+//                read the same in any frame (a local frame's rows are the world's times its
+//                transform), so the local frame's rows serve.
+//   parallel:    row3 has no xyz part.
+// The origin is the point on the near plane; it must lie in front of the eye (clip w > 0). Beyond
+// the horizon of an oblique near plane (Lengyel's water plane) the line of sight meets it behind
+// the eye: no ray, and the rasterizer shows nothing there either.
+CameraRay cameraRayThroughNdc(mat4 clipFromLocal, vec2 ndc, float nearNdcZ, float facingSign,
+                              bool parallel) {
   vec4 row0 = matrixRow(clipFromLocal, 0), row1 = matrixRow(clipFromLocal, 1);
   vec4 row2 = matrixRow(clipFromLocal, 2), row3 = matrixRow(clipFromLocal, 3);
   vec4 planeX = row0 - ndc.x * row3;
   vec4 planeY = row1 - ndc.y * row3;
-  vec4 planeNear = nearSign * (row2 - nearNdcZ * row3);
+  vec4 planeNear = row2 - nearNdcZ * row3;
   vec3 xCrossY = cross(planeX.xyz, planeY.xyz);
   // The point on all three planes (Cramer's rule with cross products).
   vec3 yCrossNear = cross(planeY.xyz, planeNear.xyz);
@@ -35,9 +46,11 @@ CameraRay cameraRayThroughNdc(mat4 clipFromLocal, vec2 ndc, float nearNdcZ, floa
   float determinant = dot(planeX.xyz, yCrossNear);
   vec3 origin =
       -(planeX.w * yCrossNear + planeY.w * nearCrossX + planeNear.w * xCrossY) / determinant;
-  // Orientation from the near plane: moving along the ray must go into the view volume.
-  vec3 direction = dot(planeNear.xyz, xCrossY) < 0.0 ? -xCrossY : xCrossY;
-  return CameraRay(origin, direction);
+  vec3 facing = parallel ? planeNear.xyz : row3.xyz;
+  vec3 direction = facingSign * dot(facing, xCrossY) < 0.0 ? -xCrossY : xCrossY;
+  float originW = dot(row3, vec4(origin, 1.0));
+  bool finiteOrigin = !any(isinf(origin)) && !any(isnan(origin));
+  return CameraRay(origin, direction, originW > 0.0 && finiteOrigin);
 }
 
 const int kSphere = 0;

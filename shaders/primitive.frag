@@ -5,7 +5,8 @@
 uniform mat4 uClipFromLocal;  // clipFromWorld * worldFromLocal, rounded to float once
 uniform vec2 uViewportSize;
 uniform float uNearNdcZ;  // -1 (NO), 0 (ZO) or 1 (reversed-Z)
-uniform float uNearSign;  // +1, or -1 for reversed-Z
+uniform float uFacingSign;  // RobustRayGenerator::facingSign() of the camera (camera_rays.glsl)
+uniform bool uParallel;     // the camera's w row has no xyz part
 uniform float uClipMinZ;  // z_n of the clip volume: window depth = (z_ndc - z_n) / (1 - z_n)
 uniform int uKind;
 uniform uint uPrimitiveId;
@@ -13,7 +14,8 @@ layout(location = 0) out uint outPrimitiveId;
 
 void main() {
   vec2 ndc = 2.0 * gl_FragCoord.xy / uViewportSize - 1.0;
-  CameraRay ray = cameraRayThroughNdc(uClipFromLocal, ndc, uNearNdcZ, uNearSign);
+  CameraRay ray = cameraRayThroughNdc(uClipFromLocal, ndc, uNearNdcZ, uFacingSign, uParallel);
+  if (!ray.hasRay) discard;
   float t = intersectPrimitive(uKind, ray.origin, ray.direction);
   if (t == kNoHit) discard;
   vec4 hit = vec4(ray.origin + t * ray.direction, 1.0);

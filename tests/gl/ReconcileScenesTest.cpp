@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "clipray/rays/RobustRays.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "support/GlFixture.hpp"
 
@@ -86,6 +87,68 @@ TEST_F(ShippedScenes, ClipControlMovesTheNearPlaneOfANoMatrix) {
   };
   EXPECT_LT(slantedPixels(zo), slantedPixels(no) * 9 / 10);
   EXPECT_GT(slantedPixels(zo), 0);
+}
+
+TEST_F(ShippedScenes, AWaterReflectionShowsNothingBelowTheHorizonOrTheWater) {
+  // Lengyel's oblique near plane at the water level, horizon in view: under each camera's own
+  // convention (reflection_no under NO, reflection_zo under ZO) and the other, the pixels below
+  // the horizon have no ray and the raster shows nothing there, and the run is consistent. Under
+  // its own convention the near plane is the water: the submerged box and the sea floor show on
+  // neither side. (Under the other the near plane is another plane through the line where the
+  // water meets the eye's w = 0 plane: a ZO matrix under NO clips at z = -w, below the water,
+  // and shows the submerged box; both sides agree on it.)
+  const Scene scene = loadScene(sourcePath("scenes/water_reflection.json"));
+  ASSERT_EQ(scene.cameras.size(), 2u);
+  const PrimitiveIdTable ids(scene);
+  for (const Camera& camera : scene.cameras) {
+    for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne}) {
+      SCOPED_TRACE(camera.name + " under " + mode.name());
+      const gl::AnalyticPass pass = gl::runAnalyticPass(scene, camera, mode, camera.viewport);
+      const RobustRayGenerator rays(pass.camera.clipFromWorld, mode);
+      const bool ownConvention = camera.name == "reflection_" + mode.name();
+      int noRay = 0;
+      for (const VertexMode vertexMode : {VertexMode::World, VertexMode::Pretransformed}) {
+        gl::RenderRequest request;
+        request.scene = &scene;
+        request.viewport = camera.viewport;
+        request.mode = mode;
+        request.clipFromWorld = pass.camera.clipFromWorld;
+        request.vertexMode = vertexMode;
+        const RasterFrame raster = renderer().render(request);
+        noRay = 0;
+        for (int y = 0; y < camera.viewport.height; ++y) {
+          for (int x = 0; x < camera.viewport.width; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * camera.viewport.width + x;
+            const bool hasRay = rays.generateForPixel(x, y, camera.viewport).tMax >= 0.0;
+            noRay += hasRay ? 0 : 1;
+            if (!hasRay) {
+              EXPECT_EQ(raster.ids[i], 0u) << x << ", " << y;
+            }
+            for (const std::uint32_t id : {raster.ids[i], pass.frame.hits[i].primitiveId}) {
+              if (id == 0 || !ownConvention) continue;
+              const std::string& name =
+                  scene.objects[static_cast<std::size_t>(ids.decode(id).object)].name;
+              EXPECT_NE(name, "submerged") << x << ", " << y;
+              EXPECT_NE(name, "sea_floor") << x << ", " << y;
+            }
+          }
+        }
+        // Float32 too: the crate's bottom lies in the water, the oblique near plane, where ZO's
+        // window depth is ~1e-17 and finer than the double hit point (its error term in the
+        // tolerance model, ScreenPolygons.cpp).
+        for (const DepthFormat format : {DepthFormat::Unorm24, DepthFormat::Float32}) {
+          const RunRecord run = gl::rasterAndCompare(renderer(), pass, format, vertexMode, false);
+          EXPECT_TRUE(run.metrics.consistent()) << describe(run);
+          EXPECT_GT(run.metrics.rasterHits, 0);
+        }
+      }
+      // The horizon crosses the image: its top 77 of 240 rows look down, away from the water.
+      // (Under the other convention the other near plane has another horizon.)
+      if (ownConvention) {
+        EXPECT_EQ(noRay, 77 * 320);
+      }
+    }
+  }
 }
 
 TEST_F(ShippedScenes, ReversedZStoresNearerSurfacesDeeper) {

@@ -14,6 +14,7 @@ namespace clipray {
 
 namespace {
 
+using detail::kDoubleUnitRoundoff;
 using detail::kFloatUnitRoundoff;
 using detail::kInf;
 
@@ -60,7 +61,9 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
   // World/CameraRelative: matrix and position each rounded to float (2u) plus a 4-term float
   // dot product (gamma_4 ~ 4u): k = 6. Pretransformed: clip coordinates rounded once: k = 1.
   glm::dvec4 bound(0.0);
+  glm::dvec3 largestPosition(0.0);  // max over the vertices of |p_i|, per axis
   for (const glm::dvec3& v : world) {
+    largestPosition = glm::max(largestPosition, glm::abs(v));
     for (int r = 0; r < 4; ++r) {
       double magnitude = 0.0;
       if (setup_.vertexMode == VertexMode::Pretransformed) {
@@ -77,8 +80,21 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
       bound[r] = std::max(bound[r], magnitude);
     }
   }
+  // The ray side's clip coordinates are those of a double hit point p = o + t d, not exact: the
+  // origin unprojected from the near plane (a 4x4 product and a divide), t from the watertight
+  // test, o + t d and clipFromWorld * p each round relative to |o_i| + t |d_i|, within 16 u_d of it
+  // per axis. Beside the float terms that is nothing, except where a clip row cancels between
+  // large coordinates: a surface lying in an oblique near plane (z ~ 0 while |p| is not, and
+  // float depths near 0 are finer than the double hit).
+  const glm::dvec3 rayScale = rayOriginScale_ + 2.0 * largestPosition;
+  glm::dvec4 rayBound;
+  for (int r = 0; r < 4; ++r) {
+    const glm::dvec4 row = glm::abs(matrixRow(m, r));
+    rayBound[r] = glm::dot(glm::dvec3(row), rayScale) + row.w;
+  }
   polygon.clipErrorBound =
-      bound * (setup_.vertexMode == VertexMode::Pretransformed ? 1.0 : 6.0) * u;
+      bound * (setup_.vertexMode == VertexMode::Pretransformed ? 1.0 : 6.0) * u +
+      rayBound * (16.0 * kDoubleUnitRoundoff);
   const glm::dvec4& error = polygon.clipErrorBound;
 
   glm::dvec4 bufferA[kMaxPolygonVertices + 3], bufferB[kMaxPolygonVertices + 3];

@@ -47,6 +47,24 @@ ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const Raster
       serial_(nextSerial.fetch_add(1, std::memory_order_relaxed)),
       windowFromNdcScale_(1.0 / (1.0 - setup.mode.clipVolumeMinZ())),
       subpixelStep_(std::ldexp(1.0, -setup.subpixelBits)) {
+  // A robust ray starts on the near plane (RobustRays.hpp). Perspective: the origin o lies between
+  // the eye and the hit p on the line of sight, so |o_i| <= |eye_i| + |p_i - eye_i| and
+  // t |d_i| = |p_i - o_i| <= |p_i - eye_i|: |o_i| + t |d_i| <= 3 |eye_i| + 2 |p_i|. Parallel: o
+  // lies in the near plane's quad (pixel centres within [-1, 1]), whose corners bound |o_i|, and
+  // t |d_i| <= |p_i| + |o_i|: |o_i| + t |d_i| <= 2 max |corner_i| + |p_i|.
+  const glm::dmat4& worldFromClip = rays_.worldFromClip();
+  if (rays_.isParallel()) {
+    for (const double x : {-1.0, 1.0}) {
+      for (const double y : {-1.0, 1.0}) {
+        const glm::dvec4 corner =
+            worldFromClip * glm::dvec4(x, y, setup.mode.clipVolumeMinZ(), 1.0);
+        rayOriginScale_ = glm::max(rayOriginScale_, 2.0 * glm::abs(glm::dvec3(corner) / corner.w));
+      }
+    }
+  } else {
+    const glm::dvec4 eye = worldFromClip * glm::dvec4(0.0, 0.0, 1.0, 0.0);
+    rayOriginScale_ = 3.0 * glm::abs(glm::dvec3(eye) / eye.w);
+  }
   const std::uint32_t firstAnalytic = static_cast<std::uint32_t>(intersector.triangleCount()) + 1;
   for (std::size_t p = 0; p < intersector.analyticCount(); ++p) {
     const AnalyticPrimitive& primitive =

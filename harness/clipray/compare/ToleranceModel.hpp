@@ -90,7 +90,8 @@ class ToleranceModel {
     glm::dvec3 depthPlane{std::nan("")};  // d = a x + b y + c in window coordinates
     double maxDepth = 0.0;
     double edgeEpsilon = 0.0;  // pixels
-    // Bounds of the float vertex-transform error in clip space, per clip row (x, y, z, w).
+    // Bounds of the error in clip space, per clip row (x, y, z, w), between the raster's and the
+    // ray's clip coordinates of one point: the float vertex transform plus the double hit point.
     glm::dvec4 clipErrorBound{0.0};
   };
   // What the tolerance of each pixel of a triangle reads from its polygon, packed: 48 bytes in
@@ -129,6 +130,10 @@ class ToleranceModel {
     glm::dvec4 magnitudeRowZ, magnitudeRowW;
   };
   std::vector<AnalyticTransform> analyticTransforms_;
+  // Per world axis, what bounds |o_i| + t |d_i| of a robust ray's hit o + t d beyond the part
+  // that the hit point's own |p_i| bounds (see buildPolygon): 3 |eye_i| for a perspective camera,
+  // twice the largest |o_i| over the near plane's corners for a parallel one.
+  glm::dvec3 rayOriginScale_{0.0};
   double windowFromNdcScale_;  // 1 / (1 - z_n): NDC depth to window depth
   double subpixelStep_;        // 2^-subpixelBits pixels
 };

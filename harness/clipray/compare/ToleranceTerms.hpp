@@ -20,7 +20,8 @@
 
 namespace clipray::detail {
 
-inline constexpr double kFloatUnitRoundoff = 0x1p-24;  // u for IEEE single precision
+inline constexpr double kFloatUnitRoundoff = 0x1p-24;   // u for IEEE single precision
+inline constexpr double kDoubleUnitRoundoff = 0x1p-53;  // u_d for IEEE double precision
 inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 inline constexpr double kInf = std::numeric_limits<double>::infinity();
 

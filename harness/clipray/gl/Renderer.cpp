@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "clipray/math/Projections.hpp"
+#include "clipray/rays/RobustRays.hpp"
 #include "clipray/util/PhaseClock.hpp"
 
 namespace clipray::shaders {
@@ -176,8 +177,8 @@ struct Renderer::State {
   // Analytic primitives: raster.vert on a proxy + primitive.frag (camera_rays.glsl).
   GLuint primitiveProgram = 0;
   struct {
-    GLint clipFromInput = -1, clipFromLocal = -1, viewportSize = -1, nearNdcZ = -1, nearSign = -1,
-          clipMinZ = -1, kind = -1, primitiveId = -1;
+    GLint clipFromInput = -1, clipFromLocal = -1, viewportSize = -1, nearNdcZ = -1, facingSign = -1,
+          parallel = -1, clipMinZ = -1, kind = -1, primitiveId = -1;
   } primitiveUniforms;
 };
 
@@ -224,7 +225,8 @@ Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
   uniforms.clipFromLocal = glGetUniformLocation(primitiveProgram, "uClipFromLocal");
   uniforms.viewportSize = glGetUniformLocation(primitiveProgram, "uViewportSize");
   uniforms.nearNdcZ = glGetUniformLocation(primitiveProgram, "uNearNdcZ");
-  uniforms.nearSign = glGetUniformLocation(primitiveProgram, "uNearSign");
+  uniforms.facingSign = glGetUniformLocation(primitiveProgram, "uFacingSign");
+  uniforms.parallel = glGetUniformLocation(primitiveProgram, "uParallel");
   uniforms.clipMinZ = glGetUniformLocation(primitiveProgram, "uClipMinZ");
   uniforms.kind = glGetUniformLocation(primitiveProgram, "uKind");
   uniforms.primitiveId = glGetUniformLocation(primitiveProgram, "uPrimitiveId");
@@ -398,7 +400,10 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
     glUniform2f(uniforms.viewportSize, static_cast<float>(viewport.width),
                 static_cast<float>(viewport.height));
     glUniform1f(uniforms.nearNdcZ, static_cast<float>(request.mode.nearNdcZ()));
-    glUniform1f(uniforms.nearSign, request.mode.reversed ? -1.0f : 1.0f);
+    // The CPU rays' orientation, so that both sides agree on which pixels have a ray.
+    const RobustRayGenerator rays(request.clipFromWorld, request.mode);
+    glUniform1f(uniforms.facingSign, static_cast<float>(rays.facingSign()));
+    glUniform1i(uniforms.parallel, rays.isParallel() ? 1 : 0);
     glUniform1f(uniforms.clipMinZ, static_cast<float>(request.mode.clipVolumeMinZ()));
     // The proxy must not be cut by the near or far plane where the surface inside it is not:
     // depth clamping turns that clipping off; the shader decides depth range itself.

@@ -50,6 +50,9 @@ class RobustRayGenerator {
   DepthMode mode() const { return mode_; }
   // Row 3 of the matrix has no xyz part: w is constant, a parallel projection.
   bool isParallel() const { return parallel_; }
+  // The sign s of the direction test s * dot(facing, d) > 0 (see facingNormal_); the GLSL rays
+  // of the analytic primitives (shaders/camera_rays.glsl) take it as a uniform.
+  double facingSign() const { return facingSign_; }
 
  private:
   // The rest of generate() once the direction d and the near point in world space (homogeneous)
