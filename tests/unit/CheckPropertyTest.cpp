@@ -591,7 +591,7 @@ void checkOne(const Camera& camera, const glm::dmat4& listed, const std::string&
 
 TEST(CheckProperties, GeneratedCamerasOfEveryEngineReadAsBuilt) {
   const char* override = std::getenv("CLIPRAY_CHECK_CAMERAS");
-  const int perEngine = override ? std::max(1, std::atoi(override)) : 320;
+  const int perEngine = override ? std::max(1, std::atoi(override)) : 680;
   Random random(0x5eed2026u);
   Tally tally;
   const auto run = [&](const Camera& camera, int index) {

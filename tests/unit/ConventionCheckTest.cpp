@@ -404,6 +404,50 @@ TEST(ConventionCheck, LengyelObliqueWithTheHorizonInViewIsRightHanded) {
   EXPECT_EQ(codes(r), std::vector<std::string>{"info:oblique-near-plane"});
 }
 
+TEST(ConventionCheck, NoPixelWithARayLeavesTheMethodsUnmeasured) {
+  // A reflection camera looking 30 degrees down with a 45 degree roll, on a 2x2 viewport: only
+  // the corner x = y = 1 of the view (39.2 degrees up the diagonal from the centre) looks above
+  // the water's horizon; the pixel centres (22.2 degrees) all look below it, so no pixel has a ray.
+  // A projection still (a corner of the view has rays), but nothing to measure the methods on.
+  const double down = glm::radians(30.0);
+  const glm::dvec3 eye(0, -2, 0), forward(0, -std::sin(down), -std::cos(down));
+  const glm::dvec3 level(0, std::cos(down), -std::sin(down)), right(1, 0, 0);
+  const glm::dvec3 up = std::cos(glm::radians(45.0)) * level - std::sin(glm::radians(45.0)) * right;
+  const glm::dmat4 view = glm::lookAtRH(eye, eye + forward, up);
+  const glm::dvec4 waterView = glm::transpose(glm::inverse(view)) * glm::dvec4(0, 1, 0, 0);
+  engines::Mat4 projection;
+  const glm::dmat4 glmProjection = glm::perspectiveRH_NO(kFov, 1.0, 0.1, 100.0);
+  for (int i = 0; i < 16; ++i)
+    projection[static_cast<std::size_t>(i)] = glmProjection[i / 4][i % 4];
+  const auto oblique = engines::oblique::obliqueNearPlane(
+      projection, {waterView.x, waterView.y, waterView.z, waterView.w},
+      engines::oblique::Depth::NO);
+  ASSERT_TRUE(oblique.has_value());
+  CheckInput input = combined(fromEngine(*oblique) * view, NO);
+  input.viewport = {2, 2};
+  const CheckReport r = checkConventions(input);
+  ASSERT_FALSE(r.methods.empty());
+  int unmeasured = 0;
+  for (const MethodPrediction& prediction : r.methods) {
+    if (prediction.unavailable.rfind("needs ", 0) == 0) continue;  // inputs a matrix lacks
+    EXPECT_EQ(prediction.unavailable, "no sampled pixel has a ray") << prediction.method;
+    ++unmeasured;
+  }
+  EXPECT_EQ(unmeasured, 6);  // the six methods that run from clipFromWorld alone
+  EXPECT_NE(checkReportText(r, input).find(
+                "float picking rays at this camera: not measured (no sampled pixel has a "
+                "ray)\n"),
+            std::string::npos)
+      << checkReportText(r, input);
+  // With a viewport whose corner pixels reach past the horizon, robust measures again.
+  input.viewport = {64, 64};
+  for (const MethodPrediction& prediction : checkConventions(input).methods) {
+    if (prediction.method != "robust") continue;
+    EXPECT_TRUE(prediction.unavailable.empty());
+    EXPECT_LT(prediction.angleErrorPx, 0.01);
+  }
+}
+
 TEST(ConventionCheck, BadInput) {
   auto message = [](auto&& call) {
     try {

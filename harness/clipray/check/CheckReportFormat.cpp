@@ -138,7 +138,14 @@ std::string checkReportText(const CheckReport& report, const CheckInput& input) 
     out << "    because " << p.builtForReason << "\n";
   }
   out << "  entries read as " << p.precision << "\n";
-  if (!report.methods.empty()) {
+  const bool anyMeasured =
+      std::any_of(report.methods.begin(), report.methods.end(),
+                  [](const MethodPrediction& m) { return m.unavailable.empty(); });
+  if (!report.methods.empty() && !anyMeasured) {
+    out << "float picking rays at this camera: not measured (" << report.methods.back().unavailable
+        << ")\n";
+  }
+  if (anyMeasured) {
     out << "float picking rays at this camera, max error in pixels (direction / origin):\n";
     for (const MethodPrediction& m : report.methods) {
       if (!m.unavailable.empty()) continue;

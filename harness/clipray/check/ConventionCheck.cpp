@@ -237,8 +237,15 @@ std::vector<MethodPrediction> predictMethodErrors(const CheckInput& input, Depth
         doubleGenerator->generateRow(rows[k], doubleBuffer.span(0, viewport.width));
         doubleErrors.addRow(doubleRows[k], doubleBuffer.span(0, viewport.width));
       }
-      prediction.angleErrorPxDouble = doubleErrors.result().anglePx.max;
       const MethodErrors result = errors.result();
+      if (result.rays == 0) {
+        // Every sampled pixel looks beyond the horizon of an oblique near plane (or the matrix,
+        // under these conventions, puts the near plane behind the eye): nothing to measure.
+        prediction.unavailable = "no sampled pixel has a ray";
+        predictions.push_back(prediction);
+        continue;
+      }
+      prediction.angleErrorPxDouble = doubleErrors.result().anglePx.max;
       prediction.angleErrorPx = result.anglePx.max;
       prediction.originLateralErrorPx = result.originLateralPx.max;
       prediction.nonfinite = result.nonfinite;
