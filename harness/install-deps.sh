@@ -4,7 +4,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config clang-format
-  libosmesa6-dev libegl-dev libgl-dev libglfw3-dev libglm-dev python3-glad libstb-dev
+  libosmesa6-dev libegl-dev libgl-dev libglfw3-dev libglm-dev python3-glad libstb-dev libdeflate-dev
   libgtest-dev libgmock-dev libbenchmark-dev nlohmann-json3-dev libcli11-dev
   libembree-dev
   libtinygltf-dev libtinyobjloader-dev clang-14 libclang-rt-14-dev

@@ -15,6 +15,7 @@
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/gl/Renderer.hpp"
+#include "clipray/report/ImageEncoder.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
@@ -59,6 +60,7 @@ struct ReconcileOptions {
   std::string vertexModes = "world";
   std::string size;
   std::string out = "report";
+  std::string images = "failing";
   bool json = false;
   unsigned threads = 0;
   unsigned rounds = 1;
@@ -71,6 +73,11 @@ int runReconcile(const ReconcileOptions& options) {
   const std::vector<VertexMode> vertexModes =
       parseList<VertexMode>("--vertex-modes", options.vertexModes, parseVertexMode,
                             "world, camera-relative, pretransformed");
+  const std::optional<ImagePolicy> imagePolicy = parseImagePolicy(options.images);
+  if (!imagePolicy) {
+    throw InputError("--images: unknown value \"" + options.images +
+                     "\"; expected one of: failing, all, none");
+  }
   std::optional<std::vector<DepthMode>> conventions;
   if (!options.conventions.empty()) {
     conventions = parseList<DepthMode>("--conventions", options.conventions, DepthMode::parse,
@@ -128,8 +135,9 @@ int runReconcile(const ReconcileOptions& options) {
                        std::to_string(maxViewport.height) + " of " + renderer.info().renderer);
     }
     // One run holds the rays and hits (72 B), the raster frame (8 B), the per-pixel comparison
-    // and its statistics (~40 B) and the images being encoded: measured ~128 B per pixel.
-    const double needed = 160.0 * v.width * v.height;
+    // and its statistics (~40 B) and the images being encoded: measured ~128 B per pixel; up to
+    // two earlier runs' comparisons wait beside it to be encoded (ImageEncoder, ~25 B each).
+    const double needed = 210.0 * v.width * v.height;
     if (availableBytes > 0.0 && needed > availableBytes) {
       char text[160];
       std::snprintf(text, sizeof text,
@@ -151,8 +159,10 @@ int runReconcile(const ReconcileOptions& options) {
   // 3. The runs: scene x camera x convention (one analytic pass) x format x vertex mode.
   //    A progress line on stderr only when a person is watching it.
   //    With --rounds, all of it again, round after round (images in the last round only).
+  //    The images --images asks for are encoded on worker threads beside the next runs.
   const bool progress = isatty(STDERR_FILENO) != 0;
   std::vector<std::vector<RunRecord>> rounds;
+  ImageEncoder encoder;
   for (unsigned round = 1; round <= options.rounds; ++round) {
     const bool lastRound = round == options.rounds;
     std::vector<RunRecord>& runs = rounds.emplace_back();
@@ -178,8 +188,12 @@ int runReconcile(const ReconcileOptions& options) {
                           << depthFormatName(format) << " " << vertexModeName(vertexMode)
                           << "\x1b[K\r" << std::flush;
               }
-              runs.push_back(gl::rasterAndCompare(renderer, pass, format, vertexMode, lastRound,
-                                                  options.threads));
+              gl::ComparedRun compared =
+                  gl::rasterAndComparePixels(renderer, pass, format, vertexMode, options.threads);
+              if (lastRound && wantsImages(*imagePolicy, compared.run.metrics)) {
+                encoder.submit(runs.size(), compared.run, std::move(compared.pixels));
+              }
+              runs.push_back(std::move(compared.run));
             }
           }
         }
@@ -187,7 +201,9 @@ int runReconcile(const ReconcileOptions& options) {
     }
   }
   if (progress) std::cerr << "\x1b[K" << std::flush;
-  const std::vector<RunRecord> runs = mergeRounds(std::move(rounds));
+  // One record per run, the last round's: the same order as the keys the encoder was given.
+  std::vector<RunRecord> runs = mergeRounds(std::move(rounds));
+  encoder.collect(runs);
 
   // 4. Outputs, all at the end and each atomically.
   writeReport(options.out, runs, renderer.info());
@@ -220,6 +236,9 @@ CommandRunner addReconcileOptions(CLI::App& app) {
       ->capture_default_str();
   app.add_option("--size", options->size, "WxH: override every camera's viewport");
   app.add_option("--out", options->out, "Output folder for report.json and PNGs")
+      ->capture_default_str();
+  app.add_option("--images", options->images,
+                 "Which runs get their four PNGs: failing (the inconsistent runs'), all, none")
       ->capture_default_str();
   app.add_flag("--json", options->json, "Also print report.json to stdout");
   app.add_option("--threads", options->threads, "Threads for the analytic pass (0: all cores)")

@@ -48,7 +48,8 @@ TEST(EglCli, ReportsMatchOsMesaOnLlvmpipe) {
   TempFolder folder;
   std::filesystem::create_directory_symlink(kSource + "/scenes", folder.path() / "scenes");
   const std::string common =
-      "reconcile --conventions no,zo,zo-reversed --depth-formats 16,24,32f --size 96x72 ";
+      "reconcile --conventions no,zo,zo-reversed --depth-formats 16,24,32f --size 96x72 "
+      "--images all ";
   const auto egl = runClipray(common + "--backend egl --out egl", folder.path(), kLlvmpipe);
   if (eglUnavailable(egl)) GTEST_SKIP() << "EGL cannot create a context here: " << egl.err;
   const auto osMesa = runClipray(common + "--backend osmesa --out osmesa", folder.path());

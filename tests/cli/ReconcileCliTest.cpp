@@ -25,8 +25,9 @@ bool folderIsEmpty(const std::filesystem::path& folder) {
 
 TEST(ReconcileCli, WritesTheReportAndExitsZeroWhenConsistent) {
   TempFolder folder;
-  const auto result = runClipray(
-      "reconcile '" + kSource + "/scenes/standard.json' --out out --json", folder.path());
+  const auto result =
+      runClipray("reconcile '" + kSource + "/scenes/standard.json' --out out --json --images all",
+                 folder.path());
   ASSERT_EQ(result.status, 0) << result.err;
   const auto report = nlohmann::json::parse(testing::readText(folder.path() / "out/report.json"));
   EXPECT_EQ(report["tool"], "clipray");
@@ -45,7 +46,9 @@ TEST(ReconcileCli, WritesTheReportAndExitsZeroWhenConsistent) {
           "distance_rel_error", "tolerance_ratio", "timings_ms", "cpu_ms", "images"}) {
       EXPECT_TRUE(run.contains(field)) << field;
     }
+    ASSERT_EQ(run["images"].size(), 4u);
     for (const auto& [name, path] : run["images"].items()) {
+      ASSERT_TRUE(path.is_string()) << name;
       EXPECT_TRUE(std::filesystem::is_regular_file(folder.path() / "out" / path.get<std::string>()))
           << name;
     }
@@ -68,7 +71,7 @@ TEST(ReconcileCli, RoundsRepeatEveryRunAndMeasureNothingElseDifferently) {
   const std::string scene =
       "reconcile '" + kSource + "/scenes/standard.json' --conventions no,zo --depth-formats 32f ";
   const auto once = runClipray(scene + "--out once", folder.path());
-  const auto thrice = runClipray(scene + "--rounds 3 --out thrice", folder.path());
+  const auto thrice = runClipray(scene + "--rounds 3 --out thrice --images all", folder.path());
   ASSERT_EQ(once.status, 0) << once.err;
   ASSERT_EQ(thrice.status, 0) << thrice.err;
   const auto a = nlohmann::json::parse(testing::readText(folder.path() / "once/report.json"));
@@ -105,7 +108,9 @@ TEST(ReconcileCli, RoundsRepeatEveryRunAndMeasureNothingElseDifferently) {
       }
     }
     // The last round's images are written.
+    ASSERT_EQ(runB["images"].size(), 4u);
     for (const auto& [name, path] : runB["images"].items()) {
+      ASSERT_TRUE(path.is_string()) << name;
       EXPECT_TRUE(
           std::filesystem::is_regular_file(folder.path() / "thrice" / path.get<std::string>()))
           << name;
@@ -117,6 +122,54 @@ TEST(ReconcileCli, RoundsRepeatEveryRunAndMeasureNothingElseDifferently) {
       runB.erase(timed);
     }
     EXPECT_EQ(runA, runB);
+  }
+}
+
+TEST(ReconcileCli, ImagesAreWrittenForTheInconsistentRunsUnlessAskedOtherwise) {
+  // The water reflection's NO-built camera drawn under zo-reversed is inconsistent (its z = w
+  // near plane lies behind the eye: no rays where GL draws the farthest surfaces); under zo it
+  // is consistent.
+  TempFolder folder;
+  const std::string command = "reconcile '" + kSource +
+                              "/scenes/water_reflection.json' --conventions zo,zo-reversed "
+                              "--depth-formats 32f --size 64x48 ";
+  const std::set<std::string> kNames{"raster_depth", "ray_depth", "error_heatmap", "mismatch"};
+  const auto pngsUnder = [&](const std::string& out) {
+    std::set<std::string> files;
+    for (const auto& entry : std::filesystem::recursive_directory_iterator(folder.path() / out)) {
+      if (entry.path().extension() == ".png") {
+        files.insert(std::filesystem::relative(entry.path(), folder.path() / out).string());
+      }
+    }
+    return files;
+  };
+  for (const std::string policy : {"", "failing", "all", "none"}) {
+    SCOPED_TRACE("--images " + policy);
+    const std::string out = "out-" + (policy.empty() ? std::string("default") : policy);
+    const auto result = runClipray(
+        command + "--out " + out + (policy.empty() ? "" : " --images " + policy), folder.path());
+    ASSERT_EQ(result.status, 1) << result.err;
+    const auto report =
+        nlohmann::json::parse(testing::readText(folder.path() / out / "report.json"));
+    ASSERT_EQ(report["runs"].size(), 4u);
+    std::set<std::string> expected;
+    for (const auto& run : report["runs"]) {
+      const bool consistent = run["verdict"] == "consistent";
+      EXPECT_EQ(consistent, run["convention"] == "zo");
+      const bool wanted = policy == "all" || (policy != "none" && !consistent);
+      ASSERT_EQ(run["images"].size(), 4u);
+      for (const auto& [name, path] : run["images"].items()) {
+        EXPECT_TRUE(kNames.count(name)) << name;
+        if (!wanted) {
+          EXPECT_TRUE(path.is_null()) << name;
+          continue;
+        }
+        ASSERT_TRUE(path.is_string()) << name;
+        expected.insert(path.get<std::string>());
+      }
+    }
+    EXPECT_EQ(expected.size(), policy == "all" ? 16u : policy == "none" ? 0u : 8u);
+    EXPECT_EQ(pngsUnder(out), expected);
   }
 }
 
@@ -250,6 +303,8 @@ INSTANTIATE_TEST_SUITE_P(
                       "or reference it from a scene file with cameras (\"type\": \"meshFile\")"},
         BadInvocation{"NoSubcommand", "", "", "A subcommand is required"},
         BadInvocation{"UnknownOption", "reconcile --frobnicate", "", "frobnicate"},
+        BadInvocation{"UnknownImagePolicy", "reconcile " + kStandard + " --images some", "",
+                      "--images: unknown value \"some\"; expected one of: failing, all, none"},
         BadInvocation{"ZeroRounds", "reconcile " + kStandard + " --rounds 0", "",
                       "--rounds: Value 0 not in range 1 to 1000"}),
     [](const ::testing::TestParamInfo<BadInvocation>& param) {

@@ -1,6 +1,7 @@
 #include "clipray/gl/ReconcileRun.hpp"
 
 #include <cmath>
+#include <utility>
 
 #include "clipray/util/PhaseClock.hpp"
 
@@ -64,6 +65,15 @@ AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode
 
 RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFormat depthFormat,
                            VertexMode vertexMode, bool images, unsigned threadCount) {
+  ComparedRun compared =
+      rasterAndComparePixels(renderer, pass, depthFormat, vertexMode, threadCount);
+  if (images) encodeRunImages(compared.run, compared.pixels);
+  return std::move(compared.run);
+}
+
+ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
+                                   DepthFormat depthFormat, VertexMode vertexMode,
+                                   unsigned threadCount) {
   RenderRequest request;
   request.scene = pass.scene;
   request.clipFromWorld = pass.camera.clipFromWorld;
@@ -83,7 +93,7 @@ RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFo
   setup.vertexReference = pass.reference;
   setup.subpixelBits = renderer.info().subpixelBits;
   const PhaseClock compareClock;
-  const ComparisonResult comparison =
+  ComparisonResult comparison =
       compareFrames(raster, pass.frame, *pass.intersector, setup, threadCount);
   const double compareMilliseconds = compareClock.wallMilliseconds();
   const double compareCpuMilliseconds = compareClock.cpuMilliseconds();
@@ -101,8 +111,7 @@ RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFo
   run.cpu = {renderTimings.rasterCpu, renderTimings.readbackCpu, pass.raysCpuMilliseconds,
              pass.intersectCpuMilliseconds, compareCpuMilliseconds};
   run.analyticOverRaster = run.timings.analyticOverRaster();
-  if (images) encodeRunImages(run, comparison.pixels);
-  return run;
+  return {std::move(run), std::move(comparison.pixels)};
 }
 
 }  // namespace clipray::gl

@@ -49,6 +49,17 @@ AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode
 RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFormat depthFormat,
                            VertexMode vertexMode, bool images = true, unsigned threadCount = 0);
 
+// The same, keeping the per-pixel comparison instead of encoding it: for callers that decide
+// afterwards whether the run's images are wanted, or encode them elsewhere (encodeRunImages,
+// ImageEncoder).
+struct ComparedRun {
+  RunRecord run;
+  PixelComparison pixels;
+};
+ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
+                                   DepthFormat depthFormat, VertexMode vertexMode,
+                                   unsigned threadCount = 0);
+
 // The point near the camera that both passes measure coordinates from: the centre of the near
 // plane the rasterizer clips at, in world space.
 glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode);

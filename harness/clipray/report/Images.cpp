@@ -38,11 +38,14 @@
 #include <string>
 #include <vector>
 
+#include "clipray/report/FastDeflate.hpp"
+#include "clipray/report/Report.hpp"
+
+// stb_image_write writes the PNGs, libdeflate compresses them (FastDeflate.hpp).
 #define STB_IMAGE_WRITE_IMPLEMENTATION
+#define STBIW_ZLIB_COMPRESS clipray::detail::zlibCompressForPng
 #include <stb_easy_font.h>
 #include <stb_image_write.h>
-
-#include "clipray/report/Report.hpp"
 
 namespace clipray {
 namespace {

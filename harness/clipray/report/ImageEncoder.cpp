@@ -1,0 +1,50 @@
+// ImageEncoder: runs' PNGs encoded by std::async workers, at most maxPending at a time.
+
+#include "clipray/report/ImageEncoder.hpp"
+
+#include <stdexcept>
+#include <string>
+
+namespace clipray {
+
+std::optional<ImagePolicy> parseImagePolicy(const std::string& text) {
+  if (text == "none") return ImagePolicy::None;
+  if (text == "failing") return ImagePolicy::Failing;
+  if (text == "all") return ImagePolicy::All;
+  return std::nullopt;
+}
+
+bool wantsImages(ImagePolicy policy, const RunMetrics& metrics) {
+  return policy == ImagePolicy::All || (policy == ImagePolicy::Failing && !metrics.consistent());
+}
+
+void ImageEncoder::submit(std::size_t key, const RunRecord& run, PixelComparison pixels) {
+  while (!pending_.empty() && pending_.size() >= maxPending_) finishOldest();
+  RunRecord header = run;
+  header.images.clear();
+  pending_.push_back({key, std::async(std::launch::async, [header = std::move(header),
+                                                           pixels = std::move(pixels)]() mutable {
+                        encodeRunImages(header, pixels);
+                        return std::move(header.images);
+                      })});
+}
+
+void ImageEncoder::finishOldest() {
+  Pending oldest = std::move(pending_.front());
+  pending_.erase(pending_.begin());
+  done_.emplace_back(oldest.key, oldest.images.get());
+}
+
+void ImageEncoder::collect(std::vector<RunRecord>& runs) {
+  while (!pending_.empty()) finishOldest();
+  for (auto& [key, images] : done_) {
+    if (key >= runs.size()) {
+      throw std::out_of_range("ImageEncoder::collect: run " + std::to_string(key) + " of " +
+                              std::to_string(runs.size()));
+    }
+    runs[key].images = std::move(images);
+  }
+  done_.clear();
+}
+
+}  // namespace clipray
