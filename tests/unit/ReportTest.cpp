@@ -404,23 +404,31 @@ TEST(TextSummary, WorstRunsFirstThenTotals) {
   five.metrics.toleranceRatio.max = 0.1;
 
   const std::vector<std::string> got = lines(textSummary({ok, one, five, oneWorse}));
-  ASSERT_EQ(got.size(), 5u);
-  EXPECT_THAT(got[0], ::testing::StartsWith("INCONSISTENT standard/five "));
-  EXPECT_THAT(got[1], ::testing::StartsWith("INCONSISTENT standard/oneworse "));
-  EXPECT_THAT(got[2], ::testing::StartsWith("INCONSISTENT standard/one "));
-  EXPECT_THAT(got[3], ::testing::StartsWith("consistent   standard/ok "));
-  EXPECT_EQ(got[4], "4 runs: 1 consistent, 3 inconsistent");
+  ASSERT_EQ(got.size(), 9u);  // header, 4 runs, totals, 3 legend lines
+  EXPECT_THAT(got[0], ::testing::StartsWith("verdict      scene/camera "));
+  EXPECT_THAT(got[1], ::testing::StartsWith("INCONSISTENT standard/five "));
+  EXPECT_THAT(got[2], ::testing::StartsWith("INCONSISTENT standard/oneworse "));
+  EXPECT_THAT(got[3], ::testing::StartsWith("INCONSISTENT standard/one "));
+  EXPECT_THAT(got[4], ::testing::StartsWith("consistent   standard/ok "));
+  EXPECT_EQ(got[5], "4 runs: 1 consistent, 3 inconsistent");
   for (const std::string& line : got) EXPECT_LT(line.size(), 160u) << line;
 }
 
 TEST(TextSummary, LineHasFixedColumns) {
   RunRecord run = sampleRun();
   EXPECT_EQ(textSummary({run}),
-            // verdict (12), scene/camera (16), convention (11), format (3), vertex mode (15),
-            // size (9), then the metrics.
+            // A header over the columns: verdict (12), scene/camera (16), convention (11), format
+            // (3), vertex mode (15), size (9), then the metrics, explained after the totals.
+            "verdict      scene/camera     convention  fmt vertex mode     size      "
+            "mismatches and depth error\n"
             "INCONSISTENT standard/main    zo          24  world           640x480   "
             "cov 12 (e10 u2) id 3 (z2 e1 u0) >tol 0 q 1/0.5 tol 0.75/0.5 rel 2.1e-7\n"
-            "1 runs: 0 consistent, 1 inconsistent\n");
+            "1 runs: 0 consistent, 1 inconsistent\n"
+            "  cov: coverage mismatches (e edge-ambiguous, u unexplained); >tol: depths beyond "
+            "tolerance\n"
+            "  id: id mismatches (z depth-ambiguous, e edge-ambiguous, u unexplained)\n"
+            "  q: depth error in depth-buffer quanta, max/p99; tol: error / tolerance, max/p99; "
+            "rel: p99 distance error / eye distance\n");
   // Columns line up whatever the names' lengths (up to the column widths).
   RunRecord other = run;
   other.camera = "topdown";
@@ -430,10 +438,12 @@ TEST(TextSummary, LineHasFixedColumns) {
   other.size = {7, 3};
   other.metrics.toleranceRatio.max = kNaN;
   const std::vector<std::string> got = lines(textSummary({run, other}));
-  ASSERT_EQ(got.size(), 3u);
-  EXPECT_EQ(got[0].find(" cov "), got[1].find(" cov "));
-  EXPECT_THAT(got[0], HasSubstr("standard/topdown zo-reversed 32f camera-relative 7x3       cov"));
-  EXPECT_THAT(got[0], HasSubstr("tol nan/0.5"));  // NaN sorts as the worst ratio
+  ASSERT_EQ(got.size(), 7u);
+  EXPECT_EQ(got[1].find(" cov "), got[2].find(" cov "));
+  EXPECT_EQ(got[0].find(" mismatches "), got[1].find(" cov "));  // the header over the columns
+  EXPECT_EQ(got[0].find(" size "), got[1].find(" 7x3 "));
+  EXPECT_THAT(got[1], HasSubstr("standard/topdown zo-reversed 32f camera-relative 7x3       cov"));
+  EXPECT_THAT(got[1], HasSubstr("tol nan/0.5"));  // NaN sorts as the worst ratio
 }
 
 TEST(TextSummary, NoRuns) {

@@ -156,6 +156,17 @@ std::string shortNumber(double value) {
   return text.substr(0, e + 1) + (negative ? "-" : "") + exponent;
 }
 
+// The columns of summaryLine, and what its figures mean (docs/reconcile.md, "The summary").
+constexpr const char* kSummaryHeader =
+    "verdict      scene/camera     convention  fmt vertex mode     size      mismatches and "
+    "depth error\n";
+constexpr const char* kSummaryLegend =
+    "  cov: coverage mismatches (e edge-ambiguous, u unexplained); >tol: depths beyond "
+    "tolerance\n"
+    "  id: id mismatches (z depth-ambiguous, e edge-ambiguous, u unexplained)\n"
+    "  q: depth error in depth-buffer quanta, max/p99; tol: error / tolerance, max/p99; rel: p99 "
+    "distance error / eye distance\n";
+
 std::string summaryLine(const RunRecord& run) {
   const RunMetrics& m = run.metrics;
   const std::string name = run.scene + "/" + run.camera;
@@ -318,6 +329,7 @@ std::string textSummary(const std::vector<RunRecord>& runs) {
     return sortKey(ma.toleranceRatio.max) > sortKey(mb.toleranceRatio.max);
   });
   std::string out;
+  if (!runs.empty()) out += kSummaryHeader;
   std::size_t consistent = 0;
   for (const std::size_t i : order) {
     out += summaryLine(runs[i]) + "\n";
@@ -325,6 +337,7 @@ std::string textSummary(const std::vector<RunRecord>& runs) {
   }
   out += std::to_string(runs.size()) + " runs: " + std::to_string(consistent) + " consistent, " +
          std::to_string(runs.size() - consistent) + " inconsistent\n";
+  if (!runs.empty()) out += kSummaryLegend;
   return out;
 }
 
