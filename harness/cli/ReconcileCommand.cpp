@@ -16,6 +16,7 @@
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/report/ImageEncoder.hpp"
+#include "clipray/report/JUnit.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
@@ -61,6 +62,7 @@ struct ReconcileOptions {
   std::string size;
   std::string out = "report";
   std::string images = "failing";
+  std::string junit;  // empty: no JUnit file
   bool json = false;
   unsigned threads = 0;
   unsigned rounds = 1;
@@ -90,6 +92,18 @@ int runReconcile(const ReconcileOptions& options) {
   // The output folder must be usable before any work is done (it is written only at the end).
   if (std::filesystem::exists(options.out) && !std::filesystem::is_directory(options.out)) {
     throw InputError("--out: " + options.out + " exists and is not a folder");
+  }
+  if (!options.junit.empty()) {
+    const std::filesystem::path junit(options.junit);
+    const std::filesystem::path folder =
+        junit.has_parent_path() ? junit.parent_path() : std::filesystem::path(".");
+    if (std::filesystem::is_directory(junit)) {
+      throw InputError("--junit: " + options.junit + " is a folder; name the XML file to write");
+    }
+    if (!std::filesystem::is_directory(folder)) {
+      throw InputError("--junit: " + options.junit + ": the folder " + folder.string() +
+                       " does not exist");
+    }
   }
 
   std::vector<std::string> scenePaths = options.scenes;
@@ -207,6 +221,7 @@ int runReconcile(const ReconcileOptions& options) {
 
   // 4. Outputs, all at the end and each atomically.
   writeReport(options.out, runs, renderer.info());
+  if (!options.junit.empty()) writeFileAtomically(options.junit, junitXml(runs, options.out));
   // With --json, stdout carries only the report (parseable); the summary goes to stderr.
   std::ostream& summary = options.json ? std::cerr : std::cout;
   summary << textSummary(runs);
@@ -240,6 +255,8 @@ CommandRunner addReconcileOptions(CLI::App& app) {
   app.add_option("--images", options->images,
                  "Which runs get their four PNGs: failing (the inconsistent runs'), all, none")
       ->capture_default_str();
+  app.add_option("--junit", options->junit,
+                 "Also write the runs as JUnit XML to this file (one test case per run) for CI");
   app.add_flag("--json", options->json, "Also print report.json to stdout");
   app.add_option("--threads", options->threads, "Threads for the analytic pass (0: all cores)")
       ->check(CLI::Range(0u, 256u))

@@ -173,6 +173,30 @@ TEST(ReconcileCli, ImagesAreWrittenForTheInconsistentRunsUnlessAskedOtherwise) {
   }
 }
 
+TEST(ReconcileCli, JUnitHasOneTestCasePerRunAndFailsTheInconsistentOnes) {
+  TempFolder folder;
+  std::filesystem::create_directory(folder.path() / "ci");
+  const auto result = runClipray("reconcile '" + kSource +
+                                     "/scenes/water_reflection.json' --conventions zo,zo-reversed "
+                                     "--depth-formats 32f --size 64x48 --junit ci/junit.xml",
+                                 folder.path());
+  ASSERT_EQ(result.status, 1) << result.err;
+  const std::string xml = testing::readText(folder.path() / "ci/junit.xml");
+  EXPECT_NE(xml.find("<testsuites name=\"clipray reconcile\" tests=\"4\" failures=\"2\""),
+            std::string::npos)
+      << xml;
+  for (const char* name : {"reflection_no zo 32f world", "reflection_zo zo 32f world"}) {
+    EXPECT_NE(xml.find("<testcase classname=\"water_reflection\" name=\"" + std::string(name) +
+                       "\" time=\""),
+              std::string::npos)
+        << name;
+  }
+  EXPECT_NE(xml.find("images: report/water_reflection/reflection_zo-zo-reversed-32f-world/"
+                     "raster_depth.png"),
+            std::string::npos)
+      << xml;
+}
+
 TEST(ReconcileCli, DefaultsToEveryShippedScene) {
   TempFolder folder;
   std::filesystem::create_directory_symlink(kSource + "/scenes", folder.path() / "scenes");
@@ -305,6 +329,11 @@ INSTANTIATE_TEST_SUITE_P(
         BadInvocation{"UnknownOption", "reconcile --frobnicate", "", "frobnicate"},
         BadInvocation{"UnknownImagePolicy", "reconcile " + kStandard + " --images some", "",
                       "--images: unknown value \"some\"; expected one of: failing, all, none"},
+        BadInvocation{"JUnitInAMissingFolder",
+                      "reconcile " + kStandard + " --junit nowhere/junit.xml", "",
+                      "--junit: nowhere/junit.xml: the folder nowhere does not exist"},
+        BadInvocation{"JUnitIsAFolder", "reconcile " + kStandard + " --junit .", "",
+                      "--junit: . is a folder; name the XML file to write"},
         BadInvocation{"ZeroRounds", "reconcile " + kStandard + " --rounds 0", "",
                       "--rounds: Value 0 not in range 1 to 1000"}),
     [](const ::testing::TestParamInfo<BadInvocation>& param) {

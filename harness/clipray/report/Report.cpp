@@ -199,6 +199,10 @@ std::string errnoText(int error) {
 
 }  // namespace
 
+std::string runSummaryLine(const RunRecord& run) {
+  return summaryLine(run);
+}
+
 std::string runFolderName(const RunRecord& run) {
   return pathComponent(run.scene) + "/" + pathComponent(run.camera) + "-" + run.convention.name() +
          "-" + depthFormatName(run.depthFormat) + "-" + vertexModeName(run.vertexMode);

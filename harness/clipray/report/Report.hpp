@@ -73,8 +73,10 @@ std::string runFolderName(const RunRecord& run);
 void encodeRunImages(RunRecord& run, const PixelComparison& pixels);
 
 nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl);
-// One line per run, the worst first, then a totals line.
+// A header, one line per run, the worst first, then a totals line and a legend of the figures.
 std::string textSummary(const std::vector<RunRecord>& runs);
+// The run's line of textSummary, without its newline.
+std::string runSummaryLine(const RunRecord& run);
 
 // Writes report.json and every run's PNGs under outDir (created if missing), each atomically.
 void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecord>& runs,

@@ -1,0 +1,119 @@
+// junitXml: the JUnit XML of a reconcile (see JUnit.hpp).
+
+#include "clipray/report/JUnit.hpp"
+
+#include <cstdio>
+
+namespace clipray {
+
+std::string xmlEscaped(const std::string& text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    switch (c) {
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      case '\'':
+        out += "&apos;";
+        break;
+      default: {
+        const auto byte = static_cast<unsigned char>(c);
+        out += (byte < 0x20 && c != '\t' && c != '\n' && c != '\r') ? '?' : c;
+      }
+    }
+  }
+  return out;
+}
+
+namespace {
+
+std::string seconds(const RunTimings& t) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.3f",
+                (t.raster + t.readback + t.rays + t.intersect + t.compare) / 1000.0);
+  return buffer;
+}
+
+// What a person reading the CI log needs first: which pixels are wrong, how many, how badly.
+std::string failureText(const RunRecord& run, const std::filesystem::path& outDir) {
+  const RunMetrics& m = run.metrics;
+  char buffer[512];
+  std::snprintf(buffer, sizeof buffer,
+                "%lld unexplained coverage mismatches, %lld unexplained id mismatches, %lld depths "
+                "beyond tolerance (worst error / tolerance %.3g) of %lld pixels",
+                static_cast<long long>(m.coverageMismatch.unexplained),
+                static_cast<long long>(m.idMismatch.unexplained),
+                static_cast<long long>(m.depthBeyondTolerance), m.toleranceRatio.max,
+                static_cast<long long>(m.pixels));
+  std::string text = buffer;
+  text.append("\n").append(runSummaryLine(run));
+  if (!run.images.empty()) {
+    text += "\nimages:";
+    for (const EncodedImage& image : run.images) {
+      text.append(" ").append((outDir / image.relativePath).string());
+    }
+  }
+  return text;
+}
+
+}  // namespace
+
+std::string junitXml(const std::vector<RunRecord>& runs, const std::filesystem::path& outDir) {
+  std::size_t failures = 0;
+  RunTimings total;
+  for (const RunRecord& run : runs) {
+    failures += run.metrics.consistent() ? 0 : 1;
+    total.raster += run.timings.raster;
+    total.readback += run.timings.readback;
+    total.rays += run.timings.rays;
+    total.intersect += run.timings.intersect;
+    total.compare += run.timings.compare;
+  }
+  std::string counts = "tests=\"";
+  counts.append(std::to_string(runs.size()))
+      .append("\" failures=\"")
+      .append(std::to_string(failures))
+      .append("\" errors=\"0\" time=\"")
+      .append(seconds(total))
+      .append("\"");
+  std::string out = "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n";
+  out.append("<testsuites name=\"clipray reconcile\" ").append(counts).append(">\n");
+  out.append("  <testsuite name=\"clipray reconcile\" ").append(counts).append(">\n");
+  for (const RunRecord& run : runs) {
+    std::string name = run.camera;
+    name.append(" ")
+        .append(run.convention.name())
+        .append(" ")
+        .append(depthFormatName(run.depthFormat))
+        .append(" ")
+        .append(vertexModeName(run.vertexMode));
+    out.append("    <testcase classname=\"")
+        .append(xmlEscaped(run.scene))
+        .append("\" name=\"")
+        .append(xmlEscaped(name))
+        .append("\" time=\"")
+        .append(seconds(run.timings))
+        .append("\"");
+    if (run.metrics.consistent()) {
+      out += "/>\n";
+      continue;
+    }
+    out.append(">\n      <failure message=\"inconsistent\" type=\"inconsistent\">")
+        .append(xmlEscaped(failureText(run, outDir)))
+        .append("</failure>\n    </testcase>\n");
+  }
+  out += "  </testsuite>\n</testsuites>\n";
+  return out;
+}
+
+}  // namespace clipray

@@ -1,0 +1,67 @@
+// The JUnit XML of clipray reconcile --junit: one test case per run, failures with their text.
+
+#include <gtest/gtest.h>
+
+#include "clipray/report/JUnit.hpp"
+
+namespace clipray {
+namespace {
+
+RunRecord run(const std::string& camera, bool consistent) {
+  RunRecord r;
+  r.scene = "a<b";
+  r.camera = camera;
+  r.convention = kZeroToOne;
+  r.depthFormat = DepthFormat::Float32;
+  r.vertexMode = VertexMode::World;
+  r.size = {4, 2};
+  r.metrics.pixels = 8;
+  r.metrics.coverageMismatch = {3, 1, consistent ? 0 : 2};
+  r.metrics.depthBeyondTolerance = consistent ? 0 : 1;
+  r.metrics.toleranceRatio = {consistent ? 0.5 : 4.0, 0.25, 0.5};
+  r.timings = {1.0, 0.5, 0.25, 0.125, 0.125};  // 2 ms
+  return r;
+}
+
+TEST(JUnit, OneTestCasePerRunAndTheFailuresText) {
+  RunRecord bad = run("m\"1", false);
+  bad.images = {{"a_b/m_1-zo-32f-world/mismatch.png", ""}};
+  const std::string xml = junitXml({run("main", true), bad}, "out");
+  EXPECT_EQ(xml,
+            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+            "<testsuites name=\"clipray reconcile\" tests=\"2\" failures=\"1\" errors=\"0\" "
+            "time=\"0.004\">\n"
+            "  <testsuite name=\"clipray reconcile\" tests=\"2\" failures=\"1\" errors=\"0\" "
+            "time=\"0.004\">\n"
+            "    <testcase classname=\"a&lt;b\" name=\"main zo 32f world\" time=\"0.002\"/>\n"
+            "    <testcase classname=\"a&lt;b\" name=\"m&quot;1 zo 32f world\" time=\"0.002\">\n"
+            "      <failure message=\"inconsistent\" type=\"inconsistent\">2 unexplained coverage "
+            "mismatches, 0 unexplained id mismatches, 1 depths beyond tolerance (worst error / "
+            "tolerance 4) of 8 pixels\n" +
+                xmlEscaped(runSummaryLine(bad)) +
+                "\nimages: out/a_b/m_1-zo-32f-world/mismatch.png</failure>\n"
+                "    </testcase>\n"
+                "  </testsuite>\n"
+                "</testsuites>\n");
+  EXPECT_NE(xml.find("&gt;tol 1"), std::string::npos);  // the summary line's ">tol", escaped
+}
+
+TEST(JUnit, NoRunsIsAnEmptySuite) {
+  EXPECT_EQ(junitXml({}, "out"),
+            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
+            "<testsuites name=\"clipray reconcile\" tests=\"0\" failures=\"0\" errors=\"0\" "
+            "time=\"0.000\">\n"
+            "  <testsuite name=\"clipray reconcile\" tests=\"0\" failures=\"0\" errors=\"0\" "
+            "time=\"0.000\">\n"
+            "  </testsuite>\n"
+            "</testsuites>\n");
+}
+
+TEST(JUnit, EscapesWhatXmlReservesAndDropsWhatItForbids) {
+  EXPECT_EQ(xmlEscaped("a&b<c>d\"e'f"), "a&amp;b&lt;c&gt;d&quot;e&apos;f");
+  EXPECT_EQ(xmlEscaped(std::string("t\tn\nr\rx\x01y\x1f", 10)), "t\tn\nr\rx?y?");
+  EXPECT_EQ(xmlEscaped("caf\xc3\xa9"), "caf\xc3\xa9");  // UTF-8 passes through
+}
+
+}  // namespace
+}  // namespace clipray
