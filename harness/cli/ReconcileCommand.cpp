@@ -239,8 +239,8 @@ int runReconcile(const ReconcileOptions& options) {
 CommandRunner addReconcileOptions(CLI::App& app) {
   auto options = std::make_shared<ReconcileOptions>();
   app.add_option("scenes", options->scenes,
-                 "Scene files (.json), or glTF assets (.gltf, .glb) seen from their own cameras "
-                 "(default: every scenes/*.json)");
+                 "Scene files (.json), or mesh files (.gltf, .glb, .obj, .ply) seen from their "
+                 "own cameras, else from automatic ones (default: every scenes/*.json)");
   app.add_option("--backend", options->backend, "GL backend: osmesa, egl")->capture_default_str();
   app.add_option("--conventions", options->conventions,
                  "Comma-separated: no, zo, zo-reversed (default: the scene's list, else no,zo)");

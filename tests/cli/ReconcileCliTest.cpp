@@ -197,6 +197,31 @@ TEST(ReconcileCli, JUnitHasOneTestCasePerRunAndFailsTheInconsistentOnes) {
       << xml;
 }
 
+TEST(ReconcileCli, AMeshFileWithoutCamerasIsSeenFromTheAutomaticOnes) {
+  TempFolder folder;
+  const std::string obj = kSource + "/tests/data/meshes/quads.obj";
+  const auto result = runClipray("reconcile '" + obj +
+                                     "' --depth-formats 32f --size 64x48 "
+                                     "--conventions zo --out out",
+                                 folder.path());
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_NE(result.err.find("clipray: warning: " + obj +
+                            ": the file has no cameras; using the automatic cameras "
+                            "auto_three_quarter, auto_grazing, auto_orthographic_z, auto_near_cut "
+                            "(docs/scene-format.md)"),
+            std::string::npos)
+      << result.err;
+  const auto report = nlohmann::json::parse(testing::readText(folder.path() / "out/report.json"));
+  std::set<std::string> cameras;
+  for (const auto& run : report["runs"]) {
+    cameras.insert(run["camera"].get<std::string>());
+    EXPECT_EQ(run["verdict"], "consistent") << run["camera"];
+    EXPECT_GT(run["raster_hits"].get<int>(), 0) << run["camera"];
+  }
+  EXPECT_EQ(cameras, (std::set<std::string>{"auto_three_quarter", "auto_grazing",
+                                            "auto_orthographic_z", "auto_near_cut"}));
+}
+
 TEST(ReconcileCli, DefaultsToEveryShippedScene) {
   TempFolder folder;
   std::filesystem::create_directory_symlink(kSource + "/scenes", folder.path() / "scenes");
@@ -321,10 +346,6 @@ INSTANTIATE_TEST_SUITE_P(
         BadInvocation{"OsMesaUnavailable", "reconcile " + kStandard,
                       "CLIPRAY_OSMESA_LIBRARY=/nonexistent/libOSMesa.so.8",
                       "clipray: OSMesa: cannot load /nonexistent/libOSMesa.so.8"},
-        BadInvocation{"MeshFileWithoutCameras",
-                      "reconcile '" + kSource + "/tests/data/meshes/quads.obj'", "",
-                      "/tests/data/meshes/quads.obj: the file has no cameras; give it one (glTF) "
-                      "or reference it from a scene file with cameras (\"type\": \"meshFile\")"},
         BadInvocation{"NoSubcommand", "", "", "A subcommand is required"},
         BadInvocation{"UnknownOption", "reconcile --frobnicate", "", "frobnicate"},
         BadInvocation{"UnknownImagePolicy", "reconcile " + kStandard + " --images some", "",

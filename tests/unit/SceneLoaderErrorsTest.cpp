@@ -126,6 +126,21 @@ TEST(SceneLoaderErrors, CamerasAndObjectsArrays) {
       "scenes/a.json: /objects: expected an array, got {}");
 }
 
+TEST(SceneLoaderErrors, AutomaticCameras) {
+  const Scene scene = parseScene(
+      R"({"version": 1, "cameras": "auto", "objects": [{"name": "ball", "type": "sphere",
+          "centre": [0, 0, 0], "radius": 1}]})",
+      kFile);
+  ASSERT_EQ(scene.cameras.size(), 4u);
+  EXPECT_EQ(scene.cameras[2].name, "auto_orthographic_x");  // a sphere: the first of equals
+  EXPECT_EQ(errorOf(R"({"version": 1, "cameras": "auto", "objects": []})"),
+            "scenes/a.json: /cameras: \"auto\" needs finite geometry to frame, and the scene "
+            "has none");
+  EXPECT_EQ(errorOf(R"({"version": 1, "cameras": "front", "objects": []})"),
+            "scenes/a.json: /cameras: expected a non-empty array of cameras or \"auto\", got "
+            "\"front\"");
+}
+
 TEST(SceneLoaderErrors, Names) {
   EXPECT_EQ(errorOf(withCamera(R"({"name": "", "viewport": [640, 480]})")),
             "scenes/a.json: /cameras/0/name: expected a non-empty string, got \"\"");

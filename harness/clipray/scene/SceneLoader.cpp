@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "clipray/scene/AutoCameras.hpp"
 #include "clipray/scene/InputError.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/Scene.hpp"
@@ -108,12 +109,15 @@ Scene SceneReader::read(const json& root) {
   }
 
   const json& cameras = required(root, top, "cameras");
+  // "auto": the automatic cameras, framed once every object is read (AutoCameras.hpp).
+  const bool automatic = cameras.is_string() && cameras.get<std::string>() == "auto";
   // Empty is allowed here when a meshFile object brings its cameras (checked below).
-  if (!cameras.is_array()) {
-    fail(top / "cameras", "expected a non-empty array of cameras, got " + describe(cameras));
+  if (!cameras.is_array() && !automatic) {
+    fail(top / "cameras",
+         "expected a non-empty array of cameras or \"auto\", got " + describe(cameras));
   }
   std::map<std::string, Pointer> cameraNames;
-  for (std::size_t i = 0; i < cameras.size(); ++i) {
+  for (std::size_t i = 0; !automatic && i < cameras.size(); ++i) {
     scene.cameras.push_back(camera(cameras[i], top / "cameras" / i, cameraNames));
   }
 
@@ -122,6 +126,18 @@ Scene SceneReader::read(const json& root) {
   std::map<std::string, Pointer> objectNames;
   for (std::size_t i = 0; i < objects.size(); ++i) {
     object(objects[i], top / "objects" / i, objectNames, scene);
+  }
+  if (automatic) {
+    if (!scene.cameras.empty()) {
+      fail(top / "cameras",
+           "\"auto\" and a meshFile object with \"useCameras\": true; "
+           "choose one");
+    }
+    try {
+      scene.cameras = autoCameras(scene);
+    } catch (const InputError&) {
+      fail(top / "cameras", "\"auto\" needs finite geometry to frame, and the scene has none");
+    }
   }
   if (scene.cameras.empty()) {
     fail(top / "cameras", "expected a non-empty array of cameras, got " + describe(cameras) +
@@ -232,11 +248,6 @@ Scene loadScene(const std::string& path) {
     // A mesh file on its own: its geometry seen from its own cameras (glTF), under the default
     // conventions.
     MeshFileContents contents = loadMeshFile(path);
-    if (contents.cameras.empty()) {
-      throw InputError(path +
-                       ": the file has no cameras; give it one (glTF) or reference it from a "
-                       "scene file with cameras (\"type\": \"meshFile\")");
-    }
     Scene scene;
     scene.path = path;
     scene.name = std::filesystem::path(path).stem().string();
@@ -244,6 +255,14 @@ Scene loadScene(const std::string& path) {
     scene.cameras = std::move(contents.cameras);
     scene.objects = std::move(contents.objects);
     scene.warnings = std::move(contents.warnings);
+    if (scene.cameras.empty()) {
+      // Most assets ship without a camera: frame the automatic ones on the geometry.
+      scene.cameras = autoCameras(scene);
+      std::string names;
+      for (const Camera& camera : scene.cameras) names += (names.empty() ? "" : ", ") + camera.name;
+      scene.warnings.push_back(path + ": the file has no cameras; using the automatic cameras " +
+                               names + " (docs/scene-format.md)");
+    }
     return scene;
   }
   std::ifstream in(path, std::ios::binary);
