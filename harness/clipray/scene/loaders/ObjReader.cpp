@@ -8,10 +8,12 @@
 #define TINYOBJLOADER_USE_DOUBLE
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <string>
 #include <string_view>
@@ -20,6 +22,7 @@
 #include <vector>
 
 #include "clipray/scene/loaders/MeshFileCommon.hpp"
+#include "clipray/scene/loaders/PolygonTriangulation.hpp"
 
 namespace clipray::meshfiles {
 
@@ -171,6 +174,11 @@ MeshFileContents parseObj(std::string_view bytes, const std::string& path,
   MeshFileContents contents;
   UniqueNames names;
   std::uint64_t faceNumber = 0;
+  // Polygons of more than 3 corners off their mean plane by more than this fraction of their
+  // size (beyond what 6-7 printed digits explain), and those ear clipping could not finish.
+  constexpr double kNonPlanarTolerance = 1e-4;
+  std::uint64_t nonPlanar = 0, selfIntersecting = 0;
+  double worstNonPlanarity = 0.0;
   for (const tinyobj::shape_t& shape : reader.GetShapes()) {
     MeshObject object;
     object.name = names.claim(shape.name.empty() ? (stem.empty() ? "obj" : stem) : shape.name);
@@ -196,12 +204,27 @@ MeshFileContents parseObj(std::string_view bytes, const std::string& path,
         fail(path, "face " + std::to_string(faceNumber),
              "a face needs at least 3 vertices, got " + std::to_string(cornerCount));
       }
-      const std::uint32_t first = objectIndex(shape.mesh.indices[offset].vertex_index);
-      for (std::size_t corner = 1; corner + 1 < cornerCount; ++corner) {
-        const std::uint32_t second = objectIndex(shape.mesh.indices[offset + corner].vertex_index);
-        const std::uint32_t third =
-            objectIndex(shape.mesh.indices[offset + corner + 1].vertex_index);
-        object.triangles.emplace_back(first, second, third);
+      std::vector<std::uint32_t> cornerIndex(cornerCount);
+      for (std::size_t corner = 0; corner < cornerCount; ++corner) {
+        cornerIndex[corner] = objectIndex(shape.mesh.indices[offset + corner].vertex_index);
+      }
+      if (cornerCount == 3) {
+        object.triangles.emplace_back(cornerIndex[0], cornerIndex[1], cornerIndex[2]);
+      } else {
+        // Concave polygons are common (a letter, a floor plan): ear clipping, not a fan.
+        std::vector<glm::dvec3> corners(cornerCount);
+        for (std::size_t corner = 0; corner < cornerCount; ++corner) {
+          corners[corner] = object.worldPositions[cornerIndex[corner]];
+        }
+        const PolygonTriangles polygon = triangulatePolygon(corners);
+        for (const auto& t : polygon.triangles) {
+          object.triangles.emplace_back(cornerIndex[t[0]], cornerIndex[t[1]], cornerIndex[t[2]]);
+        }
+        if (polygon.nonPlanarity > kNonPlanarTolerance) {
+          ++nonPlanar;
+          worstNonPlanarity = std::max(worstNonPlanarity, polygon.nonPlanarity);
+        }
+        selfIntersecting += polygon.fanFallback ? 1 : 0;
       }
       offset += cornerCount;
       ++faceNumber;
@@ -209,6 +232,19 @@ MeshFileContents parseObj(std::string_view bytes, const std::string& path,
     if (object.triangles.empty()) continue;
     const std::string element = "object " + quotedText(object.name);
     addObject(contents, path, element, std::move(object), worldFromFile);
+  }
+  if (nonPlanar > 0) {
+    char worst[32];
+    std::snprintf(worst, sizeof worst, "%.2g", worstNonPlanarity);
+    contents.warnings.push_back(path + ": " + std::to_string(nonPlanar) +
+                                " polygons are not planar (a corner up to " + worst +
+                                " of the polygon's size off its mean plane); triangulated in that "
+                                "plane, the triangles are one of several surfaces they could be");
+  }
+  if (selfIntersecting > 0) {
+    contents.warnings.push_back(path + ": " + std::to_string(selfIntersecting) +
+                                " polygons cross themselves; triangulated as far as ear clipping "
+                                "goes, the rest as a fan");
   }
   return contents;
 }
