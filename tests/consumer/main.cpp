@@ -19,7 +19,8 @@
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/Scene.hpp"
 
-// clipray builds with GLM_FORCE_XYZW_ONLY; its targets must not pass it on.
+// No compile definition of clipray's reaches a consumer (clipray once passed GLM_FORCE_XYZW_ONLY
+// on, which took glm's colour and texture-coordinate names away).
 #ifdef GLM_FORCE_XYZW_ONLY
 #error "GLM_FORCE_XYZW_ONLY reached a consumer of clipray::core"
 #endif
