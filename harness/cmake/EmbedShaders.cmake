@@ -5,7 +5,7 @@
 # compile error names the file and line (harness/clipray/gl/Renderer.cpp, compileShaderFiles).
 function(clipray_embed_shaders target)
   cmake_parse_arguments(ARG "" "" "SHADERS" ${ARGN})
-  set(out_cpp ${CMAKE_BINARY_DIR}/generated/EmbeddedShaders.cpp)
+  set(out_cpp ${PROJECT_BINARY_DIR}/generated/EmbeddedShaders.cpp)
   set(script ${CMAKE_CURRENT_FUNCTION_LIST_DIR}/EmbedShadersScript.cmake)
   add_custom_command(
     OUTPUT ${out_cpp}

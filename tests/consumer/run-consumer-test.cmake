@@ -1,0 +1,77 @@
+# The packaging test (ctest: clipray_package_consumer), run with cmake -P:
+#   1. cmake --install <CLIPRAY_BUILD_DIR> --prefix <WORK_DIR>/prefix
+#   2. configure, build and run this folder's project against it (find_package(clipray 0.1))
+#   3. pkg-config --cflags --libs clipray from that prefix, and the same main.cpp compiled and run
+#      with those flags alone
+# Variables: CLIPRAY_BUILD_DIR, WORK_DIR, SCENE (the scene main.cpp reconciles), VERSION (expected
+# from pkg-config), LIBDIR (CMAKE_INSTALL_LIBDIR), GENERATOR, MAKE_PROGRAM, CXX, BUILD_TYPE,
+# PKG_CONFIG, and EXTRA_FLAGS (the sanitizer flags a sanitized clipray needs at compile and link
+# time; space-separated). The consumer's own CMake and compiler processes run unsanitized.
+cmake_minimum_required(VERSION 3.25)
+
+foreach(var CLIPRAY_BUILD_DIR WORK_DIR SCENE VERSION LIBDIR GENERATOR CXX PKG_CONFIG)
+  if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
+    message(FATAL_ERROR "run-consumer-test.cmake: -D${var}=... is required")
+  endif()
+endforeach()
+
+set(prefix ${WORK_DIR}/prefix)
+set(build ${WORK_DIR}/build)
+file(REMOVE_RECURSE ${WORK_DIR})
+file(MAKE_DIRECTORY ${WORK_DIR})
+
+function(step what)
+  message(STATUS "consumer test: ${what}")
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE result)
+  if(NOT result EQUAL 0)
+    message(FATAL_ERROR "consumer test: ${what}: failed (${result})")
+  endif()
+endfunction()
+
+step("install into ${prefix}" ${CMAKE_COMMAND} --install ${CLIPRAY_BUILD_DIR} --prefix ${prefix})
+foreach(file ${LIBDIR}/cmake/clipray/clipray-config.cmake
+             ${LIBDIR}/cmake/clipray/clipray-config-version.cmake
+             ${LIBDIR}/pkgconfig/clipray.pc include/clipray/gl/ReconcileRun.hpp bin/clipray)
+  if(NOT EXISTS ${prefix}/${file})
+    message(FATAL_ERROR "consumer test: the install has no ${file}")
+  endif()
+endforeach()
+
+# find_package, from this prefix only (no user or system package registry).
+set(flags "${EXTRA_FLAGS}")
+separate_arguments(extra_flags UNIX_COMMAND "${EXTRA_FLAGS}")
+set(configure ${CMAKE_COMMAND} -S ${CMAKE_CURRENT_LIST_DIR} -B ${build} -G ${GENERATOR}
+    -DCMAKE_CXX_COMPILER=${CXX} -DCMAKE_BUILD_TYPE=${BUILD_TYPE} -DCMAKE_PREFIX_PATH=${prefix}
+    -DCMAKE_FIND_USE_PACKAGE_REGISTRY=OFF -DCMAKE_FIND_USE_SYSTEM_PACKAGE_REGISTRY=OFF
+    "-DCMAKE_CXX_FLAGS=${flags}" "-DCMAKE_EXE_LINKER_FLAGS=${flags}")
+if(MAKE_PROGRAM)
+  list(APPEND configure -DCMAKE_MAKE_PROGRAM=${MAKE_PROGRAM})
+endif()
+step("configure the consumer (find_package)" ${configure})
+file(STRINGS ${build}/CMakeCache.txt found_dir REGEX "^clipray_DIR:")
+if(NOT found_dir STREQUAL "clipray_DIR:PATH=${prefix}/${LIBDIR}/cmake/clipray")
+  message(FATAL_ERROR "consumer test: found another clipray: ${found_dir}")
+endif()
+step("build the consumer" ${CMAKE_COMMAND} --build ${build})
+step("run the consumer" ${build}/clipray_consumer ${SCENE})
+
+# pkg-config, from this prefix.
+set(ENV{PKG_CONFIG_PATH} ${prefix}/${LIBDIR}/pkgconfig)
+execute_process(COMMAND ${PKG_CONFIG} --modversion clipray OUTPUT_VARIABLE pc_version
+                OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE result)
+if(NOT result EQUAL 0 OR NOT pc_version STREQUAL VERSION)
+  message(FATAL_ERROR "consumer test: pkg-config --modversion clipray: '${pc_version}' "
+                      "(${result}), expected ${VERSION}")
+endif()
+execute_process(COMMAND ${PKG_CONFIG} --cflags --libs clipray OUTPUT_VARIABLE pc_flags
+                OUTPUT_STRIP_TRAILING_WHITESPACE RESULT_VARIABLE result)
+if(NOT result EQUAL 0)
+  message(FATAL_ERROR "consumer test: pkg-config --cflags --libs clipray failed (${result})")
+endif()
+message(STATUS "consumer test: pkg-config --cflags --libs clipray: ${pc_flags}")
+separate_arguments(pc_flags UNIX_COMMAND "${pc_flags}")
+step("compile and link the consumer with pkg-config's flags"
+     ${CXX} -std=c++20 -O2 ${extra_flags} ${CMAKE_CURRENT_LIST_DIR}/main.cpp -o
+     ${WORK_DIR}/clipray_consumer_pc ${pc_flags})
+step("run the pkg-config consumer" ${WORK_DIR}/clipray_consumer_pc ${SCENE})
+message(STATUS "consumer test: passed")
