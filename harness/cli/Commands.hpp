@@ -24,6 +24,11 @@ struct CommandRegistration {
 
 std::vector<CommandRegistration>& commandRegistry();
 
+// The command line the process was started with, each argument shell-quoted where it needs it
+// (recorded in report.json); set by main() before any command runs.
+const std::string& commandLine();
+void setCommandLine(int argc, char** argv);
+
 // `static const bool registered = registerCommand({...});` in each command's file.
 inline bool registerCommand(CommandRegistration registration) {
   commandRegistry().push_back(std::move(registration));

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -66,6 +67,7 @@ struct ReconcileOptions {
   bool json = false;
   unsigned threads = 0;
   unsigned rounds = 1;
+  ReportProvenance provenance;  // the command line and start time, for report.json
 };
 
 int runReconcile(const ReconcileOptions& options) {
@@ -220,20 +222,30 @@ int runReconcile(const ReconcileOptions& options) {
   encoder.collect(runs);
 
   // 4. Outputs, all at the end and each atomically.
-  writeReport(options.out, runs, renderer.info());
+  writeReport(options.out, runs, renderer.info(), options.provenance);
   if (!options.junit.empty()) writeFileAtomically(options.junit, junitXml(runs, options.out));
   // With --json, stdout carries only the report (parseable); the summary goes to stderr.
   std::ostream& summary = options.json ? std::cerr : std::cout;
   summary << textSummary(runs);
   summary << "report: " << (std::filesystem::path(options.out) / "report.json").string() << "\n";
   if (options.json) {
-    std::cout << reportJson(runs, renderer.info())
+    std::cout << reportJson(runs, renderer.info(), options.provenance)
                      .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
               << "\n";
   }
   const bool consistent = std::all_of(runs.begin(), runs.end(),
                                       [](const RunRecord& r) { return r.metrics.consistent(); });
   return consistent ? 0 : 1;
+}
+
+// Now in UTC, ISO 8601 to the second.
+std::string utcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
 }
 
 CommandRunner addReconcileOptions(CLI::App& app) {
@@ -266,7 +278,10 @@ CommandRunner addReconcileOptions(CLI::App& app) {
                  "timing's median over rounds 2.. (the first, cold round is reported apart)")
       ->check(CLI::Range(1u, 1000u))
       ->capture_default_str();
-  return [options] { return runReconcile(*options); };
+  return [options] {
+    options->provenance = {commandLine(), utcNow()};
+    return runReconcile(*options);
+  };
 }
 
 const bool registered = registerCommand(

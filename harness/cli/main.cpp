@@ -7,16 +7,50 @@
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/scene/InputError.hpp"
+#include "clipray/util/Version.hpp"
 
 namespace clipray::cli {
 std::vector<CommandRegistration>& commandRegistry() {
   static std::vector<CommandRegistration> registry;
   return registry;
 }
+namespace {
+std::string& storedCommandLine() {
+  static std::string line;
+  return line;
+}
+}  // namespace
+
+const std::string& commandLine() {
+  return storedCommandLine();
+}
+
+void setCommandLine(int argc, char** argv) {
+  std::string line;
+  for (int k = 0; k < argc; ++k) {
+    const std::string argument = argv[k];
+    const bool plain =
+        !argument.empty() && argument.find_first_not_of(
+                                 "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOP"
+                                 "QRSTUVWXYZ0123456789-_./=:,+@%") == std::string::npos;
+    if (k > 0) line += ' ';
+    if (plain) {
+      line += argument;
+      continue;
+    }
+    line += '\'';
+    for (const char c : argument) line += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    line += '\'';
+  }
+  storedCommandLine() = line;
+}
 }  // namespace clipray::cli
 
 int main(int argc, char** argv) {
+  clipray::cli::setCommandLine(argc, argv);
   CLI::App app{"clipray: reconcile OpenGL rasterization with ray picking"};
+  app.set_version_flag("--version", "clipray " + clipray::versionString(),
+                       "Print the version (and git commit) and exit");
   app.require_subcommand(1);
   auto registry = clipray::cli::commandRegistry();
   std::sort(registry.begin(), registry.end(),

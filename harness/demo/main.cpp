@@ -12,6 +12,7 @@
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/scene/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
+#include "clipray/util/Version.hpp"
 
 namespace {
 
@@ -43,6 +44,8 @@ int main(int argc, char** argv) {
   CLI::App app{
       "clipray-pick: click on a scene and see the analytic ray, the depth readback and "
       "the id buffer answer side by side"};
+  app.set_version_flag("--version", "clipray-pick " + clipray::versionString(),
+                       "Print the version (and git commit) and exit");
   std::string scenePath;
   std::string convention = "zo", depthFormat = "24", method = "robust", precision = "float";
   std::string vertexMode = "world";

@@ -12,7 +12,7 @@ import os
 import re
 import sys
 
-TIME_FIELDS = {"timings_ms", "cpu_ms", "first_round_timings_ms", "first_round_cpu_ms",
+TIME_FIELDS = {"started_at", "command_line", "git_commit", "timings_ms", "cpu_ms", "first_round_timings_ms", "first_round_cpu_ms",
                "analytic_over_raster"}
 
 

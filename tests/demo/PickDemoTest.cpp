@@ -10,6 +10,7 @@
 #include <cmath>
 #include <fstream>
 #include <iterator>
+#include <regex>
 #include <sstream>
 
 #include "GlfwBackend.hpp"
@@ -402,6 +403,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadPick{"NoDisplay", "'" + kStandard + "'", "",
                 "clipray-pick: GLFW: no display available ("}),
     [](const ::testing::TestParamInfo<BadPick>& param) { return std::string(param.param.name); });
+
+TEST(PickDemoNoDisplay, VersionNeedsNoDisplay) {
+  TempFolder folder;
+  const auto result = runPick("--version", folder.path(), "DISPLAY=");
+  EXPECT_EQ(result.status, 0) << result.err;
+  EXPECT_TRUE(std::regex_match(
+      result.out, std::regex(R"(clipray-pick \d+\.\d+\.\d+( \(git [0-9a-f]{12}(-dirty)?\))?\n)")))
+      << result.out;
+}
 
 TEST(PickDemoNoDisplay, SaysSoAndWritesNoScreenshot) {
   TempFolder folder;

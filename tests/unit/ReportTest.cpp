@@ -21,6 +21,7 @@
 #include <stb_image.h>
 
 #include "clipray/report/Report.hpp"
+#include "clipray/util/Version.hpp"
 
 namespace clipray {
 namespace {
@@ -182,7 +183,15 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
   const nlohmann::json summary = nlohmann::json::parse(
       R"({"runs": 1, "consistent": 0, "inconsistent": 1, "verdict": "inconsistent"})");
   EXPECT_EQ(j["summary"], summary);
-  EXPECT_EQ(j.size(), 5u);  // tool, format_version, gl, summary, runs
+  EXPECT_EQ(j["clipray_version"], versionNumber());
+  EXPECT_EQ(j["git_commit"], gitCommit());
+  // tool, format_version, clipray_version, git_commit, gl, summary, runs (no provenance given)
+  EXPECT_EQ(j.size(), 7u);
+  const nlohmann::json withProvenance =
+      reportJson({run}, sampleGl(), {"clipray reconcile a.json", "2026-11-25T05:00:00Z"});
+  EXPECT_EQ(withProvenance["command_line"], "clipray reconcile a.json");
+  EXPECT_EQ(withProvenance["started_at"], "2026-11-25T05:00:00Z");
+  EXPECT_EQ(withProvenance.size(), 9u);
   ASSERT_EQ(j["runs"].size(), 1u);
   const nlohmann::json expected = nlohmann::json::parse(R"({
     "scene": "standard", "camera": "main", "convention": "zo", "depth_format": "24",

@@ -17,6 +17,8 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include "clipray/util/Version.hpp"
+
 namespace clipray {
 namespace {
 
@@ -208,7 +210,8 @@ std::string runFolderName(const RunRecord& run) {
          "-" + depthFormatName(run.depthFormat) + "-" + vertexModeName(run.vertexMode);
 }
 
-nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl) {
+nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl,
+                          const ReportProvenance& provenance) {
   nlohmann::json runList = nlohmann::json::array();
   std::int64_t consistent = 0;
   for (const RunRecord& run : runs) {
@@ -216,9 +219,11 @@ nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl) 
     if (run.metrics.consistent()) ++consistent;
   }
   const auto total = static_cast<std::int64_t>(runs.size());
-  return {
+  nlohmann::json report = {
       {"tool", "clipray"},
       {"format_version", 1},
+      {"clipray_version", versionNumber()},
+      {"git_commit", gitCommit()},
       {"gl",
        {{"backend", gl.backend},
         {"vendor", gl.vendor},
@@ -232,6 +237,9 @@ nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl) 
         {"verdict", consistent == total ? "consistent" : "inconsistent"}}},
       {"runs", std::move(runList)},
   };
+  if (!provenance.commandLine.empty()) report["command_line"] = provenance.commandLine;
+  if (!provenance.startedAt.empty()) report["started_at"] = provenance.startedAt;
+  return report;
 }
 
 namespace {
@@ -389,7 +397,7 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& b
 }
 
 void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecord>& runs,
-                 const GlInfo& gl) {
+                 const GlInfo& gl, const ReportProvenance& provenance) {
   // Two phases, so a failure (disk full, a clashing name) leaves nothing half-written: every file
   // goes to a temp name first; only when all are written are they renamed, report.json last.
   std::vector<std::filesystem::path> createdFolders;  // the topmost folders this call created
@@ -426,9 +434,10 @@ void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecor
       }
     }
     stage(outDir / "summary.txt", textSummary(runs));
-    stage(
-        outDir / "report.json",
-        reportJson(runs, gl).dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+    stage(outDir / "report.json",
+          reportJson(runs, gl, provenance)
+                  .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
+              "\n");
     // A report.json from an earlier run must not describe the files about to change.
     std::filesystem::remove(outDir / "report.json");
     for (std::size_t k = 0; k < staged.size(); ++k) {

@@ -72,7 +72,15 @@ std::string runFolderName(const RunRecord& run);
 // mask PNGs for a run, and stores them in run.images.
 void encodeRunImages(RunRecord& run, const PixelComparison& pixels);
 
-nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl);
+// Where a report came from, beside the clipray version and git commit reportJson always records:
+// the command line and when the command started (UTC, ISO 8601). Empty fields are left out.
+struct ReportProvenance {
+  std::string commandLine;
+  std::string startedAt;
+};
+
+nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl,
+                          const ReportProvenance& provenance = {});
 // A header, one line per run, the worst first, then a totals line and a legend of the figures.
 std::string textSummary(const std::vector<RunRecord>& runs);
 // The run's line of textSummary, without its newline.
@@ -80,7 +88,7 @@ std::string runSummaryLine(const RunRecord& run);
 
 // Writes report.json and every run's PNGs under outDir (created if missing), each atomically.
 void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecord>& runs,
-                 const GlInfo& gl);
+                 const GlInfo& gl, const ReportProvenance& provenance = {});
 
 // Writes bytes to path atomically: a temp file in the same folder, then rename.
 void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes);
