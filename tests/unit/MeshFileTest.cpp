@@ -272,7 +272,10 @@ TEST(MeshFileErrors, GltfMalformedJsonAndGlbHeader) {
   };
   const std::string jsonChunk = std::string("\x04\0\0\0JSON{}  ", 12);
   EXPECT_EQ(errorOf(glbHeader(1, 24) + jsonChunk, "bad.glb"),
-            "bad.glb: glb header: version must be 2, got 1");
+            "bad.glb: glb header: version 1: glTF 1.0 is not supported; clipray reads glTF 2.0 "
+            "(convert the file, e.g. with Blender or gltf-pipeline)");
+  EXPECT_EQ(errorOf(glbHeader(3, 24) + jsonChunk, "bad.glb"),
+            "bad.glb: glb header: version must be 2, got 3");
   EXPECT_EQ(errorOf(glbHeader(2, 99) + jsonChunk, "bad.glb"),
             "bad.glb: glb header: length 99 differs from the file size 24");
   EXPECT_EQ(errorOf(glbHeader(2, 24) + std::string("\x05\0\0\0JSON{}  ", 12), "bad.glb"),
@@ -377,7 +380,53 @@ TEST(MeshFileErrors, GltfUnsupportedMode) {
   document["meshes"][0]["primitives"][0]["mode"] = 1;
   EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
             "m.gltf: meshes[0].primitives[0].mode: mode 1 (LINES) is not supported; only "
-            "TRIANGLES (4)");
+            "TRIANGLES (4), TRIANGLE_STRIP (5) and TRIANGLE_FAN (6): clipray compares surfaces, "
+            "and points and lines have none");
+}
+
+TEST(MeshFileErrors, GltfFeaturesClipryDoesNotReadAreNamed) {
+  const std::string kConvert =
+      "glTF 1.0 is not supported; clipray reads glTF 2.0 (convert the file, e.g. with Blender or "
+      "gltf-pipeline)";
+  json old = triangleGltf();
+  old["asset"]["version"] = "1.0";
+  EXPECT_EQ(errorOf(old.dump(), "m.gltf"), "m.gltf: asset.version: " + kConvert);
+  // glTF 1.0 without "asset", its meshes a dictionary (as CesiumMilkTruck in assimp's models).
+  EXPECT_EQ(errorOf(R"({"meshes": {"truck": {"primitives": []}}})", "m.gltf"),
+            "m.gltf: asset.version: " + kConvert);
+  json draco = triangleGltf();
+  draco["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  draco["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  EXPECT_EQ(errorOf(draco.dump(), "m.gltf"),
+            "m.gltf: extensionsRequired: compressed geometry (KHR_draco_mesh_compression) is not "
+            "supported; decompress it first (e.g. gltf-transform or gltfpack)");
+  json objectPrimitives = triangleGltf();
+  objectPrimitives["meshes"][0]["primitives"] = {{"attributes", {{"POSITION", 0}}}};
+  EXPECT_EQ(errorOf(objectPrimitives.dump(), "m.gltf"),
+            "m.gltf: meshes[0].primitives: expected an array of primitives, got "
+            "{\"attributes\":{\"POSITION\":0}}");
+}
+
+TEST(MeshFileGltf, StripsAndFansAreTriangulatedAsTheSpecSays) {
+  // Five vertices, indexed 0..4 (and, the third time, 4, 3, 2, 1).
+  const std::vector<float> five = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 2, 0};
+  json strip = triangleGltf(five, {0, 1, 2, 3, 4});
+  strip["meshes"][0]["primitives"][0]["mode"] = 5;
+  EXPECT_THAT(parseMeshFile(strip.dump(), "m.gltf").objects[0].triangles,
+              ElementsAre(glm::u32vec3(0, 1, 2), glm::u32vec3(1, 3, 2), glm::u32vec3(2, 3, 4)));
+  json fan = triangleGltf(five, {0, 1, 2, 3, 4});
+  fan["meshes"][0]["primitives"][0]["mode"] = 6;
+  EXPECT_THAT(parseMeshFile(fan.dump(), "m.gltf").objects[0].triangles,
+              ElementsAre(glm::u32vec3(1, 2, 0), glm::u32vec3(2, 3, 0), glm::u32vec3(3, 4, 0)));
+  json indexedFan = triangleGltf(five, {4, 3, 2, 1});
+  indexedFan["meshes"][0]["primitives"][0]["mode"] = 6;
+  EXPECT_THAT(parseMeshFile(indexedFan.dump(), "m.gltf").objects[0].triangles,
+              ElementsAre(glm::u32vec3(3, 2, 4), glm::u32vec3(2, 1, 4)));
+  json tooShort = triangleGltf(five, {0, 1});
+  tooShort["meshes"][0]["primitives"][0]["mode"] = 5;
+  EXPECT_EQ(errorOf(tooShort.dump(), "m.gltf"),
+            "m.gltf: meshes[0].primitives[0].indices: TRIANGLE_STRIP needs at least 3 vertices, "
+            "got 2");
 }
 
 TEST(MeshFileErrors, GltfNonInvertibleNodeTransforms) {
@@ -510,6 +559,20 @@ TEST(MeshFilePly, ElementWithoutPropertiesTakesNoBytesWhateverItsCount) {
       parseMeshFile(header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "m.ply");
   ASSERT_EQ(contents.objects.size(), 1u);
   EXPECT_THAT(contents.objects[0].triangles, ElementsAre(glm::u32vec3(0, 1, 2)));
+}
+
+TEST(MeshFilePly, UnknownHeaderLinesAreSkippedWithAWarning) {
+  // Blender 2.4's exporter wrote its credit line without "comment" (assimp's Wuson.ply).
+  std::string header = kPlyHeader;
+  header.insert(header.find("element"), "Created by Blender3D 247 - www.blender.org\n");
+  header.insert(header.find("end_header"), "obj_info kept quietly\nuv_map?\n");
+  const MeshFileContents contents =
+      parseMeshFile(header + "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "m.ply");
+  ASSERT_EQ(contents.objects.size(), 1u);
+  EXPECT_THAT(contents.objects[0].triangles, ElementsAre(glm::u32vec3(0, 1, 2)));
+  ASSERT_EQ(contents.warnings.size(), 1u);
+  EXPECT_EQ(contents.warnings[0],
+            "m.ply: header lines 3, 11: unknown keyword, ignored as a comment");
 }
 
 TEST(MeshFileErrors, PlyWithoutFacesHoldsNoTriangles) {

@@ -191,6 +191,11 @@ void checkGlbContainer(std::string_view bytes, const std::string& path) {
     fail(path, "glb header", "expected the magic \"glTF\", got " + quotedText(bytes.substr(0, 4)));
   }
   const std::uint32_t version = littleEndianU32(bytes, 4);
+  if (version == 1) {
+    fail(path, "glb header",
+         "version 1: glTF 1.0 is not supported; clipray reads glTF 2.0 (convert the file, e.g. "
+         "with Blender or gltf-pipeline)");
+  }
   if (version != 2) fail(path, "glb header", "version must be 2, got " + std::to_string(version));
   const std::uint32_t length = littleEndianU32(bytes, 8);
   if (length != bytes.size()) {
@@ -227,9 +232,54 @@ void checkGlbContainer(std::string_view bytes, const std::string& path) {
 // buffer whose byteLength is 0 (found by fuzz_glb). glTF requires byteLength >= 1, so that is
 // checked on the JSON before tinygltf sees it. The JSON is parsed the way tinygltf parses it
 // (nlohmann, later duplicate keys win), so both see the same buffers.
+// What tinygltf would misreport: a glTF 1.0 file (tinygltf reads 2.0 only: "asset not found" or
+// an empty model), compressed geometry a required extension names (tinygltf then fails on the
+// accessors that have no buffer view), and primitives that are not an array (read as none).
+void checkWhatClipraySupports(const nlohmann::json& document, const std::string& path) {
+  const auto asset = document.find("asset");
+  const auto meshes = document.find("meshes");
+  const bool version1 =
+      (asset != document.end() && asset->is_object() && asset->contains("version") &&
+       (*asset)["version"].is_string() &&
+       (*asset)["version"].get<std::string>().starts_with("1")) ||
+      (asset == document.end() && meshes != document.end() && meshes->is_object());
+  if (version1) {
+    fail(path, "asset.version",
+         "glTF 1.0 is not supported; clipray reads glTF 2.0 (convert the file, e.g. with Blender "
+         "or gltf-pipeline)");
+  }
+  const auto required = document.find("extensionsRequired");
+  if (required != document.end() && required->is_array()) {
+    for (const nlohmann::json& extension : *required) {
+      if (!extension.is_string()) continue;
+      const std::string name = extension.get<std::string>();
+      if (name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" ||
+          name == "KHR_meshopt_compression") {
+        fail(path, "extensionsRequired",
+             "compressed geometry (" + name +
+                 ") is not supported; decompress it first (e.g. gltf-transform or gltfpack)");
+      }
+    }
+  }
+  if (meshes != document.end() && meshes->is_array()) {
+    for (std::size_t i = 0; i < meshes->size(); ++i) {
+      const nlohmann::json& mesh = (*meshes)[i];
+      if (!mesh.is_object()) continue;
+      const auto primitives = mesh.find("primitives");
+      if (primitives != mesh.end() && !primitives->is_array()) {
+        std::string found = primitives->dump();
+        if (found.size() > 40) found = found.substr(0, 37) + "...";
+        fail(path, indexText("meshes", i) + ".primitives",
+             "expected an array of primitives, got " + found);
+      }
+    }
+  }
+}
+
 void checkBufferLengths(std::string_view jsonText, const std::string& path) {
   const nlohmann::json document = nlohmann::json::parse(jsonText, nullptr, false);
   if (!document.is_object()) return;  // tinygltf reports malformed JSON with its own message
+  checkWhatClipraySupports(document, path);
   const auto buffers = document.find("buffers");
   if (buffers == document.end() || !buffers->is_array()) return;
   for (std::size_t i = 0; i < buffers->size(); ++i) {
@@ -510,10 +560,12 @@ class GltfReader {
     const std::string element =
         indexText("meshes", meshIndex) + indexText(".primitives", primitiveIndex);
     const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
-    if (mode != TINYGLTF_MODE_TRIANGLES) {
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        mode != TINYGLTF_MODE_TRIANGLE_FAN) {
       fail(path_, element + ".mode",
            "mode " + std::to_string(mode) + " (" + modeName(mode) +
-               ") is not supported; only TRIANGLES (4)");
+               ") is not supported; only TRIANGLES (4), TRIANGLE_STRIP (5) and TRIANGLE_FAN (6): "
+               "clipray compares surfaces, and points and lines have none");
     }
     const auto position = primitive.attributes.find("POSITION");
     if (position == primitive.attributes.end()) {
@@ -540,56 +592,71 @@ class GltfReader {
       object.worldPositions.push_back(value);
     }
     const std::size_t vertexCount = positions.count;
+    // The primitive's vertex sequence: 0, 1, 2, ... without indices, else the indices, checked.
+    std::vector<std::uint32_t> sequence;
+    const std::string indicesElement = element + ".indices";
     if (primitive.indices < 0) {
-      if (vertexCount % 3 != 0) {
-        fail(path_, element,
-             "without indices the vertex count must be a multiple of 3, got " +
-                 std::to_string(vertexCount));
+      sequence.resize(vertexCount);
+      for (std::size_t v = 0; v < vertexCount; ++v) sequence[v] = static_cast<std::uint32_t>(v);
+    } else {
+      const AccessorBytes indices = accessorBytes(
+          primitive.indices, "indices of " + element, TINYGLTF_TYPE_SCALAR,
+          {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+           TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
+      const int componentType =
+          model_.accessors[static_cast<std::size_t>(primitive.indices)].componentType;
+      sequence.resize(indices.count);
+      for (std::size_t i = 0; i < indices.count; ++i) {
+        const unsigned char* at = indices.data + i * indices.stride;
+        std::uint32_t value = 0;
+        if (componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+          value = *at;
+        } else if (componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+          std::uint16_t shortValue;
+          std::memcpy(&shortValue, at, sizeof shortValue);
+          value = shortValue;
+        } else {
+          std::memcpy(&value, at, sizeof value);
+        }
+        if (value >= vertexCount) {
+          fail(path_, indicesElement,
+               "index " + std::to_string(i) + " is " + std::to_string(value) +
+                   ", out of range for " + std::to_string(vertexCount) + " vertices");
+        }
+        sequence[i] = value;
       }
-      object.triangles.reserve(vertexCount / 3);
-      for (std::size_t t = 0; t < vertexCount / 3; ++t) {
-        const auto first = static_cast<std::uint32_t>(3 * t);
-        object.triangles.emplace_back(first, first + 1, first + 2);
+    }
+    const std::size_t n = sequence.size();
+    if (mode == TINYGLTF_MODE_TRIANGLES) {
+      if (n % 3 != 0) {
+        if (primitive.indices < 0) {
+          fail(
+              path_, element,
+              "without indices the vertex count must be a multiple of 3, got " + std::to_string(n));
+        }
+        fail(path_, indicesElement,
+             "the index count must be a multiple of 3, got " + std::to_string(n));
+      }
+      object.triangles.reserve(n / 3);
+      for (std::size_t i = 0; i + 2 < n; i += 3) {
+        object.triangles.emplace_back(sequence[i], sequence[i + 1], sequence[i + 2]);
       }
       return object;
     }
-    const std::string indicesElement = element + ".indices";
-    const AccessorBytes indices = accessorBytes(
-        primitive.indices, "indices of " + element, TINYGLTF_TYPE_SCALAR,
-        {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
-         TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
-    if (indices.count % 3 != 0) {
-      fail(path_, indicesElement,
-           "the index count must be a multiple of 3, got " + std::to_string(indices.count));
+    if (n < 3) {
+      fail(path_, primitive.indices < 0 ? element : indicesElement,
+           std::string(modeName(mode)) + " needs at least 3 vertices, got " + std::to_string(n));
     }
-    const int componentType =
-        model_.accessors[static_cast<std::size_t>(primitive.indices)].componentType;
-    auto indexAt = [&](std::size_t i) -> std::uint32_t {
-      const unsigned char* at = indices.data + i * indices.stride;
-      if (componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) return *at;
-      if (componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
-        std::uint16_t value;
-        std::memcpy(&value, at, sizeof value);
-        return value;
+    // glTF 2.0, 3.7.2.1: strip triangle i is (v_i, v_{i+1+i%2}, v_{i+2-i%2}) (every other one
+    // reversed, so all keep the first one's winding); fan triangle i is (v_{i+1}, v_{i+2}, v_0).
+    object.triangles.reserve(n - 2);
+    for (std::size_t i = 0; i + 2 < n; ++i) {
+      if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+        object.triangles.emplace_back(sequence[i], sequence[i + 1 + i % 2],
+                                      sequence[i + 2 - i % 2]);
+      } else {
+        object.triangles.emplace_back(sequence[i + 1], sequence[i + 2], sequence[0]);
       }
-      std::uint32_t value;
-      std::memcpy(&value, at, sizeof value);
-      return value;
-    };
-    object.triangles.reserve(indices.count / 3);
-    for (std::size_t i = 0; i < indices.count; i += 3) {
-      glm::u32vec3 triangle;
-      for (int corner = 0; corner < 3; ++corner) {
-        const std::uint32_t value = indexAt(i + static_cast<std::size_t>(corner));
-        if (value >= vertexCount) {
-          fail(path_, indicesElement,
-               "index " + std::to_string(i + static_cast<std::size_t>(corner)) + " is " +
-                   std::to_string(value) + ", out of range for " + std::to_string(vertexCount) +
-                   " vertices");
-        }
-        triangle[corner] = value;
-      }
-      object.triangles.push_back(triangle);
     }
     return object;
   }

@@ -97,6 +97,14 @@ class PlyReader {
     readBody();
     MeshFileContents contents;
     const std::string stem = std::filesystem::path(path_).stem().string();
+    if (!ignoredLines_.empty()) {
+      std::string lines;
+      for (const int line : ignoredLines_)
+        lines += (lines.empty() ? "" : ", ") + std::to_string(line);
+      contents.warnings.push_back(path_ + ": header line" +
+                                  (ignoredLines_.size() == 1 ? " " : "s ") + lines +
+                                  ": unknown keyword, ignored as a comment");
+    }
     addObject(contents, path_, "object " + quotedText(stem), std::move(object_), worldFromFile);
     contents.objects.back().name = stem.empty() ? "ply" : stem;
     return contents;
@@ -176,7 +184,10 @@ class PlyReader {
         parsePropertyLine(words, at, *line);
         continue;
       }
-      failAt(at, "unknown header keyword " + quotedText(keyword));
+      // A line no PLY reader knows (Blender 2.4's exporter wrote its credit without "comment"):
+      // the common readers skip it; so does clipray, saying so.
+      ignoredLines_.push_back(lineNumber);
+      continue;
     }
     if (!sawFormat) failAt("header", "missing the format line");
     header_.bodyOffset = position;
@@ -522,6 +533,7 @@ class PlyReader {
 
   std::string_view bytes_;
   const std::string& path_;
+  std::vector<int> ignoredLines_;  // header lines with a keyword no PLY reader knows
   Header header_;
   std::size_t position_ = 0;
   std::uint64_t currentLine_ = 0;
