@@ -407,6 +407,20 @@ TEST(MeshFileErrors, GltfFeaturesClipryDoesNotReadAreNamed) {
             "{\"attributes\":{\"POSITION\":0}}");
 }
 
+TEST(MeshFileGltf, TexturesSkinsMorphsAndAnimationsAreIgnoredWithOneWarning) {
+  EXPECT_TRUE(parseMeshFile(triangleGltf().dump(), "m.gltf").warnings.empty());
+  json document = triangleGltf();
+  document["images"] = json::array({{{"uri", "missing.png"}}});
+  document["textures"] = json::array({{{"source", 0}}, {{"source", 0}}});
+  document["meshes"][0]["primitives"][0]["targets"] = json::array({{{"POSITION", 0}}});
+  const MeshFileContents contents = parseMeshFile(document.dump(), "m.gltf");
+  ASSERT_EQ(contents.objects.size(), 1u);
+  EXPECT_EQ(
+      contents.warnings,
+      std::vector<std::string>{"m.gltf: 2 textures and 1 primitives with morph targets "
+                               "ignored: clipray compares the static geometry in its bind pose"});
+}
+
 TEST(MeshFileGltf, StripsAndFansAreTriangulatedAsTheSpecSays) {
   // Five vertices, indexed 0..4 (and, the third time, 4, 3, 2, 1).
   const std::vector<float> five = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0, 0, 2, 0};

@@ -310,10 +310,38 @@ class GltfReader {
       if (placed.mesh >= 0) addMeshInstance(node, world);
       if (placed.camera >= 0) addCamera(node, world);
     }
+    warnAboutWhatIsIgnored();
     return std::move(contents_);
   }
 
  private:
+  // clipray compares static geometry: materials and textures do not change depth, and skins,
+  // morph targets and animations are read in their bind pose (node transforms, no weights). One
+  // warning says which the file has, so that nobody takes the reconcile for the animated asset.
+  void warnAboutWhatIsIgnored() {
+    std::size_t morphed = 0;
+    for (const tinygltf::Mesh& mesh : model_.meshes) {
+      for (const tinygltf::Primitive& primitive : mesh.primitives) {
+        morphed += primitive.targets.empty() ? 0 : 1;
+      }
+    }
+    std::vector<std::string> parts;
+    const auto count = [&](std::size_t n, const char* what) {
+      if (n > 0) parts.push_back(std::to_string(n) + " " + what);
+    };
+    count(model_.textures.size(), "textures");
+    count(model_.skins.size(), "skins");
+    count(morphed, "primitives with morph targets");
+    count(model_.animations.size(), "animations");
+    if (parts.empty()) return;
+    std::string list;
+    for (std::size_t k = 0; k < parts.size(); ++k) {
+      list += (k == 0 ? "" : k + 1 == parts.size() ? " and " : ", ") + parts[k];
+    }
+    contents_.warnings.push_back(path_ + ": " + list +
+                                 " ignored: clipray compares the static geometry in its bind pose");
+  }
+
   // ---- Scene graph -----------------------------------------------------------------------------
 
   void checkNodeIndex(int index, const std::string& element) const {
