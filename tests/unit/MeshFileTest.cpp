@@ -391,9 +391,12 @@ TEST(MeshFileErrors, GltfFeaturesClipryDoesNotReadAreNamed) {
   json old = triangleGltf();
   old["asset"]["version"] = "1.0";
   EXPECT_EQ(errorOf(old.dump(), "m.gltf"), "m.gltf: asset.version: " + kConvert);
-  // glTF 1.0 without "asset", its meshes a dictionary (as CesiumMilkTruck in assimp's models).
+  // glTF 1.0 without "asset", its meshes a dictionary; and with the version as a number (as
+  // collada2gltf wrote it: CesiumMilkTruck in assimp's models).
   EXPECT_EQ(errorOf(R"({"meshes": {"truck": {"primitives": []}}})", "m.gltf"),
             "m.gltf: asset.version: " + kConvert);
+  old["asset"]["version"] = 1;
+  EXPECT_EQ(errorOf(old.dump(), "m.gltf"), "m.gltf: asset.version: " + kConvert);
   json draco = triangleGltf();
   draco["extensionsUsed"] = {"KHR_draco_mesh_compression"};
   draco["extensionsRequired"] = {"KHR_draco_mesh_compression"};

@@ -238,11 +238,17 @@ void checkGlbContainer(std::string_view bytes, const std::string& path) {
 void checkWhatClipraySupports(const nlohmann::json& document, const std::string& path) {
   const auto asset = document.find("asset");
   const auto meshes = document.find("meshes");
+  // 1.0 wrote its version as "1.0", or as the number 1 (collada2gltf), and kept meshes, nodes
+  // and the rest in dictionaries, where 2.0 has arrays.
+  const nlohmann::json* version = nullptr;
+  if (asset != document.end() && asset->is_object() && asset->contains("version")) {
+    version = &(*asset)["version"];
+  }
   const bool version1 =
-      (asset != document.end() && asset->is_object() && asset->contains("version") &&
-       (*asset)["version"].is_string() &&
-       (*asset)["version"].get<std::string>().starts_with("1")) ||
-      (asset == document.end() && meshes != document.end() && meshes->is_object());
+      (version != nullptr && version->is_string() &&
+       version->get<std::string>().starts_with("1")) ||
+      (version != nullptr && version->is_number() && version->get<double>() < 2.0) ||
+      (meshes != document.end() && meshes->is_object());
   if (version1) {
     fail(path, "asset.version",
          "glTF 1.0 is not supported; clipray reads glTF 2.0 (convert the file, e.g. with Blender "
