@@ -126,8 +126,13 @@ TEST_F(ShippedScenes, AWaterReflectionShowsNothingBelowTheHorizonOrTheWater) {
             }
             for (const std::uint32_t id : {raster.ids[i], pass.frame.hits[i].primitiveId}) {
               if (id == 0 || !ownConvention) continue;
+              // A mesh's triangle, or the buoy (an analytic sphere).
+              const PrimitiveIdTable::Decoded decoded = ids.decode(id);
+              ASSERT_TRUE(decoded.object >= 0 || decoded.analytic >= 0) << id;
               const std::string& name =
-                  scene.objects[static_cast<std::size_t>(ids.decode(id).object)].name;
+                  decoded.object >= 0
+                      ? scene.objects[static_cast<std::size_t>(decoded.object)].name
+                      : scene.primitives[static_cast<std::size_t>(decoded.analytic)].name;
               EXPECT_NE(name, "submerged") << x << ", " << y;
               EXPECT_NE(name, "sea_floor") << x << ", " << y;
             }
