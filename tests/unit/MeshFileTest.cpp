@@ -218,6 +218,36 @@ TEST(MeshFileObj, QuadsAreFannedAndRelativeIndicesResolved) {
   EXPECT_TRUE(contents.cameras.empty());
 }
 
+// "o é\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n" as UTF-16 with a byte order mark.
+std::string utf16Triangle(bool bigEndian) {
+  const std::u16string text = u"o \u00e9\U0001F600\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  std::string bytes = bigEndian ? "\xFE\xFF" : "\xFF\xFE";
+  for (char16_t unit : text) {
+    const char high = static_cast<char>(unit >> 8), low = static_cast<char>(unit & 0xFF);
+    bytes += bigEndian ? std::string{high, low} : std::string{low, high};
+  }
+  return bytes;
+}
+
+TEST(MeshFileObj, Utf16AndUtf8ByteOrderMarksAreReadAsAssimpReadsThem) {
+  for (const std::string& bytes :
+       {utf16Triangle(true), utf16Triangle(false),
+        std::string(
+            "\xEF\xBB\xBFo \xC3\xA9\xF0\x9F\x98\x80\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n")}) {
+    const MeshFileContents contents = parseMeshFile(bytes, "m.obj");
+    ASSERT_EQ(contents.objects.size(), 1u);
+    EXPECT_EQ(contents.objects[0].name, "\xC3\xA9\xF0\x9F\x98\x80");  // é and U+1F600, in UTF-8
+    EXPECT_THAT(positionsOf(contents.objects[0]),
+                ElementsAre(glm::dvec3(0, 0, 0), glm::dvec3(1, 0, 0), glm::dvec3(0, 1, 0)));
+  }
+  EXPECT_EQ(errorOf(utf16Triangle(true).substr(1), "m.obj"),
+            "m.obj: byte 1: a NUL byte in a text file");  // no mark: read as ASCII
+  EXPECT_EQ(errorOf(utf16Triangle(true) + '\0', "m.obj"),
+            "m.obj: UTF-16BE: a UTF-16 file needs an even number of bytes, got 79");
+  EXPECT_EQ(errorOf(std::string("\xFF\xFEo\x00 \x00\x00\xDC", 8), "m.obj"),
+            "m.obj: UTF-16LE byte 6: an unpaired surrogate");
+}
+
 TEST(MeshFilePly, AsciiAndBothBinaryByteOrdersReadTheSameMesh) {
   for (const char* name : {"ascii", "binary_little", "binary_big"}) {
     SCOPED_TRACE(name);
@@ -345,7 +375,19 @@ TEST(MeshFileErrors, GltfWrongAccessorTypes) {
   document["accessors"][0]["componentType"] = 5123;
   EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
             "m.gltf: accessors[0] (POSITION of meshes[0].primitives[0]): expected componentType "
-            "5126 (FLOAT), got 5123 (UNSIGNED_SHORT)");
+            "5126 (FLOAT), got 5123 (UNSIGNED_SHORT); integer positions need "
+            "KHR_mesh_quantization in extensionsUsed");
+  document["extensionsUsed"] = {"KHR_mesh_quantization"};
+  document["accessors"][0]["componentType"] = 5125;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: accessors[0] (POSITION of meshes[0].primitives[0]): expected componentType "
+            "5126 (FLOAT) or an 8- or 16-bit integer type (KHR_mesh_quantization), got 5125 "
+            "(UNSIGNED_INT)");
+  document = triangleGltf();
+  document["accessors"][1]["normalized"] = true;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: accessors[1] (indices of meshes[0].primitives[0]): normalized accessors are "
+            "not supported here");
   document = triangleGltf();
   document["accessors"][1]["componentType"] = 5122;
   EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
@@ -408,6 +450,90 @@ TEST(MeshFileErrors, GltfFeaturesClipryDoesNotReadAreNamed) {
   EXPECT_EQ(errorOf(objectPrimitives.dump(), "m.gltf"),
             "m.gltf: meshes[0].primitives: expected an array of primitives, got "
             "{\"attributes\":{\"POSITION\":0}}");
+}
+
+// A triangle whose positions are 16-bit integers (KHR_mesh_quantization): `components` holds
+// the nine raw values as bytes of `componentType`.
+json quantizedTriangleGltf(const std::string& components, int componentType, bool normalized) {
+  json document = triangleGltf();
+  const std::string indices = bytesOf(std::vector<std::uint16_t>{0, 1, 2});
+  const std::size_t vertexBytes = components.size() / 3;
+  // Each vertex padded to 4 bytes, as the extension requires of byteStride.
+  const std::size_t stride = (vertexBytes + 3) / 4 * 4;
+  std::string positions;
+  for (int v = 0; v < 3; ++v) {
+    positions += components.substr(v * vertexBytes, vertexBytes);
+    positions += std::string(stride - vertexBytes, '\0');
+  }
+  const std::string buffer = positions + indices;
+  document["buffers"][0] = {{"uri", "data:application/octet-stream;base64," + base64(buffer)},
+                            {"byteLength", buffer.size()}};
+  document["bufferViews"][0] = {
+      {"buffer", 0}, {"byteOffset", 0}, {"byteLength", positions.size()}, {"byteStride", stride}};
+  document["bufferViews"][1] = {
+      {"buffer", 0}, {"byteOffset", positions.size()}, {"byteLength", indices.size()}};
+  document["accessors"][0]["componentType"] = componentType;
+  document["accessors"][0]["normalized"] = normalized;
+  document["extensionsUsed"] = {"KHR_mesh_quantization"};
+  document["extensionsRequired"] = {"KHR_mesh_quantization"};
+  return document;
+}
+
+TEST(MeshFileGltf, QuantizedPositionsAreDecodedAsGlDecodesThem) {
+  const std::string shorts =
+      bytesOf(std::vector<std::int16_t>{0, 0, 0, 32767, -32768, -16384, 100, 200, -300});
+  const MeshFileContents normalized =
+      parseMeshFile(quantizedTriangleGltf(shorts, 5122, true).dump(), "q.gltf");
+  ASSERT_EQ(normalized.objects.size(), 1u);
+  // max(c / 32767, -1): -32768 clamps to -1.
+  EXPECT_THAT(positionsOf(normalized.objects[0]),
+              ElementsAre(glm::dvec3(0, 0, 0), glm::dvec3(1, -1, -16384 / 32767.0),
+                          glm::dvec3(100 / 32767.0, 200 / 32767.0, -300 / 32767.0)));
+  EXPECT_TRUE(normalized.warnings.empty());
+  const MeshFileContents integers =
+      parseMeshFile(quantizedTriangleGltf(shorts, 5122, false).dump(), "q.gltf");
+  EXPECT_THAT(positionsOf(integers.objects[0]),
+              ElementsAre(glm::dvec3(0, 0, 0), glm::dvec3(32767, -32768, -16384),
+                          glm::dvec3(100, 200, -300)));
+  const std::string unsignedShorts =
+      bytesOf(std::vector<std::uint16_t>{0, 0, 0, 65535, 1, 0, 0, 65535, 32768});
+  EXPECT_THAT(
+      positionsOf(parseMeshFile(quantizedTriangleGltf(unsignedShorts, 5123, true).dump(), "q.gltf")
+                      .objects[0]),
+      ElementsAre(glm::dvec3(0, 0, 0), glm::dvec3(1, 1 / 65535.0, 0),
+                  glm::dvec3(0, 1, 32768 / 65535.0)));
+  const std::string bytes = bytesOf(std::vector<std::int8_t>{0, 0, 0, 127, -128, 1, -1, 64, 0});
+  EXPECT_THAT(
+      positionsOf(
+          parseMeshFile(quantizedTriangleGltf(bytes, 5120, true).dump(), "q.gltf").objects[0]),
+      ElementsAre(glm::dvec3(0, 0, 0), glm::dvec3(1, -1, 1 / 127.0),
+                  glm::dvec3(-1 / 127.0, 64 / 127.0, 0)));
+  const std::string unsignedBytes = bytesOf(std::vector<std::uint8_t>{0, 0, 0, 255, 1, 0, 0, 2, 3});
+  EXPECT_THAT(
+      positionsOf(parseMeshFile(quantizedTriangleGltf(unsignedBytes, 5121, false).dump(), "q.gltf")
+                      .objects[0]),
+      ElementsAre(glm::dvec3(0, 0, 0), glm::dvec3(255, 1, 0), glm::dvec3(0, 2, 3)));
+}
+
+TEST(MeshFileGltf, ExtensionsThatMoveNoGeometryAreIgnoredWithAWarningOthersAreNamed) {
+  json shaded = triangleGltf();
+  shaded["extensionsUsed"] = {"KHR_materials_clearcoat", "KHR_texture_transform",
+                              "EXT_mesh_gpu_instancing"};
+  shaded["extensionsRequired"] = {"KHR_texture_transform"};
+  const MeshFileContents contents = parseMeshFile(shaded.dump(), "m.gltf");
+  ASSERT_EQ(contents.objects.size(), 1u);
+  EXPECT_EQ(contents.warnings,
+            std::vector<std::string>{
+                "m.gltf: the extensions KHR_materials_clearcoat, KHR_texture_transform, "
+                "EXT_mesh_gpu_instancing ignored: clipray compares the static geometry in its "
+                "bind pose"});
+  json instanced = triangleGltf();
+  instanced["extensionsUsed"] = {"EXT_mesh_gpu_instancing"};
+  instanced["extensionsRequired"] = {"EXT_mesh_gpu_instancing"};
+  EXPECT_EQ(errorOf(instanced.dump(), "m.gltf"),
+            "m.gltf: extensionsRequired: \"EXT_mesh_gpu_instancing\" is not supported: it may "
+            "change what is drawn where (clipray reads KHR_mesh_quantization and ignores "
+            "material, texture and light extensions)");
 }
 
 TEST(MeshFileGltf, TexturesSkinsMorphsAndAnimationsAreIgnoredWithOneWarning) {

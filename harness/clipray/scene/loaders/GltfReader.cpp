@@ -29,6 +29,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "clipray/scene/loaders/GltfPrechecks.hpp"
 #include "clipray/scene/loaders/MeshFileCommon.hpp"
 
 namespace clipray::meshfiles {
@@ -168,138 +169,6 @@ struct AccessorBytes {
   std::size_t count = 0;
 };
 
-std::uint32_t littleEndianU32(std::string_view bytes, std::size_t offset) {
-  const auto byte = [&](std::size_t i) {
-    return static_cast<std::uint32_t>(static_cast<unsigned char>(bytes[offset + i]));
-  };
-  return byte(0) | byte(1) << 8 | byte(2) << 16 | byte(3) << 24;
-}
-
-// The GLB container (header, JSON chunk, optional BIN chunk) is checked here before tinygltf sees
-// it, so that lengths in the file never send a reader past the end and messages name the field.
-void checkGlbContainer(std::string_view bytes, const std::string& path) {
-  constexpr std::size_t kHeaderBytes = 12;
-  constexpr std::size_t kChunkHeaderBytes = 8;
-  constexpr std::uint32_t kJsonChunk = 0x4E4F534A;  // "JSON"
-  constexpr std::uint32_t kBinChunk = 0x004E4942;   // "BIN\0"
-  if (bytes.size() < kHeaderBytes + kChunkHeaderBytes) {
-    fail(path, "glb header",
-         "a GLB needs at least 20 bytes (header and JSON chunk header), got " +
-             std::to_string(bytes.size()));
-  }
-  if (bytes.substr(0, 4) != "glTF") {
-    fail(path, "glb header", "expected the magic \"glTF\", got " + quotedText(bytes.substr(0, 4)));
-  }
-  const std::uint32_t version = littleEndianU32(bytes, 4);
-  if (version == 1) {
-    fail(path, "glb header",
-         "version 1: glTF 1.0 is not supported; clipray reads glTF 2.0 (convert the file, e.g. "
-         "with Blender or gltf-pipeline)");
-  }
-  if (version != 2) fail(path, "glb header", "version must be 2, got " + std::to_string(version));
-  const std::uint32_t length = littleEndianU32(bytes, 8);
-  if (length != bytes.size()) {
-    fail(path, "glb header",
-         "length " + std::to_string(length) + " differs from the file size " +
-             std::to_string(bytes.size()));
-  }
-  std::size_t offset = kHeaderBytes;
-  for (int chunk = 0; offset < bytes.size(); ++chunk) {
-    const std::string element = "glb chunk " + std::to_string(chunk);
-    if (bytes.size() - offset < kChunkHeaderBytes) {
-      fail(path, element,
-           "the chunk header needs 8 bytes, got " + std::to_string(bytes.size() - offset));
-    }
-    const std::uint32_t chunkLength = littleEndianU32(bytes, offset);
-    const std::uint32_t chunkType = littleEndianU32(bytes, offset + 4);
-    if (chunk == 0 && chunkType != kJsonChunk) {
-      fail(path, element, "the first chunk must be JSON, got type " + std::to_string(chunkType));
-    }
-    if (chunk == 1 && chunkType != kBinChunk) {
-      fail(path, element, "the second chunk must be BIN, got type " + std::to_string(chunkType));
-    }
-    if (chunkLength > bytes.size() - offset - kChunkHeaderBytes) {
-      fail(path, element,
-           "length " + std::to_string(chunkLength) + " exceeds the " +
-               std::to_string(bytes.size() - offset - kChunkHeaderBytes) + " bytes left");
-    }
-    offset += kChunkHeaderBytes + chunkLength;
-    if (chunk >= 1) break;  // chunks after BIN are extensions' business; tinygltf ignores them
-  }
-}
-
-// tinygltf 2.7.0 copies a GLB buffer with `data.at(0)`, which throws std::out_of_range for a
-// buffer whose byteLength is 0 (found by fuzz_glb). glTF requires byteLength >= 1, so that is
-// checked on the JSON before tinygltf sees it. The JSON is parsed the way tinygltf parses it
-// (nlohmann, later duplicate keys win), so both see the same buffers.
-// What tinygltf would misreport: a glTF 1.0 file (tinygltf reads 2.0 only: "asset not found" or
-// an empty model), compressed geometry a required extension names (tinygltf then fails on the
-// accessors that have no buffer view), and primitives that are not an array (read as none).
-void checkWhatClipraySupports(const nlohmann::json& document, const std::string& path) {
-  const auto asset = document.find("asset");
-  const auto meshes = document.find("meshes");
-  // 1.0 wrote its version as "1.0", or as the number 1 (collada2gltf), and kept meshes, nodes
-  // and the rest in dictionaries, where 2.0 has arrays.
-  const nlohmann::json* version = nullptr;
-  if (asset != document.end() && asset->is_object() && asset->contains("version")) {
-    version = &(*asset)["version"];
-  }
-  const bool version1 =
-      (version != nullptr && version->is_string() &&
-       version->get<std::string>().starts_with("1")) ||
-      (version != nullptr && version->is_number() && version->get<double>() < 2.0) ||
-      (meshes != document.end() && meshes->is_object());
-  if (version1) {
-    fail(path, "asset.version",
-         "glTF 1.0 is not supported; clipray reads glTF 2.0 (convert the file, e.g. with Blender "
-         "or gltf-pipeline)");
-  }
-  const auto required = document.find("extensionsRequired");
-  if (required != document.end() && required->is_array()) {
-    for (const nlohmann::json& extension : *required) {
-      if (!extension.is_string()) continue;
-      const std::string name = extension.get<std::string>();
-      if (name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression" ||
-          name == "KHR_meshopt_compression") {
-        fail(path, "extensionsRequired",
-             "compressed geometry (" + name +
-                 ") is not supported; decompress it first (e.g. gltf-transform or gltfpack)");
-      }
-    }
-  }
-  if (meshes != document.end() && meshes->is_array()) {
-    for (std::size_t i = 0; i < meshes->size(); ++i) {
-      const nlohmann::json& mesh = (*meshes)[i];
-      if (!mesh.is_object()) continue;
-      const auto primitives = mesh.find("primitives");
-      if (primitives != mesh.end() && !primitives->is_array()) {
-        std::string found = primitives->dump();
-        if (found.size() > 40) found = found.substr(0, 37) + "...";
-        fail(path, indexText("meshes", i) + ".primitives",
-             "expected an array of primitives, got " + found);
-      }
-    }
-  }
-}
-
-void checkBufferLengths(std::string_view jsonText, const std::string& path) {
-  const nlohmann::json document = nlohmann::json::parse(jsonText, nullptr, false);
-  if (!document.is_object()) return;  // tinygltf reports malformed JSON with its own message
-  checkWhatClipraySupports(document, path);
-  const auto buffers = document.find("buffers");
-  if (buffers == document.end() || !buffers->is_array()) return;
-  for (std::size_t i = 0; i < buffers->size(); ++i) {
-    const nlohmann::json& buffer = (*buffers)[i];
-    if (!buffer.is_object()) continue;
-    const auto length = buffer.find("byteLength");
-    if (length == buffer.end() || !length->is_number()) continue;  // tinygltf requires a number
-    if (!(length->get<double>() >= 1.0)) {
-      fail(path, indexText("buffers", i) + ".byteLength",
-           "expected an integer of at least 1, got " + length->dump());
-    }
-  }
-}
-
 class GltfReader {
  public:
   GltfReader(const tinygltf::Model& model, const std::string& path, const glm::dmat4& worldFromFile)
@@ -307,9 +176,13 @@ class GltfReader {
 
   MeshFileContents read() {
     for (const std::string& extension : model_.extensionsRequired) {
-      fail(path_, "extensionsRequired",
-           "clipray supports no glTF extensions, got " + quotedText(extension));
+      const GltfExtensionUse use = gltfExtensionUse(extension);
+      if (use == GltfExtensionUse::Compressed || use == GltfExtensionUse::Unsupported) {
+        fail(path_, "extensionsRequired", unreadExtensionMessage(extension));
+      }
     }
+    quantizedPositions_ = std::find(model_.extensionsUsed.begin(), model_.extensionsUsed.end(),
+                                    "KHR_mesh_quantization") != model_.extensionsUsed.end();
     meshCache_.resize(model_.meshes.size());
     for (const auto& [node, world] : placedNodes()) {
       const tinygltf::Node& placed = model_.nodes[node];
@@ -321,9 +194,10 @@ class GltfReader {
   }
 
  private:
-  // clipray compares static geometry: materials and textures do not change depth, and skins,
-  // morph targets and animations are read in their bind pose (node transforms, no weights). One
-  // warning says which the file has, so that nobody takes the reconcile for the animated asset.
+  // clipray compares static geometry: materials, textures and the extensions it does not read
+  // (optional ones: the file stays valid without them) do not change depth, and skins, morph
+  // targets and animations are read in their bind pose (node transforms, no weights). One warning
+  // says which the file has, so that nobody takes the reconcile for the animated asset.
   void warnAboutWhatIsIgnored() {
     std::size_t morphed = 0;
     for (const tinygltf::Mesh& mesh : model_.meshes) {
@@ -339,6 +213,12 @@ class GltfReader {
     count(model_.skins.size(), "skins");
     count(morphed, "primitives with morph targets");
     count(model_.animations.size(), "animations");
+    std::string extensions;
+    for (const std::string& extension : model_.extensionsUsed) {
+      if (gltfExtensionUse(extension) == GltfExtensionUse::Read) continue;
+      extensions += (extensions.empty() ? "" : ", ") + extension;
+    }
+    if (!extensions.empty()) parts.push_back("the extensions " + extensions);
     if (parts.empty()) return;
     std::string list;
     for (std::size_t k = 0; k < parts.size(); ++k) {
@@ -500,7 +380,8 @@ class GltfReader {
   // ---- Accessors -------------------------------------------------------------------------------
 
   AccessorBytes accessorBytes(int accessorIndex, const std::string& reference, int wantedType,
-                              const std::vector<int>& wantedComponentTypes) const {
+                              const std::vector<int>& wantedComponentTypes,
+                              bool mayBeNormalized = false) const {
     if (accessorIndex < 0 || static_cast<std::size_t>(accessorIndex) >= model_.accessors.size()) {
       fail(path_, reference,
            "accessor index " + std::to_string(accessorIndex) + " out of range for " +
@@ -525,7 +406,9 @@ class GltfReader {
            "expected componentType " + wanted + ", got " +
                componentTypeName(accessor.componentType));
     }
-    if (accessor.normalized) fail(path_, element, "normalized accessors are not supported");
+    if (accessor.normalized && !mayBeNormalized) {
+      fail(path_, element, "normalized accessors are not supported here");
+    }
     if (accessor.count == 0) fail(path_, element, "count must be at least 1, got 0");
     if (accessor.bufferView < 0 ||
         static_cast<std::size_t>(accessor.bufferView) >= model_.bufferViews.size()) {
@@ -576,6 +459,64 @@ class GltfReader {
 
   // ---- Meshes ----------------------------------------------------------------------------------
 
+  // FLOAT, or with KHR_mesh_quantization declared, (UNSIGNED_)BYTE or (UNSIGNED_)SHORT, normalized
+  // or not; anything else fails naming the accessor. Out-of-range accessor indices are left to
+  // accessorBytes, which names them.
+  int positionComponentTypeChecked(int accessorIndex, const std::string& element) const {
+    if (accessorIndex < 0 || static_cast<std::size_t>(accessorIndex) >= model_.accessors.size()) {
+      return TINYGLTF_COMPONENT_TYPE_FLOAT;
+    }
+    const auto index = static_cast<std::size_t>(accessorIndex);
+    const int type = model_.accessors[index].componentType;
+    const bool integer =
+        type == TINYGLTF_COMPONENT_TYPE_BYTE || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+        type == TINYGLTF_COMPONENT_TYPE_SHORT || type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT;
+    if (type == TINYGLTF_COMPONENT_TYPE_FLOAT || (integer && quantizedPositions_)) return type;
+    std::string message = "expected componentType 5126 (FLOAT)";
+    if (quantizedPositions_) message += " or an 8- or 16-bit integer type (KHR_mesh_quantization)";
+    message += ", got " + componentTypeName(type);
+    if (integer) message += "; integer positions need KHR_mesh_quantization in extensionsUsed";
+    fail(path_, indexText("accessors", index) + " (POSITION of " + element + ")", message);
+  }
+
+  // One position as GL's vertex fetch reads it: a float as it is, an integer as its value, or
+  // normalized as glTF 2.0 (3.11) and GL 4.6 (2.3.5.1) define it: c / (2^b - 1) unsigned,
+  // max(c / (2^(b-1) - 1), -1) signed.
+  static glm::dvec3 positionAt(const unsigned char* at, int componentType, bool normalized) {
+    glm::dvec3 value;
+    for (int axis = 0; axis < 3; ++axis) {
+      switch (componentType) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE: {
+          std::int8_t c;
+          std::memcpy(&c, at + axis, 1);
+          value[axis] = normalized ? std::max(c / 127.0, -1.0) : c;
+          break;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+          value[axis] = normalized ? at[axis] / 255.0 : at[axis];
+          break;
+        case TINYGLTF_COMPONENT_TYPE_SHORT: {
+          std::int16_t c;
+          std::memcpy(&c, at + 2 * axis, 2);
+          value[axis] = normalized ? std::max(c / 32767.0, -1.0) : c;
+          break;
+        }
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+          std::uint16_t c;
+          std::memcpy(&c, at + 2 * axis, 2);
+          value[axis] = normalized ? c / 65535.0 : c;
+          break;
+        }
+        default: {
+          float c;
+          std::memcpy(&c, at + 4 * axis, 4);
+          value[axis] = c;
+        }
+      }
+    }
+    return value;
+  }
+
   // The primitives of one mesh in the mesh's own frame, validated once however often it is placed.
   const std::vector<MeshObject>& meshPrimitives(std::size_t meshIndex) {
     std::optional<std::vector<MeshObject>>& cached = meshCache_[meshIndex];
@@ -606,17 +547,19 @@ class GltfReader {
       fail(path_, element + ".attributes", "missing the POSITION attribute");
     }
     MeshObject object;
-    const AccessorBytes positions =
-        accessorBytes(position->second, "POSITION of " + element, TINYGLTF_TYPE_VEC3,
-                      {TINYGLTF_COMPONENT_TYPE_FLOAT});
+    const int positionComponentType = positionComponentTypeChecked(position->second, element);
+    const bool positionNormalized =
+        model_.accessors[static_cast<std::size_t>(position->second)].normalized;
+    const AccessorBytes positions = accessorBytes(
+        position->second, "POSITION of " + element, TINYGLTF_TYPE_VEC3, {positionComponentType},
+        positionComponentType != TINYGLTF_COMPONENT_TYPE_FLOAT);
     if (positions.count > 0xFFFFFFFFull) {
       fail(path_, element, "more vertices than 32-bit indices can address");
     }
     object.worldPositions.reserve(positions.count);
     for (std::size_t v = 0; v < positions.count; ++v) {
-      float xyz[3];
-      std::memcpy(xyz, positions.data + v * positions.stride, sizeof xyz);
-      const glm::dvec3 value(xyz[0], xyz[1], xyz[2]);
+      const glm::dvec3 value = positionAt(positions.data + v * positions.stride,
+                                          positionComponentType, positionNormalized);
       if (!std::isfinite(value.x) || !std::isfinite(value.y) || !std::isfinite(value.z)) {
         fail(path_,
              indexText("accessors", static_cast<std::size_t>(position->second)) + " (POSITION of " +
@@ -807,6 +750,7 @@ class GltfReader {
   const tinygltf::Model& model_;
   const std::string& path_;
   const glm::dmat4& worldFromFile_;
+  bool quantizedPositions_ = false;  // KHR_mesh_quantization in extensionsUsed
   std::vector<std::optional<std::vector<MeshObject>>> meshCache_;
   UniqueNames objectNames_;
   UniqueNames cameraNames_;
@@ -821,12 +765,7 @@ MeshFileContents parseGltf(std::string_view bytes, const std::string& path, bool
     fail(path, binary ? "glb" : "gltf",
          "files over 4 GiB are not supported, got " + std::to_string(bytes.size()) + " bytes");
   }
-  if (binary) {
-    checkGlbContainer(bytes, path);
-    checkBufferLengths(bytes.substr(20, littleEndianU32(bytes, 12)), path);
-  } else {
-    checkBufferLengths(bytes, path);
-  }
+  checkGltfJson(binary ? checkGlbContainer(bytes, path) : bytes, path);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(ignoreImage, nullptr);
   loader.SetFsCallbacks(tinygltf::FsCallbacks{regularFileExists, pathUnchanged, readRegularFile,

@@ -28,6 +28,54 @@ namespace clipray::meshfiles {
 
 namespace {
 
+// OBJ is ASCII text, but some exporters write it as UTF-16 with a byte order mark, or put a
+// UTF-8 byte order mark first; assimp reads both (its BaseImporter converts to UTF-8), so clipray
+// does too. Returns the text to scan: `bytes` itself, or the UTF-8 decoding kept in `storage`.
+std::string_view objText(std::string_view bytes, const std::string& path, std::string& storage) {
+  const auto byte = [&](std::size_t i) { return static_cast<unsigned char>(bytes[i]); };
+  if (bytes.size() >= 3 && byte(0) == 0xEF && byte(1) == 0xBB && byte(2) == 0xBF) {
+    return bytes.substr(3);
+  }
+  const bool bigEndian = bytes.size() >= 2 && byte(0) == 0xFE && byte(1) == 0xFF;
+  const bool littleEndian = bytes.size() >= 2 && byte(0) == 0xFF && byte(1) == 0xFE;
+  if (!bigEndian && !littleEndian) return bytes;
+  const std::string encoding = bigEndian ? "UTF-16BE" : "UTF-16LE";
+  if (bytes.size() % 2 != 0) {
+    fail(path, encoding,
+         "a UTF-16 file needs an even number of bytes, got " + std::to_string(bytes.size()));
+  }
+  const auto unit = [&](std::size_t i) -> std::uint32_t {
+    return bigEndian ? (byte(i) << 8 | byte(i + 1)) : (byte(i + 1) << 8 | byte(i));
+  };
+  storage.reserve(bytes.size() / 2);
+  for (std::size_t i = 2; i < bytes.size(); i += 2) {
+    std::uint32_t code = unit(i);
+    if (code >= 0xD800 && code <= 0xDBFF && i + 2 < bytes.size() && unit(i + 2) >= 0xDC00 &&
+        unit(i + 2) <= 0xDFFF) {
+      code = 0x10000 + ((code - 0xD800) << 10) + (unit(i + 2) - 0xDC00);
+      i += 2;
+    } else if (code >= 0xD800 && code <= 0xDFFF) {
+      fail(path, encoding + " byte " + std::to_string(i), "an unpaired surrogate");
+    }
+    if (code < 0x80) {
+      storage += static_cast<char>(code);
+    } else if (code < 0x800) {
+      storage += static_cast<char>(0xC0 | code >> 6);
+      storage += static_cast<char>(0x80 | (code & 0x3F));
+    } else if (code < 0x10000) {
+      storage += static_cast<char>(0xE0 | code >> 12);
+      storage += static_cast<char>(0x80 | (code >> 6 & 0x3F));
+      storage += static_cast<char>(0x80 | (code & 0x3F));
+    } else {
+      storage += static_cast<char>(0xF0 | code >> 18);
+      storage += static_cast<char>(0x80 | (code >> 12 & 0x3F));
+      storage += static_cast<char>(0x80 | (code >> 6 & 0x3F));
+      storage += static_cast<char>(0x80 | (code & 0x3F));
+    }
+  }
+  return storage;
+}
+
 // The checks tinyobjloader does not do, with the line each problem is on.
 class ObjScan {
  public:
@@ -154,7 +202,8 @@ class ObjScan {
 
 MeshFileContents parseObj(std::string_view bytes, const std::string& path,
                           const glm::dmat4& worldFromFile) {
-  ObjScan scan(bytes, path);
+  std::string decoded;
+  ObjScan scan(objText(bytes, path, decoded), path);
   scan.run();
 
   tinyobj::ObjReaderConfig config;
