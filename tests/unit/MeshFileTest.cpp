@@ -605,7 +605,26 @@ TEST(MeshFileErrors, GltfCameraChecks) {
 TEST(MeshFileErrors, FileWithoutTriangles) {
   json document = triangleGltf();
   document["nodes"][0].erase("mesh");
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: scene: no node places any of the file's 1 meshes: nothing to draw");
+  document.erase("scenes");
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: nodes: no node places any of the file's 1 meshes: nothing to draw");
+  // assimp's TestNoRootNode/NoScene.gltf: a scene index, and nothing else.
+  EXPECT_EQ(errorOf(R"({"asset": {"version": "2.0"}, "scene": 0})", "m.gltf"),
+            "m.gltf: meshes: the file has no meshes: nothing to draw");
+  document = triangleGltf();
+  document["meshes"][0]["primitives"] = json::array();
   EXPECT_EQ(errorOf(document.dump(), "m.gltf"), "m.gltf: the file holds no triangles");
+}
+
+TEST(MeshFileErrors, ObjWithoutFacesSaysWhatItHolds) {
+  EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\np 1 2\nl 1 2\np 2\n", "m.obj"),
+            "m.obj: obj: no faces (\"f\" lines), only 2 vertices, 2 point (\"p\") and 1 line "
+            "(\"l\") elements: clipray compares surfaces, and points and lines have none");
+  EXPECT_EQ(errorOf("", "m.obj"),
+            "m.obj: obj: no faces (\"f\" lines), only 0 vertices, 0 point (\"p\") and 0 line "
+            "(\"l\") elements: clipray compares surfaces, and points and lines have none");
 }
 
 // ---- Bad files: OBJ --------------------------------------------------------------------------
@@ -723,6 +742,11 @@ TEST(MeshFileErrors, PlyWithoutFacesHoldsNoTriangles) {
   empty.replace(empty.find("face 1"), 6, "face 0");
   EXPECT_EQ(errorOf(empty + "0 0 0\n1 0 0\n0 1 0\n", "m.ply"),
             "m.ply: the file holds no triangles");
+  EXPECT_EQ(errorOf("ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float "
+                    "y\nproperty float z\nend_header\n0 0 0\n1 0 0\n",
+                    "m.ply"),
+            "m.ply: header: missing element \"face\": a point cloud of 2 vertices; clipray "
+            "compares surfaces, and points have none");
 }
 
 }  // namespace

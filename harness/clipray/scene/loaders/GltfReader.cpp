@@ -184,10 +184,20 @@ class GltfReader {
     quantizedPositions_ = std::find(model_.extensionsUsed.begin(), model_.extensionsUsed.end(),
                                     "KHR_mesh_quantization") != model_.extensionsUsed.end();
     meshCache_.resize(model_.meshes.size());
+    std::size_t meshInstances = 0;
     for (const auto& [node, world] : placedNodes()) {
       const tinygltf::Node& placed = model_.nodes[node];
+      meshInstances += placed.mesh >= 0 ? 1 : 0;
       if (placed.mesh >= 0) addMeshInstance(node, world);
       if (placed.camera >= 0) addCamera(node, world);
+    }
+    if (contents_.objects.empty() && model_.meshes.empty()) {
+      fail(path_, "meshes", "the file has no meshes: nothing to draw");
+    }
+    if (contents_.objects.empty() && meshInstances == 0) {
+      fail(path_, model_.scenes.empty() ? "nodes" : "scene",
+           "no node places any of the file's " + std::to_string(model_.meshes.size()) +
+               " meshes: nothing to draw");
     }
     warnAboutWhatIsIgnored();
     return std::move(contents_);

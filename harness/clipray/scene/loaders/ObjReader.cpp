@@ -116,8 +116,19 @@ class ObjScan {
         }
       } else if (!words.empty() && (words[0] == "o" || words[0] == "g")) {
         sanitized_.append(line);
+      } else if (!words.empty() && (words[0] == "p" || words[0] == "l")) {
+        ++(words[0] == "p" ? pointElements_ : lineElements_);
       }
       sanitized_.append("\n");  // every line stays, so tinyobjloader's line numbers match
+    }
+    if (faceCount_ == 0) {
+      // Say what the file holds instead: a point cloud, a wireframe or nothing at all.
+      fail(path_, "obj",
+           "no faces (\"f\" lines), only " + std::to_string(vertexCount_) + " vertices, " +
+               std::to_string(pointElements_) + " point (\"p\") and " +
+               std::to_string(lineElements_) +
+               " line (\"l\") elements: clipray compares surfaces, and points and lines have "
+               "none");
     }
     if (largestPositiveIndex_ > vertexCount_) {
       fail(path_, "line " + std::to_string(lineOfLargestIndex_),
@@ -193,6 +204,8 @@ class ObjScan {
   const std::string& path_;
   std::uint64_t vertexCount_ = 0;
   std::uint64_t faceCount_ = 0;
+  std::uint64_t pointElements_ = 0;
+  std::uint64_t lineElements_ = 0;
   std::uint64_t largestPositiveIndex_ = 0;
   std::uint64_t lineOfLargestIndex_ = 0;
   std::string sanitized_;

@@ -257,10 +257,12 @@ class PlyReader {
   void checkRequiredProperties() {
     bool sawVertex = false;
     bool sawFace = false;
+    std::uint64_t vertexCount = 0;
     for (std::size_t e = 0; e < header_.elements.size(); ++e) {
       const Element& element = header_.elements[e];
       if (element.name == "vertex") {
         sawVertex = true;
+        vertexCount = element.count;
         for (const char* axis : {"x", "y", "z"}) {
           const auto found =
               std::find_if(element.properties.begin(), element.properties.end(),
@@ -292,7 +294,10 @@ class PlyReader {
       }
     }
     if (!sawVertex) failAt("header", "missing element \"vertex\"");
-    if (!sawFace) failAt("header", "missing element \"face\" (clipray reads triangle meshes)");
+    if (!sawFace) {
+      failAt("header", "missing element \"face\": a point cloud of " + std::to_string(vertexCount) +
+                           " vertices; clipray compares surfaces, and points have none");
+    }
   }
 
   // ---- Body --------------------------------------------------------------------------------
