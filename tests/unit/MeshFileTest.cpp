@@ -618,6 +618,19 @@ TEST(MeshFileErrors, FileWithoutTriangles) {
   EXPECT_EQ(errorOf(document.dump(), "m.gltf"), "m.gltf: the file holds no triangles");
 }
 
+TEST(MeshFileObj, MissingMaterialLibrariesAreWarnedAboutOnce) {
+  const MeshFileContents contents = parseMeshFile(
+      "mtllib no such.mtl \nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n"
+      "f 1/1/1 2/1/1 3/1/1\nmtllib " +
+          kDataDir + "quads.obj\n",
+      kDataDir + "m.obj");
+  ASSERT_EQ(contents.objects.size(), 1u);
+  EXPECT_EQ(contents.warnings,
+            std::vector<std::string>{kDataDir +
+                                     "m.obj: line 1: material library \"no such.mtl\" not found; "
+                                     "materials do not change depth, ignored"});
+}
+
 TEST(MeshFileErrors, ObjWithoutFacesSaysWhatItHolds) {
   EXPECT_EQ(errorOf("v 0 0 0\nv 1 0 0\np 1 2\nl 1 2\np 2\n", "m.obj"),
             "m.obj: obj: no faces (\"f\" lines), only 2 vertices, 2 point (\"p\") and 1 line "

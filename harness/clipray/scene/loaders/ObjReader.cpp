@@ -88,6 +88,12 @@ class ObjScan {
   // other paths are where fuzzing found trouble (its "vw" extension casts any float to int).
   const std::string& sanitized() const { return sanitized_; }
 
+  struct MaterialLibrary {
+    std::string name;
+    std::uint64_t line = 0;
+  };
+  const std::vector<MaterialLibrary>& materialLibraries() const { return materialLibraries_; }
+
   void run() {
     const std::size_t nul = text_.find('\0');
     if (nul != std::string_view::npos) {
@@ -116,6 +122,12 @@ class ObjScan {
         }
       } else if (!words.empty() && (words[0] == "o" || words[0] == "g")) {
         sanitized_.append(line);
+      } else if (!words.empty() && words[0] == "mtllib" && words.size() > 1) {
+        // The name is the rest of the line: exporters write names with spaces unquoted.
+        const std::size_t start = line.find(words[1]);
+        std::string_view name = line.substr(start);
+        while (!name.empty() && (name.back() == ' ' || name.back() == '\t')) name.remove_suffix(1);
+        materialLibraries_.push_back({std::string(name), lineNumber});
       } else if (!words.empty() && (words[0] == "p" || words[0] == "l")) {
         ++(words[0] == "p" ? pointElements_ : lineElements_);
       }
@@ -209,6 +221,7 @@ class ObjScan {
   std::uint64_t largestPositiveIndex_ = 0;
   std::uint64_t lineOfLargestIndex_ = 0;
   std::string sanitized_;
+  std::vector<MaterialLibrary> materialLibraries_;
 };
 
 }  // namespace
@@ -294,6 +307,17 @@ MeshFileContents parseObj(std::string_view bytes, const std::string& path,
     if (object.triangles.empty()) continue;
     const std::string element = "object " + quotedText(object.name);
     addObject(contents, path, element, std::move(object), worldFromFile);
+  }
+  // Materials never change depth, so a missing library costs nothing; said once per library so
+  // that a user who expected them knows.
+  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
+  for (const ObjScan::MaterialLibrary& library : scan.materialLibraries()) {
+    std::error_code error;
+    if (!std::filesystem::exists(folder / library.name, error)) {
+      contents.warnings.push_back(path + ": line " + std::to_string(library.line) +
+                                  ": material library " + quotedText(library.name) +
+                                  " not found; materials do not change depth, ignored");
+    }
   }
   if (nonPlanar > 0) {
     char worst[32];
