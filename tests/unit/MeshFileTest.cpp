@@ -620,7 +620,7 @@ TEST(MeshFileErrors, FileWithoutTriangles) {
 
 TEST(MeshFileObj, MissingMaterialLibrariesAreWarnedAboutOnce) {
   const MeshFileContents contents = parseMeshFile(
-      "mtllib no such.mtl \nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\n"
+      "mtllib no such.mtl \nusemtl red\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n"
       "f 1/1/1 2/1/1 3/1/1\nmtllib " +
           kDataDir + "quads.obj\n",
       kDataDir + "m.obj");
@@ -629,6 +629,23 @@ TEST(MeshFileObj, MissingMaterialLibrariesAreWarnedAboutOnce) {
             std::vector<std::string>{kDataDir +
                                      "m.obj: line 1: material library \"no such.mtl\" not found; "
                                      "materials do not change depth, ignored"});
+}
+
+TEST(MeshFileObj, FacesNamingMissingTexCoordsOrNormalsAreReadWithOneWarning) {
+  const std::string triangle = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvn 0 0 1\n";
+  EXPECT_TRUE(parseMeshFile(triangle + "f 1/1/1 2/1/1 3//-1\n", "m.obj").warnings.empty());
+  // Defined after the face that names it: no warning either.
+  EXPECT_TRUE(parseMeshFile(triangle + "f 1/2 2/2 3/2\nvt 1 1\n", "m.obj").warnings.empty());
+  const std::string kWarning =
+      " (and maybe others): a face names texture coordinates or normals the file does not define; "
+      "clipray reads positions only, ignored";
+  const MeshFileContents beyond =
+      parseMeshFile(triangle + "f 1 2 3\nf 1/1/1 2/1/1 3/1/1\nf 1/1/7 2/1/1 3/1/1\n", "m.obj");
+  ASSERT_EQ(beyond.objects.size(), 1u);
+  EXPECT_EQ(beyond.objects[0].triangles.size(), 3u);
+  EXPECT_EQ(beyond.warnings, std::vector<std::string>{"m.obj: line 8" + kWarning});
+  EXPECT_EQ(parseMeshFile(triangle + "f 1/-2 2/1 3/1\nf 1/x 2 3\n", "m.obj").warnings,
+            std::vector<std::string>{"m.obj: line 6" + kWarning});
 }
 
 TEST(MeshFileErrors, ObjWithoutFacesSaysWhatItHolds) {
@@ -760,6 +777,13 @@ TEST(MeshFileErrors, PlyWithoutFacesHoldsNoTriangles) {
                     "m.ply"),
             "m.ply: header: missing element \"face\": a point cloud of 2 vertices; clipray "
             "compares surfaces, and points have none");
+  // assimp's PLY/issue623.ply: the faces' index lists declared as a property of the vertices.
+  EXPECT_EQ(errorOf("ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float "
+                    "y\nproperty float z\nproperty list uchar uint vertex_indices\nend_header\n",
+                    "m.ply"),
+            "m.ply: header: missing element \"face\": the face lists are a property of element "
+            "\"vertex\", where no reader looks for them (they belong in their own element "
+            "\"face\")");
 }
 
 }  // namespace

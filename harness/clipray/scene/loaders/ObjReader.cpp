@@ -17,6 +17,7 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -88,6 +89,10 @@ class ObjScan {
   // other paths are where fuzzing found trouble (its "vw" extension casts any float to int).
   const std::string& sanitized() const { return sanitized_; }
 
+  // The line of a face whose "v/vt/vn" corners name texture coordinates or normals the file does
+  // not define (0: none): clipray reads positions only, so these are ignored, and said so once.
+  std::uint64_t lineNamingMissingAttributes() const { return lineNamingMissingAttributes_; }
+
   struct MaterialLibrary {
     std::string name;
     std::uint64_t line = 0;
@@ -122,6 +127,8 @@ class ObjScan {
         }
       } else if (!words.empty() && (words[0] == "o" || words[0] == "g")) {
         sanitized_.append(line);
+      } else if (!words.empty() && (words[0] == "vt" || words[0] == "vn")) {
+        ++(words[0] == "vt" ? texCoordCount_ : normalCount_);
       } else if (!words.empty() && words[0] == "mtllib" && words.size() > 1) {
         // The name is the rest of the line: exporters write names with spaces unquoted.
         const std::size_t start = line.find(words[1]);
@@ -132,6 +139,14 @@ class ObjScan {
         ++(words[0] == "p" ? pointElements_ : lineElements_);
       }
       sanitized_.append("\n");  // every line stays, so tinyobjloader's line numbers match
+    }
+    for (const auto& [largest, count, line] :
+         {std::tuple{largestTexCoordIndex_, texCoordCount_, lineOfLargestTexCoordIndex_},
+          std::tuple{largestNormalIndex_, normalCount_, lineOfLargestNormalIndex_}}) {
+      if (largest > count &&
+          (lineNamingMissingAttributes_ == 0 || line < lineNamingMissingAttributes_)) {
+        lineNamingMissingAttributes_ = line;
+      }
     }
     if (faceCount_ == 0) {
       // Say what the file holds instead: a point cloud, a wireframe or nothing at all.
@@ -176,6 +191,33 @@ class ObjScan {
     ++vertexCount_;
   }
 
+  // Positive vt/vn indices beyond the counts so far may still be defined later; relative ones
+  // are checked against the counts so far, as for positions. Unparsable parts count as missing.
+  void noteAttributeReferences(std::string_view corner, std::uint64_t lineNumber) {
+    const std::size_t slash = corner.find('/');
+    if (slash == std::string_view::npos) return;
+    const std::string_view rest = corner.substr(slash + 1);
+    const std::size_t secondSlash = rest.find('/');
+    const std::string_view texCoord = rest.substr(0, secondSlash);
+    const std::string_view normal =
+        secondSlash == std::string_view::npos ? std::string_view() : rest.substr(secondSlash + 1);
+    const auto note = [&](std::string_view part, std::uint64_t countSoFar, std::uint64_t& largest,
+                          std::uint64_t& lineOfLargest) {
+      if (part.empty()) return;
+      std::int64_t index = 0;
+      const auto result = std::from_chars(part.data(), part.data() + part.size(), index);
+      if (result.ec != std::errc() || result.ptr != part.data() + part.size() || index == 0 ||
+          (index < 0 && static_cast<std::uint64_t>(-(index + 1)) >= countSoFar)) {
+        if (lineNamingMissingAttributes_ == 0) lineNamingMissingAttributes_ = lineNumber;
+      } else if (index > 0 && static_cast<std::uint64_t>(index) > largest) {
+        largest = static_cast<std::uint64_t>(index);
+        lineOfLargest = lineNumber;
+      }
+    };
+    note(texCoord, texCoordCount_, largestTexCoordIndex_, lineOfLargestTexCoordIndex_);
+    note(normal, normalCount_, largestNormalIndex_, lineOfLargestNormalIndex_);
+  }
+
   void checkFace(const std::vector<std::string_view>& words, std::uint64_t lineNumber) {
     const std::string at =
         "line " + std::to_string(lineNumber) + ": face " + std::to_string(faceCount_++);
@@ -205,6 +247,7 @@ class ObjScan {
         largestPositiveIndex_ = static_cast<std::uint64_t>(index);
         lineOfLargestIndex_ = lineNumber;
       }
+      noteAttributeReferences(word, lineNumber);
       // tinyobjloader keeps indices in int.
       if (index > 0x7FFFFFFF || index < -0x7FFFFFFF) {
         fail(path_, at, "vertex index out of range, got " + std::to_string(index));
@@ -222,6 +265,10 @@ class ObjScan {
   std::uint64_t lineOfLargestIndex_ = 0;
   std::string sanitized_;
   std::vector<MaterialLibrary> materialLibraries_;
+  std::uint64_t texCoordCount_ = 0, normalCount_ = 0;
+  std::uint64_t largestTexCoordIndex_ = 0, largestNormalIndex_ = 0;
+  std::uint64_t lineOfLargestTexCoordIndex_ = 0, lineOfLargestNormalIndex_ = 0;
+  std::uint64_t lineNamingMissingAttributes_ = 0;
 };
 
 }  // namespace
@@ -307,6 +354,12 @@ MeshFileContents parseObj(std::string_view bytes, const std::string& path,
     if (object.triangles.empty()) continue;
     const std::string element = "object " + quotedText(object.name);
     addObject(contents, path, element, std::move(object), worldFromFile);
+  }
+  if (scan.lineNamingMissingAttributes() > 0) {
+    contents.warnings.push_back(path + ": line " +
+                                std::to_string(scan.lineNamingMissingAttributes()) +
+                                " (and maybe others): a face names texture coordinates or normals "
+                                "the file does not define; clipray reads positions only, ignored");
   }
   // Materials never change depth, so a missing library costs nothing; said once per library so
   // that a user who expected them knows.

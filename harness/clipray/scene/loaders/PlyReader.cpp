@@ -294,6 +294,19 @@ class PlyReader {
       }
     }
     if (!sawVertex) failAt("header", "missing element \"vertex\"");
+    const auto isIndexList = [](const Property& property) {
+      return property.isList &&
+             (property.name == "vertex_indices" || property.name == "vertex_index");
+    };
+    for (const Element& element : header_.elements) {
+      if (!sawFace && element.name == "vertex" &&
+          std::any_of(element.properties.begin(), element.properties.end(), isIndexList)) {
+        failAt("header",
+               "missing element \"face\": the face lists are a property of element "
+               "\"vertex\", where no reader looks for them (they belong in their own "
+               "element \"face\")");
+      }
+    }
     if (!sawFace) {
       failAt("header", "missing element \"face\": a point cloud of " + std::to_string(vertexCount) +
                            " vertices; clipray compares surfaces, and points have none");
