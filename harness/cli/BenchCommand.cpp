@@ -226,39 +226,67 @@ std::string table(const std::vector<Row>& rows) {
 }
 
 std::string plotSvg(const std::vector<Row>& rows, Viewport size) {
-  // One point per method x precision: median ns/ray over the cases, worst angle over the cases.
+  // The overview: one point per method x precision, the median ns/ray over the cases against the
+  // worst angle over the cases. Below it, one panel per case with that case's own figures.
   struct Summary {
+    int key = 0;
+    std::size_t series = 0;
     std::vector<double> ns;
     double worst = 0.0;
     bool nonfinite = false;
   };
+  const auto angleOf = [](const Row& r) {
+    const bool nonfinite = r.errors.nonfinite > 0 || !std::isfinite(r.errors.anglePx.max);
+    return nonfinite ? std::numeric_limits<double>::infinity()
+                     : std::max(r.errors.anglePx.max, 1e-12);
+  };
   std::map<std::string, Summary> byName;
   std::vector<std::string> order;
+  std::map<std::string, LogLogPanel> byCase;
+  std::vector<std::string> caseOrder;
   for (const Row& r : rows) {
     const std::string name = r.method + " " + r.precision;
-    if (!byName.count(name)) order.push_back(name);
+    if (!byName.count(name)) {
+      order.push_back(name);
+      byName[name].key = static_cast<int>(order.size());
+      byName[name].series = r.precision == "double" ? 1 : 0;
+    }
     Summary& s = byName[name];
     s.ns.push_back(r.nsPerRay);
-    if (r.errors.nonfinite > 0 || !std::isfinite(r.errors.anglePx.max)) s.nonfinite = true;
-    if (std::isfinite(r.errors.anglePx.max)) s.worst = std::max(s.worst, r.errors.anglePx.max);
+    const double angle = angleOf(r);
+    if (std::isinf(angle)) s.nonfinite = true;
+    if (std::isfinite(angle)) s.worst = std::max(s.worst, angle);
+    const std::string caseName = r.caseName + " (" + r.convention + ")";
+    if (!byCase.count(caseName)) {
+      caseOrder.push_back(caseName);
+      byCase[caseName].title = caseName;
+    }
+    byCase[caseName].points.push_back({s.key, r.nsPerRay, angle, s.series});
   }
-  LogLogPlot plot;
-  plot.title = "clipray bench: speed vs worst angular error (" + std::to_string(size.width) + "x" +
-               std::to_string(size.height) + ", " + batchCodePath() + ")";
-  plot.xLabel = "ns per ray (median over cases, one core)";
-  plot.yLabel = "worst angular error over cases (pixels)";
-  plot.yLines = {{1.0, "1 px"}, {0.01, "0.01 px"}};
+  SpeedErrorFigure figure;
+  figure.title = "clipray bench: speed vs worst angular error (" + std::to_string(size.width) +
+                 "x" + std::to_string(size.height) + ", " + batchCodePath() + ")";
+  figure.xLabel = "ns per ray (one core)";
+  figure.yLabel = "worst angular error (pixels)";
+  figure.series = {{"float", "#1f77b4", MarkerShape::Circle},
+                   {"double", "#d62728", MarkerShape::Square}};
+  figure.yLines = {{1.0, "1 px"}, {0.01, "0.01 px"}};
+  figure.overview.title = "All cases: median ns per ray, worst error over the cases";
+  figure.keyTitle = "Key: method precision, median ns/ray, worst px";
   for (const std::string& name : order) {
     Summary& s = byName[name];
     std::sort(s.ns.begin(), s.ns.end());
-    PlotPoint p;
-    p.label = name + (s.nonfinite ? " (non-finite rays)" : "");
-    p.x = s.ns[s.ns.size() / 2];
-    p.y = s.nonfinite ? std::numeric_limits<double>::infinity() : std::max(s.worst, 1e-12);
-    p.colour = name.find("double") != std::string::npos ? "#d62728" : "#1f77b4";
-    plot.points.push_back(p);
+    const double median = s.ns[s.ns.size() / 2];
+    const double worst = s.nonfinite ? std::numeric_limits<double>::infinity() : s.worst;
+    figure.overview.points.push_back({s.key, median, worst, s.series});
+    std::ostringstream text;
+    text << std::left << std::setw(22) << name << std::right << std::setw(9) << std::setprecision(3)
+         << median << " ns " << std::setw(9)
+         << (s.nonfinite ? std::string("non-finite rays") : cell(s.worst) + " px");
+    figure.key.push_back({s.key, s.series, text.str()});
   }
-  return renderSvg(plot);
+  for (const std::string& caseName : caseOrder) figure.perCase.push_back(byCase[caseName]);
+  return renderSvg(figure);
 }
 
 int runBench(const BenchOptions& options) {
