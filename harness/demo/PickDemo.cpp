@@ -227,6 +227,12 @@ void PickDemo::updateRaster() {
   request.viewport = viewport;
   raster_ = renderer_->render(request);
   intersector_.emplace(shownScene_, reference);
+  rasterSetup_.clipFromWorld = rasterCamera_.clipFromWorld;
+  rasterSetup_.mode = settings_.mode;
+  rasterSetup_.depthFormat = settings_.depthFormat;
+  rasterSetup_.vertexMode = settings_.vertexMode;
+  rasterSetup_.vertexReference = reference;
+  rasterSetup_.subpixelBits = renderer_->info().subpixelBits;
 
   if (gpu_->idTextureSize != glm::ivec2(viewport.width, viewport.height)) {
     glDeleteTextures(1, &gpu_->idTexture);
@@ -248,8 +254,13 @@ void PickDemo::repick() {
   updateRaster();
   const glm::ivec2 pixel = glm::min(
       lastPick_->pixel, glm::ivec2(raster_.viewport.width - 1, raster_.viewport.height - 1));
-  const PickView view{&shownScene_, rasterCamera_, settings_.depthFormat, &raster_, &*intersector_};
-  lastPick_ = pick(view, settings_.ray, pixel);
+  lastPick_ = pick(pickView(), settings_.ray, pixel);
+}
+
+PickView PickDemo::pickView() {
+  updateRaster();
+  return {&shownScene_, rasterCamera_,  settings_.depthFormat,
+          &raster_,     &*intersector_, &rasterSetup_};
 }
 
 void PickDemo::drawFrame() {

@@ -57,6 +57,7 @@ class PickDemo {
   void drawFrame();
   void updateRaster();
   void repick();
+  PickView pickView();  // of the current raster, redrawn first if needed
   // What the demo's camera hands the ray methods: clipFromWorld, and for a parametric camera the
   // projection and view separately, and for a perspective one the fov scalars too.
   CameraInputs cameraInputs(Viewport viewport) const;
@@ -71,7 +72,8 @@ class PickDemo {
   DemoSettings settings_;
   std::ostream& pickLines_;
   bool teleported_ = false;
-  bool showHelp_ = true;
+  bool showHelp_ = false;
+  bool compactPanel_ = false;  // P: the panel shrinks to the pick's verdict
 
   glm::dmat4 viewFromWorld_{1.0};  // before the teleport offset
   glm::dvec3 pivot_{0.0};          // orbit centre, before the teleport offset
@@ -82,6 +84,7 @@ class PickDemo {
   bool rasterDirty_ = true;
   RasterFrame raster_;
   CameraInputs rasterCamera_;  // the camera the raster was drawn with
+  RasterSetup rasterSetup_;    // how it was drawn, as the tolerance model needs it
   std::optional<SceneIntersector> intersector_;
   std::optional<PickResult> lastPick_;
 

@@ -73,9 +73,8 @@ void PickDemo::installInputCallbacks() {
 }
 
 void PickDemo::onClick(glm::dvec2 cursor) {
-  updateRaster();
+  const PickView view = pickView();
   const glm::ivec2 pixel = window_->geometry().pixelFromCursor(cursor);
-  const PickView view{&shownScene_, rasterCamera_, settings_.depthFormat, &raster_, &*intersector_};
   lastPick_ = pick(view, settings_.ray, pixel);
   pickLines_ << pickJson(*lastPick_, shownScene_, teleported_).dump() << std::endl;
 }
@@ -163,6 +162,9 @@ void PickDemo::onKey(char key) {
       break;
     case 'h':
       showHelp_ = !showHelp_;
+      return;
+    case 'p':
+      compactPanel_ = !compactPanel_;
       return;
     default:
       return;

@@ -25,52 +25,75 @@ std::string objectName(const Scene& scene, int object) {
   return surfaceName(scene, object);
 }
 
+ImVec4 verdictColour(PickVerdict verdict) {
+  switch (verdict) {
+    case PickVerdict::Agree:
+      return {0.4f, 1.0f, 0.4f, 1.0f};
+    case PickVerdict::Apart:
+      return {1.0f, 0.65f, 0.2f, 1.0f};
+    case PickVerdict::Ambiguous:
+      return {1.0f, 0.9f, 0.3f, 1.0f};
+    case PickVerdict::Disagree:
+      return {1.0f, 0.35f, 0.35f, 1.0f};
+    case PickVerdict::NoRay:
+      break;
+  }
+  return {0.7f, 0.7f, 0.7f, 1.0f};
+}
+
 }  // namespace
 
 void PickDemo::drawPanel() {
   const WindowGeometry geometry = window_->geometry();
   ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_Always);
   ImGui::SetNextWindowBgAlpha(0.82f);
-  ImGui::Begin("clipray-pick", nullptr,
+  // Collapsible by its title bar's arrow; P shrinks it to the verdict line.
+  ImGui::Begin("clipray-pick (P: compact, H: keys)", nullptr,
                ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoMove |
                    ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
-  ImGui::Text("scene %s   %s", baseScene_.name.c_str(),
-              teleported_ ? "TELEPORTED 1e5 from the origin" : "at the origin");
-  ImGui::Text("convention %s   depth %s   vertices %s   rays %s", settings_.mode.name().c_str(),
-              depthFormatName(settings_.depthFormat).c_str(),
-              vertexModeName(settings_.vertexMode).c_str(), rayChoiceName(settings_.ray).c_str());
-  ImGui::Text("framebuffer %dx%d   window %.0fx%.0f", geometry.framebufferSize.x,
-              geometry.framebufferSize.y, geometry.windowSize.x, geometry.windowSize.y);
-  ImGui::Separator();
+  if (!compactPanel_) {
+    ImGui::Text("scene %s   %s", baseScene_.name.c_str(),
+                teleported_ ? "TELEPORTED 1e5 from the origin" : "at the origin");
+    ImGui::Text("convention %s   depth %s   vertices %s", settings_.mode.name().c_str(),
+                depthFormatName(settings_.depthFormat).c_str(),
+                vertexModeName(settings_.vertexMode).c_str());
+    ImGui::Text("rays %s   framebuffer %dx%d", rayChoiceName(settings_.ray).c_str(),
+                geometry.framebufferSize.x, geometry.framebufferSize.y);
+    ImGui::Separator();
+  }
   if (!lastPick_) {
     ImGui::TextUnformatted("left-click to pick");
   } else {
     const PickResult& p = *lastPick_;
-    ImGui::Text("pixel (%d, %d)", p.pixel.x, p.pixel.y);
-    if (p.rayUnavailable.empty()) {
-      ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s",
-                         objectName(shownScene_, p.rayObject).c_str(),
-                         formatPoint(p.rayPoint).c_str());
-    } else {
-      ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s", "n/a",
-                         p.rayUnavailable.c_str());
+    const PickJudgement judgement = judgePick(p, shownScene_);
+    if (!compactPanel_) {
+      ImGui::Text("pixel (%d, %d)", p.pixel.x, p.pixel.y);
+      if (p.rayUnavailable.empty()) {
+        ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s",
+                           objectName(shownScene_, p.rayObject).c_str(),
+                           formatPoint(p.rayPoint).c_str());
+      } else {
+        ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s", "n/a",
+                           p.rayUnavailable.c_str());
+      }
+      ImGui::TextColored(ImVec4(1.0f, 0.65f, 0.2f, 1.0f), "2 depth %-12s %s", "",
+                         formatPoint(p.depthPoint).c_str());
+      ImGui::TextColored(ImVec4(0.4f, 0.9f, 1.0f, 1.0f), "3 id    %s",
+                         objectName(shownScene_, p.idObject).c_str());
+      if (p.gapWorld) {
+        // Beyond a pixel, the depth readback's point is not the one the ray found.
+        const bool far = p.gapPixels.value_or(0.0) > 1.0;
+        ImGui::TextColored(far ? ImVec4(1.0f, 0.65f, 0.2f, 1.0f) : ImVec4(1, 1, 1, 1),
+                           "gap 1-2: %.3g world units, %.3g px", *p.gapWorld,
+                           p.gapPixels.value_or(0.0));
+      } else {
+        ImGui::TextUnformatted("gap 1-2: -");
+      }
+      if (p.reconcileClass) {
+        ImGui::Text("reconcile's class here: %s", pixelClassName(*p.reconcileClass));
+      }
     }
-    ImGui::TextColored(ImVec4(1.0f, 0.65f, 0.2f, 1.0f), "2 depth %-12s %s", "",
-                       formatPoint(p.depthPoint).c_str());
-    ImGui::TextColored(ImVec4(0.4f, 0.9f, 1.0f, 1.0f), "3 id    %s",
-                       objectName(shownScene_, p.idObject).c_str());
-    if (p.gapWorld) {
-      ImGui::Text("gap 1-2: %.3g world units, %.3g px", *p.gapWorld, p.gapPixels.value_or(0.0));
-    } else {
-      ImGui::TextUnformatted("gap 1-2: -");
-    }
-    if (!p.rayUnavailable.empty()) {
-      ImGui::TextUnformatted("1 and 3: n/a (no ray)");
-    } else if (p.agree()) {
-      ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 and 3 agree");
-    } else {
-      ImGui::TextColored(ImVec4(1.0f, 0.35f, 0.35f, 1.0f), "1 and 3 DISAGREE");
-    }
+    ImGui::TextColored(verdictColour(judgement.verdict), "%s", judgement.text.c_str());
   }
   ImGui::End();
 
@@ -87,7 +110,7 @@ void PickDemo::drawPanel() {
         "M ray method: unproject_glm / two_point / inverse_pv / fov_tangent / plane_cross /\n"
         "  plane_cross_pre / full / robust (float), then robust double\n"
         "V vertex mode (world / camera-relative / pretransformed)   T teleport 1e5\n"
-        "R reset view   H this help   Esc quit");
+        "R reset view   P compact panel   H this help   Esc quit");
     ImGui::End();
   }
 

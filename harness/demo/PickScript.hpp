@@ -26,7 +26,7 @@ struct ScriptCommand {
 };
 
 // The keys a script may press (the demo's key bindings, lower case).
-inline constexpr const char* kScriptKeys = "cdmvtrh";
+inline constexpr const char* kScriptKeys = "cdmvtrhp";
 
 // Throws InputError "FILE:LINE: ..." for anything it does not understand.
 std::vector<ScriptCommand> parseScript(const std::string& text, const std::string& path);

@@ -1,8 +1,10 @@
 #include "Picking.hpp"
 
 #include <cmath>
+#include <cstdio>
 #include <iterator>
 #include <memory>
+#include <vector>
 
 namespace clipray::demo {
 
@@ -110,6 +112,34 @@ std::optional<glm::dvec2> framebufferFromWorld(const glm::dmat4& clipFromWorld, 
   return glm::dvec2((ndc.x + 1.0) * 0.5 * viewport.width, (ndc.y + 1.0) * 0.5 * viewport.height);
 }
 
+namespace {
+
+// The reconcile's classification of one mismatching pixel, for the pick's own ray: the polygons
+// of just the two primitives are clipped (ToleranceModel's lazy path), not the whole scene's.
+PixelClass classifyPickMismatch(const PickView& view, const Ray& ray, double t,
+                                std::uint32_t rayPrimitive, std::uint32_t rasterPrimitive,
+                                glm::ivec2 pixel) {
+  const RasterSetup& setup = *view.setup;
+  std::vector<std::uint32_t> shown;
+  for (const std::uint32_t id : {rayPrimitive, rasterPrimitive}) {
+    if (id != 0) shown.push_back(id);
+  }
+  const ToleranceModel model(*view.intersector, setup, view.raster->viewport, shown, 1);
+  double rayDepth = std::nan(""), rayTolerance = 0.0;
+  if (rayPrimitive != 0) {
+    const glm::dvec4 hitClip =
+        setup.clipFromWorld * glm::dvec4(ray.origin + t * ray.direction, 1.0);
+    rayDepth = windowDepthFromNdc(hitClip.z / hitClip.w, setup.mode.convention);
+    rayTolerance = view.intersector->isAnalytic(rayPrimitive)
+                       ? model.analyticDepthTolerance(rayPrimitive, ray, t)
+                       : model.depthToleranceAtClip(rayPrimitive, hitClip);
+  }
+  return classifyMismatch(model, rayPrimitive, rayDepth, rayTolerance, rasterPrimitive,
+                          glm::dvec2(pixel) + 0.5);
+}
+
+}  // namespace
+
 PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
   const Scene& scene = *view.scene;
   const RasterFrame& raster = *view.raster;
@@ -125,8 +155,12 @@ PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
 
   // 1. The analytic ray through the pixel centre.
   const PickRay analytic = pickRay(ray, view.camera, viewport, pixel);
+  std::uint32_t rayPrimitive = 0;
+  double rayHitT = 0.0;
   if (analytic.ray) {
     const Hit hit = view.intersector->closestHit(*analytic.ray);
+    rayPrimitive = hit.primitiveId;
+    rayHitT = hit.t;
     if (hit.hit()) {
       result.rayObject = surfaceIndex(scene, ids, hit.primitiveId);
       result.rayPoint = analytic.ray->origin + hit.t * analytic.ray->direction;
@@ -147,6 +181,17 @@ PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
     result.depthPoint = unproject(worldFromClip, glm::dvec3(clipXY, zNdc));
   }
 
+  if (result.rayPoint) {
+    if (const auto onScreen =
+            framebufferFromWorld(view.camera.clipFromWorld, viewport, *result.rayPoint)) {
+      result.rayOffsetPixels = glm::distance(*onScreen, glm::dvec2(pixel) + 0.5);
+    }
+  }
+  if (view.setup != nullptr && analytic.ray && rayPrimitive != result.primitiveId) {
+    result.reconcileClass =
+        classifyPickMismatch(view, *analytic.ray, rayHitT, rayPrimitive, result.primitiveId, pixel);
+  }
+
   if (result.rayPoint && result.depthPoint) {
     result.gapWorld = glm::distance(*result.rayPoint, *result.depthPoint);
     // One pixel's footprint at the depth point: the next pixel centre at the same NDC depth.
@@ -158,6 +203,55 @@ PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
       result.gapPixels = *result.gapWorld / footprint;
   }
   return result;
+}
+
+const char* pickVerdictName(PickVerdict verdict) {
+  switch (verdict) {
+    case PickVerdict::Agree:
+      return "agree";
+    case PickVerdict::Apart:
+      return "apart";
+    case PickVerdict::Ambiguous:
+      return "ambiguous";
+    case PickVerdict::Disagree:
+      return "disagree";
+    case PickVerdict::NoRay:
+      return "n/a";
+  }
+  return "?";
+}
+
+PickJudgement judgePick(const PickResult& result, const Scene& scene) {
+  char text[256];
+  if (!result.rayUnavailable.empty()) {
+    return {PickVerdict::NoRay, "1 and 3: n/a (" + result.rayUnavailable + ")"};
+  }
+  const std::string rayName = surfaceName(scene, result.rayObject);
+  const std::string idName = surfaceName(scene, result.idObject);
+  if (result.agree()) {
+    if (!result.rayOffsetPixels) return {PickVerdict::Agree, "1 and 3 agree: " + rayName};
+    const double offset = *result.rayOffsetPixels;
+    if (offset <= kPickAgreementPixels) {
+      std::snprintf(text, sizeof text, "1 and 3 agree: %s, hit %.2g px from the pixel centre",
+                    rayName.c_str(), offset);
+      return {PickVerdict::Agree, text};
+    }
+    std::snprintf(text, sizeof text,
+                  "1 and 3 APART: both %s, but the ray's hit lands %.3g px from the clicked pixel",
+                  rayName.c_str(), offset);
+    return {PickVerdict::Apart, text};
+  }
+  const PixelClass cls = result.reconcileClass.value_or(PixelClass::IdUnexplained);
+  if (cls == PixelClass::IdDepthAmbiguous) {
+    return {PickVerdict::Ambiguous, "1 and 3 ambiguous: " + rayName + " and " + idName +
+                                        " z-fight here (depths within the tolerance)"};
+  }
+  if (cls == PixelClass::IdEdgeAmbiguous || cls == PixelClass::CoverageEdgeAmbiguous) {
+    return {PickVerdict::Ambiguous,
+            "1 and 3 ambiguous: " + rayName + " or " + idName + ", the pixel centre is on an edge"};
+  }
+  return {PickVerdict::Disagree,
+          "1 and 3 DISAGREE: the ray hits " + rayName + ", the id buffer shows " + idName};
 }
 
 nlohmann::json pickJson(const PickResult& result, const Scene& scene, bool teleported) {
@@ -180,11 +274,18 @@ nlohmann::json pickJson(const PickResult& result, const Scene& scene, bool telep
   line["id"] = {{"object", objectJson(scene, result.idObject)}};
   line["gap_world"] = optionalJson(result.gapWorld);
   line["gap_px"] = optionalJson(result.gapPixels);
+  line["ray_offset_px"] = optionalJson(result.rayOffsetPixels);
   if (result.rayUnavailable.empty()) {
     line["agree"] = result.agree();
   } else {
     line["agree"] = nullptr;
   }
+  if (result.reconcileClass) {
+    line["reconcile_class"] = pixelClassName(*result.reconcileClass);
+  } else {
+    line["reconcile_class"] = nullptr;
+  }
+  line["verdict"] = pickVerdictName(judgePick(result, scene).verdict);
   return line;
 }
 

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "clipray/compare/Frames.hpp"
+#include "clipray/compare/Reconcile.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
 #include "clipray/math/Conventions.hpp"
 #include "clipray/rays/Ray.hpp"
@@ -58,6 +59,10 @@ struct PickView {
   DepthFormat depthFormat = DepthFormat::Float32;
   const RasterFrame* raster = nullptr;            // depth and ids read back from the same frame
   const SceneIntersector* intersector = nullptr;  // over the same (possibly teleported) scene
+  // How the raster was drawn, when the caller knows: a pick whose ray and id buffer name
+  // different primitives is then classified as the reconcile classifies such a pixel
+  // (classifyMismatch), so that z-fighting and edges read "ambiguous", not "disagree".
+  const RasterSetup* setup = nullptr;
 };
 
 struct PickResult {
@@ -79,8 +84,33 @@ struct PickResult {
   // gaps between 1 and 2 (where both exist)
   std::optional<double> gapWorld;
   std::optional<double> gapPixels;  // gapWorld / one pixel's footprint at the depth point
-  bool agree() const { return rayObject == idObject; }  // meaningful only with a ray
+  // How far from the clicked pixel's centre the ray's hit point projects, in framebuffer pixels: a
+  // ray through the centre hits a point that projects back onto it, whatever it hits.
+  std::optional<double> rayOffsetPixels;
+  // Where the ray's primitive and the id buffer's differ (and PickView::setup is given): what the
+  // reconcile calls such a pixel, one of the coverage and id mismatch classes.
+  std::optional<PixelClass> reconcileClass;
+  bool agree() const { return rayObject == idObject; }  // same object; meaningful with a ray
 };
+
+// A pick's verdict on 1 (the ray) against 3 (the id buffer), as the panel and the JSON line say it.
+enum class PickVerdict {
+  Agree,      // the same object, and the ray's hit projects into the clicked pixel
+  Apart,      // the same object, but the ray's hit lands elsewhere on screen
+  Ambiguous,  // different objects where the reconcile calls the pixel ambiguous (z-fighting, edge)
+  Disagree,   // different objects, unexplained
+  NoRay,      // the method gave no ray here
+};
+// "agree", "apart", "ambiguous", "disagree", "n/a"
+const char* pickVerdictName(PickVerdict verdict);
+// A hit projecting more than this far from the pixel centre lands outside the clicked pixel.
+inline constexpr double kPickAgreementPixels = 0.5;
+
+struct PickJudgement {
+  PickVerdict verdict = PickVerdict::NoRay;
+  std::string text;  // one line: "1 and 3 agree: box, hit 0.003 px from the pixel centre"
+};
+PickJudgement judgePick(const PickResult& result, const Scene& scene);
 
 // pixel must lie inside the raster frame.
 PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel);
@@ -96,8 +126,9 @@ std::optional<glm::dvec2> framebufferFromWorld(const glm::dmat4& clipFromWorld, 
                                                const glm::dvec3& world);
 
 // {pixel, framebuffer, method, precision, convention, depth_format, teleported, ray:{object,
-// point}, depth:{point, window_depth}, id:{object}, gap_world, gap_px, agree}; absent values are
-// null; "ray" (and "agree") are null where the method could not run.
+// point}, depth:{point, window_depth}, id:{object}, gap_world, gap_px, ray_offset_px, agree,
+// reconcile_class, verdict}; absent values are null; "ray" (and "agree") are null where the method
+// could not run. "agree" compares objects only; "verdict" is pickVerdictName(judgePick(...)).
 nlohmann::json pickJson(const PickResult& result, const Scene& scene, bool teleported);
 
 }  // namespace clipray::demo

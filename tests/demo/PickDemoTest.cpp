@@ -290,8 +290,15 @@ TEST_F(PickDemoUnderX, TeleportedTwoPointFloatDriftsWhileRobustFloatHolds) {
     EXPECT_EQ(p["teleported"], true);
     EXPECT_EQ(p["ray"]["object"], "box") << p.dump();
   }
-  // two_point inverts a float matrix with 1e5 in it: the ray lands pixels off the surface.
+  // two_point inverts a float matrix with 1e5 in it: the ray lands pixels off the surface. The
+  // objects match (the box is large), so only the pixel offset tells: "apart", not "agree".
   EXPECT_GT(twoPoint["gap_px"].get<double>(), 1.0);
+  EXPECT_EQ(twoPoint["agree"], true);
+  EXPECT_GT(twoPoint["ray_offset_px"].get<double>(), demo::kPickAgreementPixels);
+  EXPECT_EQ(twoPoint["verdict"], "apart");
+  EXPECT_EQ(robust["verdict"], "agree");
+  EXPECT_LT(robust["ray_offset_px"].get<double>(), demo::kPickAgreementPixels);
+  EXPECT_EQ(robustDouble["verdict"], "agree");
   // robust float is as good as float allows 1e5 from the origin: float spacing there is
   // u = 2^-7; the matrix handed over in float and the float origin each place the ray within half
   // a spacing per coordinate, so the hit moves by at most sqrt(3) u (about 0.0135 world units,
@@ -301,6 +308,40 @@ TEST_F(PickDemoUnderX, TeleportedTwoPointFloatDriftsWhileRobustFloatHolds) {
   EXPECT_LT(robust["gap_px"].get<double>(), 1.0);
   EXPECT_LT(robust["gap_px"].get<double>(), twoPoint["gap_px"].get<double>());
   EXPECT_LT(robustDouble["gap_px"].get<double>(), 0.1);
+}
+
+// The coplanar scene z-fights by design: where the ray and the id buffer name different quads,
+// the reconcile counts the pixel as depth-ambiguous, and so must the demo, instead of "DISAGREE".
+TEST_F(PickDemoUnderX, CoplanarMismatchesAreAmbiguousAsTheReconcileSays) {
+  std::string script;
+  for (int j = 20; j < 240; j += 20) {
+    for (int i = 20; i < 320; i += 20) script += clickInside({i, j}, 240);
+  }
+  const auto result = run("'" + kSource +
+                              "/scenes/coplanar.json' --size 320x240 --convention zo "
+                              "--depth-format 24",
+                          script);
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 11u * 15u) << result.out;
+  int mismatches = 0, agreements = 0;
+  for (const nlohmann::json& p : picks) {
+    SCOPED_TRACE(p.dump());
+    if (p["agree"] == false) {
+      ++mismatches;
+      EXPECT_EQ(p["reconcile_class"], "id_depth_ambiguous");
+      EXPECT_EQ(p["verdict"], "ambiguous");
+    } else {
+      // The same object (reconcile_class is set only where the primitives differ).
+      ++agreements;
+      EXPECT_EQ(p["verdict"], "agree");
+      if (!p["ray_offset_px"].is_null()) {
+        EXPECT_LT(p["ray_offset_px"].get<double>(), demo::kPickAgreementPixels);
+      }
+    }
+  }
+  EXPECT_GT(mismatches, 0);
+  EXPECT_GT(agreements, 0);
 }
 
 TEST_F(PickDemoUnderX, KeysSwitchConventionAndDepthFormat) {
@@ -440,6 +481,51 @@ TEST(WindowGeometry, ScalesThenFlipsOnHighDpi) {
 TEST(WindowGeometry, NoScaleIsTheIdentityUpToTheFlip) {
   const demo::WindowGeometry g{glm::dvec2(320, 240), glm::ivec2(320, 240)};
   EXPECT_EQ(g.pixelFromCursor({160.2, 120.7}), glm::ivec2(160, 119));
+}
+
+TEST(PickVerdict, SaysAgreeApartAmbiguousDisagreeOrNoRay) {
+  Scene scene;
+  scene.objects.resize(2);
+  scene.objects[0].name = "floor";
+  scene.objects[1].name = "box";
+  demo::PickResult result;
+  result.rayObject = 1;
+  result.idObject = 1;
+  result.rayOffsetPixels = 0.004;
+  demo::PickJudgement judgement = demo::judgePick(result, scene);
+  EXPECT_EQ(judgement.verdict, demo::PickVerdict::Agree);
+  EXPECT_EQ(judgement.text, "1 and 3 agree: box, hit 0.004 px from the pixel centre");
+  result.rayOffsetPixels = 26.25;
+  judgement = demo::judgePick(result, scene);
+  EXPECT_EQ(judgement.verdict, demo::PickVerdict::Apart);
+  EXPECT_EQ(judgement.text,
+            "1 and 3 APART: both box, but the ray's hit lands 26.2 px from the clicked pixel");
+  result.rayOffsetPixels = demo::kPickAgreementPixels;  // still inside the pixel
+  EXPECT_EQ(demo::judgePick(result, scene).verdict, demo::PickVerdict::Agree);
+  result.idObject = 0;
+  result.reconcileClass = PixelClass::IdDepthAmbiguous;
+  judgement = demo::judgePick(result, scene);
+  EXPECT_EQ(judgement.verdict, demo::PickVerdict::Ambiguous);
+  EXPECT_EQ(judgement.text,
+            "1 and 3 ambiguous: box and floor z-fight here (depths within the tolerance)");
+  result.reconcileClass = PixelClass::IdEdgeAmbiguous;
+  EXPECT_EQ(demo::judgePick(result, scene).text,
+            "1 and 3 ambiguous: box or floor, the pixel centre is on an edge");
+  result.idObject = -1;
+  result.reconcileClass = PixelClass::CoverageEdgeAmbiguous;
+  EXPECT_EQ(demo::judgePick(result, scene).verdict, demo::PickVerdict::Ambiguous);
+  result.reconcileClass = PixelClass::CoverageUnexplained;
+  judgement = demo::judgePick(result, scene);
+  EXPECT_EQ(judgement.verdict, demo::PickVerdict::Disagree);
+  EXPECT_EQ(judgement.text, "1 and 3 DISAGREE: the ray hits box, the id buffer shows background");
+  // Without the reconcile's classes a mismatch is a disagreement.
+  result.reconcileClass.reset();
+  EXPECT_EQ(demo::judgePick(result, scene).verdict, demo::PickVerdict::Disagree);
+  result.rayUnavailable = "non-finite ray";
+  judgement = demo::judgePick(result, scene);
+  EXPECT_EQ(judgement.verdict, demo::PickVerdict::NoRay);
+  EXPECT_EQ(judgement.text, "1 and 3: n/a (non-finite ray)");
+  EXPECT_STREQ(demo::pickVerdictName(demo::PickVerdict::NoRay), "n/a");
 }
 
 TEST(PickScript, ParsesEveryCommand) {

@@ -263,15 +263,10 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
     ++metrics.coverageMismatch.unexplained;
     cls = PixelClass::CoverageUnexplained;
   } else if (rasterId == 0 || rayId == 0) {
-    const std::uint32_t only = rasterId != 0 ? rasterId : rayId;
     ++metrics.coverageMismatch.total;
-    if (model_.edgeAmbiguous(only, centre)) {
-      ++metrics.coverageMismatch.edgeAmbiguous;
-      cls = PixelClass::CoverageEdgeAmbiguous;
-    } else {
-      ++metrics.coverageMismatch.unexplained;
-      cls = PixelClass::CoverageUnexplained;
-    }
+    cls = classifyMismatch(model_, rayId, rayDepth, 0.0, rasterId, centre);
+    ++(cls == PixelClass::CoverageEdgeAmbiguous ? metrics.coverageMismatch.edgeAmbiguous
+                                                : metrics.coverageMismatch.unexplained);
   } else if (rasterId == rayId) {
     const bool analyticSurface = intersector_.isAnalytic(rayId);
     const double rasterDepth = raster_.depth[i];
@@ -322,23 +317,13 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
     }
   } else {
     ++metrics.idMismatch.total;
-    // Where does the raster's primitive lie along this pixel? Its depth at the centre
-    // (plane or analytic surface) and the tolerance there.
-    const double rasterPlaneDepth = model_.surfaceDepthAt(rasterId, centre);
     const double rayTolerance = intersector_.isAnalytic(rayId)
                                     ? model_.analyticDepthTolerance(rayId, ray, hit.t)
                                     : model_.depthToleranceAtClip(rayId, hitClip);
-    const double tolerance = rayTolerance + model_.surfaceToleranceAt(rasterId, centre);
-    if (std::abs(rasterPlaneDepth - rayDepth) <= tolerance) {
-      ++metrics.idMismatch.depthAmbiguous;
-      cls = PixelClass::IdDepthAmbiguous;
-    } else if (model_.edgeAmbiguous(rasterId, centre) || model_.edgeAmbiguous(rayId, centre)) {
-      ++metrics.idMismatch.edgeAmbiguous;
-      cls = PixelClass::IdEdgeAmbiguous;
-    } else {
-      ++metrics.idMismatch.unexplained;
-      cls = PixelClass::IdUnexplained;
-    }
+    cls = classifyMismatch(model_, rayId, rayDepth, rayTolerance, rasterId, centre);
+    ++(cls == PixelClass::IdDepthAmbiguous  ? metrics.idMismatch.depthAmbiguous
+       : cls == PixelClass::IdEdgeAmbiguous ? metrics.idMismatch.edgeAmbiguous
+                                            : metrics.idMismatch.unexplained);
   }
 }
 
@@ -445,3 +430,25 @@ void FrameClassifier::classifyRows(int rowBegin, int rowEnd, RunMetrics& metrics
 }
 
 }  // namespace clipray::detail
+
+namespace clipray {
+
+PixelClass classifyMismatch(const ToleranceModel& model, std::uint32_t rayId, double rayDepth,
+                            double rayTolerance, std::uint32_t rasterId, glm::dvec2 centre) {
+  if (rasterId == 0 || rayId == 0) {
+    return model.edgeAmbiguous(rasterId != 0 ? rasterId : rayId, centre)
+               ? PixelClass::CoverageEdgeAmbiguous
+               : PixelClass::CoverageUnexplained;
+  }
+  // Where does the raster's primitive lie along this pixel? Its depth at the centre (plane or
+  // analytic surface) and the tolerance there.
+  const double rasterSurfaceDepth = model.surfaceDepthAt(rasterId, centre);
+  const double tolerance = rayTolerance + model.surfaceToleranceAt(rasterId, centre);
+  if (std::abs(rasterSurfaceDepth - rayDepth) <= tolerance) return PixelClass::IdDepthAmbiguous;
+  if (model.edgeAmbiguous(rasterId, centre) || model.edgeAmbiguous(rayId, centre)) {
+    return PixelClass::IdEdgeAmbiguous;
+  }
+  return PixelClass::IdUnexplained;
+}
+
+}  // namespace clipray

@@ -81,6 +81,15 @@ struct ComparisonResult {
   PixelComparison pixels;
 };
 
+// What compareFrames calls a pixel whose two sides name different primitives (0: background) at
+// window position `centre`: the ray side hit rayId at window depth rayDepth, whose tolerance is
+// rayTolerance (both unused where rayId is 0). Coverage mismatches are edge-ambiguous when the
+// pixel centre lies within the hit primitive's edge epsilon; id mismatches are depth-ambiguous
+// (z-fighting) when the raster's primitive lies along the pixel within the summed tolerances of
+// the ray's depth, else edge-ambiguous near either primitive's edge; anything else unexplained.
+PixelClass classifyMismatch(const ToleranceModel& model, std::uint32_t rayId, double rayDepth,
+                            double rayTolerance, std::uint32_t rasterId, glm::dvec2 centre);
+
 // Compares the frames. The intersector supplies the triangles both sides drew.
 ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
                                const SceneIntersector& intersector, const RasterSetup& setup,
