@@ -13,6 +13,8 @@
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/VerifyCheck.hpp"
 #include "clipray/scene/InputError.hpp"
+#include "clipray/scene/InputFile.hpp"
+#include "clipray/scene/SceneJson.hpp"
 
 namespace clipray::cli {
 
@@ -49,14 +51,10 @@ std::string requireOneOf(const std::string& value, const std::string& what,
 
 // The same fields from a JSON file (keys in camelCase, matrices as arrays of 16 numbers).
 void readCheckFile(CheckOptions& options) {
-  std::ifstream in(options.file);
-  if (!in) throw InputError(options.file + ": cannot open file");
-  nlohmann::json doc;
-  try {
-    doc = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& error) {
-    throw InputError(options.file + ": malformed JSON: " + error.what());
-  }
+  // The scene files' reader: line and column for malformed JSON, duplicate keys, NUL bytes and
+  // deep nesting refused, a size cap.
+  nlohmann::json doc = detail::parseJson(
+      readInputFile(options.file, kMaxCheckFileBytes, "check file"), options.file);
   if (!doc.is_object()) throw InputError(options.file, "/", "expected an object");
   auto text = [&](const char* key) -> std::string {
     const auto& value = doc[key];

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "clipray/scene/InputError.hpp"
+#include "clipray/scene/InputFile.hpp"
 
 namespace clipray::demo {
 
@@ -107,11 +108,9 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
 }
 
 std::vector<ScriptCommand> loadScript(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(path + ": cannot open file");
-  std::stringstream buffer;
-  buffer << file.rdbuf();
-  return parseScript(buffer.str(), path);
+  const std::string text = readInputFile(path, kMaxScriptFileBytes, "script");
+  requireNoNulBytes(text, path);
+  return parseScript(text, path);
 }
 
 }  // namespace clipray::demo

@@ -560,6 +560,22 @@ TEST(PickScript, BadLinesNameFileAndLine) {
   EXPECT_EQ(message("scroll nan"), "s.txt:1: steps: expected a number, got \"nan\"");
 }
 
+TEST(PickScript, DevicesAndNulBytesAreRefusedBeforeParsing) {
+  auto message = [](const std::string& path) {
+    try {
+      demo::loadScript(path);
+    } catch (const InputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("/dev/zero"), "/dev/zero: is not a regular file (a FIFO, device or socket)");
+  TempFolder folder;
+  const std::string nul = (folder.path() / "nul.txt").string();
+  std::ofstream(nul, std::ios::binary) << std::string("key c\n\0key t\n", 13);
+  EXPECT_EQ(message(nul), nul + ": byte 6: a NUL byte in a text file");
+}
+
 CameraInputs standardInputs(const Camera& camera, Viewport viewport, const glm::dmat4& move) {
   CameraInputs inputs;
   inputs.mode = kZeroToOne;

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "clipray/scene/InputError.hpp"
+#include "clipray/scene/InputFile.hpp"
 
 namespace clipray::detail {
 
@@ -17,6 +18,22 @@ namespace {
 
 // Values quoted in messages are cut to this many characters.
 constexpr std::size_t kMaxQuotedChars = 80;
+
+// The value as dump() prints it, but only its first `limit` characters or a few more: a message
+// quotes 80 characters of a value that may hold a whole mesh.
+std::string boundedDump(const json& value, std::size_t limit) {
+  if (!value.is_structured()) return value.dump();
+  std::string text = value.is_array() ? "[" : "{";
+  bool first = true;
+  for (auto item = value.begin(); item != value.end() && text.size() <= limit; ++item) {
+    if (!first) text += ",";
+    first = false;
+    if (value.is_object()) text += json(item.key()).dump() + ":";
+    text += boundedDump(item.value(), limit - std::min(limit, text.size()));
+  }
+  if (text.size() <= limit) text += value.is_array() ? "]" : "}";
+  return text;
+}
 
 }  // namespace
 
@@ -37,7 +54,7 @@ std::string describe(const json& value) {
     if (std::isnan(x)) return "nan";
     if (std::isinf(x)) return x > 0 ? "inf" : "-inf";
   }
-  std::string text = value.dump();
+  std::string text = boundedDump(value, kMaxQuotedChars + 1);
   if (text.size() > kMaxQuotedChars) {
     std::size_t cut = kMaxQuotedChars - 3;
     while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0u) == 0x80u) --cut;  // UTF-8
@@ -79,6 +96,7 @@ class LocatingSax {
   bool binary(json::binary_t& value) { return store(json::binary(std::move(value))); }
 
   bool start_object(std::size_t /*elements*/) {
+    checkDepth();
     open_.push_back({add(json::object()), {}});
     return true;
   }
@@ -96,6 +114,7 @@ class LocatingSax {
     return true;
   }
   bool start_array(std::size_t /*elements*/) {
+    checkDepth();
     open_.push_back({add(json::array()), {}});
     return true;
   }
@@ -135,6 +154,14 @@ class LocatingSax {
     if (at == std::string_view::npos) return std::string(what);
     const std::size_t colon = what.find(": ", at);
     return std::string(colon == std::string_view::npos ? what : what.substr(colon + 2));
+  }
+
+  void checkDepth() const {
+    if (open_.size() >= kMaxJsonDepth) {
+      throw InputError(file_, pointerText(pathOfNextValue()),
+                       "nested deeper than " + std::to_string(kMaxJsonDepth) +
+                           " levels; clipray's files need a few");
+    }
   }
 
   bool store(json&& value) {
@@ -180,6 +207,7 @@ class LocatingSax {
 };
 
 json parseJson(const std::string& text, const std::string& file) {
+  requireNoNulBytes(text, file);
   LocatingSax sax(file, text);
   if (!json::sax_parse(text, &sax)) {
     throw InputError(file + ": malformed JSON");  // every failing path throws before this

@@ -1,7 +1,7 @@
 #pragma once
-// Internal to scene/: JSON read with locations (line and column of malformed text, the JSON pointer
-// of an overflowing number or a duplicate key) and the pieces of the loader's messages that quote
-// locations and values.
+// Internal to scene/ and the `check` file reader: JSON read with locations (line and column of
+// malformed text, the JSON pointer of an overflowing number or a duplicate key) and the pieces of
+// the loader's messages that quote locations and values.
 
 #include <string>
 #include <string_view>
@@ -14,7 +14,8 @@ namespace clipray::detail {
 using json = nlohmann::json;
 using Pointer = json::json_pointer;
 
-// Parses text; throws InputError naming file and where the text is malformed.
+// Parses text; throws InputError naming file and where the text is malformed, for a duplicate key,
+// a NUL byte and nesting deeper than kMaxJsonDepth (InputFile.hpp).
 json parseJson(const std::string& text, const std::string& file);
 
 // The root is written "/" so that messages never show an empty location.

@@ -16,6 +16,7 @@
 
 #include "clipray/scene/AutoCameras.hpp"
 #include "clipray/scene/InputError.hpp"
+#include "clipray/scene/InputFile.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "clipray/scene/SceneReader.hpp"
@@ -265,14 +266,7 @@ Scene loadScene(const std::string& path) {
     }
     return scene;
   }
-  std::ifstream in(path, std::ios::binary);
-  std::error_code error;
-  if (!in || std::filesystem::is_directory(path, error))
-    throw InputError(path + ": cannot open file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(path + ": cannot read file");
-  return parseScene(text.str(), path);
+  return parseScene(readInputFile(path, kMaxSceneFileBytes, "scene file"), path);
 }
 
 }  // namespace clipray

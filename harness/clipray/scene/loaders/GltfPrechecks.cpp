@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "clipray/scene/InputFile.hpp"
 #include "clipray/scene/loaders/MeshFileCommon.hpp"
 
 namespace clipray::meshfiles {
@@ -136,7 +137,18 @@ std::string_view checkGlbContainer(std::string_view bytes, const std::string& pa
 }
 
 void checkGltfJson(std::string_view jsonText, const std::string& path) {
-  const nlohmann::json document = nlohmann::json::parse(jsonText, nullptr, false);
+  // tinygltf copies `extras` and `extensions` recursively: bound the nesting before it does.
+  const auto boundedDepth = [&](int depth, nlohmann::json::parse_event_t event, nlohmann::json&) {
+    if ((event == nlohmann::json::parse_event_t::object_start ||
+         event == nlohmann::json::parse_event_t::array_start) &&
+        depth >= static_cast<int>(kMaxJsonDepth)) {
+      fail(
+          path, "gltf",
+          "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels; glTF needs a few");
+    }
+    return true;
+  };
+  const nlohmann::json document = nlohmann::json::parse(jsonText, boundedDepth, false);
   if (!document.is_object()) return;  // tinygltf reports malformed JSON with its own message
   checkWhatClipraySupports(document, path);
   const auto buffers = document.find("buffers");

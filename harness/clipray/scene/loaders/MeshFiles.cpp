@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "clipray/scene/InputError.hpp"
+#include "clipray/scene/InputFile.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/loaders/MeshFileCommon.hpp"
 
@@ -219,22 +220,8 @@ MeshFileContents parseMeshFile(std::string_view bytes, const std::string& path,
 }
 
 MeshFileContents loadMeshFile(const std::string& path, const glm::dmat4& worldFromFile) {
-  // Only regular files, read for exactly their size: devices and FIFOs never end, and files that
-  // claim absurd sizes (/proc/kcore) must not be read at all.
-  std::error_code error;
-  const bool regular = std::filesystem::is_regular_file(path, error);
-  const std::uintmax_t size = regular ? std::filesystem::file_size(path, error) : 0;
-  if (!regular || error) throw InputError(path + ": cannot open file");
-  if (size > meshfiles::kMaxFileBytes) {
-    throw InputError(path + ": files over 4 GiB are not supported, got " + std::to_string(size) +
-                     " bytes");
-  }
-  std::ifstream stream(path, std::ios::binary);
-  std::string bytes(static_cast<std::size_t>(size), '\0');
-  if (!stream || !stream.read(bytes.data(), static_cast<std::streamsize>(size))) {
-    throw InputError(path + ": cannot read file");
-  }
-  return parseMeshFile(bytes, path, worldFromFile);
+  return parseMeshFile(readInputFile(path, meshfiles::kMaxFileBytes, "mesh file"), path,
+                       worldFromFile);
 }
 
 }  // namespace clipray

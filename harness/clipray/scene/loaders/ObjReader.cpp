@@ -22,6 +22,7 @@
 #include <utility>
 #include <vector>
 
+#include "clipray/scene/InputFile.hpp"
 #include "clipray/scene/loaders/MeshFileCommon.hpp"
 #include "clipray/scene/loaders/PolygonTriangulation.hpp"
 
@@ -100,10 +101,7 @@ class ObjScan {
   const std::vector<MaterialLibrary>& materialLibraries() const { return materialLibraries_; }
 
   void run() {
-    const std::size_t nul = text_.find('\0');
-    if (nul != std::string_view::npos) {
-      fail(path_, "byte " + std::to_string(nul), "a NUL byte in a text file");
-    }
+    requireNoNulBytes(text_, path_);
     std::size_t position = 0;
     std::uint64_t lineNumber = 0;
     while (position < text_.size()) {

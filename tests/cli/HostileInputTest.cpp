@@ -1,0 +1,142 @@
+// Files a hostile or careless user hands clipray: deep nesting, devices, FIFOs, sparse giants,
+// NUL bytes, duplicate keys. Each must end at once with exit 2, one line naming the file and what
+// is wrong, and nothing written. Every run is bounded by timeout(1): a hang fails, not blocks.
+
+#include <sys/stat.h>
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "support/RunCommand.hpp"
+
+namespace clipray {
+namespace {
+
+using testing::runClipray;
+using testing::TempFolder;
+
+constexpr const char* kTimeout = "timeout -k 5 60";
+
+void writeFile(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+// `depth` nested arrays around a number: [[[...1...]]].
+std::string nestedArrays(std::size_t depth) {
+  return std::string(depth, '[') + "1" + std::string(depth, ']');
+}
+
+struct Outcome {
+  int status;
+  std::string err;
+  bool outWritten;
+};
+
+Outcome reconcile(const TempFolder& folder, const std::string& file) {
+  const auto result = runClipray("reconcile '" + file + "' --out out", folder.path(), kTimeout);
+  return {result.status, result.err, std::filesystem::exists(folder.path() / "out")};
+}
+
+TEST(HostileInput, SceneNestedSixtyThousandDeepIsRefusedAtTheHundredthLevel) {
+  TempFolder folder;
+  writeFile(folder.path() / "deep.json", "{\"cameras\": " + nestedArrays(60000) + "}");
+  const Outcome outcome = reconcile(folder, "deep.json");
+  EXPECT_EQ(outcome.status, 2);
+  std::string pointer = "/cameras";
+  for (int level = 1; level < 100; ++level) pointer += "/0";
+  EXPECT_EQ(outcome.err, "clipray: deep.json: " + pointer +
+                             ": nested deeper than 100 levels; clipray's files need a few\n");
+  EXPECT_FALSE(outcome.outWritten);
+}
+
+TEST(HostileInput, CheckFileNestedDeepAndWithDuplicateKeysIsRefused) {
+  TempFolder folder;
+  writeFile(folder.path() / "deep.json", nestedArrays(60000));
+  auto result = runClipray("check deep.json", folder.path(), kTimeout);
+  EXPECT_EQ(result.status, 2);
+  EXPECT_NE(result.err.find("clipray: deep.json: /0/0/0/0"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find(": nested deeper than 100 levels; clipray's files need a few\n"),
+            std::string::npos)
+      << result.err;
+  // Scene files refuse duplicate keys; check files are read by the same parser.
+  writeFile(folder.path() / "twice.json", "{\"convention\": \"zo\",\n \"convention\": \"no\"}");
+  result = runClipray("check twice.json", folder.path(), kTimeout);
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err, "clipray: twice.json: /convention: duplicate key \"convention\"\n");
+}
+
+TEST(HostileInput, GltfWhoseExtrasNestTwentyThousandDeepIsRefusedBeforeTinygltf) {
+  TempFolder folder;
+  writeFile(folder.path() / "deep.gltf",
+            "{\"asset\": {\"version\": \"2.0\", \"extras\": " + nestedArrays(20000) + "}}");
+  const Outcome outcome = reconcile(folder, "deep.gltf");
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_EQ(outcome.err,
+            "clipray: deep.gltf: gltf: JSON nested deeper than 100 levels; glTF needs a few\n");
+  EXPECT_FALSE(outcome.outWritten);
+}
+
+TEST(HostileInput, DevicesFifosAndFoldersAreNotReadAtAll) {
+  TempFolder folder;
+  ASSERT_EQ(mkfifo((folder.path() / "pipe.json").c_str(), 0600), 0);
+  std::filesystem::create_directory(folder.path() / "folder.json");
+  struct Case {
+    std::string file, message;
+  };
+  for (const Case& c : {
+           Case{"/dev/zero", "/dev/zero: is not a regular file (a FIFO, device or socket)"},
+           Case{"pipe.json", "pipe.json: is not a regular file (a FIFO, device or socket)"},
+           Case{"folder.json", "folder.json: is a directory, not a file"},
+           Case{"pipe.obj", "pipe.obj: cannot open file"},
+       }) {
+    SCOPED_TRACE(c.file);
+    const Outcome outcome = reconcile(folder, c.file);
+    EXPECT_EQ(outcome.status, 2);
+    EXPECT_EQ(outcome.err, "clipray: " + c.message + "\n");
+    EXPECT_FALSE(outcome.outWritten);
+    const auto check = runClipray("check '" + c.file + "'", folder.path(), kTimeout);
+    EXPECT_EQ(check.status, 2);
+    EXPECT_EQ(check.err, "clipray: " + c.message + "\n");
+  }
+  ASSERT_EQ(mkfifo((folder.path() / "pipe.ply").c_str(), 0600), 0);
+  const Outcome mesh = reconcile(folder, "pipe.ply");
+  EXPECT_EQ(mesh.status, 2);
+  EXPECT_EQ(mesh.err, "clipray: pipe.ply: is not a regular file (a FIFO, device or socket)\n");
+}
+
+TEST(HostileInput, SparseGiantsAreRefusedOnTheirSizeBeforeAByteIsRead) {
+  TempFolder folder;
+  writeFile(folder.path() / "giant.json", "");
+  std::filesystem::resize_file(folder.path() / "giant.json", 1ull << 30);
+  const Outcome outcome = reconcile(folder, "giant.json");
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_EQ(outcome.err,
+            "clipray: giant.json: 1073741824 bytes, more than the 268435456 a scene file may "
+            "have\n");
+  writeFile(folder.path() / "giant.check", "");
+  std::filesystem::resize_file(folder.path() / "giant.check", 2ull << 20);
+  const auto check = runClipray("check giant.check", folder.path(), kTimeout);
+  EXPECT_EQ(check.status, 2);
+  EXPECT_EQ(check.err,
+            "clipray: giant.check: 2097152 bytes, more than the 1048576 a check file may have\n");
+}
+
+TEST(HostileInput, TextAfterANulByteIsNotIgnored) {
+  TempFolder folder;
+  std::string scene = "{\"version\": 1}";
+  scene += '\0';
+  scene += "garbage";
+  writeFile(folder.path() / "nul.json", scene);
+  const Outcome outcome = reconcile(folder, "nul.json");
+  EXPECT_EQ(outcome.status, 2);
+  EXPECT_EQ(outcome.err, "clipray: nul.json: byte 14: a NUL byte in a text file\n");
+  const auto check = runClipray("check nul.json", folder.path(), kTimeout);
+  EXPECT_EQ(check.status, 2);
+  EXPECT_EQ(check.err, "clipray: nul.json: byte 14: a NUL byte in a text file\n");
+}
+
+}  // namespace
+}  // namespace clipray
