@@ -1,5 +1,6 @@
 #include "Parsing.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <sstream>
 
@@ -26,7 +27,7 @@ std::string joinNames(const std::vector<std::string>& names) {
   return out;
 }
 
-Viewport parseViewportOption(const std::string& text, const std::string& option) {
+Viewport parseViewportOption(const std::string& text, const std::string& option, int maxDimension) {
   int width = 0, height = 0;
   char x = 0;
   std::istringstream stream(text);
@@ -34,7 +35,37 @@ Viewport parseViewportOption(const std::string& text, const std::string& option)
     throw InputError(option + ": expected WxH with positive integers (e.g. 1920x1080), got \"" +
                      text + "\"");
   }
+  if (width > maxDimension || height > maxDimension) {
+    throw InputError(option + ": " + text + " is larger than " + std::to_string(maxDimension) +
+                     "x" + std::to_string(maxDimension) + ", the most this takes");
+  }
   return {width, height};
+}
+
+std::string closestName(const std::string& word, const std::vector<std::string>& names) {
+  // Levenshtein distance; a typo is at most a third of the word away (at least 1, at most 3).
+  const auto distance = [](const std::string& a, const std::string& b) {
+    std::vector<std::size_t> row(b.size() + 1);
+    for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+    for (std::size_t i = 1; i <= a.size(); ++i) {
+      std::size_t diagonal = row[0];
+      row[0] = i;
+      for (std::size_t j = 1; j <= b.size(); ++j) {
+        const std::size_t above = row[j];
+        row[j] = std::min({row[j] + 1, row[j - 1] + 1, diagonal + (a[i - 1] == b[j - 1] ? 0 : 1)});
+        diagonal = above;
+      }
+    }
+    return row[b.size()];
+  };
+  std::string best;
+  std::size_t bestDistance =
+      std::min<std::size_t>(3, std::max<std::size_t>(1, word.size() / 3)) + 1;
+  for (const std::string& name : names) {
+    const std::size_t d = distance(word, name);
+    if (d < bestDistance) bestDistance = d, best = name;
+  }
+  return best;
 }
 
 std::vector<double> parseNumberList(const std::string& text, const std::string& option) {

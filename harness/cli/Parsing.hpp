@@ -15,8 +15,13 @@ namespace clipray::cli {
 std::vector<std::string> splitCommaList(const std::string& text);
 // {"a", "b"} -> "a, b"
 std::string joinNames(const std::vector<std::string>& names);
-// "WxH" with positive integers.
-Viewport parseViewportOption(const std::string& text, const std::string& option);
+// "WxH" with positive integers, each at most maxDimension (GL's viewports are at most 16384 wide on
+// common drivers; the reconcile checks the driver's own GL_MAX_VIEWPORT_DIMS as well).
+inline constexpr int kMaxViewportDimension = 16384;
+Viewport parseViewportOption(const std::string& text, const std::string& option,
+                             int maxDimension = kMaxViewportDimension);
+// The closest of `names` to `word` by edit distance, if close enough to be a typo; else empty.
+std::string closestName(const std::string& word, const std::vector<std::string>& names);
 // Numbers separated by spaces and/or commas.
 std::vector<double> parseNumberList(const std::string& text, const std::string& option);
 // Sixteen numbers, column-major (GL) or row-major (D3D), all finite.

@@ -2,8 +2,12 @@
 
 #include <algorithm>
 #include <iostream>
+#include <new>
+#include <string>
+#include <vector>
 
 #include "Commands.hpp"
+#include "Parsing.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/scene/InputError.hpp"
@@ -56,9 +60,31 @@ int main(int argc, char** argv) {
   std::sort(registry.begin(), registry.end(),
             [](const auto& a, const auto& b) { return a.order < b.order; });
   std::vector<std::pair<CLI::App*, clipray::cli::CommandRunner>> commands;
+  std::vector<std::string> names;
+  // An option given an empty value ("--size ''", a shell variable left unset) is a mistake, not
+  // the option left out: every option that takes a value refuses the empty string.
+  const CLI::Validator nonEmpty(
+      [](const std::string& value) {
+        return value.empty() ? std::string("expected a value, got an empty string") : std::string();
+      },
+      "", "non-empty");
   for (const auto& registration : registry) {
     CLI::App* sub = app.add_subcommand(registration.name, registration.description);
     commands.emplace_back(sub, registration.factory(*sub));
+    names.push_back(registration.name);
+    for (CLI::Option* option : sub->get_options()) {
+      if (option->get_type_size() > 0 && option->get_name() != "--help") option->check(nonEmpty);
+    }
+  }
+  // A mistyped command: CLI11 would say "A subcommand is required" or name the word as an
+  // unexpected argument; say which command was probably meant.
+  if (argc > 1 && argv[1][0] != '-' &&
+      std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+    const std::string suggestion = clipray::cli::closestName(argv[1], names);
+    std::cerr << "clipray: unknown command \"" << argv[1] << "\""
+              << (suggestion.empty() ? "" : "; did you mean \"" + suggestion + "\"?")
+              << " (commands: " << clipray::cli::joinNames(names) << ")\n";
+    return 2;
   }
   try {
     app.parse(argc, argv);
@@ -73,6 +99,10 @@ int main(int argc, char** argv) {
     }
   } catch (const clipray::InputError& error) {
     std::cerr << "clipray: " << error.what() << "\n";
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::cerr << "clipray: out of memory: the runs need more memory than this machine has free; "
+                 "try a smaller --size, fewer scenes or fewer --threads\n";
     return 2;
   } catch (const clipray::gl::BackendError& error) {
     std::cerr << "clipray: " << error.what() << "\n";

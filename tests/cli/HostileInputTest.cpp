@@ -140,3 +140,48 @@ TEST(HostileInput, TextAfterANulByteIsNotIgnored) {
 
 }  // namespace
 }  // namespace clipray
+
+namespace clipray {
+namespace {
+
+TEST(HostileInput, OptionValuesThatAreEmptyOrExplodeAreRefused) {
+  TempFolder folder;
+  struct Case {
+    std::string arguments, message;
+  };
+  for (const Case& c : {
+           Case{"reconcle",
+                "clipray: unknown command \"reconcle\"; did you mean \"reconcile\"? "
+                "(commands: reconcile, check, bench)\n"},
+           Case{"chek x.json",
+                "clipray: unknown command \"chek\"; did you mean \"check\"? "
+                "(commands: reconcile, check, bench)\n"},
+           Case{"frobnicate",
+                "clipray: unknown command \"frobnicate\" (commands: reconcile, "
+                "check, bench)\n"},
+           Case{"reconcile --size ''",
+                "--size: expected a value, got an empty string\nRun with --help for more "
+                "information.\n"},
+           Case{"reconcile --conventions ''",
+                "--conventions: expected a value, got an empty string\nRun with --help for more "
+                "information.\n"},
+           Case{"bench --methods ''",
+                "--methods: expected a value, got an empty string\nRun with --help for more "
+                "information.\n"},
+           Case{"bench --size 100000x100000",
+                "clipray: --size: 100000x100000 is larger than 7680x7680, the most this takes\n"},
+           Case{"check --clip-from-world '1 0 0 0 0 1 0 0 0 0 -1 -1 0 0 -0.2 0' "
+                "--viewport 99999x10",
+                "clipray: --viewport: 99999x10 is larger than 16384x16384, the most this "
+                "takes\n"},
+       }) {
+    SCOPED_TRACE(c.arguments);
+    const auto result = runClipray(c.arguments, folder.path(), kTimeout);
+    EXPECT_EQ(result.status, 2);
+    EXPECT_EQ(result.err, c.message);
+    EXPECT_TRUE(std::filesystem::is_empty(folder.path()));
+  }
+}
+
+}  // namespace
+}  // namespace clipray

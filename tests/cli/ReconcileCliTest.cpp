@@ -363,7 +363,8 @@ INSTANTIATE_TEST_SUITE_P(
             "MalformedSize", "reconcile " + kStandard + " --size 640", "",
             "clipray: --size: expected WxH with positive integers (e.g. 1920x1080), got \"640\""},
         BadInvocation{"OversizedViewport", "reconcile " + kStandard + " --size 40000x16", "",
-                      "clipray: --size: 40000x16 exceeds GL_MAX_VIEWPORT_DIMS"},
+                      "clipray: --size: 40000x16 is larger than 16384x16384, the most this "
+                      "takes"},
         BadInvocation{"UnknownBackend", "reconcile " + kStandard + " --backend vulkan", "",
                       "clipray: unknown backend \"vulkan\"; expected one of: osmesa, egl"},
         BadInvocation{"OsMesaUnavailable", "reconcile " + kStandard,
