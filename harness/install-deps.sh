@@ -9,6 +9,7 @@ packages=(
   libembree-dev
   libtinygltf-dev libtinyobjloader-dev clang-14 libclang-rt-14-dev
   libimgui-dev xvfb xauth
+  chromium
 )
 missing=()
 for p in "${packages[@]}"; do
