@@ -67,8 +67,9 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
   ASSERT_NE(first, std::string::npos) << html;
   ASSERT_NE(second, std::string::npos) << html;
   EXPECT_LT(first, second);
-  EXPECT_THAT(html, HasSubstr("<td>standard/a&lt;b</td>"));
-  EXPECT_THAT(html, Not(HasSubstr("a<b")));
+  EXPECT_THAT(html, HasSubstr("<td class=\"name\">standard/a&lt;b<br><span>zo 32f world "
+                              "64x48</span></td>"));
+  EXPECT_THAT(html, Not(HasSubstr("standard/a<b")));
   EXPECT_EQ(occurrences(html, "<tr class=\"run "), 2u);
   // Thumbnails at twice their size (a 64x48 frame's is 64x48), the mismatch one linking to the
   // full-size image where there is one.
@@ -95,6 +96,7 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
   EXPECT_EQ(occurrences(html, "<tr class=\"cluster\""), 2u);
   EXPECT_EQ(occurrences(html, "<section class=\"clusters\""), 1u);
   EXPECT_THAT(html, Not(HasSubstr("no-images")));
+  EXPECT_THAT(html, HasSubstr("<th>thumbnails: mismatch, error / tolerance</th>"));
   // Nothing from the network.
   EXPECT_THAT(html, Not(HasSubstr("http:")));
   EXPECT_THAT(html, Not(HasSubstr("https:")));
@@ -133,7 +135,8 @@ TEST(HtmlReport, WithoutImagesThePageSaysSo) {
   const std::string html = reportHtml({bad}, gl());
   EXPECT_THAT(html, HasSubstr("<p class=\"note\" id=\"no-images\">No images"));
   EXPECT_THAT(html, Not(HasSubstr("<img")));
-  EXPECT_THAT(html, Not(HasSubstr("<th>thumbnails</th>")));
+  EXPECT_THAT(html, Not(HasSubstr("<th>thumbnails")));
+  EXPECT_THAT(html, Not(HasSubstr("<th>images</th>")));
   EXPECT_THAT(html, HasSubstr("data-gl-x=\"10\""));  // the clusters still are
   EXPECT_THAT(html, HasSubstr("<td>no image</td>"));
 }

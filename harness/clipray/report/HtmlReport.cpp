@@ -25,7 +25,7 @@ h1 { font-size: 22px; margin: 0 0 8px; }
 h2 { font-size: 18px; margin: 28px 0 8px; border-bottom: 1px solid #ccc; }
 h3 { font-size: 15px; margin: 18px 0 6px; }
 table { border-collapse: collapse; }
-td, th { padding: 3px 8px; text-align: left; vertical-align: middle; }
+td, th { padding: 3px 7px; text-align: left; vertical-align: middle; }
 th { background: #e8e8e8; font-weight: 600; }
 tr:nth-child(even) td { background: #f0f0f0; }
 .facts th { background: none; font-weight: 600; padding-right: 16px; }
@@ -42,7 +42,8 @@ img.crop { image-rendering: pixelated; border: 1px solid #888; }
 .bar { width: 480px; height: 20px; border: 1px solid #666; }
 .ticks { position: relative; width: 480px; height: 18px; font-size: 12px; }
 .ticks span { position: absolute; transform: translateX(-50%); }
-.note { color: #555; }
+.note, td.name span { color: #555; }
+td.name span { font-size: 12px; }
 a { color: #1a55b0; }
 )css";
 
@@ -129,6 +130,44 @@ Viewport cropShownSize(const CropWindow& window) {
   return {window.width * kCropScale, window.height * kCropScale};
 }
 
+// The run's thumbnails, each linking to its full-size image where one was written.
+std::string thumbnailsCell(const RunRecord& run) {
+  std::string out = "<td class=\"thumbs\">";
+  for (const auto& [file, full, what] : std::array<std::array<const char*, 3>, 2>{
+           {{"thumb_mismatch.png", "mismatch.png", "mismatch"},
+            {"thumb_heatmap.png", "error_heatmap.png", "error / tolerance"}}}) {
+    const std::string thumb = imagePath(run, file);
+    if (thumb.empty()) continue;
+    const std::string fullPath = imagePath(run, full);
+    const std::string img =
+        image(thumb, runTitle(run) + ": " + what, "thumb", thumbnailShownSize(run.size));
+    out += fullPath.empty() ? img : "<a href=\"" + escaped(fullPath) + "\">" + img + "</a>";
+    out += " ";
+  }
+  return out + "</td>";
+}
+
+// Links to the full-size images and to the run's clusters.
+std::string linksCell(const RunRecord& run, std::size_t rank) {
+  std::string out = "<td>";
+  bool first = true;
+  for (const auto& [file, label] :
+       std::array<std::array<const char*, 2>, 4>{{{"raster_depth.png", "raster depth"},
+                                                  {"ray_depth.png", "ray depth"},
+                                                  {"error_heatmap.png", "heat map"},
+                                                  {"mismatch.png", "mismatch"}}}) {
+    const std::string path = imagePath(run, file);
+    if (path.empty()) continue;
+    out += (first ? "" : "<br>") + ("<a href=\"" + escaped(path) + "\">" + label + "</a>");
+    first = false;
+  }
+  if (!run.clusters.largest.empty()) {
+    out += std::string(first ? "" : "<br>") + "<a href=\"#clusters-" + std::to_string(rank) +
+           "\">clusters</a>";
+  }
+  return out + "</td>";
+}
+
 std::string runRow(const RunRecord& run, std::size_t rank, bool anyImages) {
   const RunMetrics& m = run.metrics;
   const bool ok = m.consistent();
@@ -137,55 +176,20 @@ std::string runRow(const RunRecord& run, std::size_t rank, bool anyImages) {
                     escaped(runFolderName(run)) + "\">";
   out += "<td>" + std::to_string(rank) + "</td>";
   out += "<td class=\"verdict\">" + std::string(ok ? "consistent" : "INCONSISTENT") + "</td>";
-  out += "<td>" + escaped(run.scene + "/" + run.camera) + "</td>";
-  out += "<td>" + escaped(run.convention.name()) + "</td>";
-  out += "<td>" + escaped(depthFormatName(run.depthFormat)) + "</td>";
-  out += "<td>" + escaped(vertexModeName(run.vertexMode)) + "</td>";
-  out += "<td>" + std::to_string(run.size.width) + "x" + std::to_string(run.size.height) + "</td>";
-  out += "<td class=\"figures\">" + count(m.coverageMismatch.total) + " (e" +
+  out += "<td class=\"name\">" + escaped(run.scene + "/" + run.camera) + "<br><span>" +
+         escaped(run.convention.name()) + " " + escaped(depthFormatName(run.depthFormat)) + " " +
+         escaped(vertexModeName(run.vertexMode)) + " " + std::to_string(run.size.width) + "x" +
+         std::to_string(run.size.height) + "</span></td>";
+  if (anyImages) out += thumbnailsCell(run);
+  out += "<td class=\"figures\">cov " + count(m.coverageMismatch.total) + " (e" +
          count(m.coverageMismatch.edgeAmbiguous) + " u" + count(m.coverageMismatch.unexplained) +
-         ")</td>";
-  out += "<td class=\"figures\">" + count(m.idMismatch.total) + " (z" +
-         count(m.idMismatch.depthAmbiguous) + " e" + count(m.idMismatch.edgeAmbiguous) + " u" +
-         count(m.idMismatch.unexplained) + ")</td>";
-  out += "<td class=\"figures\">" + count(m.depthBeyondTolerance) + "</td>";
-  out += "<td class=\"figures\">" + figure(m.depthErrorQuanta.max) + "/" +
-         figure(m.depthErrorQuanta.p99) + "</td>";
-  out += "<td class=\"figures\">" + figure(m.toleranceRatio.max) + "/" +
-         figure(m.toleranceRatio.p99) + "</td>";
-  out += "<td class=\"figures\">" + figure(m.distanceRelError.p99) + "</td>";
-  if (anyImages) {
-    out += "<td class=\"thumbs\">";
-    const std::string name = runTitle(run);
-    for (const auto& [file, full, what] : std::array<std::array<const char*, 3>, 2>{
-             {{"thumb_mismatch.png", "mismatch.png", "mismatch"},
-              {"thumb_heatmap.png", "error_heatmap.png", "error / tolerance"}}}) {
-      const std::string thumb = imagePath(run, file);
-      if (thumb.empty()) continue;
-      const std::string fullPath = imagePath(run, full);
-      const std::string img =
-          image(thumb, name + ": " + what, "thumb", thumbnailShownSize(run.size));
-      out += fullPath.empty() ? img : "<a href=\"" + escaped(fullPath) + "\">" + img + "</a>";
-      out += " ";
-    }
-    out += "</td><td>";
-    bool first = true;
-    for (const auto& [file, label] :
-         std::array<std::array<const char*, 2>, 4>{{{"raster_depth.png", "raster depth"},
-                                                    {"ray_depth.png", "ray depth"},
-                                                    {"error_heatmap.png", "heat map"},
-                                                    {"mismatch.png", "mismatch"}}}) {
-      const std::string path = imagePath(run, file);
-      if (path.empty()) continue;
-      out += (first ? "" : "<br>") + ("<a href=\"" + escaped(path) + "\">" + label + "</a>");
-      first = false;
-    }
-    if (!run.clusters.largest.empty()) {
-      out += std::string(first ? "" : "<br>") + "<a href=\"#clusters-" + std::to_string(rank) +
-             "\">clusters</a>";
-    }
-    out += "</td>";
-  }
+         ")<br>id " + count(m.idMismatch.total) + " (z" + count(m.idMismatch.depthAmbiguous) +
+         " e" + count(m.idMismatch.edgeAmbiguous) + " u" + count(m.idMismatch.unexplained) +
+         ")<br>&gt;tol " + count(m.depthBeyondTolerance) + "</td>";
+  out += "<td class=\"figures\">q " + figure(m.depthErrorQuanta.max) + "/" +
+         figure(m.depthErrorQuanta.p99) + "<br>tol " + figure(m.toleranceRatio.max) + "/" +
+         figure(m.toleranceRatio.p99) + "<br>rel " + figure(m.distanceRelError.p99) + "</td>";
+  if (anyImages) out += linksCell(run, rank);
   out += "</tr>\n";
   return out;
 }
@@ -197,7 +201,7 @@ std::string runsSection(const std::vector<RunRecord>& runs, const std::vector<st
       "<p>The worst first: inconsistent runs, then by unexplained pixels, then by worst error / "
       "tolerance. cov: coverage mismatches (e edge-ambiguous, u unexplained); id: id mismatches "
       "(z depth-ambiguous, e edge-ambiguous, u unexplained); &gt;tol: depths beyond tolerance; "
-      "q: depth error in depth-buffer quanta, max/p99; err/tol: error / tolerance, max/p99; rel: "
+      "q: depth error in depth-buffer quanta, max/p99; tol: error / tolerance, max/p99; rel: "
       "p99 distance error / eye distance.";
   if (anyImages) {
     out +=
@@ -205,10 +209,11 @@ std::string runsSection(const std::vector<RunRecord>& runs, const std::vector<st
         "block of the frame; they link to the full-size image where it was written.";
   }
   out +=
-      "</p>\n<table id=\"runs\">\n<thead><tr><th>#</th><th>verdict</th><th>scene/camera</th>"
-      "<th>convention</th><th>fmt</th><th>vertex mode</th><th>size</th><th>cov</th><th>id</th>"
-      "<th>&gt;tol</th><th>q</th><th>err/tol</th><th>rel</th>";
-  if (anyImages) out += "<th>thumbnails</th><th>images</th>";
+      "</p>\n<table id=\"runs\">\n<thead><tr><th>#</th><th>verdict</th>"
+      "<th>scene/camera<br>convention, format, vertex mode, size</th>";
+  if (anyImages) out += "<th>thumbnails: mismatch, error / tolerance</th>";
+  out += "<th>mismatches</th><th>depth error</th>";
+  if (anyImages) out += "<th>images</th>";
   out += "</tr></thead>\n<tbody>\n";
   for (std::size_t k = 0; k < order.size(); ++k) out += runRow(runs[order[k]], k + 1, anyImages);
   out += "</tbody>\n</table>\n";
@@ -337,7 +342,7 @@ std::string legendSection() {
                                                       {-3.0, "1e-3"},
                                                       {-2.0, "0.01"},
                                                       {-1.0, "0.1"},
-                                                      {0.0, "1 (the tolerance)"},
+                                                      {0.0, "1 = tolerance"},
                                                       {1.0, "&ge;10"}}}) {
     out += "<span style=\"left:" + percent(decades) + "\">" + label + "</span>";
   }
@@ -375,8 +380,8 @@ std::string reportHtml(const std::vector<RunRecord>& runs, const GlInfo& gl,
         "(clipray reconcile --images none).</p>\n";
   }
   out += runsSection(runs, order, anyImages);
-  out += clustersSection(runs, order);
   out += legendSection();
+  out += clustersSection(runs, order);
   out += "</body>\n</html>\n";
   return out;
 }
