@@ -344,26 +344,43 @@ void encodeThumbnails(RunRecord& run, const PixelComparison& pixels) {
   const int block = thumbnailBlock(pixels.viewport);
   const Viewport thumb = thumbnailSize(pixels.viewport);
   const int thumbWidth = thumb.width, thumbHeight = thumb.height;
-  // Per thumbnail pixel: the most severe class, the largest compared ratio (NaN: none compared).
-  std::vector<PixelClass> worst(static_cast<std::size_t>(thumbWidth) * thumbHeight,
-                                PixelClass::Background);
+  // Per thumbnail pixel: the most severe class, and the largest compared ratio (NaN: none
+  // compared). One pass over the frame a block's width at a time: every run of the default
+  // reconcile pays for it.
+  std::vector<int> worst(static_cast<std::size_t>(thumbWidth) * thumbHeight, 0);
   std::vector<float> largest(worst.size(), std::numeric_limits<float>::quiet_NaN());
+  std::array<int, 256> rank{};
+  for (int c = 0; c < 256; ++c)
+    rank[static_cast<std::size_t>(c)] = severity(static_cast<PixelClass>(c));
   for (int row = 0; row < height; ++row) {
     const std::size_t thumbRow = static_cast<std::size_t>(row / block) * thumbWidth;
     const std::size_t frameRow = static_cast<std::size_t>(row) * width;
-    for (int x = 0; x < width; ++x) {
-      const std::size_t t = thumbRow + static_cast<std::size_t>(x / block);
-      const PixelClass value = pixels.classes[frameRow + x];
-      if (severity(value) > severity(worst[t])) worst[t] = value;
-      const float ratio = pixels.toleranceRatio[frameRow + x];
-      if (!std::isnan(ratio) && !(largest[t] >= ratio)) largest[t] = ratio;
+    for (int x0 = 0, t = 0; x0 < width; x0 += block, ++t) {
+      int& worstRank = worst[thumbRow + static_cast<std::size_t>(t)];
+      float& largestRatio = largest[thumbRow + static_cast<std::size_t>(t)];
+      for (int x = x0; x < std::min(x0 + block, width); ++x) {
+        worstRank =
+            std::max(worstRank, rank[static_cast<std::uint8_t>(pixels.classes[frameRow + x])]);
+        const float ratio = pixels.toleranceRatio[frameRow + x];
+        if (!std::isnan(ratio) && !(largestRatio >= ratio)) largestRatio = ratio;
+      }
     }
+  }
+  // The class of each severity rank.
+  std::array<PixelClass, 9> ofRank{};
+  ofRank.fill(PixelClass::Background);
+  for (int c = 0; c < 256; ++c) {
+    const int r = rank[static_cast<std::size_t>(c)];
+    if (r < 8) ofRank[static_cast<std::size_t>(r)] = static_cast<PixelClass>(c);
   }
   Image mismatch(thumbWidth, thumbHeight, {}), heat(thumbWidth, thumbHeight, {});
   for (int row = 0; row < thumbHeight; ++row) {
     for (int x = 0; x < thumbWidth; ++x) {
       const std::size_t t = static_cast<std::size_t>(row) * thumbWidth + x;
-      mismatch.set(x, thumbHeight - 1 - row, pixelClassColour(worst[t]));
+      const int r = worst[t];
+      // Rank 8 is a value outside PixelClass: white, as in mismatch.png.
+      mismatch.set(x, thumbHeight - 1 - row,
+                   r < 8 ? pixelClassColour(ofRank[static_cast<std::size_t>(r)]) : kOutline);
       heat.set(x, thumbHeight - 1 - row, heatMapColour(largest[t]));
     }
   }
