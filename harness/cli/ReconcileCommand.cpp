@@ -175,7 +175,8 @@ int runReconcile(const ReconcileOptions& options) {
   // 3. The runs: scene x camera x convention (one analytic pass) x format x vertex mode.
   //    A progress line on stderr only when a person is watching it.
   //    With --rounds, all of it again, round after round (images in the last round only).
-  //    The images --images asks for are encoded on worker threads beside the next runs.
+  //    The images --images asks for (and every run's thumbnails, for index.html, unless it says
+  //    none) are encoded on worker threads beside the next runs.
   const bool progress = isatty(STDERR_FILENO) != 0;
   std::vector<std::vector<RunRecord>> rounds;
   ImageEncoder encoder;
@@ -206,8 +207,9 @@ int runReconcile(const ReconcileOptions& options) {
               }
               gl::ComparedRun compared =
                   gl::rasterAndComparePixels(renderer, pass, format, vertexMode, options.threads);
-              if (lastRound && wantsImages(*imagePolicy, compared.run.metrics)) {
-                encoder.submit(runs.size(), compared.run, std::move(compared.pixels));
+              if (lastRound && wantsThumbnails(*imagePolicy)) {
+                encoder.submit(runs.size(), compared.run, std::move(compared.pixels),
+                               wantsImages(*imagePolicy, compared.run.metrics));
               }
               runs.push_back(std::move(compared.run));
             }
@@ -265,7 +267,9 @@ CommandRunner addReconcileOptions(CLI::App& app) {
   app.add_option("--out", options->out, "Output folder for report.json and PNGs")
       ->capture_default_str();
   app.add_option("--images", options->images,
-                 "Which runs get their four PNGs: failing (the inconsistent runs'), all, none")
+                 "Which runs get their four PNGs and cluster crops: failing (the inconsistent "
+                 "runs'; every run still gets the thumbnails of index.html), all, none (no "
+                 "images at all)")
       ->capture_default_str();
   app.add_option("--junit", options->junit,
                  "Also write the runs as JUnit XML to this file (one test case per run) for CI");

@@ -129,7 +129,7 @@ TEST(ReconcileCli, RoundsRepeatEveryRunAndMeasureNothingElseDifferently) {
 TEST(ReconcileCli, ImagesAreWrittenForTheInconsistentRunsUnlessAskedOtherwise) {
   // The water reflection's NO-built camera drawn under zo-reversed is inconsistent (its z = w
   // near plane lies behind the eye: no rays where GL draws the farthest surfaces); under zo it
-  // is consistent.
+  // is consistent. Its two inconsistent runs have 4 and 1 unexplained clusters at 64x48.
   TempFolder folder;
   const std::string command = "reconcile '" + kSource +
                               "/scenes/water_reflection.json' --conventions zo,zo-reversed "
@@ -154,6 +154,7 @@ TEST(ReconcileCli, ImagesAreWrittenForTheInconsistentRunsUnlessAskedOtherwise) {
         nlohmann::json::parse(testing::readText(folder.path() / out / "report.json"));
     ASSERT_EQ(report["runs"].size(), 4u);
     std::set<std::string> expected;
+    std::size_t images = 0, thumbnails = 0, crops = 0;
     for (const auto& run : report["runs"]) {
       const bool consistent = run["verdict"] == "consistent";
       EXPECT_EQ(consistent, run["convention"] == "zo");
@@ -167,10 +168,37 @@ TEST(ReconcileCli, ImagesAreWrittenForTheInconsistentRunsUnlessAskedOtherwise) {
         }
         ASSERT_TRUE(path.is_string()) << name;
         expected.insert(path.get<std::string>());
+        ++images;
+      }
+      // Every run's thumbnails, for index.html, unless --images none.
+      for (const auto& [name, path] : run["thumbnails"].items()) {
+        if (policy == "none") {
+          EXPECT_TRUE(path.is_null()) << name;
+          continue;
+        }
+        ASSERT_TRUE(path.is_string()) << name;
+        expected.insert(path.get<std::string>());
+        ++thumbnails;
+      }
+      // The crops go with the full-size images.
+      EXPECT_EQ(run["clusters"].size(), consistent                         ? 0u
+                                        : run["camera"] == "reflection_zo" ? 4u
+                                                                           : 1u);
+      for (const auto& cluster : run["clusters"]) {
+        if (!wanted) {
+          EXPECT_TRUE(cluster["crop"].is_null());
+          continue;
+        }
+        ASSERT_TRUE(cluster["crop"].is_string());
+        expected.insert(cluster["crop"].get<std::string>());
+        ++crops;
       }
     }
-    EXPECT_EQ(expected.size(), policy == "all" ? 16u : policy == "none" ? 0u : 8u);
+    EXPECT_EQ(images, policy == "all" ? 16u : policy == "none" ? 0u : 8u);
+    EXPECT_EQ(thumbnails, policy == "none" ? 0u : 8u);
+    EXPECT_EQ(crops, policy == "none" ? 0u : 5u);
     EXPECT_EQ(pngsUnder(out), expected);
+    EXPECT_TRUE(std::filesystem::is_regular_file(folder.path() / out / "index.html"));
   }
 }
 
@@ -194,6 +222,12 @@ TEST(ReconcileCli, JUnitHasOneTestCasePerRunAndFailsTheInconsistentOnes) {
   }
   EXPECT_NE(xml.find("images: report/water_reflection/reflection_zo-zo-reversed-32f-world/"
                      "raster_depth.png"),
+            std::string::npos)
+      << xml;
+  // The failure text names the largest clusters where to look.
+  EXPECT_NE(xml.find("largest unexplained clusters (4 of 4, 8-connected):\n  115 px at GL window "
+                     "(24, 15) = image (24, 32), GL bounds (21, 5) - (27, 24): coverage 115, id 0, "
+                     "depth 0\n"),
             std::string::npos)
       << xml;
 }

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "clipray/report/JUnit.hpp"
+#include "clipray/report/XmlText.hpp"
 
 namespace clipray {
 namespace {
@@ -26,6 +27,8 @@ RunRecord run(const std::string& camera, bool consistent) {
 TEST(JUnit, OneTestCasePerRunAndTheFailuresText) {
   RunRecord bad = run("m\"1", false);
   bad.images = {{"a_b/m_1-zo-32f-world/mismatch.png", ""}};
+  bad.clusters.count = 3;
+  bad.clusters.largest = {{2, 2, 0, 0, 1, 0, 2, 0, 1, 0}, {1, 0, 0, 1, 3, 1, 3, 1, 3, 1}};
   const std::string xml = junitXml({run("main", true), bad}, "out");
   EXPECT_EQ(xml,
             "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n"
@@ -39,6 +42,11 @@ TEST(JUnit, OneTestCasePerRunAndTheFailuresText) {
             "mismatches, 0 unexplained id mismatches, 1 depths beyond tolerance (worst error / "
             "tolerance 4) of 8 pixels\n" +
                 xmlEscaped(runSummaryLine(bad)) +
+                "\nlargest unexplained clusters (2 of 3, 8-connected):"
+                "\n  2 px at GL window (1, 0) = image (1, 1), GL bounds (1, 0) - (2, 0): "
+                "coverage 2, id 0, depth 0"
+                "\n  1 px at GL window (3, 1) = image (3, 0), GL bounds (3, 1) - (3, 1): "
+                "coverage 0, id 0, depth 1"
                 "\nimages: out/a_b/m_1-zo-32f-world/mismatch.png</failure>\n"
                 "    </testcase>\n"
                 "  </testsuite>\n"
@@ -55,12 +63,6 @@ TEST(JUnit, NoRunsIsAnEmptySuite) {
             "time=\"0.000\">\n"
             "  </testsuite>\n"
             "</testsuites>\n");
-}
-
-TEST(JUnit, EscapesWhatXmlReservesAndDropsWhatItForbids) {
-  EXPECT_EQ(xmlEscaped("a&b<c>d\"e'f"), "a&amp;b&lt;c&gt;d&quot;e&apos;f");
-  EXPECT_EQ(xmlEscaped(std::string("t\tn\nr\rx\x01y\x1f", 10)), "t\tn\nr\rx?y?");
-  EXPECT_EQ(xmlEscaped("caf\xc3\xa9"), "caf\xc3\xa9");  // UTF-8 passes through
 }
 
 }  // namespace

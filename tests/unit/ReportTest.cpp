@@ -171,7 +171,12 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
   run.images = {{"standard/main-zo-24-world/raster_depth.png", "x"},
                 {"standard/main-zo-24-world/ray_depth.png", "x"},
                 {"standard/main-zo-24-world/error_heatmap.png", "x"},
-                {"standard/main-zo-24-world/mismatch.png", "x"}};
+                {"standard/main-zo-24-world/mismatch.png", "x"},
+                {"standard/main-zo-24-world/thumb_mismatch.png", "x"},
+                {"standard/main-zo-24-world/cluster1.png", "x"}};
+  // Two clusters of three; the second has no crop image.
+  run.clusters.count = 3;
+  run.clusters.largest = {{2, 2, 0, 0, 10, 20, 11, 20, 10, 20}, {1, 0, 0, 1, 5, 0, 5, 0, 5, 0}};
   const nlohmann::json j = reportJson({run}, sampleGl());
 
   EXPECT_EQ(j["tool"], "clipray");
@@ -214,7 +219,21 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
     "images": {"raster_depth": "standard/main-zo-24-world/raster_depth.png",
                "ray_depth": "standard/main-zo-24-world/ray_depth.png",
                "error_heatmap": "standard/main-zo-24-world/error_heatmap.png",
-               "mismatch": "standard/main-zo-24-world/mismatch.png"}
+               "mismatch": "standard/main-zo-24-world/mismatch.png"},
+    "thumbnails": {"mismatch": "standard/main-zo-24-world/thumb_mismatch.png", "heatmap": null},
+    "cluster_count": 3,
+    "clusters": [
+      {"pixels": 2, "coverage_unexplained": 2, "id_unexplained": 0, "depth_beyond_tolerance": 0,
+       "pixel_gl": {"x": 10, "y": 20}, "pixel_image": {"x": 10, "y": 459},
+       "bounds_gl": {"x_min": 10, "y_min": 20, "x_max": 11, "y_max": 20},
+       "bounds_image": {"x_min": 10, "y_min": 459, "x_max": 11, "y_max": 459},
+       "crop": "standard/main-zo-24-world/cluster1.png"},
+      {"pixels": 1, "coverage_unexplained": 0, "id_unexplained": 0, "depth_beyond_tolerance": 1,
+       "pixel_gl": {"x": 5, "y": 0}, "pixel_image": {"x": 5, "y": 479},
+       "bounds_gl": {"x_min": 5, "y_min": 0, "x_max": 5, "y_max": 0},
+       "bounds_image": {"x_min": 5, "y_min": 479, "x_max": 5, "y_max": 479},
+       "crop": null}
+    ]
   })");
   EXPECT_EQ(j["runs"][0], expected) << j["runs"][0].dump(2);
 }
@@ -312,6 +331,25 @@ TEST(MergeRounds, OneRoundIsReturnedAsItIs) {
   EXPECT_EQ(merged[0].rounds, 1);
   EXPECT_EQ(merged[0].timings.intersect, 6.0);
   EXPECT_EQ(merged[0].analyticOverRaster, 1.0);
+}
+
+TEST(MergeRounds, ClustersAreMeasuredTheirCropsAndThumbnailsAreImages) {
+  // Images (crops and thumbnails too) come from the last round only: not a difference.
+  std::vector<std::vector<RunRecord>> rounds = {{roundRun(0, {10, 2, 1, 6, 3})},
+                                                {roundRun(0, {10, 2, 1, 6, 3})}};
+  for (auto& round : rounds) {
+    round[0].clusters.count = 1;
+    round[0].clusters.largest = {{2, 2, 0, 0, 1, 1, 2, 1, 1, 1}};
+  }
+  rounds[1][0].images = {{"standard/camera0-zo-24-world/cluster1.png", "crop"},
+                         {"standard/camera0-zo-24-world/thumb_mismatch.png", "thumb"}};
+  const std::vector<RunRecord> merged = mergeRounds(rounds);
+  ASSERT_EQ(merged.size(), 1u);
+  EXPECT_EQ(merged[0].images.size(), 2u);
+  EXPECT_EQ(merged[0].clusters.largest.size(), 1u);
+  // A cluster found elsewhere is a different measurement.
+  rounds[0][0].clusters.largest[0].x = 2;
+  EXPECT_THROW(mergeRounds(rounds), std::runtime_error);
 }
 
 TEST(MergeRounds, ARoundThatMeasuredARunDifferentlyIsReported) {
@@ -590,46 +628,59 @@ TEST(EncodeRunImages, HeatMapColoursAndScale) {
   RunRecord run = sampleRun();
   encodeRunImages(run, tinyComparison());
   const Decoded h = decode(imageNamed(run, "error_heatmap.png").pngBytes);
-  // 70 px scale strip on the right; padded to 120 px high.
-  ASSERT_EQ(h.width, 4 + 70);
-  ASSERT_EQ(h.height, 120);
+  // 100 px scale strip on the right; padded to 160 px high.
+  ASSERT_EQ(h.width, 4 + 100);
+  ASSERT_EQ(h.height, 160);
+  // r <= 1: s = log10(max(r, 1e-4)) + 4 on the ramp (68,1,84) (59,82,139) (33,145,140)
+  // (94,201,98) (253,231,37), one decade per segment; r > 1: (230,0,0) -> white, f = log10(r).
+  // Each channel rounded to nearest.
   EXPECT_EQ(h.at(0, pngRow(0)), (Rgb{0, 0, 0}));        // NaN: not compared
-  EXPECT_EQ(h.at(1, pngRow(0)), (Rgb{68, 1, 84}));      // 0
-  EXPECT_EQ(h.at(2, pngRow(0)), (Rgb{33, 145, 140}));   // 0.5
+  EXPECT_EQ(h.at(1, pngRow(0)), (Rgb{68, 1, 84}));      // 0: at the floor
+  EXPECT_EQ(h.at(2, pngRow(0)), (Rgb{205, 222, 55}));   // 0.5: s = 3.699
   EXPECT_EQ(h.at(3, pngRow(0)), (Rgb{253, 231, 37}));   // 1: the predicted tolerance
-  EXPECT_EQ(h.at(0, pngRow(1)), (Rgb{243, 128, 128}));  // 1.5: halfway red -> white
-  EXPECT_EQ(h.at(1, pngRow(1)), kWhite);                // 2
-  EXPECT_EQ(h.at(2, pngRow(1)), kWhite);                // 5: clamped
-  EXPECT_EQ(h.at(3, pngRow(1)), (Rgb{68, 1, 84}));      // -1: clamped to 0
+  EXPECT_EQ(h.at(0, pngRow(1)), (Rgb{234, 45, 45}));    // 1.5: f = 0.176
+  EXPECT_EQ(h.at(1, pngRow(1)), (Rgb{238, 77, 77}));    // 2: f = 0.301
+  EXPECT_EQ(h.at(2, pngRow(1)), (Rgb{247, 178, 178}));  // 5: f = 0.699
+  EXPECT_EQ(h.at(3, pngRow(1)), (Rgb{68, 1, 84}));      // -1: at the floor
   EXPECT_EQ(h.at(0, pngRow(2)), kWhite);                // +inf
-  EXPECT_EQ(h.at(1, pngRow(2)), (Rgb{59, 82, 139}));    // 0.25
-  EXPECT_EQ(h.at(2, pngRow(2)), (Rgb{94, 201, 98}));    // 0.75
+  EXPECT_EQ(h.at(1, pngRow(2)), (Rgb{157, 213, 74}));   // 0.25: s = 3.398
+  EXPECT_EQ(h.at(2, pngRow(2)), (Rgb{233, 227, 45}));   // 0.75: s = 3.875
   EXPECT_EQ(h.at(3, pngRow(2)), (Rgb{0, 0, 0}));        // NaN
   // Padding below the image and the strip background.
   EXPECT_EQ(h.at(0, 3), kPanel);
-  EXPECT_EQ(h.at(3, 119), kPanel);
-  EXPECT_EQ(h.at(4 + 69, 119), kPanel);
-  // The bar: 2 (white) at its top row 20, 0 at its bottom row 110, the tolerance in between.
+  EXPECT_EQ(h.at(3, 159), kPanel);
+  EXPECT_EQ(h.at(4 + 99, 159), kPanel);
+  // The bar: log10(r) from -4 at its bottom row 148 to 1 (white) at its top row 34, linearly in
+  // rows: row y shows r = 10^(-4 + 5 (148 - y) / 114).
   const int barX = 4 + 12;
-  EXPECT_EQ(h.at(barX, 20), kWhite);
-  EXPECT_EQ(h.at(barX, 110), (Rgb{68, 1, 84}));
-  EXPECT_EQ(h.at(barX, 65), (Rgb{253, 231, 37}));  // v = 1
-  EXPECT_EQ(h.at(barX, 64), (Rgb{231, 6, 6}));     // just above 1: red
-  // Tick marks right of the bar at 0, 0.5, 1, 1.5, 2.
-  for (const int y : {110, 87, 65, 42, 20}) EXPECT_EQ(h.at(4 + 22, y), kWhite) << y;
-  EXPECT_EQ(h.at(4 + 22, 100), kPanel);
-  // Labels and title are drawn: white pixels right of the ticks and above the bar.
+  EXPECT_EQ(h.at(barX, 34), kWhite);
+  EXPECT_EQ(h.at(barX, 148), (Rgb{68, 1, 84}));
+  EXPECT_EQ(h.at(barX, 125), (Rgb{59, 83, 139}));   // r = 10^-2.991: next to the 1e-3 stop
+  EXPECT_EQ(h.at(barX, 102), (Rgb{34, 146, 139}));  // 10^-1.982: next to 0.01
+  EXPECT_EQ(h.at(barX, 80), (Rgb{93, 200, 99}));    // 10^-1.018: next to 0.1
+  EXPECT_EQ(h.at(barX, 57), (Rgb{252, 231, 38}));   // 10^-0.0088: just within tolerance
+  EXPECT_EQ(h.at(barX, 56), (Rgb{231, 9, 9}));      // 10^0.035: just beyond it, red
+  // Tick marks right of the bar at 1e-4, 1e-3, 0.01, 0.1, 1 and 10: rows 148 - round((d + 4) /
+  // 5 * 114).
+  for (const int y : {148, 125, 102, 80, 57, 34}) EXPECT_EQ(h.at(4 + 27, y), kWhite) << y;
+  EXPECT_EQ(h.at(4 + 27, 90), kPanel);
+  // Labels and title are drawn at twice the font's size: white pixels right of the ticks and above
+  // the bar, glyph strokes 2 px wide.
   const auto whiteIn = [&](int x0, int y0, int x1, int y1) {
     int n = 0;
     for (int y = y0; y < y1; ++y)
       for (int x = x0; x < x1; ++x) n += h.at(x, y) == kWhite;
     return n;
   };
-  EXPECT_GT(whiteIn(4 + 27, 104, 4 + 70, 118), 3);  // "0"
-  EXPECT_GT(whiteIn(4 + 27, 59, 4 + 70, 72), 3);    // "1"
-  EXPECT_GT(whiteIn(4 + 27, 14, 4 + 70, 27), 8);    // ">=2"
-  EXPECT_GT(whiteIn(4, 0, 4 + 70, 16), 10);         // "err/tol"
-  EXPECT_EQ(whiteIn(4 + 27, 75, 4 + 70, 80), 0);    // nothing between "1" and "0.5"
+  EXPECT_GT(whiteIn(4 + 34, 142, 4 + 100, 158), 40);  // "1e-4"
+  EXPECT_GT(whiteIn(4 + 34, 51, 4 + 100, 66), 12);    // "1"
+  EXPECT_GT(whiteIn(4 + 34, 28, 4 + 100, 44), 40);    // ">=10"
+  EXPECT_GT(whiteIn(4, 0, 4 + 100, 26), 60);          // "err/tol"
+  EXPECT_EQ(whiteIn(4 + 34, 66, 4 + 100, 73), 0);     // nothing between "1" and "0.1"
+  // The glyphs are 2x: the label "1"'s vertical stroke is 2 px wide and 14 px high.
+  int tallest = 0;
+  for (int x = 4 + 34; x < 4 + 60; ++x) tallest = std::max(tallest, whiteIn(x, 51, x + 1, 66));
+  EXPECT_EQ(tallest, 14);
 }
 
 TEST(EncodeRunImages, TinyViewportsDoNotCrash) {
@@ -649,9 +700,9 @@ TEST(EncodeRunImages, TinyViewportsDoNotCrash) {
     EXPECT_EQ(m.width, viewport.width);
     EXPECT_EQ(m.height, viewport.height);
     const Decoded h = decode(imageNamed(run, "error_heatmap.png").pngBytes);
-    EXPECT_EQ(h.width, viewport.width + 70);
-    EXPECT_EQ(h.height, 120);
-    EXPECT_EQ(h.at(0, 0), (Rgb{33, 145, 140}));
+    EXPECT_EQ(h.width, viewport.width + 100);
+    EXPECT_EQ(h.height, 160);
+    EXPECT_EQ(h.at(0, 0), (Rgb{205, 222, 55}));  // 0.5
   }
 }
 
@@ -667,10 +718,11 @@ TEST(EncodeRunImages, TallImagesKeepTheirHeight) {
   RunRecord run = sampleRun();
   encodeRunImages(run, p);
   const Decoded h = decode(imageNamed(run, "error_heatmap.png").pngBytes);
-  EXPECT_EQ(h.width, 72);
+  EXPECT_EQ(h.width, 102);
   EXPECT_EQ(h.height, 300);
   EXPECT_EQ(h.at(1, 299), (Rgb{0, 0, 0}));
-  EXPECT_EQ(h.at(2 + 12, 290), (Rgb{68, 1, 84}));  // the bar reaches row height - 10
+  EXPECT_EQ(h.at(2 + 12, 288), (Rgb{68, 1, 84}));      // the bar reaches row height - 12
+  EXPECT_EQ(h.at(2 + 12, 289), (Rgb{160, 160, 160}));  // its border
 }
 
 TEST(EncodeRunImages, RejectsInconsistentSizes) {
@@ -706,6 +758,7 @@ TEST(WriteReport, WritesImagesSummaryAndReportWithoutTempFiles) {
 
   writeReport(out, {a, b}, sampleGl());
   const std::vector<std::string> expected = {
+      "index.html",
       "report.json",
       "standard/main-zo-24-world/error_heatmap.png",
       "standard/main-zo-24-world/mismatch.png",

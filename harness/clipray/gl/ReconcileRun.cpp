@@ -95,6 +95,12 @@ ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
   const PhaseClock compareClock;
   ComparisonResult comparison =
       compareFrames(raster, pass.frame, *pass.intersector, setup, threadCount);
+  // Where the unexplained pixels are: part of comparing, and only an inconsistent run has any.
+  MismatchClusters clusters;
+  if (!comparison.metrics.consistent()) {
+    clusters = findMismatchClusters(comparison.pixels.classes, comparison.pixels.viewport,
+                                    kReportedClusters);
+  }
   const double compareMilliseconds = compareClock.wallMilliseconds();
   const double compareCpuMilliseconds = compareClock.cpuMilliseconds();
 
@@ -106,6 +112,7 @@ ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
   run.vertexMode = vertexMode;
   run.size = pass.camera.viewport;
   run.metrics = comparison.metrics;
+  run.clusters = std::move(clusters);
   run.timings = {renderTimings.raster, renderTimings.readback, pass.raysMilliseconds,
                  pass.intersectMilliseconds, compareMilliseconds};
   run.cpu = {renderTimings.rasterCpu, renderTimings.readbackCpu, pass.raysCpuMilliseconds,

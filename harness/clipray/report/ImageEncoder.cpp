@@ -18,13 +18,20 @@ bool wantsImages(ImagePolicy policy, const RunMetrics& metrics) {
   return policy == ImagePolicy::All || (policy == ImagePolicy::Failing && !metrics.consistent());
 }
 
-void ImageEncoder::submit(std::size_t key, const RunRecord& run, PixelComparison pixels) {
+bool wantsThumbnails(ImagePolicy policy) {
+  return policy != ImagePolicy::None;
+}
+
+void ImageEncoder::submit(std::size_t key, const RunRecord& run, PixelComparison pixels,
+                          bool fullImages) {
   while (!pending_.empty() && pending_.size() >= maxPending_) finishOldest();
   RunRecord header = run;
   header.images.clear();
-  pending_.push_back({key, std::async(std::launch::async, [header = std::move(header),
+  pending_.push_back({key, std::async(std::launch::async, [header = std::move(header), fullImages,
                                                            pixels = std::move(pixels)]() mutable {
-                        encodeRunImages(header, pixels);
+                        if (fullImages) encodeRunImages(header, pixels);
+                        encodeThumbnails(header, pixels);
+                        if (fullImages) encodeClusterCrops(header, pixels);
                         return std::move(header.images);
                       })});
 }

@@ -1,23 +1,26 @@
-// The four PNGs of a run: raster depth, ray depth, error heat map (with its colour scale) and the
-// mismatch mask. Frames are stored bottom row first (GL's lower-left origin); PNG rows are
-// top-down, so every image is flipped while it is drawn.
+// The pictures of a run: the four full-size PNGs (raster depth, ray depth, error heat map with its
+// colour scale, mismatch mask), the two thumbnails index.html shows, and the enlarged crops around
+// the largest unexplained clusters. Frames are stored bottom row first (GL's lower-left origin);
+// PNG rows are top-down, so every image is flipped while it is drawn.
 //
-// Colours (the README quotes these):
+// Colours (docs/reconcile.md and index.html's legend show these):
 //   raster_depth.png / ray_depth.png: window depth as grey, with ONE range [min, max] shared by
-//   both
-//     images (every finite depth of either side), nearer = brighter: the nearest depth is grey 255,
-//     the farthest grey 48 (under reversed-Z the larger depth is the nearer one). A frame whose
-//     finite depths are all equal is mid-grey 128. Background (no hit, NaN) is dark blue
-//     (20,30,70).
-//   error_heatmap.png: |d_r - d_a| / predicted tolerance on the fixed range [0, 2]:
-//     0 .. 1 (within tolerance): a viridis-like ramp, (68,1,84) at 0, (59,82,139) at 0.25,
-//       (33,145,140) at 0.5, (94,201,98) at 0.75, (253,231,37) at 1;
-//     above 1 (beyond tolerance): red (230,0,0) just above 1 rising to white (255,255,255) at 2 and
-//       beyond, so such pixels stand out against the ramp;
-//     not compared (NaN): black (0,0,0). A 70 px strip on the right holds the scale: the title
-//     "err/tol", the bar, tick marks and the labels 0, 0.5, 1, 1.5, >=2 in white on grey
-//     (32,32,32). Images lower than 120 px are padded below with that grey so the scale always
-//     fits.
+//     both images (every finite depth of either side), nearer = brighter: the nearest depth is
+//     grey 255, the farthest grey 48 (under reversed-Z the larger depth is the nearer one). A
+//     frame whose finite depths are all equal is mid-grey 128. Background (no hit, NaN) is dark
+//     blue (20,30,70).
+//   error_heatmap.png: r = |d_r - d_a| / predicted tolerance on a logarithmic scale, so that a
+//     consistent run shows where it sits within its tolerance:
+//     r <= 1 (within tolerance): s = log10(max(r, 1e-4)) + 4 in [0, 4], one decade per segment
+//       of a viridis-like ramp, linear in s: (68,1,84) at 1e-4 and below (0 too), (59,82,139) at
+//       1e-3, (33,145,140) at 0.01, (94,201,98) at 0.1, (253,231,37) at 1;
+//     r > 1 (beyond tolerance): red (230,0,0) just above 1 rising linearly in log10(r) to white
+//       (255,255,255) at 10 and beyond, so such pixels stand out against the ramp;
+//     not compared (NaN): black (0,0,0). A 100 px strip on the right holds the scale: the title
+//       "err/tol", the bar (1e-4 at its bottom, 10 at its top), tick marks and the labels 1e-4,
+//       1e-3, 0.01, 0.1, 1, >=10, drawn with stb_easy_font at twice its size (glyphs 14 px high),
+//       in white on grey (32,32,32). Images lower than 160 px are padded below with that grey so
+//       the scale always fits.
 //   mismatch.png, one colour per PixelClass:
 //     Background            black        (0,0,0)
 //     Agree                 dark grey    (60,60,60)
@@ -27,6 +30,15 @@
 //     IdDepthAmbiguous      cyan         (0,255,255)
 //     IdEdgeAmbiguous       blue         (60,110,255)
 //     IdUnexplained         magenta      (255,0,255)
+//   thumb_mismatch.png / thumb_heatmap.png: the frame in blocks of f x f pixels, f the smallest
+//     integer that brings both sides to 160 px or less; each thumbnail pixel is the most severe
+//     class of its block (IdUnexplained, CoverageUnexplained, DepthBeyondTolerance,
+//     IdEdgeAmbiguous, CoverageEdgeAmbiguous, IdDepthAmbiguous, Agree, Background, in that order),
+//     or the heat-map colour of its block's largest compared ratio, so a single unexplained pixel
+//     of a 1080p frame still shows. No scale strip.
+//   cluster<k>.png: the mismatch colours of a 32 x 32 window around cluster k's representative
+//     pixel (moved inside the frame; smaller frames whole), each pixel drawn 8 x 8, the
+//     representative pixel outlined in white (255,255,255).
 
 #include <algorithm>
 #include <array>
@@ -40,6 +52,7 @@
 
 #include "clipray/report/FastDeflate.hpp"
 #include "clipray/report/Report.hpp"
+#include "clipray/report/RunImages.hpp"
 
 // stb_image_write writes the PNGs, libdeflate compresses them (FastDeflate.hpp).
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -50,24 +63,18 @@
 namespace clipray {
 namespace {
 
-struct Rgb {
-  std::uint8_t r = 0, g = 0, b = 0;
-};
-
-constexpr Rgb kDepthBackground{20, 30, 70};
-constexpr int kFarGrey = 48;
-constexpr int kNearGrey = 255;
 constexpr int kFlatGrey = 128;
 
 constexpr Rgb kPanel{32, 32, 32};
 constexpr Rgb kText{255, 255, 255};
 constexpr Rgb kBarBorder{160, 160, 160};
 constexpr Rgb kNotCompared{0, 0, 0};
-constexpr int kScaleWidth = 70;         // the strip added on the right of the heat map
-constexpr int kMinHeatMapHeight = 120;  // the heat map is padded below to at least this height
-constexpr double kHeatMapMaxRatio = 2.0;
+constexpr Rgb kOutline{255, 255, 255};
+constexpr int kScaleWidth = 100;        // the strip added on the right of the heat map
+constexpr int kMinHeatMapHeight = 160;  // the heat map is padded below to at least this height
+constexpr int kLabelScale = 2;          // stb_easy_font glyphs drawn this many times their size
 
-// The within-tolerance ramp, at ratio 0, 0.25, 0.5, 0.75 and 1.
+// The within-tolerance ramp, at ratio 1e-4, 1e-3, 0.01, 0.1 and 1: one decade per segment.
 constexpr std::array<Rgb, 5> kRamp{{
     {68, 1, 84},
     {59, 82, 139},
@@ -76,29 +83,11 @@ constexpr std::array<Rgb, 5> kRamp{{
     {253, 231, 37},
 }};
 constexpr Rgb kBeyondLow{230, 0, 0};       // just above 1
-constexpr Rgb kBeyondHigh{255, 255, 255};  // at 2 and above
+constexpr Rgb kBeyondHigh{255, 255, 255};  // at kHeatMapCeiling and above
 
-Rgb classColour(PixelClass value) {
-  switch (value) {
-    case PixelClass::Background:
-      return {0, 0, 0};
-    case PixelClass::Agree:
-      return {60, 60, 60};
-    case PixelClass::DepthBeyondTolerance:
-      return {255, 140, 0};
-    case PixelClass::CoverageEdgeAmbiguous:
-      return {255, 230, 0};
-    case PixelClass::CoverageUnexplained:
-      return {255, 0, 0};
-    case PixelClass::IdDepthAmbiguous:
-      return {0, 255, 255};
-    case PixelClass::IdEdgeAmbiguous:
-      return {60, 110, 255};
-    case PixelClass::IdUnexplained:
-      return {255, 0, 255};
-  }
-  return {255, 255, 255};  // an out-of-range value: impossible to miss
-}
+// log10(kHeatMapFloor) and log10(kHeatMapCeiling): the scale's bar runs from the first at its
+// bottom row to the second at its top row.
+constexpr double kBarLow = -4.0, kBarHigh = 1.0;
 
 std::uint8_t channel(double value) {
   return static_cast<std::uint8_t>(std::clamp(std::lround(value), 0L, 255L));
@@ -109,15 +98,27 @@ Rgb mix(Rgb a, Rgb b, double f) {
           channel(a.b + (b.b - a.b) * f)};
 }
 
-Rgb heatColour(double ratio) {
-  if (std::isnan(ratio)) return kNotCompared;
-  const double r = std::clamp(ratio, 0.0, kHeatMapMaxRatio);
-  if (r <= 1.0) {
-    const double s = r * static_cast<double>(kRamp.size() - 1);
-    const auto i = std::min(static_cast<std::size_t>(s), kRamp.size() - 2);
-    return mix(kRamp[i], kRamp[i + 1], s - static_cast<double>(i));
+// How much a class tells a person, for the thumbnails: the most severe class of a block shows.
+int severity(PixelClass value) {
+  switch (value) {
+    case PixelClass::Background:
+      return 0;
+    case PixelClass::Agree:
+      return 1;
+    case PixelClass::IdDepthAmbiguous:
+      return 2;
+    case PixelClass::CoverageEdgeAmbiguous:
+      return 3;
+    case PixelClass::IdEdgeAmbiguous:
+      return 4;
+    case PixelClass::DepthBeyondTolerance:
+      return 5;
+    case PixelClass::CoverageUnexplained:
+      return 6;
+    case PixelClass::IdUnexplained:
+      return 7;
   }
-  return mix(kBeyondLow, kBeyondHigh, (r - 1.0) / (kHeatMapMaxRatio - 1.0));
+  return 8;  // an out-of-range value: shown (in white), never hidden
 }
 
 // An RGB image with top-down rows, as PNG wants them.
@@ -166,48 +167,54 @@ std::string encodePng(const Image& image) {
   return png;
 }
 
-// Draws text with its top-left corner at (x, y) (y from the top), one font unit per pixel.
-void drawText(Image& image, int x, int y, const std::string& text, Rgb colour) {
+// Draws text with its top-left corner at (x, y) (y from the top), each font unit a scale x scale
+// block of pixels.
+void drawText(Image& image, int x, int y, const std::string& text, Rgb colour, int scale) {
   std::string mutableText = text;  // stb_easy_font takes a char*
   std::vector<char> vertices(text.size() * 1024 + 64);
-  const int quads =
-      stb_easy_font_print(static_cast<float>(x), static_cast<float>(y), mutableText.data(), nullptr,
-                          vertices.data(), static_cast<int>(vertices.size()));
+  const int quads = stb_easy_font_print(0.0f, 0.0f, mutableText.data(), nullptr, vertices.data(),
+                                        static_cast<int>(vertices.size()));
   constexpr std::size_t kVertexBytes = 16;  // x, y, z as float, then RGBA8
+  const auto at = [scale](float unit, int origin, bool up) {
+    return origin + scale * static_cast<int>(up ? std::ceil(unit) : std::floor(unit));
+  };
   for (int q = 0; q < quads; ++q) {
     float first[2], third[2];  // vertices 0 and 2 are opposite corners of the axis-aligned quad
     const std::size_t base = static_cast<std::size_t>(q) * 4 * kVertexBytes;
     std::memcpy(first, vertices.data() + base, sizeof first);
     std::memcpy(third, vertices.data() + base + 2 * kVertexBytes, sizeof third);
-    image.fill(static_cast<int>(std::floor(std::min(first[0], third[0]))),
-               static_cast<int>(std::floor(std::min(first[1], third[1]))),
-               static_cast<int>(std::ceil(std::max(first[0], third[0]))),
-               static_cast<int>(std::ceil(std::max(first[1], third[1]))), colour);
+    image.fill(at(std::min(first[0], third[0]), x, false),
+               at(std::min(first[1], third[1]), y, false),
+               at(std::max(first[0], third[0]), x, true), at(std::max(first[1], third[1]), y, true),
+               colour);
   }
 }
 
 // The colour scale strip right of the heat map, starting at column x0.
 void drawScale(Image& image, int x0) {
   image.fill(x0, 0, image.width(), image.height(), kPanel);
-  drawText(image, x0 + 4, 4, "err/tol", kText);
-  const int barLeft = x0 + 8, barRight = x0 + 20;          // [barLeft, barRight)
-  const int barTop = 20, barBottom = image.height() - 10;  // inclusive rows; v = 2 at the top
+  drawText(image, x0 + 6, 6, "err/tol", kText, kLabelScale);
+  const int barLeft = x0 + 8, barRight = x0 + 24;          // [barLeft, barRight)
+  const int barTop = 34, barBottom = image.height() - 12;  // inclusive rows; 10 at the top
   const int span = barBottom - barTop;
   image.fill(barLeft - 1, barTop - 1, barRight + 1, barBottom + 2, kBarBorder);
   for (int y = barTop; y <= barBottom; ++y) {
-    const double v = kHeatMapMaxRatio * static_cast<double>(barBottom - y) / span;
-    image.fill(barLeft, y, barRight, y + 1, heatColour(v));
+    const double decades =
+        kBarLow + (kBarHigh - kBarLow) * static_cast<double>(barBottom - y) / span;
+    image.fill(barLeft, y, barRight, y + 1, heatMapColour(std::pow(10.0, decades)));
   }
   struct Tick {
-    double value;
+    double decades;
     const char* label;
   };
-  constexpr std::array<Tick, 5> kTicks{
-      {{0.0, "0"}, {0.5, "0.5"}, {1.0, "1"}, {1.5, "1.5"}, {2.0, ">=2"}}};
+  constexpr std::array<Tick, 6> kTicks{
+      {{-4.0, "1e-4"}, {-3.0, "1e-3"}, {-2.0, "0.01"}, {-1.0, "0.1"}, {0.0, "1"}, {1.0, ">=10"}}};
   for (const Tick& tick : kTicks) {
-    const int y = barBottom - static_cast<int>(std::lround(tick.value / kHeatMapMaxRatio * span));
-    image.fill(barRight + 1, y, barRight + 5, y + 1, kText);
-    drawText(image, barRight + 8, y - 3, tick.label, kText);
+    const int y =
+        barBottom -
+        static_cast<int>(std::lround((tick.decades - kBarLow) / (kBarHigh - kBarLow) * span));
+    image.fill(barRight + 1, y, barRight + 6, y + 1, kText);
+    drawText(image, barRight + 10, y - 3 * kLabelScale, tick.label, kText, kLabelScale);
   }
 }
 
@@ -219,9 +226,8 @@ void checkSize(const Values& values, std::size_t expected, const char* name) {
                                 std::to_string(expected));
 }
 
-}  // namespace
-
-void encodeRunImages(RunRecord& run, const PixelComparison& pixels) {
+// The number of pixels, after checking that every per-pixel image of the comparison has them.
+std::size_t checkedPixelCount(const PixelComparison& pixels) {
   const int width = pixels.viewport.width, height = pixels.viewport.height;
   constexpr int kMaxSide = 1 << 15;
   if (width <= 0 || height <= 0 || width > kMaxSide || height > kMaxSide)
@@ -232,6 +238,53 @@ void encodeRunImages(RunRecord& run, const PixelComparison& pixels) {
   checkSize(pixels.analyticDepth, count, "analyticDepth");
   checkSize(pixels.toleranceRatio, count, "toleranceRatio");
   checkSize(pixels.classes, count, "classes");
+  return count;
+}
+
+int thumbnailBlock(Viewport frame) {
+  return std::max({1, (frame.width + kThumbnailSide - 1) / kThumbnailSide,
+                   (frame.height + kThumbnailSide - 1) / kThumbnailSide});
+}
+
+}  // namespace
+
+Rgb pixelClassColour(PixelClass value) {
+  switch (value) {
+    case PixelClass::Background:
+      return {0, 0, 0};
+    case PixelClass::Agree:
+      return {60, 60, 60};
+    case PixelClass::DepthBeyondTolerance:
+      return {255, 140, 0};
+    case PixelClass::CoverageEdgeAmbiguous:
+      return {255, 230, 0};
+    case PixelClass::CoverageUnexplained:
+      return {255, 0, 0};
+    case PixelClass::IdDepthAmbiguous:
+      return {0, 255, 255};
+    case PixelClass::IdEdgeAmbiguous:
+      return {60, 110, 255};
+    case PixelClass::IdUnexplained:
+      return {255, 0, 255};
+  }
+  return {255, 255, 255};  // an out-of-range value: impossible to miss
+}
+
+Rgb heatMapColour(double ratio) {
+  if (std::isnan(ratio)) return kNotCompared;
+  if (ratio <= 1.0) {
+    // 0 and negative ratios (log10 -inf or NaN) sit at the floor with the tiny ones.
+    const double decades = ratio > kHeatMapFloor ? std::log10(ratio) : kBarLow;
+    const double s = std::clamp(decades - kBarLow, 0.0, static_cast<double>(kRamp.size() - 1));
+    const auto i = std::min(static_cast<std::size_t>(s), kRamp.size() - 2);
+    return mix(kRamp[i], kRamp[i + 1], s - static_cast<double>(i));
+  }
+  return mix(kBeyondLow, kBeyondHigh, std::clamp(std::log10(ratio) / kBarHigh, 0.0, 1.0));
+}
+
+void encodeRunImages(RunRecord& run, const PixelComparison& pixels) {
+  const std::size_t count = checkedPixelCount(pixels);
+  const int width = pixels.viewport.width, height = pixels.viewport.height;
   // Frame pixel (x, row) with row 0 at the bottom lies on PNG row height - 1 - row.
   const auto index = [width](int x, int row) { return static_cast<std::size_t>(row) * width + x; };
 
@@ -266,8 +319,8 @@ void encodeRunImages(RunRecord& run, const PixelComparison& pixels) {
       const std::size_t i = index(x, row);
       rasterDepth.set(x, y, depthColour(pixels.rasterDepth[i]));
       rayDepth.set(x, y, depthColour(pixels.analyticDepth[i]));
-      heat.set(x, y, heatColour(pixels.toleranceRatio[i]));
-      mismatch.set(x, y, classColour(pixels.classes[i]));
+      heat.set(x, y, heatMapColour(pixels.toleranceRatio[i]));
+      mismatch.set(x, y, pixelClassColour(pixels.classes[i]));
     }
   }
   drawScale(heat, width);
@@ -278,6 +331,99 @@ void encodeRunImages(RunRecord& run, const PixelComparison& pixels) {
   run.images.push_back({folder + "ray_depth.png", encodePng(rayDepth)});
   run.images.push_back({folder + "error_heatmap.png", encodePng(heat)});
   run.images.push_back({folder + "mismatch.png", encodePng(mismatch)});
+}
+
+Viewport thumbnailSize(Viewport frame) {
+  const int block = thumbnailBlock(frame);
+  return {(frame.width + block - 1) / block, (frame.height + block - 1) / block};
+}
+
+void encodeThumbnails(RunRecord& run, const PixelComparison& pixels) {
+  checkedPixelCount(pixels);
+  const int width = pixels.viewport.width, height = pixels.viewport.height;
+  const int block = thumbnailBlock(pixels.viewport);
+  const Viewport thumb = thumbnailSize(pixels.viewport);
+  const int thumbWidth = thumb.width, thumbHeight = thumb.height;
+  // Per thumbnail pixel: the most severe class, and the largest compared ratio (NaN: none
+  // compared). One pass over the frame a block's width at a time: every run of the default
+  // reconcile pays for it.
+  std::vector<int> worst(static_cast<std::size_t>(thumbWidth) * thumbHeight, 0);
+  std::vector<float> largest(worst.size(), std::numeric_limits<float>::quiet_NaN());
+  std::array<int, 256> rank{};
+  for (int c = 0; c < 256; ++c)
+    rank[static_cast<std::size_t>(c)] = severity(static_cast<PixelClass>(c));
+  for (int row = 0; row < height; ++row) {
+    const std::size_t thumbRow = static_cast<std::size_t>(row / block) * thumbWidth;
+    const std::size_t frameRow = static_cast<std::size_t>(row) * width;
+    for (int x0 = 0, t = 0; x0 < width; x0 += block, ++t) {
+      int& worstRank = worst[thumbRow + static_cast<std::size_t>(t)];
+      float& largestRatio = largest[thumbRow + static_cast<std::size_t>(t)];
+      for (int x = x0; x < std::min(x0 + block, width); ++x) {
+        worstRank =
+            std::max(worstRank, rank[static_cast<std::uint8_t>(pixels.classes[frameRow + x])]);
+        const float ratio = pixels.toleranceRatio[frameRow + x];
+        if (!std::isnan(ratio) && !(largestRatio >= ratio)) largestRatio = ratio;
+      }
+    }
+  }
+  // The class of each severity rank.
+  std::array<PixelClass, 9> ofRank{};
+  ofRank.fill(PixelClass::Background);
+  for (int c = 0; c < 256; ++c) {
+    const int r = rank[static_cast<std::size_t>(c)];
+    if (r < 8) ofRank[static_cast<std::size_t>(r)] = static_cast<PixelClass>(c);
+  }
+  Image mismatch(thumbWidth, thumbHeight, {}), heat(thumbWidth, thumbHeight, {});
+  for (int row = 0; row < thumbHeight; ++row) {
+    for (int x = 0; x < thumbWidth; ++x) {
+      const std::size_t t = static_cast<std::size_t>(row) * thumbWidth + x;
+      const int r = worst[t];
+      // Rank 8 is a value outside PixelClass: white, as in mismatch.png.
+      mismatch.set(x, thumbHeight - 1 - row,
+                   r < 8 ? pixelClassColour(ofRank[static_cast<std::size_t>(r)]) : kOutline);
+      heat.set(x, thumbHeight - 1 - row, heatMapColour(largest[t]));
+    }
+  }
+  const std::string folder = runFolderName(run) + "/";
+  run.images.push_back({folder + "thumb_mismatch.png", encodePng(mismatch)});
+  run.images.push_back({folder + "thumb_heatmap.png", encodePng(heat)});
+}
+
+CropWindow clusterCropWindow(const MismatchCluster& cluster, Viewport viewport) {
+  CropWindow window;
+  window.width = std::min(kCropSide, viewport.width);
+  window.height = std::min(kCropSide, viewport.height);
+  window.x = std::clamp(cluster.x - kCropSide / 2, 0, viewport.width - window.width);
+  window.y = std::clamp(imageY(cluster.y, viewport.height) - kCropSide / 2, 0,
+                        viewport.height - window.height);
+  return window;
+}
+
+void encodeClusterCrops(RunRecord& run, const PixelComparison& pixels) {
+  checkedPixelCount(pixels);
+  const Viewport viewport = pixels.viewport;
+  const std::string folder = runFolderName(run) + "/";
+  for (std::size_t k = 0; k < run.clusters.largest.size(); ++k) {
+    const MismatchCluster& cluster = run.clusters.largest[k];
+    const CropWindow window = clusterCropWindow(cluster, viewport);
+    Image crop(window.width * kCropScale, window.height * kCropScale, {});
+    for (int y = 0; y < window.height; ++y) {
+      const int row = viewport.height - 1 - (window.y + y);  // the frame row of image row y
+      for (int x = 0; x < window.width; ++x) {
+        const std::size_t i = static_cast<std::size_t>(row) * viewport.width + (window.x + x);
+        crop.fill(x * kCropScale, y * kCropScale, (x + 1) * kCropScale, (y + 1) * kCropScale,
+                  pixelClassColour(pixels.classes[i]));
+      }
+    }
+    // A one-pixel frame just inside the representative pixel's cell.
+    const int left = (cluster.x - window.x) * kCropScale;
+    const int top = (imageY(cluster.y, viewport.height) - window.y) * kCropScale;
+    crop.fill(left, top, left + kCropScale, top + 1, kOutline);
+    crop.fill(left, top + kCropScale - 1, left + kCropScale, top + kCropScale, kOutline);
+    crop.fill(left, top, left + 1, top + kCropScale, kOutline);
+    crop.fill(left + kCropScale - 1, top, left + kCropScale, top + kCropScale, kOutline);
+    run.images.push_back({folder + "cluster" + std::to_string(k + 1) + ".png", encodePng(crop)});
+  }
 }
 
 }  // namespace clipray

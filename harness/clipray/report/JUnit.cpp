@@ -3,37 +3,11 @@
 #include "clipray/report/JUnit.hpp"
 
 #include <cstdio>
+#include <string>
+
+#include "clipray/report/XmlText.hpp"
 
 namespace clipray {
-
-std::string xmlEscaped(const std::string& text) {
-  std::string out;
-  out.reserve(text.size());
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      case '\'':
-        out += "&apos;";
-        break;
-      default: {
-        const auto byte = static_cast<unsigned char>(c);
-        out += (byte < 0x20 && c != '\t' && c != '\n' && c != '\r') ? '?' : c;
-      }
-    }
-  }
-  return out;
-}
 
 namespace {
 
@@ -57,6 +31,23 @@ std::string failureText(const RunRecord& run, const std::filesystem::path& outDi
                 static_cast<long long>(m.pixels));
   std::string text = buffer;
   text.append("\n").append(runSummaryLine(run));
+  // Where to look: the largest clusters, in both coordinate systems a person may have at hand.
+  const MismatchClusters& clusters = run.clusters;
+  if (!clusters.largest.empty()) {
+    text += "\nlargest unexplained clusters (" + std::to_string(clusters.largest.size()) + " of " +
+            std::to_string(clusters.count) + ", 8-connected):";
+  }
+  for (const MismatchCluster& c : clusters.largest) {
+    const int height = run.size.height;
+    std::snprintf(buffer, sizeof buffer,
+                  "\n  %lld px at GL window (%d, %d) = image (%d, %d), GL bounds (%d, %d) - (%d, "
+                  "%d): coverage %lld, id %lld, depth %lld",
+                  static_cast<long long>(c.pixels), c.x, c.y, c.x, imageY(c.y, height), c.minX,
+                  c.minY, c.maxX, c.maxY, static_cast<long long>(c.coverageUnexplained),
+                  static_cast<long long>(c.idUnexplained),
+                  static_cast<long long>(c.depthBeyondTolerance));
+    text += buffer;
+  }
   if (!run.images.empty()) {
     text += "\nimages:";
     for (const EncodedImage& image : run.images) {

@@ -16,8 +16,4 @@ namespace clipray {
 // outDir: the reconcile's --out, which the images' paths in the failure text start from.
 std::string junitXml(const std::vector<RunRecord>& runs, const std::filesystem::path& outDir);
 
-// Text as XML character data or an attribute value: &, <, >, " and ' escaped; control characters
-// XML 1.0 forbids (all below 0x20 but tab, newline and carriage return) replaced by '?'.
-std::string xmlEscaped(const std::string& text);
-
 }  // namespace clipray

@@ -17,6 +17,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include "clipray/report/HtmlReport.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {
@@ -54,21 +55,56 @@ nlohmann::json distribution(const Distribution& d, bool withP50) {
 constexpr std::array<const char*, 4> kImageNames{"raster_depth", "ray_depth", "error_heatmap",
                                                  "mismatch"};
 
-nlohmann::json imagesJson(const RunRecord& run) {
-  nlohmann::json out = nlohmann::json::object();
-  for (const char* name : kImageNames) {
-    const std::string file = std::string(name) + ".png";
-    out[name] = nullptr;
-    for (const EncodedImage& image : run.images) {
-      const std::string& path = image.relativePath;
-      if (path == file || (path.size() > file.size() && path.ends_with(file) &&
-                           path[path.size() - file.size() - 1] == '/')) {
-        out[name] = path;
-        break;
-      }
+// The path of the run's image named `file` ("mismatch.png"), or null when it has none.
+nlohmann::json imagePath(const RunRecord& run, const std::string& file) {
+  for (const EncodedImage& image : run.images) {
+    const std::string& path = image.relativePath;
+    if (path == file || (path.size() > file.size() && path.ends_with(file) &&
+                         path[path.size() - file.size() - 1] == '/')) {
+      return path;
     }
   }
+  return nullptr;
+}
+
+nlohmann::json imagesJson(const RunRecord& run) {
+  nlohmann::json out = nlohmann::json::object();
+  for (const char* name : kImageNames) out[name] = imagePath(run, std::string(name) + ".png");
   return out;
+}
+
+nlohmann::json thumbnailsJson(const RunRecord& run) {
+  return {{"mismatch", imagePath(run, "thumb_mismatch.png")},
+          {"heatmap", imagePath(run, "thumb_heatmap.png")}};
+}
+
+// A box in GL window coordinates (y up from the bottom row), or in image coordinates (y down from
+// the top row) for a frame `height` rows high.
+nlohmann::json boundsJson(const MismatchCluster& c, int height, bool image) {
+  return {{"x_min", c.minX},
+          {"y_min", image ? imageY(c.maxY, height) : c.minY},
+          {"x_max", c.maxX},
+          {"y_max", image ? imageY(c.minY, height) : c.maxY}};
+}
+
+nlohmann::json clustersJson(const RunRecord& run) {
+  nlohmann::json list = nlohmann::json::array();
+  for (std::size_t k = 0; k < run.clusters.largest.size(); ++k) {
+    const MismatchCluster& c = run.clusters.largest[k];
+    const int height = run.size.height;
+    list.push_back({
+        {"pixels", c.pixels},
+        {"coverage_unexplained", c.coverageUnexplained},
+        {"id_unexplained", c.idUnexplained},
+        {"depth_beyond_tolerance", c.depthBeyondTolerance},
+        {"pixel_gl", {{"x", c.x}, {"y", c.y}}},
+        {"pixel_image", {{"x", c.x}, {"y", imageY(c.y, height)}}},
+        {"bounds_gl", boundsJson(c, height, false)},
+        {"bounds_image", boundsJson(c, height, true)},
+        {"crop", imagePath(run, "cluster" + std::to_string(k + 1) + ".png")},
+    });
+  }
+  return list;
 }
 
 // Depth figures per surface kind ("triangle", "sphere", ...): the GLSL float rays of the
@@ -126,6 +162,9 @@ nlohmann::json runJson(const RunRecord& run) {
       {"cpu_ms", timingsJson(run.cpu)},
       {"analytic_over_raster", number(run.analyticOverRaster)},
       {"images", imagesJson(run)},
+      {"thumbnails", thumbnailsJson(run)},
+      {"cluster_count", run.clusters.count},
+      {"clusters", clustersJson(run)},
   };
   if (run.rounds > 1) {
     json["rounds"] = run.rounds;
@@ -145,7 +184,7 @@ double sortKey(double value) {
 }
 
 // Two significant digits, a short exponent ("2.1e-7", "1.2e5"); "nan" / "inf" spelled out.
-std::string shortNumber(double value) {
+std::string twoDigits(double value) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.2g", value);
   std::string text = buffer;
@@ -187,9 +226,9 @@ std::string summaryLine(const RunRecord& run) {
       static_cast<long long>(m.idMismatch.depthAmbiguous),
       static_cast<long long>(m.idMismatch.edgeAmbiguous),
       static_cast<long long>(m.idMismatch.unexplained),
-      static_cast<long long>(m.depthBeyondTolerance), shortNumber(m.depthErrorQuanta.max).c_str(),
-      shortNumber(m.depthErrorQuanta.p99).c_str(), shortNumber(m.toleranceRatio.max).c_str(),
-      shortNumber(m.toleranceRatio.p99).c_str(), shortNumber(m.distanceRelError.p99).c_str());
+      static_cast<long long>(m.depthBeyondTolerance), twoDigits(m.depthErrorQuanta.max).c_str(),
+      twoDigits(m.depthErrorQuanta.p99).c_str(), twoDigits(m.toleranceRatio.max).c_str(),
+      twoDigits(m.toleranceRatio.p99).c_str(), twoDigits(m.distanceRelError.p99).c_str());
   std::string line = buffer;
   while (!line.empty() && line.back() == ' ') line.pop_back();
   return line;
@@ -203,6 +242,10 @@ std::string errnoText(int error) {
 
 std::string runSummaryLine(const RunRecord& run) {
   return summaryLine(run);
+}
+
+std::string shortNumber(double value) {
+  return twoDigits(value);
 }
 
 std::string runFolderName(const RunRecord& run) {
@@ -269,10 +312,12 @@ RunTimings medianTimings(const std::vector<RunTimings>& timings) {
 // What a run measured, less its timings and images: the same in every round.
 nlohmann::json measuredJson(const RunRecord& run) {
   nlohmann::json json = runJson(run);
-  for (const char* timed : {"timings_ms", "cpu_ms", "analytic_over_raster", "rounds",
-                            "first_round_timings_ms", "first_round_cpu_ms", "images"}) {
+  for (const char* timed :
+       {"timings_ms", "cpu_ms", "analytic_over_raster", "rounds", "first_round_timings_ms",
+        "first_round_cpu_ms", "images", "thumbnails"}) {
     json.erase(timed);
   }
+  for (nlohmann::json& cluster : json["clusters"]) cluster.erase("crop");
   return json;
 }
 
@@ -323,13 +368,7 @@ std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds) {
   return runs;
 }
 
-// Columns: verdict, scene/camera, convention, depth format, vertex mode, size; then
-//   cov T (eE uU)      coverage mismatches: total, edge-ambiguous, unexplained
-//   id T (zZ eE uU)    id mismatches: total, depth-ambiguous (z-fighting), edge-ambiguous,
-//   unexplained >tol N             same-primitive pixels whose depth error exceeds the predicted
-//   tolerance q MAX/P99          depth error in quanta of the depth format tol MAX/P99        depth
-//   error / predicted tolerance rel P99            relative distance error along the ray
-std::string textSummary(const std::vector<RunRecord>& runs) {
+std::vector<std::size_t> worstFirst(const std::vector<RunRecord>& runs) {
   std::vector<std::size_t> order(runs.size());
   std::iota(order.begin(), order.end(), std::size_t{0});
   std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
@@ -340,6 +379,11 @@ std::string textSummary(const std::vector<RunRecord>& runs) {
     if (ua != ub) return ua > ub;
     return sortKey(ma.toleranceRatio.max) > sortKey(mb.toleranceRatio.max);
   });
+  return order;
+}
+
+std::string textSummary(const std::vector<RunRecord>& runs) {
+  const std::vector<std::size_t> order = worstFirst(runs);
   std::string out;
   if (!runs.empty()) out += kSummaryHeader;
   std::size_t consistent = 0;
@@ -434,6 +478,7 @@ void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecor
       }
     }
     stage(outDir / "summary.txt", textSummary(runs));
+    stage(outDir / "index.html", reportHtml(runs, gl, provenance));
     stage(outDir / "report.json",
           reportJson(runs, gl, provenance)
                   .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +

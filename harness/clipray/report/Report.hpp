@@ -1,8 +1,10 @@
 #pragma once
 // The outputs of `clipray reconcile`: report.json (stable field names), a one-screen text summary,
-// and four PNGs per run. Files are written atomically (temp file in the same folder, then rename),
-// and only after every run has finished, so a failed reconcile leaves nothing half-written.
+// index.html (HtmlReport.hpp), and the PNGs of each run (RunImages.hpp). Files are written
+// atomically (temp file in the same folder, then rename), and only after every run has finished, so
+// a failed reconcile leaves nothing half-written.
 
+#include <cstddef>
 #include <filesystem>
 #include <limits>
 #include <string>
@@ -10,6 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "clipray/compare/MismatchClusters.hpp"
 #include "clipray/compare/Reconcile.hpp"
 
 namespace clipray {
@@ -53,8 +56,15 @@ struct RunRecord {
   double analyticOverRaster = std::numeric_limits<double>::quiet_NaN();  // set with the timings
   RunTimings firstRound;
   RunTimings firstRoundCpu;
-  std::vector<EncodedImage> images;  // filled by encodeRunImages
+  // The largest connected components of the unexplained pixels (kReportedClusters of them; none
+  // for a consistent run).
+  MismatchClusters clusters;
+  // Filled by encodeRunImages (the four full-size PNGs), encodeThumbnails and encodeClusterCrops.
+  std::vector<EncodedImage> images;
 };
+
+// How many of a run's largest unexplained clusters are reported.
+inline constexpr std::size_t kReportedClusters = 5;
 
 // The same runs made round after round (rounds[r][i]: run i of round r; clipray reconcile
 // --rounds) as one record per run: the last round's (with its images), whose timings and CPU times
@@ -81,12 +91,21 @@ struct ReportProvenance {
 
 nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl,
                           const ReportProvenance& provenance = {});
-// A header, one line per run, the worst first, then a totals line and a legend of the figures.
+// The runs' indices, the worst first: inconsistent runs, then by unexplained pixels (coverage, id
+// and depths beyond tolerance together), then by worst error / tolerance (NaN the worst); ties in
+// run order.
+std::vector<std::size_t> worstFirst(const std::vector<RunRecord>& runs);
+// A header, one line per run, the worst first (worstFirst), then a totals line and a legend of the
+// figures.
 std::string textSummary(const std::vector<RunRecord>& runs);
 // The run's line of textSummary, without its newline.
 std::string runSummaryLine(const RunRecord& run);
+// A figure as the summary line writes it: two significant digits, a short exponent ("2.1e-7",
+// "1.2e5"), "nan" and "inf" spelled out.
+std::string shortNumber(double value);
 
-// Writes report.json and every run's PNGs under outDir (created if missing), each atomically.
+// Writes report.json, summary.txt, index.html and every run's PNGs under outDir (created if
+// missing), each atomically.
 void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecord>& runs,
                  const GlInfo& gl, const ReportProvenance& provenance = {});
 
