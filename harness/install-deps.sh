@@ -9,7 +9,7 @@ packages=(
   libembree-dev
   libtinygltf-dev libtinyobjloader-dev clang-14 libclang-rt-14-dev
   libimgui-dev xvfb xauth
-  assimp-testmodels chromium
+  assimp-testmodels chromium fonts-liberation
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -5,32 +5,11 @@
 #include <numbers>
 #include <sstream>
 
+#include "clipray/report/XmlText.hpp"
+
 namespace clipray {
 
 namespace {
-
-std::string escape(const std::string& text) {
-  std::string out;
-  for (const char c : text) {
-    switch (c) {
-      case '&':
-        out += "&amp;";
-        break;
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
 
 std::string powerOfTen(int exponent) {
   if (exponent == 0) return "1";
@@ -99,7 +78,8 @@ void drawPanel(std::ostringstream& svg, const SpeedErrorFigure& figure, const Lo
   const double font = style.fontSize;
   svg << "<g font-size=\"" << font << "\">\n";
   svg << "<text x=\"" << left + width / 2 << "\" y=\"" << frame.y + font + 4
-      << "\" text-anchor=\"middle\" font-weight=\"bold\">" << escape(panel.title) << "</text>\n";
+      << "\" text-anchor=\"middle\" font-weight=\"bold\">" << xmlEscaped(panel.title)
+      << "</text>\n";
   // A grid line every decade, a tick label every `step` decades so that labels keep clear of
   // each other (about 4 characters wide on x, one line high on y).
   const int xStep = static_cast<int>(std::ceil(3.0 * font / (width / (xs.hi - xs.lo))));
@@ -134,14 +114,14 @@ void drawPanel(std::ostringstream& svg, const SpeedErrorFigure& figure, const Lo
         << "\" stroke=\"#888\" stroke-dasharray=\"6,4\"/>\n";
     if (style.axisTitles) {
       svg << "<text x=\"" << left + width - 4 << "\" y=\"" << y - 4
-          << "\" text-anchor=\"end\" fill=\"#555\">" << escape(label) << "</text>\n";
+          << "\" text-anchor=\"end\" fill=\"#555\">" << xmlEscaped(label) << "</text>\n";
     }
   }
   if (style.axisTitles) {
     svg << "<text x=\"" << left + width / 2 << "\" y=\"" << frame.y + frame.height - 14
-        << "\" text-anchor=\"middle\">" << escape(figure.xLabel) << "</text>\n";
+        << "\" text-anchor=\"middle\">" << xmlEscaped(figure.xLabel) << "</text>\n";
     svg << "<text transform=\"translate(" << frame.x + 20 << "," << top + height / 2
-        << ") rotate(-90)\" text-anchor=\"middle\">" << escape(figure.yLabel) << "</text>\n";
+        << ") rotate(-90)\" text-anchor=\"middle\">" << xmlEscaped(figure.yLabel) << "</text>\n";
   }
 
   std::vector<const PlotPoint*> drawn;
@@ -255,7 +235,7 @@ std::string renderSvg(const SpeedErrorFigure& figure) {
       << "\" font-family=\"sans-serif\" font-size=\"12\">\n";
   svg << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n";
   svg << "<text x=\"" << kWidth / 2 << "\" y=\"26\" text-anchor=\"middle\" font-size=\"17\">"
-      << escape(figure.title) << "</text>\n";
+      << xmlEscaped(figure.title) << "</text>\n";
   drawPanel(svg, figure, figure.overview, overviewFrame, kOverviewStyle, decadesOf(xs),
             decadesOf(ys));
 
@@ -264,7 +244,7 @@ std::string renderSvg(const SpeedErrorFigure& figure) {
   for (const PlotSeries& series : figure.series) {
     y += 20;
     drawMarker(svg, series, kKeyX + 8, y - 4, 5);
-    svg << "<text x=\"" << kKeyX + 22 << "\" y=\"" << y << "\">" << escape(series.name)
+    svg << "<text x=\"" << kKeyX + 22 << "\" y=\"" << y << "\">" << xmlEscaped(series.name)
         << "</text>\n";
   }
   y += 20;
@@ -278,7 +258,7 @@ std::string renderSvg(const SpeedErrorFigure& figure) {
       << "\">non-finite rays (NaN or inf) on some case</text>\n";
   y = keyTop;
   svg << "<text x=\"" << kKeyX << "\" y=\"" << y << "\" font-weight=\"bold\">"
-      << escape(figure.keyTitle) << "</text>\n";
+      << xmlEscaped(figure.keyTitle) << "</text>\n";
   svg << "<g font-family=\"monospace\" font-size=\"12\">\n";
   for (const PlotKeyEntry& entry : figure.key) {
     y += kKeyRowHeight;
@@ -288,14 +268,14 @@ std::string renderSvg(const SpeedErrorFigure& figure) {
     svg << "<text x=\"" << kKeyX + 38 << "\" y=\"" << y << "\" text-anchor=\"end\">" << entry.key
         << "</text>\n";
     svg << "<text x=\"" << kKeyX + 46 << "\" y=\"" << y << "\" xml:space=\"preserve\">"
-        << escape(entry.text) << "</text>\n";
+        << xmlEscaped(entry.text) << "</text>\n";
   }
   svg << "</g>\n";
 
   if (!figure.perCase.empty()) {
     svg << "<text x=\"" << kWidth / 2 << "\" y=\"" << casesTop + 16
-        << "\" text-anchor=\"middle\" font-size=\"15\">Per hard case: " << escape(figure.xLabel)
-        << " (x) against " << escape(figure.yLabel) << " (y), shared axes</text>\n";
+        << "\" text-anchor=\"middle\" font-size=\"15\">Per hard case: " << xmlEscaped(figure.xLabel)
+        << " (x) against " << xmlEscaped(figure.yLabel) << " (y), shared axes</text>\n";
     const DecadeRange caseX = decadesOf(caseXs), caseY = decadesOf(caseYs);
     for (std::size_t i = 0; i < figure.perCase.size(); ++i) {
       const PlotBox frame{kSmallWidth * static_cast<double>(i % kColumns),
