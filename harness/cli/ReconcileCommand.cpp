@@ -18,6 +18,7 @@
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/report/ImageEncoder.hpp"
 #include "clipray/report/JUnit.hpp"
+#include "clipray/report/OutputFolder.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
@@ -91,10 +92,6 @@ int runReconcile(const ReconcileOptions& options) {
       options.size.empty() ? std::nullopt
                            : std::optional<Viewport>(parseViewportOption(options.size, "--size"));
 
-  // The output folder must be usable before any work is done (it is written only at the end).
-  if (std::filesystem::exists(options.out) && !std::filesystem::is_directory(options.out)) {
-    throw InputError("--out: " + options.out + " exists and is not a folder");
-  }
   if (!options.junit.empty()) {
     const std::filesystem::path junit(options.junit);
     const std::filesystem::path folder =
@@ -107,6 +104,11 @@ int runReconcile(const ReconcileOptions& options) {
                        " does not exist");
     }
   }
+
+  // The output folder is claimed before any work is done (it is written only at the end): created,
+  // proven writable and locked against a second run writing into it at the same time. Whatever
+  // fails from here on leaves nothing behind of this run's.
+  OutputFolder out(options.out);
 
   std::vector<std::string> scenePaths = options.scenes;
   if (scenePaths.empty()) {
@@ -225,6 +227,7 @@ int runReconcile(const ReconcileOptions& options) {
 
   // 4. Outputs, all at the end and each atomically.
   writeReport(options.out, runs, renderer.info(), options.provenance);
+  out.commit();
   if (!options.junit.empty()) writeFileAtomically(options.junit, junitXml(runs, options.out));
   // With --json, stdout carries only the report (parseable); the summary goes to stderr.
   std::ostream& summary = options.json ? std::cerr : std::cout;
