@@ -131,14 +131,9 @@ int runReconcile(const ReconcileOptions& options) {
     for (const std::string& warning : scenes.back().warnings) {
       std::cerr << "clipray: warning: " << warning << "\n";
     }
-    // Reports are filed under the scene's file stem: two scenes with one stem would share a folder.
-    for (std::size_t k = 0; k + 1 < scenes.size(); ++k) {
-      if (scenes[k].name == scenes.back().name) {
-        throw InputError(path + ": reports are filed by file name, and " + scenes[k].path +
-                         " is also named \"" + scenes.back().name + "\"; rename one of them");
-      }
-    }
   }
+  // Runs are filed under their scene's and camera's names: no two may share a folder.
+  checkDistinctRunFolders(scenes);
 
   // 2. The backend, and the limits only it knows.
   std::unique_ptr<gl::GlContext> context = gl::createContext(options.backend);

@@ -339,9 +339,39 @@ TEST(ReconcileCli, TwoScenesWithOneFileNameAreRefused) {
   const auto result = runClipray("reconcile a/x.json b/x.json", folder.path());
   EXPECT_EQ(result.status, 2);
   EXPECT_EQ(result.err,
-            "clipray: b/x.json: reports are filed by file name, and a/x.json is also named \"x\"; "
-            "rename one of "
-            "them\n");
+            "clipray: a/x.json and b/x.json: both would write their runs under the report folder "
+            "\"x/\" (scene names \"x\" and \"x\"); reconcile them separately, or rename one\n");
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "report"));
+}
+
+TEST(ReconcileCli, NamesThatCollideOnceMadeSafeAreRefused) {
+  TempFolder folder;
+  std::string scene = testing::readText(kSource + "/scenes/standard.json");
+  const auto named = [&](const std::string& text, const std::string& from, const std::string& to) {
+    std::string out = text;
+    out.replace(out.find(from), from.size(), to);
+    return out;
+  };
+  // A second camera "a_b" beside one renamed "a/b".
+  nlohmann::json document = nlohmann::json::parse(scene);
+  document["cameras"][0]["name"] = "a/b";
+  nlohmann::json second = document["cameras"][0];
+  second["name"] = "a_b";
+  document["cameras"].push_back(second);
+  std::ofstream(folder.path() / "cams.json") << document.dump();
+  auto result = runClipray("reconcile cams.json", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err,
+            "clipray: cams.json: cameras \"a/b\" and \"a_b\" would share the report folders "
+            "\"cams/a_b-...\"; rename one\n");
+  std::ofstream(folder.path() / "a b.json") << scene;
+  std::ofstream(folder.path() / "a_b.json") << named(scene, "\"main\"", "\"other\"");
+  result = runClipray("reconcile 'a b.json' a_b.json", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err,
+            "clipray: a b.json and a_b.json: both would write their runs under the report folder "
+            "\"a_b/\" (scene names \"a b\" and \"a_b\"); reconcile them separately, or rename "
+            "one\n");
   EXPECT_FALSE(std::filesystem::exists(folder.path() / "report"));
 }
 

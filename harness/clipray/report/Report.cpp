@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <numeric>
 #include <stdexcept>
 #include <system_error>
@@ -18,27 +19,11 @@
 #include <unistd.h>
 
 #include "clipray/report/HtmlReport.hpp"
+#include "clipray/scene/InputError.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {
 namespace {
-
-// A scene or camera name as one safe path component: characters other than letters, digits and
-// "._+-" become '_', and a name that is empty or only dots ("", ".", "..") is replaced by
-// underscores.
-std::string pathComponent(const std::string& name) {
-  std::string out;
-  out.reserve(name.size());
-  for (const char c : name) {
-    const bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
-                      c == '.' || c == '_' || c == '+' || c == '-';
-    out.push_back(safe ? c : '_');
-  }
-  if (out.find_first_not_of('.') == std::string::npos)
-    std::replace(out.begin(), out.end(), '.', '_');
-  if (out.empty()) out = "_";
-  return out;
-}
 
 // JSON number, or null for NaN and infinities (JSON has no spelling for them).
 nlohmann::json number(double value) {
@@ -246,6 +231,44 @@ std::string runSummaryLine(const RunRecord& run) {
 
 std::string shortNumber(double value) {
   return twoDigits(value);
+}
+
+std::string pathComponent(const std::string& name) {
+  std::string out;
+  out.reserve(name.size());
+  for (const char c : name) {
+    const bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                      c == '.' || c == '_' || c == '+' || c == '-';
+    out.push_back(safe ? c : '_');
+  }
+  if (out.find_first_not_of('.') == std::string::npos)
+    std::replace(out.begin(), out.end(), '.', '_');
+  if (out.empty()) out = "_";
+  return out;
+}
+
+void checkDistinctRunFolders(const std::vector<Scene>& scenes) {
+  std::map<std::string, const Scene*> sceneByFolder;
+  for (const Scene& scene : scenes) {
+    const std::string folder = pathComponent(scene.name);
+    const auto [seen, inserted] = sceneByFolder.emplace(folder, &scene);
+    if (!inserted) {
+      throw InputError(seen->second->path + " and " + scene.path +
+                       ": both would write their runs under the report folder \"" + folder +
+                       "/\" (scene names \"" + seen->second->name + "\" and \"" + scene.name +
+                       "\"); reconcile them separately, or rename one");
+    }
+    std::map<std::string, const std::string*> cameraByFolder;
+    for (const Camera& camera : scene.cameras) {
+      const std::string cameraFolder = pathComponent(camera.name);
+      const auto [other, fresh] = cameraByFolder.emplace(cameraFolder, &camera.name);
+      if (!fresh) {
+        throw InputError(scene.path + ": cameras \"" + *other->second + "\" and \"" + camera.name +
+                         "\" would share the report folders \"" + folder + "/" + cameraFolder +
+                         "-...\"; rename one");
+      }
+    }
+  }
 }
 
 std::string runFolderName(const RunRecord& run) {

@@ -77,6 +77,13 @@ std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds);
 
 // "<scene>/<camera>-<convention>-<format>-<vertex mode>": the run's folder under the output folder.
 std::string runFolderName(const RunRecord& run);
+// A scene or camera name as one safe path component: characters other than letters, digits and
+// "._+-" become '_'; a name that is empty or only dots becomes underscores.
+std::string pathComponent(const std::string& name);
+// Throws InputError when two runs would share a folder: two scenes whose names are the same once
+// made safe (two files called standard.json in different folders, "a b" and "a_b"), or two
+// cameras of one scene ("a/b" and "a_b"). One run's images would overwrite the other's.
+void checkDistinctRunFolders(const std::vector<Scene>& scenes);
 
 // Encodes raster depth, ray depth, error heat map (with its colour scale drawn in) and mismatch
 // mask PNGs for a run, and stores them in run.images.
