@@ -109,6 +109,11 @@ int runReconcile(const ReconcileOptions& options) {
   // proven writable and locked against a second run writing into it at the same time. Whatever
   // fails from here on leaves nothing behind of this run's.
   OutputFolder out(options.out);
+  if (out.recoveredInterruptedWrite()) {
+    std::cerr << "clipray: warning: --out " << options.out
+              << ": a run was killed while writing its report there; the previous report is "
+                 "back in place\n";
+  }
 
   std::vector<std::string> scenePaths = options.scenes;
   if (scenePaths.empty()) {

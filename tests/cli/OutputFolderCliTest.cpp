@@ -94,6 +94,53 @@ TEST(OutputFolder, OfTwoRunsStartedTogetherOneWritesAWholeReportAndTheOtherFails
   EXPECT_TRUE(std::filesystem::exists(folder.path() / "out/index.html"));
 }
 
+// Ctrl-C while the report is switched in: the switch ends, then the signal takes effect; a kill
+// (SIGKILL) half-way is undone by the next run that claims the folder, even one that then fails.
+TEST(OutputFolder, AnInterruptDuringTheFinalWriteLeavesAWholeReport) {
+  TempFolder folder;
+  const std::string first = "reconcile " + kStandard + " --size 64x48 --images all --out out";
+  ASSERT_EQ(runClipray(first, folder.path()).status, 0);
+  auto previous = snapshot(folder.path() / "out");
+  previous.erase(".clipray.lock");
+  const std::string second =
+      "reconcile " + kStandard + " --size 96x72 --images all --conventions zo --out out";
+
+  auto result = runClipray(second, folder.path(), "CLIPRAY_TEST_SIGNAL_IN_SWITCH=2:3");
+  EXPECT_EQ(result.status, 128 + 2);  // died of SIGINT, after the switch
+  auto after = snapshot(folder.path() / "out");
+  const auto report = nlohmann::json::parse(after.at("report.json"));
+  EXPECT_EQ(report["runs"].size(), 2u);  // the new report: zo only
+  for (const auto& run : report["runs"]) {
+    EXPECT_EQ(run["size"]["width"], 96);
+    for (const auto& [kind, path] : run["images"].items()) {
+      EXPECT_TRUE(after.count(path.get<std::string>())) << path;
+    }
+  }
+  for (const auto& [path, bytes] : after) {
+    EXPECT_EQ(path.find(".clipray-"), std::string::npos) << path;  // no staging left
+  }
+
+  // Back to the first report, then a kill half-way through writing the second.
+  ASSERT_EQ(runClipray(first, folder.path()).status, 0);
+  previous = snapshot(folder.path() / "out");
+  previous.erase(".clipray.lock");
+  result = runClipray(second, folder.path(), "CLIPRAY_TEST_SIGNAL_IN_SWITCH=9:3");
+  EXPECT_EQ(result.status, 128 + 9);
+  EXPECT_TRUE(std::filesystem::exists(folder.path() / "out/.clipray-previous"));
+  result = runClipray("reconcile nope.json --out out", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err,
+            "clipray: warning: --out out: a run was killed while writing its report there; the "
+            "previous report is back in place\nclipray: nope.json: cannot open file\n");
+  after = snapshot(folder.path() / "out");
+  after.erase(".clipray.lock");
+  // Every file of the first report is back; the killed run's new files that replaced nothing
+  // (the 96x72 zo images under the same names did replace) may remain beside them.
+  for (const auto& [path, bytes] : previous) EXPECT_EQ(after[path], bytes) << path;
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "out/.clipray-previous"));
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "out/.clipray-staging"));
+}
+
 TEST(OutputFolder, AnUnusableOutFailsBeforeAnyWorkAndLeavesNothing) {
   TempFolder folder;
   std::ofstream(folder.path() / "file.txt") << "x";

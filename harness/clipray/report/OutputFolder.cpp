@@ -9,6 +9,7 @@
 #include <string>
 #include <system_error>
 
+#include "clipray/report/StagedWrite.hpp"
 #include "clipray/scene/InputError.hpp"
 
 namespace clipray {
@@ -72,6 +73,8 @@ OutputFolder::OutputFolder(const std::filesystem::path& folder) : folder_(folder
                      (holder.empty() ? std::string() : " (pid " + holder + ")") +
                      " is writing there; wait for it to finish or choose another --out");
   }
+  // Holding the lock, this run is the only writer: what a killed run left is undone now.
+  recovered_ = recoverInterruptedWrite(folder);
   const std::string pid = std::to_string(::getpid()) + "\n";
   if (::ftruncate(lockFd_, 0) != 0 ||
       ::pwrite(lockFd_, pid.data(), pid.size(), 0) != static_cast<ssize_t>(pid.size())) {

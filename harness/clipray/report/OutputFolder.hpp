@@ -23,6 +23,9 @@ class OutputFolder {
   OutputFolder& operator=(const OutputFolder&) = delete;
 
   const std::filesystem::path& path() const { return folder_; }
+  // Whether claiming the folder found a report write that a kill had stopped half-way, and put
+  // the previous report back (recoverInterruptedWrite).
+  bool recoveredInterruptedWrite() const { return recovered_; }
   // The report is written: keep the folder.
   void commit() { committed_ = true; }
 
@@ -35,6 +38,7 @@ class OutputFolder {
   int lockFd_ = -1;
   bool createdLockFile_ = false;
   bool committed_ = false;
+  bool recovered_ = false;
 };
 
 }  // namespace clipray

@@ -19,6 +19,7 @@
 #include <unistd.h>
 
 #include "clipray/report/HtmlReport.hpp"
+#include "clipray/report/StagedWrite.hpp"
 #include "clipray/scene/InputError.hpp"
 #include "clipray/util/Version.hpp"
 
@@ -465,62 +466,23 @@ void writeFileAtomically(const std::filesystem::path& path, const std::string& b
 
 void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecord>& runs,
                  const GlInfo& gl, const ReportProvenance& provenance) {
-  // Two phases, so a failure (disk full, a clashing name) leaves nothing half-written: every file
-  // goes to a temp name first; only when all are written are they renamed, report.json last.
-  std::vector<std::filesystem::path> createdFolders;  // the topmost folders this call created
-  std::vector<std::pair<std::filesystem::path, std::filesystem::path>> staged;  // temp -> final
-  const auto undo = [&] {
-    for (const auto& [temp, final] : staged) ::unlink(temp.c_str());
-    std::error_code ignored;
-    for (auto it = createdFolders.rbegin(); it != createdFolders.rend(); ++it) {
-      std::filesystem::remove_all(*it, ignored);
+  // One change (StagedWrite.hpp): a failure or a Ctrl-C leaves the previous report whole, and
+  // report.json, which names the rest, is switched in last.
+  const std::string summary = textSummary(runs);
+  const std::string html = reportHtml(runs, gl, provenance);
+  const std::string json = reportJson(runs, gl, provenance)
+                               .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
+                           "\n";
+  std::vector<FileToWrite> files;
+  for (const RunRecord& run : runs) {
+    for (const EncodedImage& image : run.images) {
+      files.push_back({std::filesystem::path(image.relativePath), image.pngBytes});
     }
-  };
-  const auto makeFolder = [&](const std::filesystem::path& folder) {
-    std::filesystem::path top;
-    for (std::filesystem::path f = folder; !f.empty() && !std::filesystem::exists(f);
-         f = f.parent_path()) {
-      top = f;
-      if (f == f.parent_path()) break;
-    }
-    std::error_code ec;
-    std::filesystem::create_directories(folder, ec);
-    if (ec)
-      throw std::runtime_error("cannot create folder " + folder.string() + ": " + ec.message());
-    if (!top.empty()) createdFolders.push_back(top);
-  };
-  const auto stage = [&](const std::filesystem::path& path, const std::string& bytes) {
-    makeFolder(path.parent_path());
-    staged.emplace_back(writeTempBeside(path, bytes), path);
-  };
-  try {
-    makeFolder(outDir);
-    for (const RunRecord& run : runs) {
-      for (const EncodedImage& image : run.images) {
-        stage(outDir / std::filesystem::path(image.relativePath), image.pngBytes);
-      }
-    }
-    stage(outDir / "summary.txt", textSummary(runs));
-    stage(outDir / "index.html", reportHtml(runs, gl, provenance));
-    stage(outDir / "report.json",
-          reportJson(runs, gl, provenance)
-                  .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
-              "\n");
-    // A report.json from an earlier run must not describe the files about to change.
-    std::filesystem::remove(outDir / "report.json");
-    for (std::size_t k = 0; k < staged.size(); ++k) {
-      std::error_code ec;
-      std::filesystem::rename(staged[k].first, staged[k].second, ec);
-      if (ec) {
-        staged.erase(staged.begin(), staged.begin() + static_cast<std::ptrdiff_t>(k));
-        throw std::runtime_error("cannot write " + staged.front().second.string() + ": " +
-                                 ec.message());
-      }
-    }
-  } catch (...) {
-    undo();
-    throw;
   }
+  files.push_back({"summary.txt", summary});
+  files.push_back({"index.html", html});
+  files.push_back({"report.json", json});
+  writeFilesAsOne(outDir, files);
 }
 
 }  // namespace clipray
