@@ -350,6 +350,21 @@ TEST(MeshFileErrors, GltfEmptyBufferIsRejectedBeforeTinygltfCopiesIt) {
             "m.glb: buffers[0].byteLength: expected an integer of at least 1, got 0");
 }
 
+TEST(MeshFileErrors, GltfNegativeOrFractionalSizesAreRefusedNotReadAsZero) {
+  json document = triangleGltf();
+  document["bufferViews"][1]["byteOffset"] = -4;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: bufferViews[1].byteOffset: expected a non-negative integer, got -4");
+  document = triangleGltf();
+  document["accessors"][0]["count"] = 2.5;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: accessors[0].count: expected a non-negative integer, got 2.5");
+  document = triangleGltf();
+  document["accessors"][1]["byteOffset"] = -2;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: accessors[1].byteOffset: expected a non-negative integer, got -2");
+}
+
 TEST(MeshFileErrors, GltfBufferViewBeyondItsBuffer) {
   json document = triangleGltf();
   document["bufferViews"][1]["byteLength"] = 60;

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include <nlohmann/json.hpp>
 
@@ -75,6 +76,33 @@ void checkWhatClipraySupports(const nlohmann::json& document, const std::string&
         if (found.size() > 40) found = found.substr(0, 37) + "...";
         fail(path, indexText("meshes", i) + ".primitives",
              "expected an array of primitives, got " + found);
+      }
+    }
+  }
+}
+
+// tinygltf reads offsets, lengths, strides and counts into unsigned integers: a negative one
+// becomes 0 (or wraps), and the file would be read as something it does not say.
+void checkSizesAreNonNegative(const nlohmann::json& document, const std::string& path) {
+  static constexpr std::array<std::pair<const char*, std::array<const char*, 3>>, 3> kFields{{
+      {"buffers", {"byteLength", nullptr, nullptr}},
+      {"bufferViews", {"byteOffset", "byteLength", "byteStride"}},
+      {"accessors", {"byteOffset", "count", nullptr}},
+  }};
+  for (const auto& [arrayName, fields] : kFields) {
+    const auto array = document.find(arrayName);
+    if (array == document.end() || !array->is_array()) continue;
+    for (std::size_t i = 0; i < array->size(); ++i) {
+      const nlohmann::json& element = (*array)[i];
+      if (!element.is_object()) continue;
+      for (const char* field : fields) {
+        if (field == nullptr) continue;
+        const auto value = element.find(field);
+        if (value == element.end() || !value->is_number()) continue;
+        if (value->is_number_float() || value->get<double>() < 0.0) {
+          fail(path, indexText(arrayName, i) + "." + field,
+               "expected a non-negative integer, got " + value->dump());
+        }
       }
     }
   }
@@ -151,6 +179,7 @@ void checkGltfJson(std::string_view jsonText, const std::string& path) {
   const nlohmann::json document = nlohmann::json::parse(jsonText, boundedDepth, false);
   if (!document.is_object()) return;  // tinygltf reports malformed JSON with its own message
   checkWhatClipraySupports(document, path);
+  checkSizesAreNonNegative(document, path);
   const auto buffers = document.find("buffers");
   if (buffers == document.end() || !buffers->is_array()) return;
   for (std::size_t i = 0; i < buffers->size(); ++i) {
