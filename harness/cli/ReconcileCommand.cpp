@@ -12,7 +12,7 @@
 #include <sstream>
 
 #include "Commands.hpp"
-#include "Parsing.hpp"
+#include "MemoryBudget.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/gl/Renderer.hpp"
@@ -22,22 +22,11 @@
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
+#include "clipray/util/OptionValues.hpp"
 
 namespace clipray::cli {
 
 namespace {
-
-// MemAvailable from /proc/meminfo in bytes; 0 when unknown (then no memory check is made).
-double availableMemoryBytes() {
-  std::ifstream meminfo("/proc/meminfo");
-  std::string key;
-  double kilobytes = 0.0;
-  std::string unit;
-  while (meminfo >> key >> kilobytes >> unit) {
-    if (key == "MemAvailable:") return kilobytes * 1024.0;
-  }
-  return 0.0;
-}
 
 template <typename T, typename Parse>
 std::vector<T> parseList(const std::string& option, const std::string& text, Parse parse,
@@ -68,6 +57,7 @@ struct ReconcileOptions {
   bool json = false;
   unsigned threads = 0;
   unsigned rounds = 1;
+  std::string maxMemory;        // empty: what the machine (or the cgroup) has available
   ReportProvenance provenance;  // the command line and start time, for report.json
 };
 
@@ -129,12 +119,48 @@ int runReconcile(const ReconcileOptions& options) {
     std::sort(scenePaths.begin(), scenePaths.end());
     if (scenePaths.empty()) throw InputError("scenes/: no *.json scene files");
   }
+  // The memory a run may take: its pixels and its scene's triangles (MemoryBudget.hpp). Scenes
+  // stay loaded between their runs while they fit beside the largest run in half the budget;
+  // past that, a scene's geometry is dropped once it is checked and loaded again for its runs.
+  const double budget = options.maxMemory.empty()
+                            ? availableMemoryBytes()
+                            : parseMemorySize(options.maxMemory, "--max-memory");
+  const std::string budgetText = options.maxMemory.empty()
+                                     ? memoryText(budget) + " is available"
+                                     : "--max-memory allows " + memoryText(budget);
   std::vector<Scene> scenes;
+  std::vector<bool> loadForItsRuns;  // the geometry was dropped: load it again to run it
+  double keptBytes = 0.0;
   for (const std::string& path : scenePaths) {
     scenes.push_back(loadScene(path));
+    Scene& scene = scenes.back();
     // What the loaders kept but flagged (degenerate triangles, ...): worth seeing, not fatal.
-    for (const std::string& warning : scenes.back().warnings) {
+    for (const std::string& warning : scene.warnings) {
       std::cerr << "clipray: warning: " << warning << "\n";
+    }
+    const double triangles = static_cast<double>(scene.triangleCount());
+    double pixels = 0.0;
+    for (const Camera& camera : scene.cameras) {
+      const Viewport v = sizeOverride.value_or(camera.viewport);
+      pixels = std::max(pixels, static_cast<double>(v.width) * v.height);
+    }
+    const double runBytes = kRunBytesPerTriangle * triangles + kRunBytesPerPixel * pixels;
+    if (budget > 0.0 && runBytes > budget) {
+      throw InputError(path + ": one run needs about " + memoryText(runBytes) + " (" +
+                       std::to_string(scene.triangleCount()) + " triangles, " +
+                       std::to_string(static_cast<long long>(pixels)) + " pixels); " + budgetText);
+    }
+    const double loadedBytes = kLoadedBytesPerTriangle * triangles;
+    const bool keep = budget <= 0.0 || keptBytes + loadedBytes + runBytes <= budget / 2.0;
+    loadForItsRuns.push_back(!keep);
+    if (keep) {
+      keptBytes += loadedBytes;
+    } else {
+      std::cerr << "clipray: note: " << path << " (" << scene.triangleCount()
+                << " triangles) is loaded again for its runs: the scenes do not all stay loaded "
+                   "beside a run where "
+                << budgetText << "\n";
+      scene.objects = {};  // names, cameras and conventions stay for the checks below
     }
   }
   // Runs are filed under their scene's and camera's names: no two may share a folder.
@@ -144,7 +170,6 @@ int runReconcile(const ReconcileOptions& options) {
   std::unique_ptr<gl::GlContext> context = gl::createContext(options.backend);
   gl::Renderer renderer(*context);
   const Viewport maxViewport = renderer.maxViewport();
-  const double availableBytes = availableMemoryBytes();
   auto checkViewport = [&](Viewport v, const std::string& where) {
     const std::string size = std::to_string(v.width) + "x" + std::to_string(v.height);
     if (v.width > maxViewport.width || v.height > maxViewport.height) {
@@ -152,16 +177,10 @@ int runReconcile(const ReconcileOptions& options) {
                        std::to_string(maxViewport.width) + "x" +
                        std::to_string(maxViewport.height) + " of " + renderer.info().renderer);
     }
-    // One run holds the rays and hits (72 B), the raster frame (8 B), the per-pixel comparison
-    // and its statistics (~40 B) and the images being encoded: measured ~128 B per pixel; up to
-    // two earlier runs' comparisons wait beside it to be encoded (ImageEncoder, ~25 B each).
-    const double needed = 210.0 * v.width * v.height;
-    if (availableBytes > 0.0 && needed > availableBytes) {
-      char text[160];
-      std::snprintf(text, sizeof text,
-                    ": %s needs about %.1f GiB of memory for one run; %.1f GiB available",
-                    size.c_str(), needed / 1073741824.0, availableBytes / 1073741824.0);
-      throw InputError(where + text);
+    const double needed = kRunBytesPerPixel * v.width * v.height;
+    if (budget > 0.0 && needed > budget) {
+      throw InputError(where + ": " + size + " needs about " + memoryText(needed) +
+                       " of memory for one run; " + budgetText);
     }
   };
   if (sizeOverride) checkViewport(*sizeOverride, "--size");
@@ -185,7 +204,10 @@ int runReconcile(const ReconcileOptions& options) {
   for (unsigned round = 1; round <= options.rounds; ++round) {
     const bool lastRound = round == options.rounds;
     std::vector<RunRecord>& runs = rounds.emplace_back();
-    for (const Scene& scene : scenes) {
+    for (std::size_t s = 0; s < scenes.size(); ++s) {
+      std::optional<Scene> loadedAgain;
+      if (loadForItsRuns[s]) loadedAgain.emplace(loadScene(scenes[s].path));
+      const Scene& scene = loadedAgain ? *loadedAgain : scenes[s];
       const std::vector<DepthMode> sceneConventions =
           conventions
               ? *conventions
@@ -277,6 +299,9 @@ CommandRunner addReconcileOptions(CLI::App& app) {
   app.add_option("--junit", options->junit,
                  "Also write the runs as JUnit XML to this file (one test case per run) for CI");
   app.add_flag("--json", options->json, "Also print report.json to stdout");
+  app.add_option("--max-memory", options->maxMemory,
+                 "Memory the runs may use, e.g. 8G or 512M (default: what is available, within "
+                 "the cgroup's limit)");
   app.add_option("--threads", options->threads, "Threads for the analytic pass (0: all cores)")
       ->check(CLI::Range(0u, 256u))
       ->capture_default_str();

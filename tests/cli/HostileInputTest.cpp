@@ -185,3 +185,44 @@ TEST(HostileInput, OptionValuesThatAreEmptyOrExplodeAreRefused) {
 
 }  // namespace
 }  // namespace clipray
+
+namespace clipray {
+namespace {
+
+// The memory guard counts a scene's triangles as well as a run's pixels, and keeps scenes loaded
+// between their runs only while they fit: past that they are loaded again one at a time, with
+// the same results.
+TEST(HostileInput, TheMemoryGuardCountsScenesAndLoadsThemOneAtATimeWhenTheyDoNotFit) {
+  TempFolder folder;
+  const std::string standard = std::string(CLIPRAY_SOURCE_DIR) + "/scenes/standard.json";
+  auto result = runClipray("reconcile '" + standard + "' --max-memory 1M", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err, "clipray: " + standard +
+                            ": one run needs about 15.4 MiB (18 triangles, 76800 pixels); "
+                            "--max-memory allows 1.0 MiB\n");
+  result = runClipray("reconcile '" + standard + "' --max-memory lots", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err,
+            "clipray: --max-memory: expected a size such as 8G, 512M or a number of bytes, got "
+            "\"lots\"\n");
+  EXPECT_TRUE(std::filesystem::is_empty(folder.path()));
+
+  // Two terrains of 100,352 triangles: a run at 64x48 takes about 15.7 MiB, a loaded terrain
+  // 3.4 MiB, so within 40 MiB (half of it for what stays loaded) the second is loaded again.
+  const std::string terrain = std::string(CLIPRAY_SOURCE_DIR) + "/scenes/terrain_100k.json";
+  std::filesystem::copy_file(terrain, folder.path() / "a.json");
+  std::filesystem::copy_file(terrain, folder.path() / "b.json");
+  const std::string common = "reconcile a.json b.json --size 64x48 --conventions zo ";
+  const auto limited = runClipray(common + "--max-memory 40M --out limited", folder.path());
+  const auto free = runClipray(common + "--out free", folder.path());
+  EXPECT_EQ(limited.status, 0) << limited.err;
+  EXPECT_EQ(free.status, 0) << free.err;
+  EXPECT_EQ(limited.err,
+            "clipray: note: b.json (100352 triangles) is loaded again for its runs: the scenes "
+            "do not all stay loaded beside a run where --max-memory allows 40.0 MiB\n");
+  EXPECT_EQ(testing::readText(folder.path() / "limited/summary.txt"),
+            testing::readText(folder.path() / "free/summary.txt"));
+}
+
+}  // namespace
+}  // namespace clipray
