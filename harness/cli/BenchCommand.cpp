@@ -18,7 +18,6 @@
 #include <nlohmann/json.hpp>
 
 #include "Commands.hpp"
-#include "Parsing.hpp"
 #include "clipray/rays/HardCases.hpp"
 #include "clipray/rays/QuadReference.hpp"
 #include "clipray/rays/RayErrors.hpp"
@@ -26,6 +25,7 @@
 #include "clipray/report/Report.hpp"
 #include "clipray/report/SvgPlot.hpp"
 #include "clipray/scene/InputError.hpp"
+#include "clipray/util/OptionValues.hpp"
 
 namespace clipray::cli {
 

@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "Commands.hpp"
-#include "Parsing.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/scene/InputError.hpp"
+#include "clipray/util/OptionValues.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray::cli {
@@ -80,10 +80,10 @@ int main(int argc, char** argv) {
   // unexpected argument; say which command was probably meant.
   if (argc > 1 && argv[1][0] != '-' &&
       std::find(names.begin(), names.end(), argv[1]) == names.end()) {
-    const std::string suggestion = clipray::cli::closestName(argv[1], names);
+    const std::string suggestion = clipray::closestName(argv[1], names);
     std::cerr << "clipray: unknown command \"" << argv[1] << "\""
               << (suggestion.empty() ? "" : "; did you mean \"" + suggestion + "\"?")
-              << " (commands: " << clipray::cli::joinNames(names) << ")\n";
+              << " (commands: " << clipray::joinNames(names) << ")\n";
     return 2;
   }
   try {

@@ -6,7 +6,7 @@
 //   click X Y                cursor position in window coordinates (top-left origin)
 //   drag left|right X0 Y0 X1 Y1
 //   scroll STEPS             wheel steps, positive zooms in
-//   key K                    one of the demo's keys (c d m v t r h)
+//   key K                    one of the demo's keys (c d m v t r h p)
 
 #include <string>
 #include <vector>

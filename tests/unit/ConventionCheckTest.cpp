@@ -3,9 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <limits>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "clipray/check/ConventionCheck.hpp"
+#include "clipray/check/MatrixReading.hpp"
 #include "clipray/scene/InputError.hpp"
 #include "support/EngineCameras.hpp"
 
@@ -45,6 +49,17 @@ constexpr auto NO = DepthConvention::NegativeOneToOne;
 constexpr auto ZO = DepthConvention::ZeroToOne;
 // Properties come from a float-listed matrix in practice; here from double: 1e-9 relative.
 constexpr double kRelative = 1e-9;
+
+// The digits a reading is shown with follow its uncertainty, from 6 down to 1, whatever the
+// uncertainty is (fuzz_check_file found an infinite one cast to int).
+TEST(ShownReading, DigitsFollowTheUncertaintyEvenWhenItIsInfinite) {
+  EXPECT_EQ(shownReading({0.0999999, 1.5e-5}), "0.1");
+  EXPECT_EQ(shownReading({0.123456789, 0.0}), "0.123457");
+  EXPECT_EQ(shownReading({1e-300, 1e300}), "1e-300");
+  EXPECT_EQ(shownReading({2.5, std::numeric_limits<double>::infinity()}), "2");
+  EXPECT_EQ(shownReading({std::numeric_limits<double>::infinity(), 1.0}), "inf");
+  EXPECT_EQ(shownReading({std::nan(""), 1.0}), "nan");
+}
 
 TEST(ConventionCheck, GlmPerspectiveRhNoDrawnUnderNo) {
   const CheckReport r =

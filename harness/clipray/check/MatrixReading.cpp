@@ -149,8 +149,11 @@ std::string EntryPrecision::description() const {
 std::string shownReading(const Uncertain& reading) {
   int digits = 6;
   if (reading.error > 0.0 && reading.value != 0.0) {
+    // An error that swamps the value (or an infinite one) leaves one digit; clamped in double,
+    // since the logarithm may be infinite or NaN.
     const double resolvable = std::abs(reading.value) / reading.error;
-    digits = std::clamp(static_cast<int>(std::ceil(std::log10(resolvable))) + 1, 1, 6);
+    const double wanted = std::ceil(std::log10(resolvable)) + 1.0;
+    digits = wanted >= 6.0 ? 6 : wanted >= 1.0 ? static_cast<int>(wanted) : 1;
   }
   char buffer[40];
   std::snprintf(buffer, sizeof buffer, "%.*g", digits, reading.value + 0.0);

@@ -1,4 +1,4 @@
-#include "Parsing.hpp"
+#include "clipray/util/OptionValues.hpp"
 
 #include <algorithm>
 #include <cstdlib>
@@ -7,7 +7,7 @@
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/scene/InputError.hpp"
 
-namespace clipray::cli {
+namespace clipray {
 
 std::vector<std::string> splitCommaList(const std::string& text) {
   std::vector<std::string> items;
@@ -89,4 +89,4 @@ glm::dmat4 parseMatrixOption(const std::string& text, bool rowMajor, const std::
   return parseMatrix16(parseNumberList(text, option), rowMajor, option);
 }
 
-}  // namespace clipray::cli
+}  // namespace clipray

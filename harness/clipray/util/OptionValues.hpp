@@ -1,6 +1,6 @@
 #pragma once
-// Option-value parsing shared by the subcommands; every failure is an InputError naming the option
-// and the value (exit status 2).
+// Option values as a user types them (command line, check files), shared by the subcommands; every
+// failure is an InputError naming the option and the value (exit status 2).
 
 #include <string>
 #include <vector>
@@ -9,7 +9,7 @@
 
 #include "clipray/math/Conventions.hpp"
 
-namespace clipray::cli {
+namespace clipray {
 
 // "a, b,c" -> {"a", "b", "c"} (spaces around items trimmed, empty items dropped).
 std::vector<std::string> splitCommaList(const std::string& text);
@@ -27,4 +27,4 @@ std::vector<double> parseNumberList(const std::string& text, const std::string& 
 // Sixteen numbers, column-major (GL) or row-major (D3D), all finite.
 glm::dmat4 parseMatrixOption(const std::string& text, bool rowMajor, const std::string& option);
 
-}  // namespace clipray::cli
+}  // namespace clipray
