@@ -1,8 +1,9 @@
 #pragma once
 // Encodes runs' PNGs (the full-size images --images asks for, and every run's thumbnails) on
 // worker threads while the caller goes on with the next run (clipray reconcile): deflating four
-// 1080p images costs about what comparing them does, and nothing in the next run waits for it. At most maxPending runs wait to be encoded at once, each holding its
-// per-pixel comparison (~25 B per pixel); submitting one more first waits for the oldest.
+// 1080p images costs about what comparing them does, and nothing in the next run waits for it. At
+// most maxPending runs wait to be encoded at once, each holding its per-pixel comparison (~25 B per
+// pixel); submitting one more first waits for the oldest.
 
 #include <cstddef>
 #include <future>
