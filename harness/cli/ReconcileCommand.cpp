@@ -9,7 +9,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <new>
 #include <sstream>
+#include <stdexcept>
 
 #include "Commands.hpp"
 #include "MemoryBudget.hpp"
@@ -61,7 +63,13 @@ struct ReconcileOptions {
   ReportProvenance provenance;  // the command line and start time, for report.json
 };
 
-int runReconcile(const ReconcileOptions& options) {
+// What the run is doing, for the one line an exhausted memory gets ("out of memory while ...").
+std::string& currentStep() {
+  static std::string step;
+  return step;
+}
+
+int runReconcileSteps(const ReconcileOptions& options) {
   // 1. Everything the user handed us is checked before anything is rendered or written.
   const std::vector<DepthFormat> formats = parseList<DepthFormat>(
       "--depth-formats", options.depthFormats, parseDepthFormat, "16, 24, 32f");
@@ -132,6 +140,7 @@ int runReconcile(const ReconcileOptions& options) {
   std::vector<bool> loadForItsRuns;  // the geometry was dropped: load it again to run it
   double keptBytes = 0.0;
   for (const std::string& path : scenePaths) {
+    currentStep() = "loading " + path;
     scenes.push_back(loadScene(path));
     Scene& scene = scenes.back();
     // What the loaders kept but flagged (degenerate triangles, ...): worth seeing, not fatal.
@@ -206,6 +215,7 @@ int runReconcile(const ReconcileOptions& options) {
     std::vector<RunRecord>& runs = rounds.emplace_back();
     for (std::size_t s = 0; s < scenes.size(); ++s) {
       std::optional<Scene> loadedAgain;
+      currentStep() = "loading " + scenes[s].path;
       if (loadForItsRuns[s]) loadedAgain.emplace(loadScene(scenes[s].path));
       const Scene& scene = loadedAgain ? *loadedAgain : scenes[s];
       const std::vector<DepthMode> sceneConventions =
@@ -216,6 +226,8 @@ int runReconcile(const ReconcileOptions& options) {
       for (const Camera& camera : scene.cameras) {
         const Viewport viewport = sizeOverride.value_or(camera.viewport);
         for (const DepthMode mode : sceneConventions) {
+          currentStep() = "tracing " + scene.name + "/" + camera.name + " " + mode.name() + " at " +
+                          std::to_string(viewport.width) + "x" + std::to_string(viewport.height);
           const gl::AnalyticPass pass =
               gl::runAnalyticPass(scene, camera, mode, viewport, options.threads);
           for (const DepthFormat format : formats) {
@@ -229,6 +241,8 @@ int runReconcile(const ReconcileOptions& options) {
                           << depthFormatName(format) << " " << vertexModeName(vertexMode)
                           << "\x1b[K\r" << std::flush;
               }
+              currentStep() = "running " + scene.name + "/" + camera.name + " " + mode.name() +
+                              " " + depthFormatName(format) + " " + vertexModeName(vertexMode);
               gl::ComparedRun compared =
                   gl::rasterAndComparePixels(renderer, pass, format, vertexMode, options.threads);
               if (lastRound && wantsThumbnails(*imagePolicy)) {
@@ -248,6 +262,7 @@ int runReconcile(const ReconcileOptions& options) {
   encoder.collect(runs);
 
   // 4. Outputs, all at the end and each atomically.
+  currentStep() = "writing the report into " + options.out;
   writeReport(options.out, runs, renderer.info(), options.provenance);
   out.commit();
   if (!options.junit.empty()) writeFileAtomically(options.junit, junitXml(runs, options.out));
@@ -263,6 +278,17 @@ int runReconcile(const ReconcileOptions& options) {
   const bool consistent = std::all_of(runs.begin(), runs.end(),
                                       [](const RunRecord& r) { return r.metrics.consistent(); });
   return consistent ? 0 : 1;
+}
+
+int runReconcile(const ReconcileOptions& options) {
+  currentStep() = "checking the options";
+  try {
+    return runReconcileSteps(options);
+  } catch (const std::bad_alloc&) {
+    throw std::runtime_error("out of memory while " + currentStep() +
+                             "; try a smaller --size, fewer scenes, or --max-memory below what "
+                             "the machine has");
+  }
 }
 
 // Now in UTC, ISO 8601 to the second.

@@ -226,3 +226,34 @@ TEST(HostileInput, TheMemoryGuardCountsScenesAndLoadsThemOneAtATimeWhenTheyDoNot
 
 }  // namespace
 }  // namespace clipray
+
+namespace clipray {
+namespace {
+
+// Memory running out anyway (here: a 400 MB address-space limit under a --max-memory that claims
+// 8G) is one line saying what was being done, exit 2, not a bare std::bad_alloc.
+TEST(HostileInput, OutOfMemoryIsOneLineNamingTheStep) {
+#if defined(__SANITIZE_ADDRESS__)
+  GTEST_SKIP() << "AddressSanitizer reserves terabytes of address space: no ulimit -v under it";
+#else
+  TempFolder folder;
+  std::string scene =
+      testing::readText(std::string(CLIPRAY_SOURCE_DIR) + "/scenes/terrain_100k.json");
+  scene.replace(scene.find("\"triangles\": 100000"), 19, "\"triangles\": 4000000");
+  std::ofstream(folder.path() / "big.json") << scene;
+  const auto result =
+      runClipray("reconcile big.json --size 64x48 --conventions zo --max-memory 8G --out out",
+                 folder.path(), "ulimit -v 400000;");
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err.rfind("clipray: out of memory while ", 0), 0u) << result.err;
+  EXPECT_NE(result.err.find("big"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("; try a smaller --size, fewer scenes, or --max-memory below what "
+                            "the machine has\n"),
+            std::string::npos)
+      << result.err;
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "out"));
+#endif
+}
+
+}  // namespace
+}  // namespace clipray

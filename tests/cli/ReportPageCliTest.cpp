@@ -185,12 +185,13 @@ TEST_F(ReportPage, WithoutImagesThePageSaysSoAndStillNamesTheClusters) {
   EXPECT_TRUE(attributes(dom, "src").empty());
   EXPECT_EQ(occurrences(dom, "<tr class=\"run "), 2u);
   EXPECT_EQ(occurrences(dom, "<tr class=\"cluster\""), 5u);
-  // Nothing but report.json, summary.txt and index.html.
+  // Nothing but report.json, summary.txt and index.html (and the lock of --out).
   std::set<std::string> files;
   for (const auto& entry : fs::recursive_directory_iterator(folder_ / "none")) {
     files.insert(fs::relative(entry.path(), folder_ / "none").string());
   }
-  EXPECT_EQ(files, (std::set<std::string>{"index.html", "report.json", "summary.txt"}));
+  EXPECT_EQ(files,
+            (std::set<std::string>{".clipray.lock", "index.html", "report.json", "summary.txt"}));
 }
 
 }  // namespace
