@@ -65,7 +65,7 @@ class ReportPage : public ::testing::Test {
     ASSERT_FALSE(browser_.empty())
         << "chromium is not installed: harness/install-deps.sh installs it (Debian's chromium)";
     // One folder per test (ctest may run them at once), kept after the test.
-    folder_ = fs::current_path() / "report-page" /
+    folder_ = fs::path(CLIPRAY_TEST_OUTPUT_DIR) / "report-page" /
               ::testing::UnitTest::GetInstance()->current_test_info()->name();
     fs::remove_all(folder_);
     fs::create_directories(folder_);
