@@ -18,7 +18,7 @@
 #include <unistd.h>
 
 #define STB_IMAGE_IMPLEMENTATION
-#include <stb_image.h>
+#include "support/DecodedPng.hpp"
 
 #include "clipray/report/Report.hpp"
 #include "clipray/util/Version.hpp"
@@ -42,29 +42,9 @@ struct Rgb {
   }
 };
 
-struct Decoded {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> rgb;
-  // (x, y) with y from the top, as PNG stores rows.
-  Rgb at(int x, int y) const {
-    const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 3;
-    return {rgb[i], rgb[i + 1], rgb[i + 2]};
-  }
-};
-
+using Decoded = testing::DecodedPng<Rgb>;
 Decoded decode(const std::string& png) {
-  Decoded out;
-  int comp = 0;
-  stbi_uc* data =
-      stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(png.data()),
-                            static_cast<int>(png.size()), &out.width, &out.height, &comp, 3);
-  if (data == nullptr) {
-    ADD_FAILURE() << "PNG did not decode: " << stbi_failure_reason();
-    return out;
-  }
-  out.rgb.assign(data, data + static_cast<std::size_t>(out.width) * out.height * 3);
-  stbi_image_free(data);
-  return out;
+  return testing::decodePng<Rgb>(png);
 }
 
 const EncodedImage& imageNamed(const RunRecord& run, const std::string& file) {

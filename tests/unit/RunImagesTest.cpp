@@ -12,7 +12,7 @@
 
 #define STB_IMAGE_STATIC
 #define STB_IMAGE_IMPLEMENTATION
-#include <stb_image.h>
+#include "support/DecodedPng.hpp"
 
 #include "clipray/report/RunImages.hpp"
 
@@ -26,28 +26,9 @@ namespace {
 
 constexpr float kNaNf = std::numeric_limits<float>::quiet_NaN();
 
-struct Decoded {
-  int width = 0, height = 0;
-  std::vector<std::uint8_t> rgb;
-  Rgb at(int x, int y) const {  // y from the top
-    const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 3;
-    return {rgb[i], rgb[i + 1], rgb[i + 2]};
-  }
-};
-
+using Decoded = testing::DecodedPng<Rgb>;
 Decoded decode(const std::string& png) {
-  Decoded out;
-  int comp = 0;
-  stbi_uc* data =
-      stbi_load_from_memory(reinterpret_cast<const stbi_uc*>(png.data()),
-                            static_cast<int>(png.size()), &out.width, &out.height, &comp, 3);
-  if (data == nullptr) {
-    ADD_FAILURE() << "PNG did not decode";
-    return out;
-  }
-  out.rgb.assign(data, data + static_cast<std::size_t>(out.width) * out.height * 3);
-  stbi_image_free(data);
-  return out;
+  return testing::decodePng<Rgb>(png);
 }
 
 RunRecord sampleRun() {

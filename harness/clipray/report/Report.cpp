@@ -435,18 +435,9 @@ std::filesystem::path writeTempBeside(const std::filesystem::path& path, const s
   };
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
   if (fd < 0) fail("create", errno, false);
-  const char* data = bytes.data();
-  std::size_t left = bytes.size();
-  while (left > 0) {
-    const ssize_t written = ::write(fd, data, left);
-    if (written < 0) {
-      if (errno == EINTR) continue;
-      const int error = errno;
-      ::close(fd);
-      fail("write", error, true);
-    }
-    data += written;
-    left -= static_cast<std::size_t>(written);
+  if (const int error = writeAllBytes(fd, bytes); error != 0) {
+    ::close(fd);
+    fail("write", error, true);
   }
   if (::close(fd) != 0) fail("write", errno, true);
   return temp;

@@ -27,18 +27,9 @@ void writeWhole(const fs::path& path, std::string_view bytes, const fs::path& na
   };
   const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0) fail(errno);
-  const char* data = bytes.data();
-  std::size_t left = bytes.size();
-  while (left > 0) {
-    const ssize_t written = ::write(fd, data, left);
-    if (written < 0) {
-      if (errno == EINTR) continue;
-      const int error = errno;
-      ::close(fd);
-      fail(error);
-    }
-    data += written;
-    left -= static_cast<std::size_t>(written);
+  if (const int error = writeAllBytes(fd, bytes); error != 0) {
+    ::close(fd);
+    fail(error);
   }
   if (::close(fd) != 0) fail(errno);
 }
@@ -102,6 +93,21 @@ InjectedSignal injectedSignal() {
 }
 
 }  // namespace
+
+int writeAllBytes(int fd, std::string_view bytes) {
+  const char* data = bytes.data();
+  std::size_t left = bytes.size();
+  while (left > 0) {
+    const ssize_t written = ::write(fd, data, left);
+    if (written < 0) {
+      if (errno == EINTR) continue;
+      return errno;
+    }
+    data += written;
+    left -= static_cast<std::size_t>(written);
+  }
+  return 0;
+}
 
 bool recoverInterruptedWrite(const fs::path& folder) {
   std::error_code error;

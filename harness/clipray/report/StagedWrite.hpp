@@ -23,6 +23,10 @@ struct FileToWrite {
 // switched in last. Throws std::runtime_error naming the file when a write or a rename fails.
 void writeFilesAsOne(const std::filesystem::path& folder, const std::vector<FileToWrite>& files);
 
+// Writes all of bytes to an open file descriptor, through short writes and EINTR; returns 0, or the
+// errno of the write that failed (the descriptor stays open).
+int writeAllBytes(int fd, std::string_view bytes);
+
 // Undoes what a killed writeFilesAsOne left: moves the files set aside in .clipray-previous back
 // in place and removes .clipray-staging. Returns whether there was anything to undo.
 bool recoverInterruptedWrite(const std::filesystem::path& folder);
