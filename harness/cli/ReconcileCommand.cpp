@@ -4,6 +4,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <ctime>
 #include <filesystem>
@@ -12,6 +13,8 @@
 #include <new>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 #include "Commands.hpp"
 #include "MemoryBudget.hpp"
@@ -60,8 +63,38 @@ struct ReconcileOptions {
   unsigned threads = 0;
   unsigned rounds = 1;
   std::string maxMemory;        // empty: what the machine (or the cgroup) has available
+  std::string shard;            // "I/N": only the scene/camera pairs of shard I of N
   ReportProvenance provenance;  // the command line and start time, for report.json
 };
+
+// "I/N" with 1 <= I <= N <= 100000 (a CI matrix of any size); throws InputError otherwise.
+std::pair<int, int> parseShard(const std::string& text) {
+  int index = 0, count = 0;
+  char slash = 0;
+  std::istringstream stream(text);
+  if (!(stream >> index >> slash >> count) || slash != '/' || !stream.eof() || index < 1 ||
+      count < 1 || index > count || count > 100000) {
+    throw InputError(
+        "--shard: expected I/N with 1 <= I <= N (e.g. 2/8 for the second of eight "
+        "jobs), got \"" +
+        text + "\"");
+  }
+  return {index, count};
+}
+
+// The shard (1..count) a scene/camera pair belongs to: FNV-1a of the two names, so the split
+// depends on nothing but the names, and adding scenes never moves the others between shards.
+// Whole pairs, not single runs: a pair's runs share one analytic pass.
+int shardOf(const std::string& scene, const std::string& camera, int count) {
+  std::uint64_t hash = 14695981039346656037ull;
+  const auto mix = [&](const std::string& text) {
+    for (const unsigned char c : text) hash = (hash ^ c) * 1099511628211ull;
+    hash = (hash ^ 0xffu) * 1099511628211ull;  // a separator no name contains
+  };
+  mix(scene);
+  mix(camera);
+  return static_cast<int>(hash % static_cast<std::uint64_t>(count)) + 1;
+}
 
 // What the run is doing, for the one line an exhausted memory gets ("out of memory while ...").
 std::string& currentStep() {
@@ -86,6 +119,10 @@ int runReconcileSteps(const ReconcileOptions& options) {
     conventions = parseList<DepthMode>("--conventions", options.conventions, DepthMode::parse,
                                        "no, zo, zo-reversed");
   }
+  std::optional<std::pair<int, int>> shard;
+  if (!options.shard.empty()) shard = parseShard(options.shard);
+  ReportProvenance provenance = options.provenance;
+  if (shard) std::tie(provenance.shardIndex, provenance.shardCount) = *shard;
   const std::optional<Viewport> sizeOverride =
       options.size.empty() ? std::nullopt
                            : std::optional<Viewport>(parseViewportOption(options.size, "--size"));
@@ -224,6 +261,7 @@ int runReconcileSteps(const ReconcileOptions& options) {
               : (scene.conventions.empty() ? std::vector<DepthMode>{kNegativeOneToOne, kZeroToOne}
                                            : scene.conventions);
       for (const Camera& camera : scene.cameras) {
+        if (shard && shardOf(scene.name, camera.name, shard->second) != shard->first) continue;
         const Viewport viewport = sizeOverride.value_or(camera.viewport);
         for (const DepthMode mode : sceneConventions) {
           currentStep() = "tracing " + scene.name + "/" + camera.name + " " + mode.name() + " at " +
@@ -263,7 +301,7 @@ int runReconcileSteps(const ReconcileOptions& options) {
 
   // 4. Outputs, all at the end and each atomically.
   currentStep() = "writing the report into " + options.out;
-  writeReport(options.out, runs, renderer.info(), options.provenance);
+  writeReport(options.out, runs, renderer.info(), provenance);
   out.commit();
   if (!options.junit.empty()) writeFileAtomically(options.junit, junitXml(runs, options.out));
   // With --json, stdout carries only the report (parseable); the summary goes to stderr.
@@ -271,7 +309,7 @@ int runReconcileSteps(const ReconcileOptions& options) {
   summary << textSummary(runs);
   summary << "report: " << (std::filesystem::path(options.out) / "report.json").string() << "\n";
   if (options.json) {
-    std::cout << reportJson(runs, renderer.info(), options.provenance)
+    std::cout << reportJson(runs, renderer.info(), provenance)
                      .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
               << "\n";
   }
@@ -325,6 +363,9 @@ CommandRunner addReconcileOptions(CLI::App& app) {
   app.add_option("--junit", options->junit,
                  "Also write the runs as JUnit XML to this file (one test case per run) for CI");
   app.add_flag("--json", options->json, "Also print report.json to stdout");
+  app.add_option("--shard", options->shard,
+                 "I/N: only shard I of N (1-based) of the scene/camera pairs, split by their "
+                 "names, for CI jobs in parallel");
   app.add_option("--max-memory", options->maxMemory,
                  "Memory the runs may use, e.g. 8G or 512M (default: what is available, within "
                  "the cgroup's limit)");

@@ -306,6 +306,9 @@ nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl,
   };
   if (!provenance.commandLine.empty()) report["command_line"] = provenance.commandLine;
   if (!provenance.startedAt.empty()) report["started_at"] = provenance.startedAt;
+  if (provenance.shardCount > 0) {
+    report["shard"] = {{"index", provenance.shardIndex}, {"count", provenance.shardCount}};
+  }
   return report;
 }
 

@@ -94,6 +94,8 @@ void encodeRunImages(RunRecord& run, const PixelComparison& pixels);
 struct ReportProvenance {
   std::string commandLine;
   std::string startedAt;
+  // With --shard I/N: this report holds shard I of N (1-based), {index, count} in report.json.
+  int shardIndex = 0, shardCount = 0;
 };
 
 nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl,
