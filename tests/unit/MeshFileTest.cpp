@@ -416,6 +416,14 @@ TEST(MeshFileErrors, GltfWrongAccessorTypes) {
             "m.gltf: gltf: tinygltf rejected the file: primitive indices accessor out of bounds");
 }
 
+TEST(MeshFileErrors, GltfPositionAccessorOutOfRange) {
+  json document = triangleGltf();
+  document["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 7;
+  EXPECT_EQ(errorOf(document.dump(), "m.gltf"),
+            "m.gltf: POSITION of meshes[0].primitives[0]: accessor index 7 out of range for 2 "
+            "accessors");
+}
+
 TEST(MeshFileErrors, GltfIndexOutOfRange) {
   EXPECT_EQ(errorOf(triangleGltf({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 3}).dump(), "m.gltf"),
             "m.gltf: meshes[0].primitives[0].indices: index 2 is 3, out of range for 3 vertices");

@@ -494,11 +494,12 @@ class GltfReader {
     }
     MeshObject object;
     const int positionComponentType = positionComponentTypeChecked(position->second, element);
-    const bool positionNormalized =
-        model_.accessors[static_cast<std::size_t>(position->second)].normalized;
     const AccessorBytes positions = accessorBytes(
         position->second, "POSITION of " + element, TINYGLTF_TYPE_VEC3, {positionComponentType},
         positionComponentType != TINYGLTF_COMPONENT_TYPE_FLOAT);
+    // The accessor index is proven in range by accessorBytes (found by fuzz_gltf: read before).
+    const bool positionNormalized =
+        model_.accessors[static_cast<std::size_t>(position->second)].normalized;
     if (positions.count > 0xFFFFFFFFull) {
       fail(path_, element, "more vertices than 32-bit indices can address");
     }
