@@ -24,7 +24,7 @@
 #include "clipray/rays/RayMethods.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/report/SvgPlot.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/util/OptionValues.hpp"
 
 namespace clipray::cli {

@@ -12,7 +12,7 @@
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/VerifyCheck.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/InputFile.hpp"
 #include "clipray/util/OptionValues.hpp"
 

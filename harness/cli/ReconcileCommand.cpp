@@ -25,7 +25,7 @@
 #include "clipray/report/JUnit.hpp"
 #include "clipray/report/OutputFolder.hpp"
 #include "clipray/report/Report.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "clipray/util/OptionValues.hpp"
 

@@ -20,7 +20,7 @@
 #include "PickDemoDetail.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/report/Report.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 
 namespace clipray::demo {
 

@@ -16,8 +16,8 @@
 #include "clipray/compare/Frames.hpp"
 #include "clipray/compare/Reconcile.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
-#include "clipray/math/Conventions.hpp"
-#include "clipray/rays/Ray.hpp"
+#include "clipray/Conventions.hpp"
+#include "clipray/Ray.hpp"
 #include "clipray/rays/RayMethods.hpp"
 #include "clipray/scene/Scene.hpp"
 

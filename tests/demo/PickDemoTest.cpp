@@ -21,7 +21,7 @@
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/rays/RayMethods.hpp"
 #include "clipray/rays/RobustRays.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "support/RunCommand.hpp"
 #include "support/VersionLine.hpp"
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "clipray/scene/AutoCameras.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
 
 namespace clipray {

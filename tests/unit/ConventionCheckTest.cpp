@@ -10,7 +10,7 @@
 
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/check/MatrixReading.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "support/EngineCameras.hpp"
 
 namespace clipray {

@@ -10,7 +10,7 @@
 #include <gtest/gtest.h>
 
 #include "clipray/math/Projections.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
 
 #include "support/SceneText.hpp"

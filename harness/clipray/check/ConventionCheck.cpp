@@ -13,7 +13,7 @@
 #include "clipray/rays/RayErrors.hpp"
 #include "clipray/rays/RayMethods.hpp"
 #include "clipray/rays/RobustRays.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 
 namespace clipray {
 

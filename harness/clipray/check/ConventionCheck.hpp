@@ -13,11 +13,9 @@
 #include <nlohmann/json.hpp>
 
 #include "clipray/check/MatrixReading.hpp"
-#include "clipray/math/Conventions.hpp"
+#include "clipray/Conventions.hpp"
 
 namespace clipray {
-
-enum class WindowOrigin { LowerLeft, UpperLeft };
 
 struct CheckInput {
   // As the app uploads it, after applying the listing layout: column-major, p_clip =

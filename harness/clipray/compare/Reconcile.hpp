@@ -12,7 +12,7 @@
 
 #include "clipray/compare/Frames.hpp"
 #include "clipray/compare/ToleranceModel.hpp"
-#include "clipray/math/Conventions.hpp"
+#include "clipray/Conventions.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/scene/Scene.hpp"
 

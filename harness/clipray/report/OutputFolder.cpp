@@ -10,7 +10,7 @@
 #include <system_error>
 
 #include "clipray/report/StagedWrite.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 
 namespace clipray {
 

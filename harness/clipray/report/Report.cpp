@@ -20,7 +20,7 @@
 
 #include "clipray/report/HtmlReport.hpp"
 #include "clipray/report/StagedWrite.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {

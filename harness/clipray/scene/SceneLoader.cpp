@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "clipray/scene/AutoCameras.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/InputFile.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/Scene.hpp"

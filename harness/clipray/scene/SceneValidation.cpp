@@ -7,7 +7,7 @@
 #include <cmath>
 
 #include "clipray/math/Projections.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 
 namespace clipray::detail {
 

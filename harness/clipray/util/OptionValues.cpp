@@ -5,7 +5,7 @@
 #include <sstream>
 
 #include "clipray/check/ConventionCheck.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 
 namespace clipray {
 
