@@ -8,11 +8,11 @@
 #include <sstream>
 
 #include "Commands.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/check/CheckFields.hpp"
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/VerifyCheck.hpp"
-#include "clipray/InputError.hpp"
 #include "clipray/scene/InputFile.hpp"
 #include "clipray/util/OptionValues.hpp"
 

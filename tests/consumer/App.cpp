@@ -53,13 +53,13 @@ std::optional<PickRay> App::pick(glm::dvec2 mouse, PickingBug bug) const {
   if (bug == PickingBug::UnprojectsNegativeOneToOne) {
     // glm::unProject is unProjectNO by default: window z 0 is NDC z -1, in front of the near
     // plane of a ZERO_TO_ONE projection.
-    nearPoint = glm::unProjectNO(glm::dvec3(x, y, 0.0), camera.viewFromWorld,
-                                 camera.clipFromView, viewport);
+    nearPoint = glm::unProjectNO(glm::dvec3(x, y, 0.0), camera.viewFromWorld, camera.clipFromView,
+                                 viewport);
     farPoint = glm::unProjectNO(glm::dvec3(x, y, 1.0), camera.viewFromWorld, camera.clipFromView,
                                 viewport);
   } else {
-    nearPoint = glm::unProjectZO(glm::dvec3(x, y, 0.0), camera.viewFromWorld,
-                                 camera.clipFromView, viewport);
+    nearPoint = glm::unProjectZO(glm::dvec3(x, y, 0.0), camera.viewFromWorld, camera.clipFromView,
+                                 viewport);
     farPoint = glm::unProjectZO(glm::dvec3(x, y, 1.0), camera.viewFromWorld, camera.clipFromView,
                                 viewport);
   }
@@ -217,8 +217,8 @@ void render(const App& app, GetProcAddress getProcAddress,
     gl.EnableVertexAttribArray(0);
     gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
     gl.Uniform1ui(firstIdLocation, firstIds.at(m));
-    gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(meshes[m]->indices.size()),
-                    GL_UNSIGNED_INT, nullptr);
+    gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(meshes[m]->indices.size()), GL_UNSIGNED_INT,
+                    nullptr);
     gl.DeleteBuffers(2, buffers);
   }
   gl.BindVertexArray(0);

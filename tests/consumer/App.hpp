@@ -53,7 +53,7 @@ using GlFunction = void (*)();
 using GetProcAddress = GlFunction (*)(const char* name);
 // Draws the floor and the box into the bound framebuffer with the app's shaders, writing
 // firstIds[mesh] + gl_PrimitiveID to colour attachment 1 (the app's picking id buffer).
-void render(const App& app, GetProcAddress getProcAddress, const std::vector<std::uint32_t>& firstIds,
-            RenderBug bug = RenderBug::None);
+void render(const App& app, GetProcAddress getProcAddress,
+            const std::vector<std::uint32_t>& firstIds, RenderBug bug = RenderBug::None);
 
 }  // namespace app

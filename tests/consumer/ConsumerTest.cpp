@@ -18,10 +18,12 @@
 #ifdef GLM_FORCE_XYZW_ONLY
 #error "GLM_FORCE_XYZW_ONLY reached a consumer of clipray"
 #endif
-static_assert(requires(glm::vec4 v) {
-  v.r;
-  v.s;
-}, "glm's .r/.s names must stay available to consumers");
+static_assert(
+    requires(glm::vec4 v) {
+      v.r;
+      v.s;
+    },
+    "glm's .r/.s names must stay available to consumers");
 
 namespace {
 
@@ -157,8 +159,9 @@ TEST(SceneBuilderInput, AnIndexOutOfRangeIsRefusedAsAFileWouldBe) {
     clipray::SceneBuilder("bad").mesh("quad", positions, indices).build();
     FAIL() << "expected clipray::InputError";
   } catch (const clipray::InputError& error) {
-    EXPECT_STREQ(error.what(),
-                 "SceneBuilder \"bad\": /objects/0/indices/2: index 99 out of range for 4 vertices");
+    EXPECT_STREQ(
+        error.what(),
+        "SceneBuilder \"bad\": /objects/0/indices/2: index 99 out of range for 4 vertices");
   }
 }
 

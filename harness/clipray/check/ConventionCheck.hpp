@@ -12,8 +12,8 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
-#include "clipray/check/MatrixReading.hpp"
 #include "clipray/Conventions.hpp"
+#include "clipray/check/MatrixReading.hpp"
 
 namespace clipray {
 

@@ -16,10 +16,10 @@
 
 #include <glm/glm.hpp>
 
-#include "clipray/Picking.hpp"
-#include "clipray/intersect/SceneIntersector.hpp"
 #include "clipray/Conventions.hpp"
+#include "clipray/Picking.hpp"
 #include "clipray/Ray.hpp"
+#include "clipray/intersect/SceneIntersector.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/util/FrameBuffers.hpp"
 

@@ -14,8 +14,8 @@
 
 #include <glm/glm.hpp>
 
-#include "clipray/compare/Frames.hpp"
 #include "clipray/Conventions.hpp"
+#include "clipray/compare/Frames.hpp"
 #include "clipray/rays/RobustRays.hpp"
 
 namespace clipray {

@@ -132,8 +132,7 @@ RasterFrame renderWithApp(GlContext& context, const AppRenderFunction& render, A
   glNamedFramebufferReadBuffer(target.framebuffer, GL_COLOR_ATTACHMENT1);
   const int x0 = frame.viewport.x, y0 = frame.viewport.y;
   glReadPixels(x0, y0, size.width, size.height, GL_DEPTH_COMPONENT, GL_FLOAT, raster.depth.data());
-  glReadPixels(x0, y0, size.width, size.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
-               raster.ids.data());
+  glReadPixels(x0, y0, size.width, size.height, GL_RED_INTEGER, GL_UNSIGNED_INT, raster.ids.data());
   if (const GLenum error = glGetError(); error != GL_NO_ERROR) {
     throw GlError("GL: reading back the app's frame failed with GL error " + hex(error));
   }
@@ -163,8 +162,9 @@ RasterFrame renderWithApp(GlContext& context, const AppRenderFunction& render, A
     }
   }
   if (!anyId && anyDrawn) {
-    throw GlError("the app's render function drew depth but wrote no ids to colour attachment 1 "
-                  "(layout(location = 1) out uint: firstId(mesh) + gl_PrimitiveID)");
+    throw GlError(
+        "the app's render function drew depth but wrote no ids to colour attachment 1 "
+        "(layout(location = 1) out uint: firstId(mesh) + gl_PrimitiveID)");
   }
   return raster;
 }

@@ -36,7 +36,8 @@ std::vector<const Camera*> selectedCameras(const Scene& scene, const ReconcileOp
     const Camera* camera = findCamera(scene, name);
     if (!camera) {
       std::string known;
-      for (const Camera& c : scene.cameras) known += (known.empty() ? "\"" : ", \"") + c.name + "\"";
+      for (const Camera& c : scene.cameras)
+        known += (known.empty() ? "\"" : ", \"") + c.name + "\"";
       throw InputError("ReconcileOptions: cameras: no camera \"" + name + "\" in scene \"" +
                        scene.name + "\" (it has " + known + ")");
     }
@@ -47,12 +48,14 @@ std::vector<const Camera*> selectedCameras(const Scene& scene, const ReconcileOp
 
 void validateOptions(const ReconcileOptions& options) {
   if (options.depthFormats.empty()) {
-    throw InputError("ReconcileOptions: depthFormats: expected at least one depth format, got none");
+    throw InputError(
+        "ReconcileOptions: depthFormats: expected at least one depth format, got none");
   }
   if (options.render && options.vertexMode != VertexMode::World) {
-    throw InputError("ReconcileOptions: vertexMode: the app's render function draws its own "
-                     "vertices; expected world, got " +
-                     vertexModeName(options.vertexMode));
+    throw InputError(
+        "ReconcileOptions: vertexMode: the app's render function draws its own "
+        "vertices; expected world, got " +
+        vertexModeName(options.vertexMode));
   }
 }
 
@@ -64,7 +67,8 @@ std::string hitName(const Scene& scene, const PrimitiveIdTable& table, std::uint
            std::to_string(decoded.triangle);
   }
   if (decoded.analytic >= 0) {
-    const AnalyticPrimitive& primitive = scene.primitives[static_cast<std::size_t>(decoded.analytic)];
+    const AnalyticPrimitive& primitive =
+        scene.primitives[static_cast<std::size_t>(decoded.analytic)];
     return "\"" + primitive.name + "\" (" + primitiveKindName(primitive.kind) + ")";
   }
   return "id " + std::to_string(id);
@@ -87,7 +91,8 @@ int severity(PixelClass value) {
 }
 
 std::vector<PixelReport> worstPixels(const gl::AnalyticPass& pass, const RasterFrame& raster,
-                                     const PixelComparison& pixels, const ReconcileOptions& options) {
+                                     const PixelComparison& pixels,
+                                     const ReconcileOptions& options) {
   const std::size_t count = pixels.classes.size();
   std::vector<std::size_t> order;
   order.reserve(count);
@@ -199,14 +204,12 @@ ReconcileResult reconcile(const TestScene& testScene, const PickRayFunction& pic
                                     : window.viewportY + camera->viewport.height;
             if (frame.size.width < frame.viewport.x + frame.viewport.z ||
                 frame.size.height < frame.viewport.y + frame.viewport.w) {
-              throw InputError("ReconcileOptions: window: a " +
-                               std::to_string(frame.size.width) + "x" +
-                               std::to_string(frame.size.height) +
-                               " framebuffer cannot hold camera \"" + camera->name + "\"'s " +
-                               std::to_string(frame.viewport.z) + "x" +
-                               std::to_string(frame.viewport.w) + " viewport at (" +
-                               std::to_string(frame.viewport.x) + ", " +
-                               std::to_string(frame.viewport.y) + ")");
+              throw InputError(
+                  "ReconcileOptions: window: a " + std::to_string(frame.size.width) + "x" +
+                  std::to_string(frame.size.height) + " framebuffer cannot hold camera \"" +
+                  camera->name + "\"'s " + std::to_string(frame.viewport.z) + "x" +
+                  std::to_string(frame.viewport.w) + " viewport at (" +
+                  std::to_string(frame.viewport.x) + ", " + std::to_string(frame.viewport.y) + ")");
             }
           }
           frame.camera = pass.camera;
@@ -224,9 +227,9 @@ ReconcileResult reconcile(const TestScene& testScene, const PickRayFunction& pic
           request.viewport = camera->viewport;
           raster = renderer.render(request, &timings);
         }
-        gl::ComparedRun compared = gl::compareRasterFrame(
-            pass, raster, format, options.vertexMode, renderer.info().subpixelBits, timings,
-            options.threads);
+        gl::ComparedRun compared =
+            gl::compareRasterFrame(pass, raster, format, options.vertexMode,
+                                   renderer.info().subpixelBits, timings, options.threads);
         RunResult run = runResult(compared.run, static_cast<bool>(options.render));
         run.worstPixels = worstPixels(pass, raster, compared.pixels, options);
         if (!options.reportDirectory.empty() &&

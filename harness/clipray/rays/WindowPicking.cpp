@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -20,8 +21,9 @@ int framebufferHeightOf(const AppWindow& window, Viewport viewport) {
 
 void validateWindow(const AppWindow& window) {
   if (!(std::isfinite(window.pixelRatio) && window.pixelRatio > 0.0)) {
-    throw InputError("AppWindow: pixelRatio: expected a positive number, got " +
-                     std::to_string(window.pixelRatio));
+    std::ostringstream got;
+    got << window.pixelRatio;
+    throw InputError("AppWindow: pixelRatio: expected a positive number, got " + got.str());
   }
   if (window.viewportX < 0 || window.viewportY < 0) {
     throw InputError("AppWindow: viewport offset: expected non-negative x and y, got (" +
@@ -29,10 +31,10 @@ void validateWindow(const AppWindow& window) {
                      ")");
   }
   if (window.framebufferWidth < 0 || window.framebufferHeight < 0) {
-    throw InputError("AppWindow: framebuffer size: expected 0 (the viewport's edge) or a size in "
-                     "pixels, got " +
-                     std::to_string(window.framebufferWidth) + "x" +
-                     std::to_string(window.framebufferHeight));
+    throw InputError(
+        "AppWindow: framebuffer size: expected 0 (the viewport's edge) or a size in "
+        "pixels, got " +
+        std::to_string(window.framebufferWidth) + "x" + std::to_string(window.framebufferHeight));
   }
 }
 
@@ -41,8 +43,8 @@ void validateWindow(const AppWindow& window) {
 // depth range and f = row2 - z_n row3 (z >= z_n w) for reversed-Z; f . (o + t d) is linear in t.
 double farPlaneDistance(const Ray& ray, const PickingCamera& camera) {
   const glm::dmat4 m = glm::transpose(camera.clipFromWorld);  // m[i]: row i of clipFromWorld
-  const glm::dvec4 far = camera.mode.reversed ? m[2] - camera.mode.clipVolumeMinZ() * m[3]
-                                              : m[3] - m[2];
+  const glm::dvec4 far =
+      camera.mode.reversed ? m[2] - camera.mode.clipVolumeMinZ() * m[3] : m[3] - m[2];
   const double atOrigin = glm::dot(far, glm::dvec4(ray.origin, 1.0));
   const double rate = glm::dot(far, glm::dvec4(ray.direction, 0.0));
   if (!(rate < 0.0)) return std::numeric_limits<double>::infinity();

@@ -9,8 +9,8 @@
 #include <string>
 #include <system_error>
 
-#include "clipray/report/StagedWrite.hpp"
 #include "clipray/InputError.hpp"
+#include "clipray/report/StagedWrite.hpp"
 
 namespace clipray {
 

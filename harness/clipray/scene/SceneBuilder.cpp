@@ -15,7 +15,9 @@ namespace {
 
 using Json = detail::json;
 
-Json vector3(glm::dvec3 v) { return Json::array({v.x, v.y, v.z}); }
+Json vector3(glm::dvec3 v) {
+  return Json::array({v.x, v.y, v.z});
+}
 
 // 16 numbers, column-major (element 4 * column + row), as the scene format reads matrices.
 Json matrix(const glm::dmat4& m) {
@@ -50,7 +52,8 @@ Json placed(Json object, const glm::dmat4& worldFromObject) {
 // An int as the JSON parser stores it: non-negative numbers unsigned, so that a builder's value
 // and a file's are the same JSON value to the validators.
 Json integer(int value) {
-  return value >= 0 ? Json(static_cast<std::uint64_t>(value)) : Json(static_cast<std::int64_t>(value));
+  return value >= 0 ? Json(static_cast<std::uint64_t>(value))
+                    : Json(static_cast<std::int64_t>(value));
 }
 
 Json viewportValue(Viewport viewport) {
@@ -200,7 +203,9 @@ TestScene TestScene::load(const std::string& path) {
   return TestScene(std::make_shared<Scene>(loadScene(path)));
 }
 
-const std::string& TestScene::name() const { return scene_->name; }
+const std::string& TestScene::name() const {
+  return scene_->name;
+}
 
 std::vector<std::string> TestScene::cameraNames() const {
   std::vector<std::string> names;
@@ -215,8 +220,12 @@ std::vector<std::string> TestScene::objectNames() const {
   return names;
 }
 
-std::size_t TestScene::triangleCount() const { return scene_->triangleCount(); }
+std::size_t TestScene::triangleCount() const {
+  return scene_->triangleCount();
+}
 
-const std::vector<std::string>& TestScene::warnings() const { return scene_->warnings; }
+const std::vector<std::string>& TestScene::warnings() const {
+  return scene_->warnings;
+}
 
 }  // namespace clipray

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "clipray/math/Projections.hpp"
 #include "clipray/InputError.hpp"
+#include "clipray/math/Projections.hpp"
 
 namespace clipray::detail {
 

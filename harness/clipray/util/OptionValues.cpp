@@ -4,8 +4,8 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "clipray/check/ConventionCheck.hpp"
 #include "clipray/InputError.hpp"
+#include "clipray/check/ConventionCheck.hpp"
 
 namespace clipray {
 

@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 
 #include "clipray/Conventions.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/Ray.hpp"
 
 namespace clipray {

@@ -14,17 +14,14 @@
 
 namespace clipray::testing {
 
-inline ::testing::AssertionResult pickingConsistent(const char* sceneExpression,
-                                                    const char* pickExpression,
-                                                    const char* /*optionsExpression*/,
-                                                    const TestScene& scene,
-                                                    const PickRayFunction& pick,
-                                                    const ReconcileOptions& options) {
+inline ::testing::AssertionResult pickingConsistent(
+    const char* sceneExpression, const char* pickExpression, const char* /*optionsExpression*/,
+    const TestScene& scene, const PickRayFunction& pick, const ReconcileOptions& options) {
   const ReconcileResult result = reconcile(scene, pick, options);
   if (result.consistent()) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure()
-         << "the picking of " << pickExpression << " and the raster disagree on "
-         << sceneExpression << " (scene \"" << scene.name() << "\"):\n"
+         << "the picking of " << pickExpression << " and the raster disagree on " << sceneExpression
+         << " (scene \"" << scene.name() << "\"):\n"
          << result.text();
 }
 
