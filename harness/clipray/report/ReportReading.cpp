@@ -258,8 +258,12 @@ std::string reportFile(const ReadReport& report) {
 
 ReadReport readReport(const std::filesystem::path& folder) {
   const std::string file = (folder / "report.json").string();
-  const json root = detail::parseJson(readInputFile(file, kMaxReportBytes, "report"), file);
-  return ReportReader(folder, file).report(root);
+  return parseReport(readInputFile(file, kMaxReportBytes, "report"), folder, file);
+}
+
+ReadReport parseReport(const std::string& text, const std::filesystem::path& folder,
+                       const std::string& file) {
+  return ReportReader(folder, file).report(detail::parseJson(text, file));
 }
 
 std::vector<RunRecord> mergeReports(const std::vector<ReadReport>& reports) {

@@ -23,6 +23,9 @@ struct ReadReport {
 // JSON pointer and the value for anything that is not a report of this format, and naming the
 // image for one that is missing.
 ReadReport readReport(const std::filesystem::path& folder);
+// The same for report.json's text already read (`file` names it in messages).
+ReadReport parseReport(const std::string& text, const std::filesystem::path& folder,
+                       const std::string& file);
 
 // The runs of reports of one clipray build and one GL driver as one report: shards of a
 // `clipray reconcile --shard I/N` (all N of them, each once), or reports of disjoint runs. Throws
