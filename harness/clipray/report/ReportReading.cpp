@@ -208,7 +208,8 @@ class ReportReader {
     const Pointer top;
     ReadReport report;
     report.folder = folder_;
-    if (!root.is_object() || root.value("tool", "") != "clipray") {
+    const auto tool = root.is_object() ? root.find("tool") : root.end();
+    if (!root.is_object() || tool == root.end() || *tool != "clipray") {
       fail(top, "not a clipray report (expected \"tool\": \"clipray\")");
     }
     if (integer(root, top, "format_version") != 1) {
