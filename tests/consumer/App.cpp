@@ -146,6 +146,12 @@ uniform mat4 clipFromWorld;
 void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }
 )";
 
+// Colour only.
+const char* const kColourShader = R"(#version 450 core
+layout(location = 0) out vec4 colour;
+void main() { colour = vec4(0.8, 0.7, 0.5, 1.0); }
+)";
+
 // Colour for the screen, and the picking id buffer the app reads under the mouse.
 const char* const kFragmentShader = R"(#version 450 core
 layout(location = 0) out vec4 colour;
@@ -174,10 +180,11 @@ GLuint compile(const Gl& gl, GLenum kind, const char* source) {
 }  // namespace
 
 void render(const App& app, GetProcAddress getProcAddress,
-            const std::vector<std::uint32_t>& firstIds, RenderBug bug) {
+            const std::vector<std::uint32_t>& firstIds, RenderBug bug, bool writeIds) {
   const Gl gl(getProcAddress);
   const GLuint vertex = compile(gl, GL_VERTEX_SHADER, kVertexShader);
-  const GLuint fragment = compile(gl, GL_FRAGMENT_SHADER, kFragmentShader);
+  const GLuint fragment =
+      compile(gl, GL_FRAGMENT_SHADER, writeIds ? kFragmentShader : kColourShader);
   const GLuint program = gl.CreateProgram();
   gl.AttachShader(program, vertex);
   gl.AttachShader(program, fragment);
@@ -216,7 +223,7 @@ void render(const App& app, GetProcAddress getProcAddress,
                   meshes[m]->indices.data(), GL_STATIC_DRAW);
     gl.EnableVertexAttribArray(0);
     gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-    gl.Uniform1ui(firstIdLocation, firstIds.at(m));
+    if (writeIds) gl.Uniform1ui(firstIdLocation, firstIds.at(m));
     gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(meshes[m]->indices.size()), GL_UNSIGNED_INT,
                     nullptr);
     gl.DeleteBuffers(2, buffers);

@@ -51,9 +51,11 @@ struct App {
 // GL entry points, loaded through the function the context gives (as glad or epoxy would).
 using GlFunction = void (*)();
 using GetProcAddress = GlFunction (*)(const char* name);
-// Draws the floor and the box into the bound framebuffer with the app's shaders, writing
-// firstIds[mesh] + gl_PrimitiveID to colour attachment 1 (the app's picking id buffer).
+// Draws the floor and the box (one draw call each) into the bound framebuffer with the app's
+// shaders; with writeIds, the fragment shader also writes firstIds[mesh] + gl_PrimitiveID to
+// colour attachment 1 (the app's picking id buffer).
 void render(const App& app, GetProcAddress getProcAddress,
-            const std::vector<std::uint32_t>& firstIds, RenderBug bug = RenderBug::None);
+            const std::vector<std::uint32_t>& firstIds, RenderBug bug = RenderBug::None,
+            bool writeIds = true);
 
 }  // namespace app

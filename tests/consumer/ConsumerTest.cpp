@@ -66,13 +66,16 @@ clipray::PickRayFunction appPicking(app::PickingBug bug = app::PickingBug::None)
 }
 
 clipray::ReconcileOptions options(app::RenderBug renderBug = app::RenderBug::None,
-                                  bool appRender = false) {
+                                  bool appRender = false,
+                                  clipray::AppIds ids = clipray::AppIds::Written) {
   clipray::ReconcileOptions options;
   options.window = appWindow();
   options.reportDirectory = ::testing::TempDir() + "clipray-consumer";
+  options.appIds = ids;
   if (appRender) {
-    options.render = [renderBug](const clipray::AppFrame& frame) {
-      app::render(theApp, frame.getProcAddress, frame.firstIds, renderBug);
+    options.render = [renderBug, ids](const clipray::AppFrame& frame) {
+      app::render(theApp, frame.getProcAddress, frame.firstIds, renderBug,
+                  ids == clipray::AppIds::Written);
     };
   }
   return options;
@@ -89,6 +92,12 @@ TEST(AppRendering, AgreesWithTheRays) {
 
 TEST(AppRenderingAndPicking, AgreeWithEachOther) {
   EXPECT_PICKING_CONSISTENT(appScene(), appPicking(), options(app::RenderBug::None, true));
+}
+
+TEST(AppRendering, WithoutIdsInItsShadersAgreesDrawCallByDrawCall) {
+  const clipray::ReconcileOptions perDrawCall =
+      options(app::RenderBug::None, true, clipray::AppIds::PerDrawCall);
+  EXPECT_PICKING_CONSISTENT(appScene(), appPicking(), perDrawCall);
 }
 
 // The tests of the tests: a classic bug in the app fails them, with the worst pixels named.
@@ -143,6 +152,15 @@ TEST(TestOfTheTest, RenderingWithoutClipControlFails) {
   EXPECT_NONFATAL_FAILURE(EXPECT_PICKING_CONSISTENT(appScene(), clipray::robustPickRays(),
                                                     options(app::RenderBug::NoClipControl, true)),
                           "depth_beyond_tolerance");
+}
+
+TEST(TestOfTheTest, RenderingWithoutClipControlFailsDrawCallByDrawCall) {
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(), clipray::robustPickRays(),
+      options(app::RenderBug::NoClipControl, true, clipray::AppIds::PerDrawCall));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_FALSE(result.runs[0].consistent) << result.text();
+  EXPECT_GT(result.runs[0].depthBeyondTolerance, 10000) << result.text();
 }
 
 TEST(TestOfTheTest, RenderingWithTheWrongDepthFunctionFails) {

@@ -93,7 +93,8 @@ TEST(LibraryReconcile, AnAppThatDrawsDepthWithoutIdsIsTold) {
   };
   EXPECT_EQ(messageOf(options),
             "the app's render function drew depth but wrote no ids to colour attachment 1 "
-            "(layout(location = 1) out uint: firstId(mesh) + gl_PrimitiveID)");
+            "(layout(location = 1) out uint: firstId(mesh) + gl_PrimitiveID; or reconcile with "
+            "one id per draw call, AppIds::PerDrawCall)");
 }
 
 TEST(LibraryReconcile, AnAppThatWritesIdsTheSceneLacksIsTold) {
@@ -137,6 +138,33 @@ TEST(LibraryReconcile, AnAppThatDrawsNothingIsInconsistent) {
   EXPECT_EQ(result.runs[0].worstPixels.at(0).rasterHit, "nothing");
   EXPECT_EQ(result.runs[0].worstPixels.at(0).rayHit.substr(0, 16), "\"quad\" triangle ");
   EXPECT_NE(result.text().find("(app render)"), std::string::npos);
+}
+
+TEST(LibraryReconcile, OneIdPerDrawCallCountsTheAppsDrawCalls) {
+  ReconcileOptions options;
+  options.appIds = AppIds::PerDrawCall;
+  // Two draw calls for a scene of one mesh, through the function the frame hands out.
+  options.render = [](const AppFrame& frame) {
+    const auto drawArrays =
+        reinterpret_cast<PFNGLDRAWARRAYSPROC>(frame.getProcAddress("glDrawArrays"));
+    GLuint vertexArray = 0;
+    glCreateVertexArrays(1, &vertexArray);
+    glBindVertexArray(vertexArray);
+    glClearDepth(1.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    drawArrays(GL_TRIANGLES, 0, 0);
+    drawArrays(GL_TRIANGLES, 0, 0);
+    glBindVertexArray(0);
+    glDeleteVertexArrays(1, &vertexArray);
+  };
+  EXPECT_EQ(messageOf(options),
+            "the app's render function made 2 draw calls; with one id per draw call, call k draws "
+            "mesh k, and the scene has 1 meshes (at most 255)");
+  options.depthFormats = {DepthFormat::Unorm16};
+  EXPECT_EQ(messageOf(options),
+            "ReconcileOptions: depthFormats: one id per draw call (AppIds::PerDrawCall) counts "
+            "draws in the stencil buffer, which GL pairs with depth formats 24 and 32f only; got "
+            "16");
 }
 
 }  // namespace

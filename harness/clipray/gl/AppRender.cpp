@@ -2,16 +2,22 @@
 
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <cstdio>
+#include <map>
+#include <mutex>
 #include <string>
+#include <string_view>
 
+#include "clipray/InputError.hpp"
 #include "clipray/util/PhaseClock.hpp"
 
 namespace clipray::gl {
 
 namespace {
 
-GLenum depthInternalFormat(DepthFormat format) {
+GLenum depthInternalFormat(DepthFormat format, bool stencil) {
+  if (stencil) return format == DepthFormat::Float32 ? GL_DEPTH32F_STENCIL8 : GL_DEPTH24_STENCIL8;
   switch (format) {
     case DepthFormat::Unorm16:
       return GL_DEPTH_COMPONENT16;
@@ -50,17 +56,20 @@ void resetToGlDefaults(Viewport size) {
 // The frame's framebuffer objects, deleted however the app's function ends.
 struct AppFramebuffer {
   GLuint framebuffer = 0, colour = 0, ids = 0, depth = 0;
-  AppFramebuffer(Viewport size, DepthFormat format) {
+  AppFramebuffer(Viewport size, DepthFormat format, bool stencil) {
     glCreateFramebuffers(1, &framebuffer);
     glCreateRenderbuffers(1, &colour);
     glCreateRenderbuffers(1, &ids);
     glCreateRenderbuffers(1, &depth);
     glNamedRenderbufferStorage(colour, GL_RGBA8, size.width, size.height);
     glNamedRenderbufferStorage(ids, GL_R32UI, size.width, size.height);
-    glNamedRenderbufferStorage(depth, depthInternalFormat(format), size.width, size.height);
+    glNamedRenderbufferStorage(depth, depthInternalFormat(format, stencil), size.width,
+                               size.height);
     glNamedFramebufferRenderbuffer(framebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
     glNamedFramebufferRenderbuffer(framebuffer, GL_COLOR_ATTACHMENT1, GL_RENDERBUFFER, ids);
-    glNamedFramebufferRenderbuffer(framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+    glNamedFramebufferRenderbuffer(framebuffer,
+                                   stencil ? GL_DEPTH_STENCIL_ATTACHMENT : GL_DEPTH_ATTACHMENT,
+                                   GL_RENDERBUFFER, depth);
     const GLenum buffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
     glNamedFramebufferDrawBuffers(framebuffer, 2, buffers);
     const GLenum status = glCheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER);
@@ -79,11 +88,160 @@ struct AppFramebuffer {
   AppFramebuffer& operator=(const AppFramebuffer&) = delete;
 };
 
+// One id per draw call: the draw functions the app loads through AppFrame::getProcAddress are
+// these, which number each call in the stencil buffer (the fragments that pass the depth test
+// write it) before making it. State for the one app render at a time (renderWithApp holds the
+// lock).
+struct DrawCallCounter {
+  std::mutex lock;
+  GlLoader loader = nullptr;  // the context's
+  unsigned calls = 0;
+};
+DrawCallCounter drawCalls;
+
+void beforeDrawCall() {
+  ++drawCalls.calls;
+  glEnable(GL_STENCIL_TEST);
+  glStencilFunc(GL_ALWAYS, static_cast<GLint>(std::min(drawCalls.calls, 255u)), 0xFF);
+  glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
+  glStencilMask(0xFF);
+}
+
+// The draw calls of GL 4.5 core; each forwards to the context's own function (glad's pointer).
+void GLAD_API_PTR drawArrays(GLenum mode, GLint first, GLsizei count) {
+  beforeDrawCall();
+  glDrawArrays(mode, first, count);
+}
+void GLAD_API_PTR drawArraysInstanced(GLenum mode, GLint first, GLsizei count, GLsizei instances) {
+  beforeDrawCall();
+  glDrawArraysInstanced(mode, first, count, instances);
+}
+void GLAD_API_PTR drawArraysInstancedBaseInstance(GLenum mode, GLint first, GLsizei count,
+                                                  GLsizei instances, GLuint baseInstance) {
+  beforeDrawCall();
+  glDrawArraysInstancedBaseInstance(mode, first, count, instances, baseInstance);
+}
+void GLAD_API_PTR drawArraysIndirect(GLenum mode, const void* indirect) {
+  beforeDrawCall();
+  glDrawArraysIndirect(mode, indirect);
+}
+void GLAD_API_PTR drawElements(GLenum mode, GLsizei count, GLenum type, const void* indices) {
+  beforeDrawCall();
+  glDrawElements(mode, count, type, indices);
+}
+void GLAD_API_PTR drawElementsBaseVertex(GLenum mode, GLsizei count, GLenum type,
+                                         const void* indices, GLint baseVertex) {
+  beforeDrawCall();
+  glDrawElementsBaseVertex(mode, count, type, indices, baseVertex);
+}
+void GLAD_API_PTR drawRangeElements(GLenum mode, GLuint start, GLuint end, GLsizei count,
+                                    GLenum type, const void* indices) {
+  beforeDrawCall();
+  glDrawRangeElements(mode, start, end, count, type, indices);
+}
+void GLAD_API_PTR drawRangeElementsBaseVertex(GLenum mode, GLuint start, GLuint end, GLsizei count,
+                                              GLenum type, const void* indices, GLint baseVertex) {
+  beforeDrawCall();
+  glDrawRangeElementsBaseVertex(mode, start, end, count, type, indices, baseVertex);
+}
+void GLAD_API_PTR drawElementsInstanced(GLenum mode, GLsizei count, GLenum type,
+                                        const void* indices, GLsizei instances) {
+  beforeDrawCall();
+  glDrawElementsInstanced(mode, count, type, indices, instances);
+}
+void GLAD_API_PTR drawElementsInstancedBaseVertex(GLenum mode, GLsizei count, GLenum type,
+                                                  const void* indices, GLsizei instances,
+                                                  GLint baseVertex) {
+  beforeDrawCall();
+  glDrawElementsInstancedBaseVertex(mode, count, type, indices, instances, baseVertex);
+}
+void GLAD_API_PTR drawElementsInstancedBaseInstance(GLenum mode, GLsizei count, GLenum type,
+                                                    const void* indices, GLsizei instances,
+                                                    GLuint baseInstance) {
+  beforeDrawCall();
+  glDrawElementsInstancedBaseInstance(mode, count, type, indices, instances, baseInstance);
+}
+void GLAD_API_PTR drawElementsInstancedBaseVertexBaseInstance(GLenum mode, GLsizei count,
+                                                              GLenum type, const void* indices,
+                                                              GLsizei instances, GLint baseVertex,
+                                                              GLuint baseInstance) {
+  beforeDrawCall();
+  glDrawElementsInstancedBaseVertexBaseInstance(mode, count, type, indices, instances, baseVertex,
+                                                baseInstance);
+}
+void GLAD_API_PTR drawElementsIndirect(GLenum mode, GLenum type, const void* indirect) {
+  beforeDrawCall();
+  glDrawElementsIndirect(mode, type, indirect);
+}
+void GLAD_API_PTR multiDrawArrays(GLenum mode, const GLint* first, const GLsizei* count,
+                                  GLsizei draws) {
+  beforeDrawCall();
+  glMultiDrawArrays(mode, first, count, draws);
+}
+void GLAD_API_PTR multiDrawElements(GLenum mode, const GLsizei* count, GLenum type,
+                                    const void* const* indices, GLsizei draws) {
+  beforeDrawCall();
+  glMultiDrawElements(mode, count, type, indices, draws);
+}
+void GLAD_API_PTR multiDrawElementsBaseVertex(GLenum mode, const GLsizei* count, GLenum type,
+                                              const void* const* indices, GLsizei draws,
+                                              const GLint* baseVertex) {
+  beforeDrawCall();
+  glMultiDrawElementsBaseVertex(mode, count, type, indices, draws, baseVertex);
+}
+void GLAD_API_PTR multiDrawArraysIndirect(GLenum mode, const void* indirect, GLsizei draws,
+                                          GLsizei stride) {
+  beforeDrawCall();
+  glMultiDrawArraysIndirect(mode, indirect, draws, stride);
+}
+void GLAD_API_PTR multiDrawElementsIndirect(GLenum mode, GLenum type, const void* indirect,
+                                            GLsizei draws, GLsizei stride) {
+  beforeDrawCall();
+  glMultiDrawElementsIndirect(mode, type, indirect, draws, stride);
+}
+
+GlProc asProc(auto function) {
+  return reinterpret_cast<GlProc>(function);
+}
+
+GlProc countingLoader(const char* name) {
+  static const std::map<std::string_view, GlProc> wrapped = {
+      {"glDrawArrays", asProc(&drawArrays)},
+      {"glDrawArraysInstanced", asProc(&drawArraysInstanced)},
+      {"glDrawArraysInstancedBaseInstance", asProc(&drawArraysInstancedBaseInstance)},
+      {"glDrawArraysIndirect", asProc(&drawArraysIndirect)},
+      {"glDrawElements", asProc(&drawElements)},
+      {"glDrawElementsBaseVertex", asProc(&drawElementsBaseVertex)},
+      {"glDrawRangeElements", asProc(&drawRangeElements)},
+      {"glDrawRangeElementsBaseVertex", asProc(&drawRangeElementsBaseVertex)},
+      {"glDrawElementsInstanced", asProc(&drawElementsInstanced)},
+      {"glDrawElementsInstancedBaseVertex", asProc(&drawElementsInstancedBaseVertex)},
+      {"glDrawElementsInstancedBaseInstance", asProc(&drawElementsInstancedBaseInstance)},
+      {"glDrawElementsInstancedBaseVertexBaseInstance",
+       asProc(&drawElementsInstancedBaseVertexBaseInstance)},
+      {"glDrawElementsIndirect", asProc(&drawElementsIndirect)},
+      {"glMultiDrawArrays", asProc(&multiDrawArrays)},
+      {"glMultiDrawElements", asProc(&multiDrawElements)},
+      {"glMultiDrawElementsBaseVertex", asProc(&multiDrawElementsBaseVertex)},
+      {"glMultiDrawArraysIndirect", asProc(&multiDrawArraysIndirect)},
+      {"glMultiDrawElementsIndirect", asProc(&multiDrawElementsIndirect)},
+  };
+  const auto found = wrapped.find(name);
+  return found != wrapped.end() ? found->second : drawCalls.loader(name);
+}
+
 }  // namespace
 
-RasterFrame renderWithApp(GlContext& context, const AppRenderFunction& render, AppFrame frame,
-                          const Scene& scene, RenderTimings* timings) {
-  AppFramebuffer target(frame.size, frame.depthFormat);
+AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, AppFrame frame,
+                        AppIds ids, const Scene& scene, RenderTimings* timings) {
+  const bool perDrawCall = ids == AppIds::PerDrawCall;
+  if (perDrawCall && frame.depthFormat == DepthFormat::Unorm16) {
+    throw InputError(
+        "ReconcileOptions: depthFormats: one id per draw call (AppIds::PerDrawCall) "
+        "counts draws in the stencil buffer, which GL pairs with depth formats 24 "
+        "and 32f only; got 16");
+  }
+  AppFramebuffer target(frame.size, frame.depthFormat, perDrawCall);
   const Viewport size{frame.viewport.z, frame.viewport.w};  // the region compared
   glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
   const GLuint zeroIds[4] = {0, 0, 0, 0};
@@ -92,12 +250,25 @@ RasterFrame renderWithApp(GlContext& context, const AppRenderFunction& render, A
   const GLfloat unclearedDepth = 0.5f;
   glClearNamedFramebufferfv(target.framebuffer, GL_COLOR, 0, zeroColour);
   glClearNamedFramebufferuiv(target.framebuffer, GL_COLOR, 1, zeroIds);
-  glClearNamedFramebufferfv(target.framebuffer, GL_DEPTH, 0, &unclearedDepth);
+  if (perDrawCall) {
+    glClearNamedFramebufferfi(target.framebuffer, GL_DEPTH_STENCIL, 0, unclearedDepth, 0);
+  } else {
+    glClearNamedFramebufferfv(target.framebuffer, GL_DEPTH, 0, &unclearedDepth);
+  }
   resetToGlDefaults(frame.size);
+  glDisable(GL_STENCIL_TEST);
   while (glGetError() != GL_NO_ERROR) {
   }
 
-  frame.getProcAddress = context.loader();  // GlLoader and GlGetProcAddress are one type
+  std::unique_lock<std::mutex> countingDraws(drawCalls.lock, std::defer_lock);
+  if (perDrawCall) {
+    countingDraws.lock();
+    drawCalls.loader = context.loader();
+    drawCalls.calls = 0;
+    frame.getProcAddress = &countingLoader;
+  } else {
+    frame.getProcAddress = context.loader();  // GlLoader and GlGetProcAddress are one type
+  }
   frame.framebuffer = target.framebuffer;
   const PhaseClock rasterClock;
   render(frame);
@@ -112,19 +283,26 @@ RasterFrame renderWithApp(GlContext& context, const AppRenderFunction& render, A
                   " and left it bound; it must draw into AppFrame::framebuffer (" +
                   std::to_string(target.framebuffer) + ") and leave it bound");
   }
+  if (perDrawCall && drawCalls.calls > std::min<std::size_t>(scene.objects.size(), 255)) {
+    throw GlError(
+        "the app's render function made " + std::to_string(drawCalls.calls) +
+        " draw calls; with one id per draw call, call k draws mesh k, and the scene has " +
+        std::to_string(scene.objects.size()) + " meshes (at most 255)");
+  }
   if (timings) {
     timings->raster = rasterClock.wallMilliseconds();
     timings->rasterCpu = rasterClock.cpuMilliseconds();
   }
 
   const PhaseClock readbackClock;
-  RasterFrame raster;
+  AppRaster result;
+  RasterFrame& raster = result.frame;
   raster.viewport = size;
   const std::size_t count = static_cast<std::size_t>(size.width) * size.height;
   raster.depth.resize(count);
   raster.ids.resize(count);
   glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
   glPixelStorei(GL_PACK_ROW_LENGTH, 0);
   glPixelStorei(GL_PACK_SKIP_ROWS, 0);
   glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
@@ -132,7 +310,14 @@ RasterFrame renderWithApp(GlContext& context, const AppRenderFunction& render, A
   glNamedFramebufferReadBuffer(target.framebuffer, GL_COLOR_ATTACHMENT1);
   const int x0 = frame.viewport.x, y0 = frame.viewport.y;
   glReadPixels(x0, y0, size.width, size.height, GL_DEPTH_COMPONENT, GL_FLOAT, raster.depth.data());
-  glReadPixels(x0, y0, size.width, size.height, GL_RED_INTEGER, GL_UNSIGNED_INT, raster.ids.data());
+  if (perDrawCall) {
+    result.meshOfPixel.resize(count);
+    glReadPixels(x0, y0, size.width, size.height, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE,
+                 result.meshOfPixel.data());
+  } else {
+    glReadPixels(x0, y0, size.width, size.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                 raster.ids.data());
+  }
   if (const GLenum error = glGetError(); error != GL_NO_ERROR) {
     throw GlError("GL: reading back the app's frame failed with GL error " + hex(error));
   }
@@ -140,6 +325,7 @@ RasterFrame renderWithApp(GlContext& context, const AppRenderFunction& render, A
     timings->readback = readbackClock.wallMilliseconds();
     timings->readbackCpu = readbackClock.cpuMilliseconds();
   }
+  if (perDrawCall) return result;
 
   // Ids the scene cannot have, or none where the app drew.
   const PrimitiveIdTable table(scene);
@@ -164,9 +350,10 @@ RasterFrame renderWithApp(GlContext& context, const AppRenderFunction& render, A
   if (!anyId && anyDrawn) {
     throw GlError(
         "the app's render function drew depth but wrote no ids to colour attachment 1 "
-        "(layout(location = 1) out uint: firstId(mesh) + gl_PrimitiveID)");
+        "(layout(location = 1) out uint: firstId(mesh) + gl_PrimitiveID; or reconcile "
+        "with one id per draw call, AppIds::PerDrawCall)");
   }
-  return raster;
+  return result;
 }
 
 }  // namespace clipray::gl

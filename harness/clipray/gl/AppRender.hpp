@@ -12,11 +12,19 @@
 
 namespace clipray::gl {
 
+struct AppRaster {
+  RasterFrame frame;  // depth; ids with AppIds::Written
+  // With AppIds::PerDrawCall: 0 background, else 1 + the mesh whose draw call shows at the pixel
+  // (idsFromDrawCalls turns them into ids).
+  std::vector<std::uint8_t> meshOfPixel;
+};
+
 // Calls `render` with `frame` (getProcAddress and framebuffer filled in here) and returns the
-// depth and ids it drew. Throws GlError when the app leaves a GL error or no usable ids: every id
-// 0 where it drew geometry, or an id no primitive of `scene` has (a colour clear of the integer
-// attachment, or ids the app did not write as firstId + gl_PrimitiveID).
-RasterFrame renderWithApp(GlContext& context, const AppRenderFunction& render, AppFrame frame,
-                          const Scene& scene, RenderTimings* timings = nullptr);
+// depth and ids (or meshes) it drew. Throws GlError when the app leaves a GL error or no usable
+// ids: every id 0 where it drew geometry, an id no primitive of `scene` has (a colour clear of
+// the integer attachment, or ids the app did not write as firstId + gl_PrimitiveID), or more draw
+// calls than the scene has meshes; InputError for one id per draw call without a stencil (16).
+AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, AppFrame frame,
+                        AppIds ids, const Scene& scene, RenderTimings* timings = nullptr);
 
 }  // namespace clipray::gl

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "clipray/Reconcile.hpp"
+#include "clipray/compare/DrawCallIds.hpp"
 #include "clipray/gl/AppRender.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/report/Report.hpp"
@@ -215,7 +216,12 @@ ReconcileResult reconcile(const TestScene& testScene, const PickRayFunction& pic
           frame.camera = pass.camera;
           frame.depthFormat = format;
           frame.firstIds = firstIds;
-          raster = gl::renderWithApp(*context, options.render, std::move(frame), scene, &timings);
+          gl::AppRaster drawn = gl::renderWithApp(*context, options.render, std::move(frame),
+                                                  options.appIds, scene, &timings);
+          raster = std::move(drawn.frame);
+          if (options.appIds == AppIds::PerDrawCall) {
+            raster.ids = idsFromDrawCalls(scene, pass.camera, drawn.meshOfPixel, pass.frame);
+          }
         } else {
           gl::RenderRequest request;
           request.scene = &scene;

@@ -30,8 +30,10 @@ using GlGetProcAddress = GlFunction (*)(const char* name);
 // depth in the run's format, filled with 0.5 (not cleared: clearing it is the app's job, with its
 // own clear value). The rest of the GL state is GL's default (NEGATIVE_ONE_TO_ONE, GL_LESS, depth
 // test off, depth range [0, 1], viewport the whole framebuffer): the app sets what it draws with.
-// The function draws the scene's meshes as the test built them, writing to colour 1 the id
-// firstId(mesh) + gl_PrimitiveID of each fragment. It must clear depth only (glClear of an
+// The function draws the scene's meshes as the test built them and says what it drew at each
+// pixel (AppIds): by writing to colour 1 the id firstId(mesh) + gl_PrimitiveID of each fragment,
+// or, for shaders that write no ids, with one draw call per mesh in the order the scene added
+// them, through functions loaded with getProcAddress. It must clear depth only (glClear of an
 // integer attachment with a float colour is undefined) and leave `framebuffer` bound.
 struct AppFrame {
   GlGetProcAddress getProcAddress = nullptr;  // load the app's GL functions through this
@@ -44,6 +46,20 @@ struct AppFrame {
   std::uint32_t firstId(std::size_t mesh) const { return firstIds.at(mesh); }
 };
 using AppRenderFunction = std::function<void(const AppFrame&)>;
+
+// How the app's render function tells clipray which primitive it drew at each pixel.
+enum class AppIds {
+  // Its fragment shader writes firstId(mesh) + gl_PrimitiveID to colour attachment 1
+  // (layout(location = 1) out uint): the comparison is triangle by triangle.
+  Written,
+  // It writes no ids: clipray counts the draw calls it makes through getProcAddress's functions
+  // (glDraw*, glMultiDraw*: call k draws mesh k) and marks each call's visible fragments in the
+  // stencil buffer. Needs depth formats 24 or 32f (with stencil) and an app that does not use the
+  // stencil itself; at most 255 draw calls. Where the ray side hit another triangle of the same
+  // mesh, that triangle is taken for the raster's; elsewhere the mesh's triangle met first by the
+  // pixel centre's line of sight, else the one projecting nearest to it.
+  PerDrawCall,
+};
 
 struct ReconcileOptions {
   std::vector<DepthMode> conventions;  // empty: the scene's own ("conventions"), else zo
@@ -60,7 +76,8 @@ struct ReconcileOptions {
   // and the app's render function draws into a framebuffer of its size.
   std::optional<AppWindow> window;
   AppRenderFunction render;  // set: the app draws the raster side
-  unsigned threads = 0;      // 0: every core
+  AppIds appIds = AppIds::Written;
+  unsigned threads = 0;  // 0: every core
 };
 
 // One pixel of a run, as both sides saw it.
