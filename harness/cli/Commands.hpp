@@ -28,6 +28,8 @@ std::vector<CommandRegistration>& commandRegistry();
 // (recorded in report.json); set by main() before any command runs.
 const std::string& commandLine();
 void setCommandLine(int argc, char** argv);
+// Now in UTC, ISO 8601 to the second (when a report was started).
+std::string utcNow();
 
 // `static const bool registered = registerCommand({...});` in each command's file.
 inline bool registerCommand(CommandRegistration registration) {

@@ -329,16 +329,6 @@ int runReconcile(const ReconcileOptions& options) {
   }
 }
 
-// Now in UTC, ISO 8601 to the second.
-std::string utcNow() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
-}
-
 CommandRunner addReconcileOptions(CLI::App& app) {
   auto options = std::make_shared<ReconcileOptions>();
   app.add_option("scenes", options->scenes,

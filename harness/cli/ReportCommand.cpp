@@ -23,15 +23,6 @@ struct MergeOptions {
   std::string junit;
 };
 
-std::string utcNow() {
-  const std::time_t now = std::time(nullptr);
-  std::tm utc{};
-  gmtime_r(&now, &utc);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return text;
-}
-
 int runMerge(const MergeOptions& options) {
   std::vector<ReadReport> reports;
   for (const std::string& folder : options.folders) {

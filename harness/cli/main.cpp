@@ -1,6 +1,7 @@
 // clipray: reconciles OpenGL rasterization with ray picking. See README.md.
 
 #include <algorithm>
+#include <ctime>
 #include <iostream>
 #include <new>
 #include <string>
@@ -24,6 +25,15 @@ std::string& storedCommandLine() {
   return line;
 }
 }  // namespace
+
+std::string utcNow() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
 
 const std::string& commandLine() {
   return storedCommandLine();

@@ -2,6 +2,8 @@
 
 #include <glad/gl.h>
 
+#include "clipray/gl/DepthFormats.hpp"
+
 #include <algorithm>
 #include <cstdio>
 #include <map>
@@ -15,19 +17,6 @@
 namespace clipray::gl {
 
 namespace {
-
-GLenum depthInternalFormat(DepthFormat format, bool stencil) {
-  if (stencil) return format == DepthFormat::Float32 ? GL_DEPTH32F_STENCIL8 : GL_DEPTH24_STENCIL8;
-  switch (format) {
-    case DepthFormat::Unorm16:
-      return GL_DEPTH_COMPONENT16;
-    case DepthFormat::Unorm24:
-      return GL_DEPTH_COMPONENT24;
-    case DepthFormat::Float32:
-      return GL_DEPTH_COMPONENT32F;
-  }
-  return GL_DEPTH_COMPONENT32F;
-}
 
 std::string hex(unsigned value) {
   char text[16];

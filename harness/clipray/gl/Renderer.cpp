@@ -2,6 +2,8 @@
 
 #include <glad/gl.h>
 
+#include "clipray/gl/DepthFormats.hpp"
+
 #include <cctype>
 #include <cstdio>
 #include <string>
@@ -114,18 +116,6 @@ GLuint linkProgram(GLuint vertex, GLuint fragment, const char* name) {
     throw GlError(std::string("GL: program ") + name + " does not link:\n" + log.c_str());
   }
   return program;
-}
-
-GLenum depthInternalFormat(DepthFormat format) {
-  switch (format) {
-    case DepthFormat::Unorm16:
-      return GL_DEPTH_COMPONENT16;
-    case DepthFormat::Unorm24:
-      return GL_DEPTH_COMPONENT24;
-    case DepthFormat::Float32:
-      return GL_DEPTH_COMPONENT32F;
-  }
-  return GL_DEPTH_COMPONENT32F;
 }
 
 std::string glString(GLenum name) {
