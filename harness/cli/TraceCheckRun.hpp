@@ -1,0 +1,14 @@
+#pragma once
+// `clipray check --trace FILE [--frames A-B]`: the trace checker on `apitrace dump`'s output.
+
+#include <string>
+
+#include "clipray/trace/TraceCheck.hpp"
+
+namespace clipray::cli {
+
+// Throws InputError (exit 2) for a missing or unreadable file, a truncated trace, a file that is
+// no trace, a trace without draws or projections, or apitrace missing.
+trace::TraceCheckResult checkTrace(const std::string& tracePath, const std::string& frames);
+
+}  // namespace clipray::cli
