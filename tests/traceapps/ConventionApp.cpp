@@ -7,7 +7,8 @@
 //   clipray_trace_app CASE [FRAMES]
 //
 // CASE: no, zo, reversed-infinite (correct apps); no-under-zo, reversed-with-less,
-// row-major-untransposed, vulkan-flip, fixed-function-frustum-under-zo (classic mistakes).
+// row-major-untransposed, vulkan-flip, fixed-function-frustum-under-zo (classic mistakes);
+// identity (draws without a projection), clear-only (frames without draws).
 // Every matrix is a glm-style camera: perspective fov 60 deg, aspect 4/3, near 0.1, far 100,
 // looking from (0, 2, 5) at the origin, built in float as apps do.
 
@@ -289,6 +290,17 @@ int main(int argc, char** argv) {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LESS);
     drawWithShaders(multiply(flipped, view), GL_FALSE, frames, context);
+  } else if (name == "identity") {
+    // Draws, but with no projection: clip = world.
+    glDepthFunc(GL_LESS);
+    drawWithShaders(Matrix{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, GL_FALSE, frames,
+                    context);
+  } else if (name == "clear-only") {
+    // Frames without a single draw.
+    for (int frame = 0; frame < frames; ++frame) {
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      eglSwapBuffers(context.display, context.surface);
+    }
   } else if (fixedFunction) {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LEQUAL);

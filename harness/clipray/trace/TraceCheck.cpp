@@ -240,7 +240,8 @@ TraceCheckResult TraceCheckCollector::finish() {
                 (frames_.last == UINT64_MAX ? std::string("end") : std::to_string(frames_.last));
   if (draws_ == 0) {
     throw InputError(traceName_ + ": no GL draw calls" + where + " (" + std::to_string(callLines_) +
-                     " calls read): nothing to check");
+                     " calls in " + std::to_string(state_.frame()) +
+                     " frames read): nothing to check");
   }
   if (pairs_.empty()) {
     throw InputError(traceName_ + ": none of the " + std::to_string(draws_) + " draws" + where +
