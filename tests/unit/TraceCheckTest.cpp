@@ -228,6 +228,20 @@ TEST(TraceCheck, FixedFunctionStackOrthoPushPop) {
   EXPECT_FALSE(group.depth.depthTest);
 }
 
+TEST(TraceCheck, DrawsCompiledIntoADisplayListAreNotDraws) {
+  // As glxgears builds its gears: glBegin inside glNewList(GL_COMPILE) only records.
+  const TraceCheckResult result = checkLines(
+      "1 glNewList(list = 1, mode = GL_COMPILE)\n2 glBegin(mode = GL_QUAD_STRIP)\n3 glEnd()\n"
+      "4 glEndList()\n5 glMatrixMode(mode = GL_PROJECTION)\n"
+      "6 glFrustum(left = -1, right = 1, bottom = -1, top = 1, zNear = 5, zFar = 60)\n"
+      "7 glCallList(list = 1)\n");
+  EXPECT_EQ(result.draws, 1u);
+  ASSERT_EQ(result.groups.size(), 1u);
+  EXPECT_EQ(result.groups[0].first.call, 7u);
+  EXPECT_NEAR(result.groups[0].report.properties.near->value, 5.0, 1e-5);
+  EXPECT_NEAR(result.groups[0].report.properties.far->value, 60.0, 1e-3);
+}
+
 TEST(TraceCheck, BadTracesAreRefusedWithOneLine) {
   EXPECT_EQ(refusal(""), "app.trace: no calls: not an apitrace trace, or an empty one");
   EXPECT_EQ(refusal("// process.name = \"/tmp/app\"\n1 glFinish()\n"

@@ -131,6 +131,10 @@ TEST(TraceDumpLine, ProjectionStructure) {
   view[3] = glm::dvec4(1.0, 2.0, -5.0, 1.0);
   EXPECT_FALSE(hasProjectionStructure(view));
   EXPECT_FALSE(hasProjectionStructure(glm::dmat4(1.0)));
+  // glmark2's NormalMatrix: transpose(inverse(modelView)) as uploaded (the modelview translates
+  // by (-0.000195, -0.000296, -3.13)): row 3 holds the translation, yet it is no projection.
+  EXPECT_FALSE(hasProjectionStructure(glm::transpose(glm::inverse(view))));
+  EXPECT_TRUE(hasProjectionStructure(glm::transpose(perspective * view)));
   EXPECT_FALSE(hasProjectionStructure(glm::dmat4(0.0)));
 }
 

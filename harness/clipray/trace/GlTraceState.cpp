@@ -42,6 +42,7 @@ const std::unordered_map<std::string_view, std::uint32_t>& enumNames() {
       {"GL_DEPTH_BUFFER_BIT", kGlDepthBufferBit},
       {"GL_DEPTH", kGlDepth},
       {"GL_DEPTH_STENCIL", kGlDepthStencil},
+      {"GL_COMPILE", kGlCompile},
       {"GL_FRAMEBUFFER", kGlFramebuffer},
       {"GL_READ_FRAMEBUFFER", kGlReadFramebuffer},
       {"GL_DRAW_FRAMEBUFFER", kGlDrawFramebuffer},
@@ -210,7 +211,9 @@ bool endsFrame(std::string_view name) {
 const std::unordered_map<std::string_view, int>& stateFunctions() {
   static const std::unordered_map<std::string_view, int> functions = [] {
     std::unordered_map<std::string_view, int> table;
-    for (std::string_view name : {"glClipControl",
+    for (std::string_view name : {"glNewList",
+                                  "glEndList",
+                                  "glClipControl",
                                   "glEnable",
                                   "glDisable",
                                   "glDepthFunc",
@@ -335,7 +338,12 @@ bool hasProjectionStructure(const glm::dmat4& m) {
   }
   if (glm::determinant(m) == 0.0) return false;
   const bool perspective = m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0;
-  if (perspective) return true;
+  // A normal matrix, transpose(inverse(modelView)) as a mat4, has the modelview's translation in
+  // row 3 and none in column 3: the transpose of an orientation-preserving affine map, no camera.
+  // (A perspective projection maps depth through column 3: z_clip = a z + b w needs b != 0.)
+  const bool transposedAffine = m[3][0] == 0.0 && m[3][1] == 0.0 && m[3][2] == 0.0 &&
+                                m[3][3] != 0.0 && glm::determinant(glm::dmat3(m)) > 0.0;
+  if (perspective) return !transposedAffine;
   return glm::determinant(glm::dmat3(m)) < 0.0;
 }
 
@@ -451,8 +459,17 @@ bool GlTraceState::apply(const DumpCall& call,
     ++frame_;
     return true;
   }
+  if (name == "glNewList") {
+    // GL_COMPILE (0x1300) records without drawing; GL_COMPILE_AND_EXECUTE draws as well.
+    compilingList_ = enumArgument(call, "mode") == kGlCompile;
+    return false;
+  }
+  if (name == "glEndList") {
+    compilingList_ = false;
+    return false;
+  }
   if (isDraw(name)) {
-    emitDraw(call, onDraw);
+    if (!compilingList_) emitDraw(call, onDraw);
     return false;
   }
   if (name == "glClipControl") {

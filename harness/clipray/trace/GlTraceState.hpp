@@ -56,6 +56,7 @@ inline constexpr std::uint32_t kGlDepthComponent32F = 0x8CAC;
 inline constexpr std::uint32_t kGlDepth24Stencil8 = 0x88F0;
 inline constexpr std::uint32_t kGlDepth32FStencil8 = 0x8CAD;
 inline constexpr std::uint32_t kGlTrue = 1;
+inline constexpr std::uint32_t kGlCompile = 0x1300;  // glNewList mode
 
 // The value of an enum argument as apitrace writes it (a name, or a number where apitrace's
 // tables lack the name); nullopt for a name clipray does not know.
@@ -99,7 +100,8 @@ struct TraceDraw {
   std::vector<TracedMatrix> matrices;
 };
 
-// Perspective (row 3 has an xyz part) or orthographic (an affine map whose linear part reverses
+// Perspective (row 3 has an xyz part, and the matrix is not the transpose of an affine map such
+// as a normal matrix) or orthographic (an affine map whose linear part reverses
 // orientation: GL's clip space is left-handed, so glOrtho and every GL orthographic projection
 // flips z while a model or view matrix does not); finite and invertible either way.
 bool hasProjectionStructure(const glm::dmat4& matrix);
@@ -127,6 +129,7 @@ class GlTraceState {
   std::map<std::pair<std::uint32_t, std::int64_t>, std::string> uniformNames_;
   std::map<std::pair<std::uint32_t, std::int64_t>, glm::dmat4> uniformMatrices_;
 
+  bool compilingList_ = false;  // inside glNewList(..., GL_COMPILE): draws are recorded only
   std::uint32_t matrixMode_ = kGlModelview;
   std::map<std::uint32_t, std::vector<glm::dmat4>> stacks_;  // mode -> stack, top at the back
 
