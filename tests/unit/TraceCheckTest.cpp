@@ -242,6 +242,25 @@ TEST(TraceCheck, DrawsCompiledIntoADisplayListAreNotDraws) {
   EXPECT_NEAR(result.groups[0].report.properties.far->value, 60.0, 1e-3);
 }
 
+TEST(TraceCheck, ShadowMapLookUpMatrixIsANote) {
+  // glmark2's shadow scene: LightMatrix = translate(0.5) * scale(0.5) * perspective(NO, near 2,
+  // far 50) * lookAt((0, 3, 2), 0, +Y), as apitrace traced it (glmark2 2023.01, 320x240).
+  const std::string lightMatrix =
+      "{1.041002, 0, 0, 0, -0.4160252, 0.3539003, -0.8667191, -0.8320503, -0.2773501, "
+      "-1.432238, -0.5778127, -0.5547002, 1.802776, 1.802776, 1.67245, 3.605551}";
+  const TraceCheckResult result = checkLines(shaderApp(
+      "4 glDepthFunc(func = GL_LEQUAL)\n",
+      "glUniformMatrix4fv(location = 0, count = 1, transpose = GL_FALSE, value = " + lightMatrix +
+          ")\nglDrawArrays(mode = GL_TRIANGLE_STRIP, first = 0, count = 4)",
+      1));
+  ASSERT_EQ(result.groups.size(), 1u);
+  const TracePairGroup& group = result.groups[0];
+  EXPECT_EQ(codes(group), std::vector<std::string>{"info:texture-space-matrix"});
+  EXPECT_EQ(group.report.properties.builtFor, "no");
+  EXPECT_NEAR(group.report.properties.nearIfBuiltForNo->value, 2.0, 1e-4);
+  EXPECT_FALSE(result.hasErrors());
+}
+
 TEST(TraceCheck, BadTracesAreRefusedWithOneLine) {
   EXPECT_EQ(refusal(""), "app.trace: no calls: not an apitrace trace, or an empty one");
   EXPECT_EQ(refusal("// process.name = \"/tmp/app\"\n1 glFinish()\n"

@@ -135,6 +135,14 @@ TEST(TraceDumpLine, ProjectionStructure) {
   // by (-0.000195, -0.000296, -3.13)): row 3 holds the translation, yet it is no projection.
   EXPECT_FALSE(hasProjectionStructure(glm::transpose(glm::inverse(view))));
   EXPECT_TRUE(hasProjectionStructure(glm::transpose(perspective * view)));
+  glm::dmat4 mirror(1.0);
+  mirror[1][1] = -1.0;  // a reflected model matrix: orientation reversed, every axis scaled alike
+  EXPECT_FALSE(hasProjectionStructure(view * mirror));
+  // A planar shadow projection onto y = 0 from a light at (1, 4, 2): rank 3, no camera.
+  const glm::dvec4 light(1.0, 4.0, 2.0, 1.0), plane(0.0, 1.0, 0.0, 0.0);
+  glm::dmat4 shadow = glm::dot(plane, light) * glm::dmat4(1.0) - glm::outerProduct(light, plane);
+  EXPECT_FALSE(hasProjectionStructure(shadow));
+  EXPECT_FALSE(hasProjectionStructure(perspective * view * shadow));
   EXPECT_FALSE(hasProjectionStructure(glm::dmat4(0.0)));
 }
 

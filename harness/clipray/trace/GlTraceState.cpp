@@ -336,15 +336,40 @@ bool hasProjectionStructure(const glm::dmat4& m) {
       if (!std::isfinite(m[column][row])) return false;
     }
   }
-  if (glm::determinant(m) == 0.0) return false;
+  // Singular to float precision (|det| against the product of the row lengths, which bounds it):
+  // a planar shadow projection (rank 3, as glmark2's "ideas" scene multiplies into its modelview)
+  // projects onto a plane and is no camera. 64 float roundings: far below any camera's ratio
+  // short of a near plane a million times smaller than the scene's units.
+  double rowLengths = 1.0;
+  for (int row = 0; row < 4; ++row) {
+    rowLengths *= glm::length(glm::dvec4(m[0][row], m[1][row], m[2][row], m[3][row]));
+  }
+  if (!(std::abs(glm::determinant(m)) > 64.0 * 0x1p-24 * rowLengths)) return false;
   const bool perspective = m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0;
-  // A normal matrix, transpose(inverse(modelView)) as a mat4, has the modelview's translation in
-  // row 3 and none in column 3: the transpose of an orientation-preserving affine map, no camera.
-  // (A perspective projection maps depth through column 3: z_clip = a z + b w needs b != 0.)
-  const bool transposedAffine = m[3][0] == 0.0 && m[3][1] == 0.0 && m[3][2] == 0.0 &&
-                                m[3][3] != 0.0 && glm::determinant(glm::dmat3(m)) > 0.0;
-  if (perspective) return !transposedAffine;
-  return glm::determinant(glm::dmat3(m)) < 0.0;
+  const glm::dmat3 linear(m);
+  if (perspective) {
+    // A normal matrix, transpose(inverse(modelView)) as a mat4, has the modelview's translation
+    // in row 3 and none in column 3: the transpose of an orientation-preserving affine map, no
+    // camera. (A perspective projection maps depth through column 3: z_clip = a z + b w, b != 0.)
+    const bool transposedAffine = m[3][0] == 0.0 && m[3][1] == 0.0 && m[3][2] == 0.0 &&
+                                  m[3][3] != 0.0 && glm::determinant(linear) > 0.0;
+    return !transposedAffine;
+  }
+  if (glm::determinant(linear) >= 0.0) return false;
+  // A mirrored model or view matrix (a reflection, scale(1, -1, 1)) also reverses orientation,
+  // but it scales every direction alike: its columns are orthogonal and of one length. An
+  // orthographic projection scales x, y and depth by 2/width, 2/height and 2/depth; one whose
+  // view volume is a cube reads as a mirror and is missed.
+  const glm::dmat3 gram = glm::transpose(linear) * linear;
+  const double scale = (gram[0][0] + gram[1][1] + gram[2][2]) / 3.0;
+  const double tolerance = 1e-5 * scale;  // 7-digit decimals of the dump
+  bool similarity = true;
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      if (std::abs(gram[i][j] - (i == j ? scale : 0.0)) > tolerance) similarity = false;
+    }
+  }
+  return !similarity;
 }
 
 bool GlTraceState::needs(std::string_view function) {

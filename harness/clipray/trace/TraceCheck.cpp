@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -107,6 +109,52 @@ void addTraceFindings(const TracedPair& pair, CheckReport& report) {
   }
 }
 
+// A shadow-map or projective-texture matrix: bias * projection * view, the bias (scale 0.5,
+// translate 0.5, as glmark2's scene-shadow.cpp builds its LightMatrix) taking NDC [-1, 1] to
+// texture coordinates [0, 1]. It feeds a texture look-up, not gl_Position, and reads as an
+// off-axis ZO matrix. Undone (row_i := 2 row_i - row_3 for x, y, z), it is an on-axis projection:
+// then the report is that projection's, with a note instead of the depth-state findings.
+bool readAsTextureSpace(const CheckInput& input, CheckReport& report) {
+  if (!report.properties.offAxis || !report.properties.perspective) return false;
+  CheckInput unbiased = input;
+  for (int column = 0; column < 4; ++column) {
+    for (int row = 0; row < 3; ++row) {
+      // Rounded to the dump's 7 digits again, so that the entries read at the listing's
+      // precision and the listing's rounding is not taken for an off-axis offset.
+      char digits[32];
+      std::snprintf(digits, sizeof digits, "%.7g",
+                    2.0 * input.clipFromWorld[column][row] - input.clipFromWorld[column][3]);
+      unbiased.clipFromWorld[column][row] = std::strtod(digits, nullptr);
+    }
+  }
+  if (unbiased.projection) unbiased.projection = unbiased.clipFromWorld;
+  CheckReport projection;
+  try {
+    projection = checkConventions(unbiased);
+  } catch (const InputError&) {
+    return false;
+  }
+  if (projection.properties.offAxis) return false;
+  const MatrixProperties& p = projection.properties;
+  std::string reading = p.builtFor;
+  if (p.nearIfBuiltForNo && p.nearIfBuiltForZo) {
+    reading += " (near " + number(p.nearIfBuiltForNo->value) + " if NO, " +
+               number(p.nearIfBuiltForZo->value) + " if ZO)";
+  }
+  report = CheckReport{};
+  report.properties = p;
+  report.findings.push_back(
+      {"info", "texture-space-matrix",
+       "the matrix is a [0, 1] bias (scale 0.5, translate 0.5) times an on-axis projection, built "
+       "for " +
+           reading +
+           ": a shadow-map or projective-texture look-up matrix, not the one the app draws with, "
+           "so it is not checked against the depth state; the properties above are the "
+           "projection's",
+       "nothing, if it only feeds texture look-ups; if it reaches gl_Position, drop the bias"});
+  return true;
+}
+
 // Groups pairs whose analysis reads alike: same source and depth state, same reading of the
 // convention, same findings (codes).
 std::string groupKey(const TracedPair& pair, const CheckReport* report,
@@ -196,10 +244,12 @@ void TraceCheckCollector::onDraw(const TraceDraw& draw) {
     const std::string key = matrix.source + "|" + bits + "|" + depthKey;
     const auto found = pairIndex_.find(key);
     if (found == pairIndex_.end()) {
-      if (pairs_.size() >= kMaxDistinctPairs) {
+      std::size_t& ofSource = pairsPerSource_[matrix.source];
+      if (pairs_.size() >= kMaxDistinctPairs || ofSource >= kMaxPairsPerSource) {
         ++drawsNotKept_;
         continue;
       }
+      ++ofSource;
       pairIndex_.emplace(key, pairs_.size());
       pairs_.push_back({matrix, draw.depth, {draw.frame, draw.call}, {draw.frame, draw.call}, 1});
       continue;
@@ -255,7 +305,7 @@ TraceCheckResult TraceCheckCollector::finish() {
     std::string unusable;
     try {
       report = checkConventions(input);
-      addTraceFindings(pair, *report);
+      if (!readAsTextureSpace(input, *report)) addTraceFindings(pair, *report);
     } catch (const InputError& error) {
       unusable = error.what();
     }

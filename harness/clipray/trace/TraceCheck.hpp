@@ -22,6 +22,8 @@ namespace clipray::trace {
 // At most this many distinct (matrix, depth state) pairs are kept; draws with further new pairs
 // are counted, not analysed. Each pair costs a few hundred bytes and one matrix analysis.
 inline constexpr std::size_t kMaxDistinctPairs = 20000;
+// And at most this many per source (one animated uniform must not crowd out the others).
+inline constexpr std::size_t kMaxPairsPerSource = 1000;
 
 struct FrameRange {
   std::uint64_t first = 0;
@@ -64,7 +66,7 @@ struct TraceCheckResult {
   std::uint64_t framesSeen = 0;  // frames of the trace read (up to the range's end)
   std::uint64_t draws = 0;       // draws in the frame range
   std::uint64_t drawsWithProjection = 0;
-  std::uint64_t drawsNotKept = 0;  // their pair came after kMaxDistinctPairs
+  std::uint64_t drawsNotKept = 0;  // their pair came after kMaxDistinctPairs/kMaxPairsPerSource
   std::size_t distinctPairs = 0;
   std::vector<TracePairGroup> groups;
   std::vector<Finding> findings;  // about the trace as a whole
@@ -96,6 +98,7 @@ class TraceCheckCollector {
   std::uint64_t draws_ = 0, drawsWithProjection_ = 0, drawsNotKept_ = 0;
   std::unordered_map<std::string, std::size_t> pairIndex_;
   std::vector<TracedPair> pairs_;
+  std::unordered_map<std::string, std::size_t> pairsPerSource_;
   // Projection changes inside a frame: the matrix each source last drew with in this frame.
   std::unordered_map<std::string, std::string> lastInFrame_;
   std::uint64_t framesWithChanges_ = 0;

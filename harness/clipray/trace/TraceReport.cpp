@@ -115,7 +115,7 @@ std::string traceCheckText(const TraceCheckResult& r) {
       << " distinct (matrix, depth state) pairs in " << r.groups.size() << " groups\n";
   if (r.drawsNotKept > 0) {
     out << "  " << r.drawsNotKept << " draws with further new pairs not analysed (more than "
-        << kMaxDistinctPairs << " pairs)\n";
+        << kMaxPairsPerSource << " pairs of one source, or " << kMaxDistinctPairs << " in all)\n";
   }
   std::size_t index = 0;
   for (const TracePairGroup& g : r.groups) {
