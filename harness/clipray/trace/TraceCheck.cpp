@@ -36,14 +36,13 @@ bool isLessTest(std::uint32_t func) {
   return func == kGlLess || func == kGlLequal;
 }
 
-CheckInput checkInputOf(const TracedPair& pair) {
+CheckInput checkInputOf(const TracedMatrix& matrix, const TraceDepthState& depth) {
   CheckInput input;
-  input.clipFromWorld = pair.matrix.matrix;
-  if (pair.matrix.fixedFunction) {
-    input.projection = pair.matrix.matrix;
+  input.clipFromWorld = matrix.matrix;
+  if (matrix.fixedFunction) {
+    input.projection = matrix.matrix;
     input.view = glm::dmat4(1.0);
   }
-  const TraceDepthState& depth = pair.depth;
   input.declaredDepth =
       depth.clipZeroToOne ? DepthConvention::ZeroToOne : DepthConvention::NegativeOneToOne;
   // The depth test is what declares reversed-Z: GREATER or GEQUAL keeps the larger depth.
@@ -61,9 +60,8 @@ std::string callNote(std::uint64_t call) {
 }
 
 // What only the traced state shows, beyond the matrix check's findings.
-void addTraceFindings(const TracedPair& pair, CheckReport& report) {
+void addTraceFindings(const TraceDepthState& depth, CheckReport& report) {
   const MatrixProperties& p = report.properties;
-  const TraceDepthState& depth = pair.depth;
   // A transposed upload reads as any convention: its depth readings mean nothing.
   if (!depth.depthTest || !p.reversedDecided || p.likelyTransposed) return;
   const bool rangeReversed = depth.depthRange.x > depth.depthRange.y;
@@ -169,6 +167,15 @@ std::string groupKey(const TracedPair& pair, const CheckReport* report,
 }
 
 }  // namespace
+
+CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthState& depth,
+                                 CheckInput* inputUsed) {
+  const CheckInput input = checkInputOf(matrix, depth);
+  if (inputUsed) *inputUsed = input;
+  CheckReport report = checkConventions(input);
+  if (!readAsTextureSpace(input, report)) addTraceFindings(depth, report);
+  return report;
+}
 
 FrameRange parseFrameRange(const std::string& text) {
   const auto parse = [&](std::string_view part, std::uint64_t& value) {
@@ -300,12 +307,11 @@ TraceCheckResult TraceCheckCollector::finish() {
   }
   std::map<std::string, std::size_t> groupIndex;
   for (const TracedPair& pair : pairs_) {
-    const CheckInput input = checkInputOf(pair);
+    CheckInput input;
     std::optional<CheckReport> report;
     std::string unusable;
     try {
-      report = checkConventions(input);
-      if (!readAsTextureSpace(input, *report)) addTraceFindings(pair, *report);
+      report = checkUnderDepthState(pair.matrix, pair.depth, &input);
     } catch (const InputError& error) {
       unusable = error.what();
     }

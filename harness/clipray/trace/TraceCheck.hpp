@@ -30,6 +30,14 @@ struct FrameRange {
   std::uint64_t last = UINT64_MAX;
 };
 
+// The matrix check on one matrix with this depth state as the declared state (declaredDepth from
+// the clip control, reversed from a GREATER/GEQUAL depth test, depth range, origin, viewport,
+// depth format), the texture-space reading of a biased projection, and the findings only a depth
+// state gives (clear depth, reversed depth range, the depth func's call). Throws InputError where
+// the matrix check refuses the matrix. Used by the trace checker and gl::checkCurrentState.
+CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthState& depth,
+                                 CheckInput* inputUsed = nullptr);
+
 // "A-B" or "A" (frames count from 0, as apitrace's). Throws InputError naming --frames.
 FrameRange parseFrameRange(const std::string& text);
 
