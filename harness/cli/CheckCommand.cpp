@@ -40,8 +40,8 @@ int runTraceCheck(const CheckOptions& options) {
         "--trace: the depth state and matrices come from the trace; give no check "
         "file or field options with it");
   }
-  if (options.verify) throw InputError("--trace: --verify is not available on traces yet");
-  const trace::TraceCheckResult result = checkTrace(options.trace, options.frames);
+  trace::TraceCheckResult result = checkTrace(options.trace, options.frames);
+  if (options.verify) verifyTrace(options.trace, result);
   if (options.json) {
     std::cout << trace::traceCheckJson(result).dump(2) << "\n";
   } else {

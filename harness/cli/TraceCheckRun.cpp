@@ -12,6 +12,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
@@ -21,6 +22,7 @@
 #include <vector>
 
 #include "clipray/scene/InputError.hpp"
+#include "clipray/trace/ReplayDepth.hpp"
 #include "clipray/trace/TraceCheck.hpp"
 
 namespace clipray::cli {
@@ -31,6 +33,10 @@ namespace {
 // "blob(N)"; a shader source is the longest string): refused rather than held.
 constexpr std::size_t kMaxDumpLineBytes = 64u << 20;
 constexpr int kExecFailed = 127;
+// --verify replays the trace once per group, up to the group's first draw.
+constexpr std::size_t kMaxReplays = 8;
+// A state dump holds every bound texture and buffer; beyond this the group is not verified.
+constexpr std::size_t kMaxStateBytes = 512u << 20;
 
 void requireTraceFile(const std::string& path) {
   namespace fs = std::filesystem;
@@ -44,19 +50,25 @@ void requireTraceFile(const std::string& path) {
   if (access(path.c_str(), R_OK) != 0) throw InputError(path + ": cannot read file");
 }
 
+// A child process whose stdout (and stderr, or /dev/null) comes back through a pipe.
 class DumpProcess {
  public:
-  DumpProcess(const std::string& apitrace, const std::string& trace) {
+  DumpProcess(std::vector<std::string> words, bool mergeStderr, const char* waffle = nullptr) {
     int fds[2];
-    if (pipe2(fds, O_CLOEXEC) != 0)
+    if (pipe2(fds, O_CLOEXEC) != 0) {
       throw std::runtime_error("pipe: " + std::string(strerror(errno)));
+    }
     pid_ = fork();
     if (pid_ < 0) throw std::runtime_error("fork: " + std::string(strerror(errno)));
     if (pid_ == 0) {
       dup2(fds[1], STDOUT_FILENO);
-      dup2(fds[1], STDERR_FILENO);
-      std::vector<std::string> words = {apitrace, "dump", "--color=never", "--multiline=false",
-                                        "--",     trace};
+      if (mergeStderr) {
+        dup2(fds[1], STDERR_FILENO);
+      } else {
+        const int null = open("/dev/null", O_WRONLY);
+        if (null >= 0) dup2(null, STDERR_FILENO);
+      }
+      if (waffle) setenv("WAFFLE_PLATFORM", waffle, 1);
       std::vector<char*> argv;
       for (std::string& word : words) argv.push_back(word.data());
       argv.push_back(nullptr);
@@ -114,7 +126,7 @@ trace::TraceCheckResult checkTrace(const std::string& tracePath, const std::stri
   const char* overridden = std::getenv("CLIPRAY_APITRACE");
   const std::string apitrace = overridden && *overridden ? overridden : "apitrace";
   trace::TraceCheckCollector collector(tracePath, range);
-  DumpProcess dump(apitrace, tracePath);
+  DumpProcess dump({apitrace, "dump", "--color=never", "--multiline=false", "--", tracePath}, true);
   std::string pending;
   std::vector<char> buffer(1 << 16);
   bool more = true;
@@ -154,6 +166,63 @@ trace::TraceCheckResult checkTrace(const std::string& tracePath, const std::stri
                      ")");
   }
   return result;
+}
+
+void verifyTrace(const std::string& tracePath, trace::TraceCheckResult& result) {
+  const char* overridden = std::getenv("CLIPRAY_EGLRETRACE");
+  const std::string retrace = overridden && *overridden ? overridden : "eglretrace";
+  std::size_t replayed = 0;
+  for (trace::TracePairGroup& group : result.groups) {
+    const bool textureSpace =
+        std::any_of(group.report.findings.begin(), group.report.findings.end(),
+                    [](const Finding& f) { return f.code == "texture-space-matrix"; });
+    if (!group.unusable.empty() || textureSpace) continue;
+    if (replayed == kMaxReplays) {
+      group.verifyObservations.push_back("not replayed: at most " + std::to_string(kMaxReplays) +
+                                         " groups are");
+      continue;
+    }
+    ++replayed;
+    // The state after the group's first draw, replayed headlessly on Mesa's surfaceless EGL.
+    DumpProcess replay({retrace, "-D", std::to_string(group.first.call), "--", tracePath}, false,
+                       "surfaceless_egl");
+    std::string state;
+    std::vector<char> buffer(1 << 16);
+    bool tooLarge = false;
+    while (const std::size_t got = replay.read(buffer.data(), buffer.size())) {
+      if (state.size() + got > kMaxStateBytes) {
+        tooLarge = true;
+        break;
+      }
+      state.append(buffer.data(), got);
+    }
+    const int status = replay.finish(tooLarge);
+    std::string failure;
+    if (tooLarge) failure = "its state dump exceeds " + std::to_string(kMaxStateBytes) + " bytes";
+    if (failure.empty() && status == kExecFailed && state.empty()) {
+      failure = "cannot run " + retrace + " (Debian's apitrace; or set CLIPRAY_EGLRETRACE)";
+    }
+    if (failure.empty() && status != 0) {
+      failure = retrace + " exited with status " + std::to_string(status);
+    }
+    std::optional<trace::DepthImage> image;
+    if (failure.empty()) {
+      try {
+        image = trace::depthImageFromState(state);
+        if (!image) failure = "the replayed state has no depth buffer";
+      } catch (const std::invalid_argument& error) {
+        failure = error.what();
+      }
+    }
+    if (!failure.empty()) {
+      group.verifyObservations.push_back("not verified: " + failure);
+      group.verify = {{"call", group.first.call}, {"failure", failure}};
+      continue;
+    }
+    const trace::DepthUse use = trace::analyseDepthUse(*image, group);
+    group.verifyObservations = use.observations;
+    group.verify = trace::depthUseJson(use);
+  }
 }
 
 }  // namespace clipray::cli

@@ -216,6 +216,36 @@ TEST(TraceCli, TextReport) {
   EXPECT_NE(result.out.find("\n1 errors, 0 warnings, 0 notes\n"), std::string::npos) << result.out;
 }
 
+TEST(TraceCli, VerifyReplaysTheDepthBuffer) {
+  TempFolder folder;
+  ASSERT_EQ(recordTrace("no-under-zo", folder), "");
+  ASSERT_EQ(recordTrace("no", folder), "");
+  const auto mistaken =
+      runClipray("check --trace no-under-zo.trace --verify --json", folder.path());
+  ASSERT_EQ(mistaken.status, 1) << mistaken.err;
+  const nlohmann::json verify = nlohmann::json::parse(mistaken.out)["groups"][0]["verify"];
+  EXPECT_EQ(verify["call"], 49);
+  EXPECT_EQ(verify["pixels"], 64 * 48);
+  EXPECT_EQ(verify["written"], 56);  // the triangle's pixel centres on llvmpipe
+  // The triangle spans view depths 5.07..5.36 from the eye (0, 2, 5); read back as the NO
+  // matrix it was built for, a pick puts it at 2.60..2.75.
+  EXPECT_NEAR(verify["nearest_view_depth"].get<double>(), 5.06817, 1e-4);
+  EXPECT_NEAR(verify["farthest_view_depth"].get<double>(), 5.35939, 1e-4);
+  EXPECT_NEAR(verify["picked_nearest"].get<double>(), 2.59997, 1e-4);
+  EXPECT_NEAR(verify["pick_worst_relative_error"].get<double>(), 0.487, 1e-3);
+
+  const auto right = runClipray("check --trace no.trace --verify", folder.path());
+  ASSERT_EQ(right.status, 0) << right.err;
+  EXPECT_NE(right.out.find("  verify (replayed by eglretrace):\n    depth buffer after call 48 "
+                           "(frame 0): 64x48 GL_DEPTH_COMPONENT32F, 56 of 3072 pixels differ "
+                           "from the cleared depth 1\n    window depth used: 0.98125 to "
+                           "0.982323\n    view depth of those pixels under the traced "
+                           "NEGATIVE_ONE_TO_ONE: 5.06817 to 5.35938\n"),
+            std::string::npos)
+      << right.out;
+  EXPECT_EQ(right.out.find("read back with"), std::string::npos) << right.out;
+}
+
 // Unusable input: one line naming the file, exit 2, nothing on stdout, nothing written.
 void expectRefused(const std::string& arguments, const TempFolder& folder,
                    const std::string& message, const std::string& environment = "") {

@@ -66,6 +66,9 @@ struct TracePairGroup {
   std::size_t distinctMatrices = 0;
   std::uint64_t draws = 0;
   Occurrence first, last;
+  // --verify: the replayed depth buffer at the group's first draw (ReplayDepth.hpp).
+  nlohmann::json verify;  // null when not verified
+  std::vector<std::string> verifyObservations;
 };
 
 struct TraceCheckResult {

@@ -77,6 +77,7 @@ nlohmann::json traceCheckJson(const TraceCheckResult& r) {
                             {"last", {{"frame", g.last.frame}, {"call", g.last.call}}},
                             {"depth_state", depthStateJson(g.depth)},
                             {"matrix_column_major", matrix}};
+    if (!g.verify.is_null()) group["verify"] = g.verify;
     if (!g.unusable.empty()) {
       group["unusable"] = g.unusable;
     } else {
@@ -134,6 +135,10 @@ std::string traceCheckText(const TraceCheckResult& r) {
     while (std::getline(lines, line)) {
       if (line.find(" errors, ") != std::string::npos && line.ends_with(" notes")) continue;
       out << "  " << line << "\n";
+    }
+    if (!g.verifyObservations.empty()) out << "  verify (replayed by eglretrace):\n";
+    for (const std::string& observation : g.verifyObservations) {
+      out << "    " << observation << "\n";
     }
   }
   if (!r.findings.empty()) out << "\n";
