@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace clipray::trace {
 
@@ -208,9 +209,9 @@ bool endsFrame(std::string_view name) {
          name == "glFrameTerminatorGREMEDY";
 }
 
-const std::unordered_map<std::string_view, int>& stateFunctions() {
-  static const std::unordered_map<std::string_view, int> functions = [] {
-    std::unordered_map<std::string_view, int> table;
+const std::unordered_set<std::string_view>& stateFunctions() {
+  static const std::unordered_set<std::string_view> functions = [] {
+    std::unordered_set<std::string_view> table;
     for (std::string_view name : {"glNewList",
                                   "glEndList",
                                   "glClipControl",
@@ -276,7 +277,7 @@ const std::unordered_map<std::string_view, int>& stateFunctions() {
                                   "glFramebufferTexture2D",
                                   "glFramebufferTexture2DEXT",
                                   "glNamedFramebufferTexture"}) {
-      table.emplace(name, 0);
+      table.insert(name);
     }
     return table;
   }();
