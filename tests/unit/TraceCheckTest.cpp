@@ -277,6 +277,15 @@ TEST(TraceCheck, BadTracesAreRefusedWithOneLine) {
             "app.trace: call 1 (glDepthFunc): column 29: expected ','");
   EXPECT_EQ(refusal("1 glViewport(x = 0, y = 0, width = wide, height = 48)\n"),
             "app.trace: call 1 (glViewport): glViewport: width = wide is not a number");
+  EXPECT_EQ(refusal("1 glViewport(x = 0, y = 0, width = 1e300, height = 48)\n"),
+            "app.trace: call 1 (glViewport): glViewport: width = 1e300 is not an integer in "
+            "range");
+  EXPECT_EQ(refusal("1 glUseProgram(program = -1)\n"),
+            "app.trace: call 1 (glUseProgram): glUseProgram: program = -1 is not an integer in "
+            "range");
+  EXPECT_EQ(refusal("1 glUniformMatrix4fv(location = 0, count = 1, transpose = GL_FALSE, value = " +
+                    std::string(40, '{') + ")\n"),
+            "app.trace: call 1 (glUniformMatrix4fv): column 110: values nested deeper than 32");
 }
 
 TEST(TraceCheck, FramesOption) {

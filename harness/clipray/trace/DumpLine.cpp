@@ -128,9 +128,14 @@ class LineParser {
 
   DumpValue list() {
     expect('{');
+    // apitrace nests a few levels (arrays of structs); far deeper is no dump line.
+    if (++depth_ > kMaxNesting) fail("values nested deeper than " + std::to_string(kMaxNesting));
     DumpValue parsed;
     parsed.isList = true;
-    if (consume('}')) return parsed;
+    if (consume('}')) {
+      --depth_;
+      return parsed;
+    }
     while (true) {
       DumpValue item = value();
       // A struct member is "name = value": keep the value.
@@ -139,7 +144,10 @@ class LineParser {
         item = value();
       }
       parsed.items.push_back(std::move(item));
-      if (consume('}')) break;
+      if (consume('}')) {
+        --depth_;
+        break;
+      }
       expect(',');
       expect(' ');
     }
@@ -166,8 +174,10 @@ class LineParser {
     return parsed;
   }
 
+  static constexpr int kMaxNesting = 32;
   std::string_view line_;
   std::size_t position_ = 0;
+  int depth_ = 0;
 };
 
 }  // namespace

@@ -83,8 +83,19 @@ std::uint32_t enumArgument(const DumpCall& call, std::string_view name) {
   return parsed ? *parsed : 0xFFFFFFFFu;  // an enum clipray does not know: matches none
 }
 
+// An integer argument within [low, high] (GL names, locations, sizes): anything else is refused
+// before a conversion that would be undefined.
+std::int64_t integerArgument(const DumpCall& call, std::string_view name, double low, double high) {
+  const double value = numberArgument(call, name);
+  if (!(value >= low && value <= high) || value != std::floor(value)) {
+    throw std::invalid_argument(call.name + ": " + std::string(name) + " = " +
+                                argument(call, name).text + " is not an integer in range");
+  }
+  return static_cast<std::int64_t>(value);
+}
+
 std::uint32_t objectArgument(const DumpCall& call, std::string_view name) {
-  return static_cast<std::uint32_t>(numberArgument(call, name));
+  return static_cast<std::uint32_t>(integerArgument(call, name, 0.0, 4294967295.0));
 }
 
 // A bitmask as apitrace writes it: "GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT" or "0x100".
@@ -97,7 +108,10 @@ bool maskHasDepthBit(const DumpValue& value) {
     DumpValue single;
     single.text = std::string(flag);
     if (const auto number = single.number()) {
-      if ((static_cast<std::uint64_t>(*number) & kGlDepthBufferBit) != 0) return true;
+      if (*number >= 0.0 && *number <= 4294967295.0 &&
+          (static_cast<std::uint64_t>(*number) & kGlDepthBufferBit) != 0) {
+        return true;
+      }
     }
     if (bar == std::string_view::npos) break;
     text.remove_prefix(bar + 3);
@@ -438,7 +452,7 @@ void GlTraceState::applyMatrixStack(const DumpCall& call) {
 }
 
 void GlTraceState::setUniformMatrices(std::uint32_t program, const DumpCall& call) {
-  const std::int64_t location = static_cast<std::int64_t>(numberArgument(call, "location"));
+  const std::int64_t location = integerArgument(call, "location", -2147483648.0, 2147483647.0);
   if (location < 0) return;  // location -1: silently ignored by GL
   const bool transpose = enumArgument(call, "transpose") == kGlTrue;
   const std::vector<double> values = numbers(call, "value");
@@ -535,8 +549,8 @@ bool GlTraceState::apply(const DumpCall& call,
       depth_.clearCall = call.number;
     }
   } else if (name == "glViewport") {
-    depth_.viewport = {static_cast<int>(numberArgument(call, "width")),
-                       static_cast<int>(numberArgument(call, "height"))};
+    depth_.viewport = {static_cast<int>(integerArgument(call, "width", 0.0, 2147483647.0)),
+                       static_cast<int>(integerArgument(call, "height", 0.0, 2147483647.0))};
   } else if (name == "glUseProgram" || name == "glUseProgramObjectARB") {
     currentProgram_ = objectArgument(call, name == "glUseProgram" ? "program" : "programObj");
   } else if (name == "glLinkProgram" || name == "glLinkProgramARB") {
@@ -550,7 +564,7 @@ bool GlTraceState::apply(const DumpCall& call,
     const std::uint32_t program =
         objectArgument(call, name == "glGetUniformLocation" ? "program" : "programObj");
     const auto location = call.result ? call.result->number() : std::nullopt;
-    if (location && *location >= 0.0) {
+    if (location && *location >= 0.0 && *location <= 2147483647.0) {
       std::string uniform = argument(call, "name").text;
       if (uniform.ends_with("[0]")) uniform.resize(uniform.size() - 3);
       uniformNames_[{program, static_cast<std::int64_t>(*location)}] = uniform;
