@@ -43,7 +43,10 @@ int runTraceCheck(const CheckOptions& options) {
   trace::TraceCheckResult result = checkTrace(options.trace, options.frames);
   if (options.verify) verifyTrace(options.trace, result);
   if (options.json) {
-    std::cout << trace::traceCheckJson(result).dump(2) << "\n";
+    // The trace's path is the user's bytes: not necessarily UTF-8.
+    std::cout << trace::traceCheckJson(result).dump(2, ' ', false,
+                                                    nlohmann::json::error_handler_t::replace)
+              << "\n";
   } else {
     std::cout << trace::traceCheckText(result);
   }

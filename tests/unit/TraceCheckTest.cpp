@@ -261,6 +261,17 @@ TEST(TraceCheck, ShadowMapLookUpMatrixIsANote) {
   EXPECT_FALSE(result.hasErrors());
 }
 
+TEST(TraceCheck, UniformNamesStayPrintable) {
+  // Found by fuzzing the reader: a damaged name's bytes made the JSON report throw.
+  const TraceCheckResult result = checkLines(
+      "1 glUseProgram(program = 1)\n2 glGetUniformLocation(program = 1, name = \"mvp\\254\\n\") "
+      "= 0\n3 glUniformMatrix4fv(location = 0, count = 1, transpose = GL_FALSE, value = " +
+      kNoMatrix + ")\n4 glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n");
+  ASSERT_EQ(result.groups.size(), 1u);
+  EXPECT_EQ(result.groups[0].source, "uniform mvp?? (program 1)");
+  EXPECT_NO_THROW((void)traceCheckJson(result).dump());
+}
+
 TEST(TraceCheck, BadTracesAreRefusedWithOneLine) {
   EXPECT_EQ(refusal(""), "app.trace: no calls: not an apitrace trace, or an empty one");
   EXPECT_EQ(refusal("// process.name = \"/tmp/app\"\n1 glFinish()\n"

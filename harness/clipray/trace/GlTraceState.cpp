@@ -567,6 +567,10 @@ bool GlTraceState::apply(const DumpCall& call,
     if (location && *location >= 0.0 && *location <= 2147483647.0) {
       std::string uniform = argument(call, "name").text;
       if (uniform.ends_with("[0]")) uniform.resize(uniform.size() - 3);
+      // GLSL names are ASCII; a damaged trace's bytes must not reach the reports (JSON is UTF-8).
+      for (char& c : uniform) {
+        if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) > 0x7E) c = '?';
+      }
       uniformNames_[{program, static_cast<std::int64_t>(*location)}] = uniform;
     }
   } else if (name.starts_with("glUniformMatrix4")) {
