@@ -18,13 +18,13 @@
 #include <nlohmann/json.hpp>
 
 #include "Commands.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/rays/HardCases.hpp"
 #include "clipray/rays/QuadReference.hpp"
 #include "clipray/rays/RayErrors.hpp"
 #include "clipray/rays/RayMethods.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/report/SvgPlot.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "clipray/util/OptionValues.hpp"
 
 namespace clipray::cli {

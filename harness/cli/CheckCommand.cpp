@@ -9,11 +9,11 @@
 
 #include "Commands.hpp"
 #include "TraceCheckRun.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/check/CheckFields.hpp"
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/VerifyCheck.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "clipray/scene/InputFile.hpp"
 #include "clipray/util/OptionValues.hpp"
 

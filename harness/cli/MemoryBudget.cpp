@@ -6,7 +6,7 @@
 #include <fstream>
 #include <string>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 
 namespace clipray::cli {
 

@@ -18,6 +18,7 @@
 
 #include "Commands.hpp"
 #include "MemoryBudget.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/gl/Renderer.hpp"
@@ -25,7 +26,6 @@
 #include "clipray/report/JUnit.hpp"
 #include "clipray/report/OutputFolder.hpp"
 #include "clipray/report/Report.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "clipray/util/OptionValues.hpp"
 

@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/trace/ReplayDepth.hpp"
 #include "clipray/trace/TraceCheck.hpp"
 

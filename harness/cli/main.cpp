@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "Commands.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/Renderer.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "clipray/util/OptionValues.hpp"
 #include "clipray/util/Version.hpp"
 

@@ -1,5 +1,5 @@
-# `cmake --install <build> --prefix P`: the binaries, the static libraries, the headers (under
-# include/clipray/, as in harness/clipray/) and two ways to find them:
+# `cmake --install <build> --prefix P`: the binaries, the static libraries, the public headers
+# (include/clipray/, from harness/include/clipray/) and two ways to find them:
 #   CMake       find_package(clipray 0.1 REQUIRED) -> clipray::core, clipray::gl
 #               (lib/cmake/clipray/clipray-config.cmake, -config-version.cmake, -targets.cmake)
 #   pkg-config  pkg-config --cflags --libs clipray (lib/pkgconfig/clipray.pc)
@@ -18,7 +18,8 @@ install(TARGETS clipray RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 if(TARGET clipray-pick)
   install(TARGETS clipray-pick RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/harness/clipray/
+# The public headers only: the internal ones stay in the source tree.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/harness/include/clipray/
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/clipray
         FILES_MATCHING PATTERN "*.hpp")
 

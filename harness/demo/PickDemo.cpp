@@ -18,9 +18,9 @@
 #include <ostream>
 
 #include "PickDemoDetail.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/report/Report.hpp"
-#include "clipray/scene/InputError.hpp"
 
 namespace clipray::demo {
 

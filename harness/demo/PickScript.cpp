@@ -6,7 +6,7 @@
 #include <fstream>
 #include <sstream>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/InputFile.hpp"
 
 namespace clipray::demo {

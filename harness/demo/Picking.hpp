@@ -13,11 +13,11 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "clipray/Conventions.hpp"
+#include "clipray/Ray.hpp"
 #include "clipray/compare/Frames.hpp"
 #include "clipray/compare/Reconcile.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
-#include "clipray/math/Conventions.hpp"
-#include "clipray/rays/Ray.hpp"
 #include "clipray/rays/RayMethods.hpp"
 #include "clipray/scene/Scene.hpp"
 

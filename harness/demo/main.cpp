@@ -9,8 +9,8 @@
 
 #include "PickDemo.hpp"
 #include "PickScript.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/gl/GlContext.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "clipray/util/Version.hpp"
 

@@ -7,9 +7,9 @@
 #include <cstdint>
 #include <string>
 
+#include "clipray/InputError.hpp"
 #include "clipray/check/CheckFields.hpp"
 #include "clipray/check/ConventionCheck.hpp"
-#include "clipray/scene/InputError.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

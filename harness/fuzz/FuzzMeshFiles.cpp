@@ -8,7 +8,7 @@
 #include <string>
 #include <string_view>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 
 #ifndef CLIPRAY_FUZZ_PATH

@@ -7,8 +7,8 @@
 #include <cstdint>
 #include <string>
 
-#include "clipray/math/Conventions.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/Conventions.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/util/OptionValues.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {

@@ -6,7 +6,7 @@
 #include <string>
 
 #include "PickScript.hpp"
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);

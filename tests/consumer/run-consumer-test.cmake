@@ -1,15 +1,15 @@
 # The packaging test (ctest: clipray_package_consumer), run with cmake -P:
 #   1. cmake --install <CLIPRAY_BUILD_DIR> --prefix <WORK_DIR>/prefix
 #   2. configure, build and run this folder's project against it (find_package(clipray 0.1))
-#   3. pkg-config --cflags --libs clipray from that prefix, and the same main.cpp compiled and run
-#      with those flags alone
-# Variables: CLIPRAY_BUILD_DIR, WORK_DIR, SCENE (the scene main.cpp reconciles), VERSION (expected
+#   3. pkg-config --cflags --libs clipray from that prefix, and the same sources compiled and run
+#      with those flags alone (and GoogleTest's)
+# Variables: CLIPRAY_BUILD_DIR, WORK_DIR, VERSION (expected
 # from pkg-config), LIBDIR (CMAKE_INSTALL_LIBDIR), GENERATOR, MAKE_PROGRAM, CXX, BUILD_TYPE,
 # PKG_CONFIG, and EXTRA_FLAGS (the sanitizer flags a sanitized clipray needs at compile and link
 # time; space-separated). The consumer's own CMake and compiler processes run unsanitized.
 cmake_minimum_required(VERSION 3.25)
 
-foreach(var CLIPRAY_BUILD_DIR WORK_DIR SCENE VERSION LIBDIR GENERATOR CXX PKG_CONFIG)
+foreach(var CLIPRAY_BUILD_DIR WORK_DIR VERSION LIBDIR GENERATOR CXX PKG_CONFIG)
   if(NOT DEFINED ${var} OR "${${var}}" STREQUAL "")
     message(FATAL_ERROR "run-consumer-test.cmake: -D${var}=... is required")
   endif()
@@ -31,9 +31,17 @@ endfunction()
 step("install into ${prefix}" ${CMAKE_COMMAND} --install ${CLIPRAY_BUILD_DIR} --prefix ${prefix})
 foreach(file ${LIBDIR}/cmake/clipray/clipray-config.cmake
              ${LIBDIR}/cmake/clipray/clipray-config-version.cmake
-             ${LIBDIR}/pkgconfig/clipray.pc include/clipray/gl/ReconcileRun.hpp bin/clipray)
+             ${LIBDIR}/pkgconfig/clipray.pc include/clipray/Reconcile.hpp include/clipray/gtest.hpp
+             bin/clipray)
   if(NOT EXISTS ${prefix}/${file})
     message(FATAL_ERROR "consumer test: the install has no ${file}")
+  endif()
+endforeach()
+# Only the public headers: clipray's internal ones (clipray/<part>/*.hpp) stay in its sources.
+file(GLOB_RECURSE installed_headers RELATIVE ${prefix}/include ${prefix}/include/*)
+foreach(header IN LISTS installed_headers)
+  if(header MATCHES "^clipray/[^/]+/")
+    message(FATAL_ERROR "consumer test: the install has an internal header: ${header}")
   endif()
 endforeach()
 
@@ -53,7 +61,7 @@ if(NOT found_dir STREQUAL "clipray_DIR:PATH=${prefix}/${LIBDIR}/cmake/clipray")
   message(FATAL_ERROR "consumer test: found another clipray: ${found_dir}")
 endif()
 step("build the consumer" ${CMAKE_COMMAND} --build ${build})
-step("run the consumer" ${build}/clipray_consumer ${SCENE})
+step("run the consumer's tests" ${build}/clipray_consumer)
 
 # pkg-config, from this prefix.
 set(ENV{PKG_CONFIG_PATH} ${prefix}/${LIBDIR}/pkgconfig)
@@ -71,7 +79,8 @@ endif()
 message(STATUS "consumer test: pkg-config --cflags --libs clipray: ${pc_flags}")
 separate_arguments(pc_flags UNIX_COMMAND "${pc_flags}")
 step("compile and link the consumer with pkg-config's flags"
-     ${CXX} -std=c++20 -O2 ${extra_flags} ${CMAKE_CURRENT_LIST_DIR}/main.cpp -o
-     ${WORK_DIR}/clipray_consumer_pc ${pc_flags})
-step("run the pkg-config consumer" ${WORK_DIR}/clipray_consumer_pc ${SCENE})
+     ${CXX} -std=c++20 -O2 ${extra_flags} ${CMAKE_CURRENT_LIST_DIR}/ConsumerTest.cpp
+     ${CMAKE_CURRENT_LIST_DIR}/App.cpp -o ${WORK_DIR}/clipray_consumer_pc ${pc_flags}
+     -lgtest_main -lgtest -pthread)
+step("run the pkg-config consumer's tests" ${WORK_DIR}/clipray_consumer_pc)
 message(STATUS "consumer test: passed")

@@ -16,12 +16,12 @@
 #include "PickScript.hpp"
 #include "Picking.hpp"
 #include "XvfbServer.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/rays/RayMethods.hpp"
 #include "clipray/rays/RobustRays.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "support/RunCommand.hpp"
 #include "support/VersionLine.hpp"
 

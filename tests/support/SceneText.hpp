@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
 
 namespace clipray::testing {

@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
+#include "clipray/InputError.hpp"
 #include "clipray/scene/AutoCameras.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
 
 namespace clipray {

@@ -8,9 +8,9 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "clipray/InputError.hpp"
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/check/MatrixReading.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "support/EngineCameras.hpp"
 
 namespace clipray {

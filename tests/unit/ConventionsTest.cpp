@@ -3,7 +3,7 @@
 #include <cmath>
 #include <limits>
 
-#include "clipray/math/Conventions.hpp"
+#include "clipray/Conventions.hpp"
 #include "clipray/math/Projections.hpp"
 
 namespace clipray {

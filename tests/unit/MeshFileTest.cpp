@@ -16,7 +16,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 
 namespace clipray {

@@ -9,8 +9,8 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
+#include "clipray/InputError.hpp"
 #include "clipray/math/Projections.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
 
 #include "support/SceneText.hpp"

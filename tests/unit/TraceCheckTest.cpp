@@ -8,7 +8,7 @@
 #include <sstream>
 #include <string>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/trace/TraceCheck.hpp"
 
 namespace clipray::trace {

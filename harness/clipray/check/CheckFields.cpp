@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/SceneJson.hpp"
 #include "clipray/util/OptionValues.hpp"
 

@@ -7,13 +7,13 @@
 #include <limits>
 #include <sstream>
 
+#include "clipray/InputError.hpp"
 #include "clipray/check/MatrixReading.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/QuadReference.hpp"
 #include "clipray/rays/RayErrors.hpp"
 #include "clipray/rays/RayMethods.hpp"
 #include "clipray/rays/RobustRays.hpp"
-#include "clipray/scene/InputError.hpp"
 
 namespace clipray {
 

@@ -12,12 +12,10 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include "clipray/Conventions.hpp"
 #include "clipray/check/MatrixReading.hpp"
-#include "clipray/math/Conventions.hpp"
 
 namespace clipray {
-
-enum class WindowOrigin { LowerLeft, UpperLeft };
 
 struct CheckInput {
   // As the app uploads it, after applying the listing layout: column-major, p_clip =

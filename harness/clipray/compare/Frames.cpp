@@ -4,6 +4,7 @@
 #include <atomic>
 #include <cstdlib>
 #include <cstring>
+#include <exception>
 #include <memory>
 #include <mutex>
 #include <stdexcept>
@@ -94,20 +95,32 @@ AnalyticFrame generateRays(const PickingCamera& camera, const PickRayFunction& r
   frame.rays.resize(static_cast<std::size_t>(viewport.width) * viewport.height);
   // The ray function may keep per-camera state; warm it once before threads share it.
   (void)rayFunction(0, 0, camera);
+  // It is the caller's code and may throw on any pixel: the first exception stops the workers and
+  // is rethrown here, on the caller's thread (an exception leaving a worker would terminate).
+  std::exception_ptr firstError;
+  std::mutex errorMutex;
+  std::atomic<bool> failed = false;
   parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
-    for (int y = rowBegin; y < rowEnd; ++y) {
-      for (int x = 0; x < viewport.width; ++x) {
-        const std::optional<Ray> ray = rayFunction(x, y, camera);
-        Ray& slot = frame.rays[static_cast<std::size_t>(y) * viewport.width + x];
-        if (ray) {
-          slot = *ray;
-        } else {
-          slot = Ray{};  // resize left the slot unwritten
-          slot.tMax = kNoRayTMax;
+    try {
+      for (int y = rowBegin; y < rowEnd && !failed.load(std::memory_order_relaxed); ++y) {
+        for (int x = 0; x < viewport.width; ++x) {
+          const std::optional<Ray> ray = rayFunction(x, y, camera);
+          Ray& slot = frame.rays[static_cast<std::size_t>(y) * viewport.width + x];
+          if (ray) {
+            slot = *ray;
+          } else {
+            slot = Ray{};  // resize left the slot unwritten
+            slot.tMax = kNoRayTMax;
+          }
         }
       }
+    } catch (...) {
+      const std::lock_guard<std::mutex> lock(errorMutex);
+      if (!firstError) firstError = std::current_exception();
+      failed = true;
     }
   });
+  if (firstError) std::rethrow_exception(firstError);
   return frame;
 }
 

@@ -16,9 +16,10 @@
 
 #include <glm/glm.hpp>
 
+#include "clipray/Conventions.hpp"
+#include "clipray/Picking.hpp"
+#include "clipray/Ray.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
-#include "clipray/math/Conventions.hpp"
-#include "clipray/rays/Ray.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/util/FrameBuffers.hpp"
 
@@ -50,21 +51,6 @@ struct AnalyticFrame {
                            : rays.size() == pixelCount();
   }
 };
-
-// The camera a ray function is asked about: the matrix the app drew with, the conventions it
-// drew under and the framebuffer size.
-struct PickingCamera {
-  glm::dmat4 clipFromWorld{1.0};
-  DepthMode mode;
-  Viewport viewport;
-};
-
-// A ray for pixel (x, y) (lower-left origin, integer pixel indices) or nullopt for "no ray".
-// This is how an app plugs its own picking code into a reconcile.
-using PickRayFunction = std::function<std::optional<Ray>(int x, int y, const PickingCamera&)>;
-
-// The project's own picking rays: RobustRayGenerator through each pixel centre.
-PickRayFunction robustPickRays();
 
 // A pixel whose ray function returned nullopt holds this ray: tMax < 0 never hits anything.
 

@@ -10,9 +10,9 @@
 
 #include <glm/glm.hpp>
 
+#include "clipray/Conventions.hpp"
 #include "clipray/compare/Frames.hpp"
 #include "clipray/compare/ToleranceModel.hpp"
-#include "clipray/math/Conventions.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/scene/Scene.hpp"
 

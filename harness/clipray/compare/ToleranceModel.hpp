@@ -14,8 +14,8 @@
 
 #include <glm/glm.hpp>
 
+#include "clipray/Conventions.hpp"
 #include "clipray/compare/Frames.hpp"
-#include "clipray/math/Conventions.hpp"
 #include "clipray/rays/RobustRays.hpp"
 
 namespace clipray {

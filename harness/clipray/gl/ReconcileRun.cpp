@@ -84,14 +84,20 @@ ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
   request.viewport = pass.camera.viewport;
   RenderTimings renderTimings;
   const RasterFrame raster = renderer.render(request, &renderTimings);
+  return compareRasterFrame(pass, raster, depthFormat, vertexMode, renderer.info().subpixelBits,
+                            renderTimings, threadCount);
+}
 
+ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& raster,
+                               DepthFormat depthFormat, VertexMode vertexMode, int subpixelBits,
+                               const RenderTimings& renderTimings, unsigned threadCount) {
   RasterSetup setup;
   setup.clipFromWorld = pass.camera.clipFromWorld;
   setup.mode = pass.camera.mode;
   setup.depthFormat = depthFormat;
   setup.vertexMode = vertexMode;
   setup.vertexReference = pass.reference;
-  setup.subpixelBits = renderer.info().subpixelBits;
+  setup.subpixelBits = subpixelBits;
   const PhaseClock compareClock;
   ComparisonResult comparison =
       compareFrames(raster, pass.frame, *pass.intersector, setup, threadCount);

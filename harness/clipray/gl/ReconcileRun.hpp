@@ -60,6 +60,13 @@ ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
                                    DepthFormat depthFormat, VertexMode vertexMode,
                                    unsigned threadCount = 0);
 
+// Compares a raster frame drawn elsewhere (the app's own render function, AppRender.hpp) with the
+// pass, as rasterAndComparePixels compares the renderer's: depthFormat and vertexMode say how it
+// was drawn, subpixelBits is the rasterizer's GL_SUBPIXEL_BITS.
+ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& raster,
+                               DepthFormat depthFormat, VertexMode vertexMode, int subpixelBits,
+                               const RenderTimings& renderTimings, unsigned threadCount = 0);
+
 // The point near the camera that both passes measure coordinates from: the centre of the near
 // plane the rasterizer clips at, in world space.
 glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode);

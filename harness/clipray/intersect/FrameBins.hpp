@@ -24,7 +24,7 @@
 
 #include <glm/glm.hpp>
 
-#include "clipray/math/Conventions.hpp"
+#include "clipray/Conventions.hpp"
 #include "clipray/util/FrameBuffers.hpp"
 
 namespace clipray {

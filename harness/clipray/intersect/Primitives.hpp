@@ -10,7 +10,7 @@
 
 #include <glm/glm.hpp>
 
-#include "clipray/rays/Ray.hpp"
+#include "clipray/Ray.hpp"
 #include "clipray/scene/Scene.hpp"
 
 namespace clipray {

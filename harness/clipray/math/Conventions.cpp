@@ -1,4 +1,4 @@
-#include "clipray/math/Conventions.hpp"
+#include "clipray/Conventions.hpp"
 
 #include <cmath>
 #include <limits>

@@ -11,7 +11,7 @@
 
 #include <immintrin.h>
 
-#include "clipray/rays/Ray.hpp"
+#include "clipray/Ray.hpp"
 
 namespace clipray::simd {
 

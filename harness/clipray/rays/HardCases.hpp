@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "clipray/math/Conventions.hpp"
+#include "clipray/Conventions.hpp"
 #include "clipray/rays/RayMethods.hpp"
 
 namespace clipray {

@@ -14,8 +14,8 @@
 
 #include <glm/glm.hpp>
 
-#include "clipray/math/Conventions.hpp"
-#include "clipray/rays/Ray.hpp"
+#include "clipray/Conventions.hpp"
+#include "clipray/Ray.hpp"
 
 namespace clipray {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <system_error>
 
+#include "clipray/InputError.hpp"
 #include "clipray/report/StagedWrite.hpp"
-#include "clipray/scene/InputError.hpp"
 
 namespace clipray {
 

@@ -18,9 +18,9 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include "clipray/InputError.hpp"
 #include "clipray/report/HtmlReport.hpp"
 #include "clipray/report/StagedWrite.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {

@@ -10,7 +10,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 
 namespace clipray {
 namespace {

@@ -4,7 +4,7 @@
 #include <fstream>
 #include <system_error>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 
 namespace clipray {
 

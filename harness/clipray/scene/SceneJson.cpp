@@ -9,7 +9,7 @@
 #include <cstdio>
 #include <utility>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/InputFile.hpp"
 
 namespace clipray::detail {

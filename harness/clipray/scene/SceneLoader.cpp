@@ -14,8 +14,8 @@
 #include <utility>
 #include <vector>
 
+#include "clipray/InputError.hpp"
 #include "clipray/scene/AutoCameras.hpp"
-#include "clipray/scene/InputError.hpp"
 #include "clipray/scene/InputFile.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/Scene.hpp"

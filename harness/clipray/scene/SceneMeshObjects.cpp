@@ -6,7 +6,7 @@
 #include <optional>
 #include <utility>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/SceneReader.hpp"
 #include "clipray/scene/Terrain.hpp"

@@ -6,8 +6,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "clipray/InputError.hpp"
 #include "clipray/math/Projections.hpp"
-#include "clipray/scene/InputError.hpp"
 
 namespace clipray::detail {
 

@@ -13,7 +13,7 @@
 
 #include <glm/glm.hpp>
 
-#include "clipray/math/Conventions.hpp"
+#include "clipray/Conventions.hpp"
 #include "clipray/scene/SceneJson.hpp"
 
 namespace clipray::detail {

@@ -19,7 +19,7 @@
 
 #include <glm/glm.hpp>
 
-#include "clipray/math/Conventions.hpp"
+#include "clipray/Conventions.hpp"
 #include "clipray/trace/DumpLine.hpp"
 
 namespace clipray::trace {

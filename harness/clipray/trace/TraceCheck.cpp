@@ -8,8 +8,8 @@
 #include <map>
 #include <stdexcept>
 
+#include "clipray/InputError.hpp"
 #include "clipray/check/CheckText.hpp"
-#include "clipray/scene/InputError.hpp"
 
 namespace clipray::trace {
 

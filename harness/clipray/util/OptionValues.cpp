@@ -4,8 +4,8 @@
 #include <cstdlib>
 #include <sstream>
 
+#include "clipray/InputError.hpp"
 #include "clipray/check/ConventionCheck.hpp"
-#include "clipray/scene/InputError.hpp"
 
 namespace clipray {
 

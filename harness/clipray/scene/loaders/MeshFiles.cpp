@@ -17,7 +17,7 @@
 #include <utility>
 #include <vector>
 
-#include "clipray/scene/InputError.hpp"
+#include "clipray/InputError.hpp"
 #include "clipray/scene/InputFile.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/loaders/MeshFileCommon.hpp"

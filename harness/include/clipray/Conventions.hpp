@@ -60,6 +60,10 @@ struct Viewport {
 // x' = (2i + 1) / W - 1, y' = (2j + 1) / H - 1.
 glm::dvec2 clipXYOfPixelCentre(int i, int j, Viewport viewport);
 
+// Where a window's y coordinate counts from: GL's framebuffer and glViewport count rows from the
+// lower left; mouse positions in GLFW, SDL, Qt and browsers count from the upper left.
+enum class WindowOrigin { LowerLeft, UpperLeft };
+
 // Depth attachment formats a frame can be rendered with.
 enum class DepthFormat { Unorm16, Unorm24, Float32 };
 std::string depthFormatName(DepthFormat format);  // "16", "24", "32f"

@@ -1,0 +1,64 @@
+#pragma once
+// How an app's picking code plugs into a reconcile. clipray asks for the ray of each pixel of the
+// viewport it compares, (x, y) with integer indices from GL's lower-left corner; an app thinks in
+// mouse positions in its own window (upper-left origin, HiDPI scale, a viewport that may not start
+// at the window's corner). pickingInWindow() translates one into the other, so a test calls the
+// app's function exactly as the app's mouse handler does. PickingCamera::clipFromWorld is
+// column-major, p_clip = clipFromWorld * p_world, built for PickingCamera::mode.
+
+#include <functional>
+#include <optional>
+
+#include <glm/glm.hpp>
+
+#include "clipray/Conventions.hpp"
+#include "clipray/InputError.hpp"
+#include "clipray/Ray.hpp"
+
+namespace clipray {
+
+// The camera a ray function is asked about: the matrix the app drew with, the conventions it
+// drew under and the viewport's size in framebuffer pixels.
+struct PickingCamera {
+  glm::dmat4 clipFromWorld{1.0};
+  DepthMode mode;
+  Viewport viewport;
+};
+
+// A ray for pixel (x, y) (lower-left origin, integer pixel indices) or nullopt for "no ray": the
+// ray must start where the rasterizer's near clip plane crosses the pixel's line of sight, point
+// into the view volume (unit direction) and end at tMax.
+using PickRayFunction = std::function<std::optional<Ray>(int x, int y, const PickingCamera&)>;
+
+// The project's own picking rays: RobustRayGenerator through each pixel centre.
+PickRayFunction robustPickRays();
+
+// The app's window, as its mouse handler sees it.
+struct AppWindow {
+  WindowOrigin origin = WindowOrigin::UpperLeft;  // where the app's mouse y counts from
+  double pixelRatio = 1.0;  // framebuffer pixels per window unit (2 on a typical HiDPI screen)
+  // glViewport's x and y: the viewport's lower-left corner in framebuffer pixels.
+  int viewportX = 0;
+  int viewportY = 0;
+  // The framebuffer's size in pixels; 0: the viewport's offset plus its size (a viewport that
+  // reaches the window's right and top edges). Picking needs the height only with an upper-left
+  // origin; an app render function (Reconcile.hpp) draws into a framebuffer of this size.
+  int framebufferWidth = 0;
+  int framebufferHeight = 0;
+};
+
+// The app's picking function in its own terms: the ray under the mouse at `window` (window units,
+// x to the right, y from AppWindow::origin). Direction need not be unit length. tMax 0 (Ray's
+// default) means "to the far plane": the adapter ends the ray where it leaves the view volume
+// through the far clip plane (never, with an infinite far plane).
+using AppPickFunction = std::function<std::optional<Ray>(glm::dvec2 window, const PickingCamera&)>;
+
+// The centre of viewport pixel (x, y) (lower-left origin) in the app's window coordinates.
+glm::dvec2 windowPositionOfPixel(const AppWindow& window, int x, int y, Viewport viewport);
+
+// A PickRayFunction that calls `pick` at each pixel centre's window position and normalizes the
+// ray it returns. Throws InputError for a window that cannot hold the viewport (pixelRatio not
+// positive and finite, framebufferHeight below viewportY + the viewport's height).
+PickRayFunction pickingInWindow(const AppWindow& window, AppPickFunction pick);
+
+}  // namespace clipray

@@ -1,0 +1,112 @@
+#pragma once
+// Reconciling a scene from a test: the app's picking rays against a headless raster, pixel for
+// pixel (docs/library.md). The raster is clipray's own renderer, or the app's render function
+// (ReconcileOptions::render) drawing into clipray's framebuffer with the app's shaders and GL
+// state, so that a wrong clip control, depth function or viewport in the app's render code fails
+// too. Pixels are GL's: (x, y) integer indices from the viewport's lower-left corner.
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "clipray/Conventions.hpp"
+#include "clipray/InputError.hpp"
+#include "clipray/Picking.hpp"
+#include "clipray/SceneBuilder.hpp"
+
+namespace clipray {
+
+using GlFunction = void (*)();
+using GlGetProcAddress = GlFunction (*)(const char* name);
+
+// What the app's render function gets, with clipray's headless GL 4.5 core context current and
+// `framebuffer` bound to GL_FRAMEBUFFER: the app's window's framebuffer (ReconcileOptions::window;
+// without one, the camera's viewport is the whole framebuffer); clipray reads back the camera's
+// viewport at `viewport` from it, so a wrong glViewport shows. Its attachments: colour 0 RGBA8 (the
+// app's colour), colour 1 R32UI (primitive ids), both already cleared to 0 and both draw buffers;
+// depth in the run's format, filled with 0.5 (not cleared: clearing it is the app's job, with its
+// own clear value). The rest of the GL state is GL's default (NEGATIVE_ONE_TO_ONE, GL_LESS, depth
+// test off, depth range [0, 1], viewport the whole framebuffer): the app sets what it draws with.
+// The function draws the scene's meshes as the test built them, writing to colour 1 the id
+// firstId(mesh) + gl_PrimitiveID of each fragment. It must clear depth only (glClear of an
+// integer attachment with a float colour is undefined) and leave `framebuffer` bound.
+struct AppFrame {
+  GlGetProcAddress getProcAddress = nullptr;  // load the app's GL functions through this
+  unsigned framebuffer = 0;
+  Viewport size;           // the framebuffer's
+  glm::ivec4 viewport{0};  // x, y, width, height: the region clipray compares
+  PickingCamera camera;    // the run's camera and the convention the test expects
+  DepthFormat depthFormat = DepthFormat::Float32;
+  std::vector<std::uint32_t> firstIds;  // id of triangle 0 of each mesh, in the order added
+  std::uint32_t firstId(std::size_t mesh) const { return firstIds.at(mesh); }
+};
+using AppRenderFunction = std::function<void(const AppFrame&)>;
+
+struct ReconcileOptions {
+  std::vector<DepthMode> conventions;  // empty: the scene's own ("conventions"), else zo
+  std::vector<DepthFormat> depthFormats = {DepthFormat::Float32};
+  VertexMode vertexMode = VertexMode::World;  // clipray's renderer only
+  std::vector<std::string> cameras;           // empty: every camera of the scene
+  std::string backend = "osmesa";             // or "egl"
+  // Where to write the report of the runs (report.json, index.html, each inconsistent run's
+  // PNGs, or every run's with imagesForEveryRun); empty: nothing is written.
+  std::string reportDirectory;
+  bool imagesForEveryRun = false;
+  std::size_t worstPixels = 5;  // how many pixels each run describes
+  // The app's window: reports name pixels in its coordinates too (as pickingInWindow maps them),
+  // and the app's render function draws into a framebuffer of its size.
+  std::optional<AppWindow> window;
+  AppRenderFunction render;  // set: the app draws the raster side
+  unsigned threads = 0;      // 0: every core
+};
+
+// One pixel of a run, as both sides saw it.
+struct PixelReport {
+  int x = 0, y = 0;                  // viewport pixel, lower-left origin
+  std::optional<glm::dvec2> window;  // its centre in the app's window coordinates
+  std::string pixelClass;  // pixel class: "coverage_unexplained", "depth_beyond_tolerance", ...
+  std::string rasterHit, rayHit;  // "\"floor\" triangle 12", "\"ball\" (sphere)", "nothing"
+  double rasterDepth = 0.0, rayDepth = 0.0;  // window depth; NaN where that side hit nothing
+  double toleranceRatio = 0.0;  // |depth error| / predicted tolerance; NaN: not compared
+  std::string text() const;     // one line
+};
+
+struct RunResult {
+  std::string scene, camera, convention, depthFormat, vertexMode;  // "zo", "32f", "world"
+  bool appRender = false;  // the raster side is the app's render function
+  Viewport size;
+  bool consistent = false;
+  std::int64_t pixels = 0, rasterHits = 0, rayHits = 0;
+  std::int64_t coverageMismatches = 0, coverageUnexplained = 0;
+  std::int64_t idMismatches = 0, idUnexplained = 0;
+  std::int64_t depthCompared = 0, depthBeyondTolerance = 0;
+  double worstToleranceRatio = 0.0;      // max |depth error| / tolerance over compared pixels
+  double maxDepthErrorQuanta = 0.0;      // in units of the depth format's quantum
+  double maxDistanceRelError = 0.0;      // |t_raster - t_ray| / distance from the eye
+  std::vector<PixelReport> worstPixels;  // unexplained first, then by tolerance ratio
+  std::vector<std::string> images;       // files written under ReconcileOptions::reportDirectory
+  std::string summaryLine;               // the line `clipray reconcile` prints for this run
+};
+
+struct ReconcileResult {
+  std::vector<RunResult> runs;
+  std::string reportDirectory;  // where the report went; empty: not written
+  bool consistent() const;
+  // Every run's summary line, then for each inconsistent run its worst pixels and images.
+  std::string text() const;
+};
+
+// Reconciles every camera x convention x depth format of the scene. The rays come from `pick`
+// (the app's picking, robustPickRays() for clipray's). Throws InputError for options that name
+// a camera the scene lacks or ask for nothing; std::runtime_error where no headless GL 4.5
+// context can be made or the app's render function leaves a GL error or no usable ids (the
+// message says which); and whatever the app's own functions throw. The call makes a headless
+// context of its own current on the calling thread and leaves no context current: a test that
+// has its own GL context makes it current again afterwards.
+ReconcileResult reconcile(const TestScene& scene, const PickRayFunction& pick,
+                          const ReconcileOptions& options = {});
+
+}  // namespace clipray

@@ -1,0 +1,230 @@
+// The app's camera, picking and renderer (App.hpp). Nothing here knows clipray.
+
+#include "App.hpp"
+
+#include <GL/glcorearb.h>
+
+#include <stdexcept>
+#include <string>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+namespace app {
+
+namespace {
+
+Mesh boxMesh(glm::vec3 min, glm::vec3 max) {
+  Mesh mesh;
+  for (int corner = 0; corner < 8; ++corner) {
+    mesh.positions.push_back((corner & 1) ? max.x : min.x);
+    mesh.positions.push_back((corner & 2) ? max.y : min.y);
+    mesh.positions.push_back((corner & 4) ? max.z : min.z);
+  }
+  // Two triangles per face, corners numbered by their bits (x = 1, y = 2, z = 4).
+  mesh.indices = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                  2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
+  return mesh;
+}
+
+}  // namespace
+
+App::App() {
+  floor.positions = {-4, 0, -4, 4, 0, -4, 4, 0, 4, -4, 0, 4};
+  floor.indices = {0, 2, 1, 0, 3, 2};
+  box = boxMesh({-0.7f, 0.0f, -0.7f}, {0.7f, 1.4f, 0.7f});
+  // A 3D view beside an 80-pixel side panel: the viewport starts right of it.
+  const int panel = 80;
+  camera.viewport = {panel, 0, window.framebufferWidth() - panel, window.framebufferHeight()};
+  camera.viewFromWorld = glm::lookAtRH(glm::dvec3(3.0, 2.5, 4.0), glm::dvec3(0.0, 0.5, 0.0),
+                                       glm::dvec3(0.0, 1.0, 0.0));
+  camera.clipFromView = glm::perspectiveRH_ZO(
+      glm::radians(50.0), double(camera.viewport.z) / camera.viewport.w, 0.1, 50.0);
+}
+
+std::optional<PickRay> App::pick(glm::dvec2 mouse, PickingBug bug) const {
+  // Window units, upper-left origin, to framebuffer pixels, lower-left origin (glViewport's).
+  const double x = mouse.x * window.pixelRatio;
+  const double y = bug == PickingBug::MouseYNotFlipped
+                       ? mouse.y * window.pixelRatio
+                       : window.framebufferHeight() - mouse.y * window.pixelRatio;
+  const glm::dvec4 viewport(camera.viewport);
+  glm::dvec3 nearPoint, farPoint;
+  if (bug == PickingBug::UnprojectsNegativeOneToOne) {
+    // glm::unProject is unProjectNO by default: window z 0 is NDC z -1, in front of the near
+    // plane of a ZERO_TO_ONE projection.
+    nearPoint = glm::unProjectNO(glm::dvec3(x, y, 0.0), camera.viewFromWorld, camera.clipFromView,
+                                 viewport);
+    farPoint = glm::unProjectNO(glm::dvec3(x, y, 1.0), camera.viewFromWorld, camera.clipFromView,
+                                viewport);
+  } else {
+    nearPoint = glm::unProjectZO(glm::dvec3(x, y, 0.0), camera.viewFromWorld, camera.clipFromView,
+                                 viewport);
+    farPoint = glm::unProjectZO(glm::dvec3(x, y, 1.0), camera.viewFromWorld, camera.clipFromView,
+                                viewport);
+  }
+  return PickRay{nearPoint, farPoint - nearPoint};
+}
+
+namespace {
+
+struct Gl {
+  PFNGLCLIPCONTROLPROC ClipControl;
+  PFNGLENABLEPROC Enable;
+  PFNGLDEPTHFUNCPROC DepthFunc;
+  PFNGLCLEARDEPTHPROC ClearDepth;
+  PFNGLCLEARPROC Clear;
+  PFNGLVIEWPORTPROC Viewport;
+  PFNGLCREATESHADERPROC CreateShader;
+  PFNGLSHADERSOURCEPROC ShaderSource;
+  PFNGLCOMPILESHADERPROC CompileShader;
+  PFNGLGETSHADERIVPROC GetShaderiv;
+  PFNGLGETSHADERINFOLOGPROC GetShaderInfoLog;
+  PFNGLCREATEPROGRAMPROC CreateProgram;
+  PFNGLATTACHSHADERPROC AttachShader;
+  PFNGLLINKPROGRAMPROC LinkProgram;
+  PFNGLGETPROGRAMIVPROC GetProgramiv;
+  PFNGLUSEPROGRAMPROC UseProgram;
+  PFNGLDELETESHADERPROC DeleteShader;
+  PFNGLDELETEPROGRAMPROC DeleteProgram;
+  PFNGLGETUNIFORMLOCATIONPROC GetUniformLocation;
+  PFNGLUNIFORMMATRIX4FVPROC UniformMatrix4fv;
+  PFNGLUNIFORM1UIPROC Uniform1ui;
+  PFNGLGENVERTEXARRAYSPROC GenVertexArrays;
+  PFNGLBINDVERTEXARRAYPROC BindVertexArray;
+  PFNGLDELETEVERTEXARRAYSPROC DeleteVertexArrays;
+  PFNGLGENBUFFERSPROC GenBuffers;
+  PFNGLBINDBUFFERPROC BindBuffer;
+  PFNGLBUFFERDATAPROC BufferData;
+  PFNGLDELETEBUFFERSPROC DeleteBuffers;
+  PFNGLENABLEVERTEXATTRIBARRAYPROC EnableVertexAttribArray;
+  PFNGLVERTEXATTRIBPOINTERPROC VertexAttribPointer;
+  PFNGLDRAWELEMENTSPROC DrawElements;
+
+  explicit Gl(GetProcAddress load) {
+    const auto get = [load](auto& function, const char* name) {
+      function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(load(name));
+      if (!function) throw std::runtime_error(std::string("app: no GL function ") + name);
+    };
+    get(ClipControl, "glClipControl");
+    get(Enable, "glEnable");
+    get(DepthFunc, "glDepthFunc");
+    get(ClearDepth, "glClearDepth");
+    get(Clear, "glClear");
+    get(Viewport, "glViewport");
+    get(CreateShader, "glCreateShader");
+    get(ShaderSource, "glShaderSource");
+    get(CompileShader, "glCompileShader");
+    get(GetShaderiv, "glGetShaderiv");
+    get(GetShaderInfoLog, "glGetShaderInfoLog");
+    get(CreateProgram, "glCreateProgram");
+    get(AttachShader, "glAttachShader");
+    get(LinkProgram, "glLinkProgram");
+    get(GetProgramiv, "glGetProgramiv");
+    get(UseProgram, "glUseProgram");
+    get(DeleteShader, "glDeleteShader");
+    get(DeleteProgram, "glDeleteProgram");
+    get(GetUniformLocation, "glGetUniformLocation");
+    get(UniformMatrix4fv, "glUniformMatrix4fv");
+    get(Uniform1ui, "glUniform1ui");
+    get(GenVertexArrays, "glGenVertexArrays");
+    get(BindVertexArray, "glBindVertexArray");
+    get(DeleteVertexArrays, "glDeleteVertexArrays");
+    get(GenBuffers, "glGenBuffers");
+    get(BindBuffer, "glBindBuffer");
+    get(BufferData, "glBufferData");
+    get(DeleteBuffers, "glDeleteBuffers");
+    get(EnableVertexAttribArray, "glEnableVertexAttribArray");
+    get(VertexAttribPointer, "glVertexAttribPointer");
+    get(DrawElements, "glDrawElements");
+  }
+};
+
+const char* const kVertexShader = R"(#version 450 core
+layout(location = 0) in vec3 position;
+uniform mat4 clipFromWorld;
+void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }
+)";
+
+// Colour for the screen, and the picking id buffer the app reads under the mouse.
+const char* const kFragmentShader = R"(#version 450 core
+layout(location = 0) out vec4 colour;
+layout(location = 1) out uint pickId;
+uniform uint firstId;
+void main() {
+  colour = vec4(0.8, 0.7, 0.5, 1.0);
+  pickId = firstId + uint(gl_PrimitiveID);
+}
+)";
+
+GLuint compile(const Gl& gl, GLenum kind, const char* source) {
+  const GLuint shader = gl.CreateShader(kind);
+  gl.ShaderSource(shader, 1, &source, nullptr);
+  gl.CompileShader(shader);
+  GLint ok = 0;
+  gl.GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) {
+    char log[1024] = {};
+    gl.GetShaderInfoLog(shader, sizeof log, nullptr, log);
+    throw std::runtime_error(std::string("app: shader: ") + log);
+  }
+  return shader;
+}
+
+}  // namespace
+
+void render(const App& app, GetProcAddress getProcAddress,
+            const std::vector<std::uint32_t>& firstIds, RenderBug bug) {
+  const Gl gl(getProcAddress);
+  const GLuint vertex = compile(gl, GL_VERTEX_SHADER, kVertexShader);
+  const GLuint fragment = compile(gl, GL_FRAGMENT_SHADER, kFragmentShader);
+  const GLuint program = gl.CreateProgram();
+  gl.AttachShader(program, vertex);
+  gl.AttachShader(program, fragment);
+  gl.LinkProgram(program);
+  gl.DeleteShader(vertex);
+  gl.DeleteShader(fragment);
+
+  // The projection is built for [0, 1] depth: tell GL so (the bug: forget to).
+  if (bug != RenderBug::NoClipControl) gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  gl.Viewport(app.camera.viewport.x, app.camera.viewport.y, app.camera.viewport.z,
+              app.camera.viewport.w);
+  gl.Enable(GL_DEPTH_TEST);
+  gl.DepthFunc(bug == RenderBug::DepthFuncGreater ? GL_GREATER : GL_LESS);
+  gl.ClearDepth(1.0);
+  gl.Clear(GL_DEPTH_BUFFER_BIT);
+
+  gl.UseProgram(program);
+  const glm::mat4 clipFromWorld(app.camera.clipFromView * app.camera.viewFromWorld);
+  gl.UniformMatrix4fv(gl.GetUniformLocation(program, "clipFromWorld"), 1, GL_FALSE,
+                      glm::value_ptr(clipFromWorld));
+  const GLint firstIdLocation = gl.GetUniformLocation(program, "firstId");
+  GLuint vertexArray = 0;
+  gl.GenVertexArrays(1, &vertexArray);
+  gl.BindVertexArray(vertexArray);
+  const Mesh* meshes[2] = {&app.floor, &app.box};
+  for (std::size_t m = 0; m < 2; ++m) {
+    GLuint buffers[2] = {0, 0};
+    gl.GenBuffers(2, buffers);
+    gl.BindBuffer(GL_ARRAY_BUFFER, buffers[0]);
+    gl.BufferData(GL_ARRAY_BUFFER,
+                  static_cast<GLsizeiptr>(meshes[m]->positions.size() * sizeof(float)),
+                  meshes[m]->positions.data(), GL_STATIC_DRAW);
+    gl.BindBuffer(GL_ELEMENT_ARRAY_BUFFER, buffers[1]);
+    gl.BufferData(GL_ELEMENT_ARRAY_BUFFER,
+                  static_cast<GLsizeiptr>(meshes[m]->indices.size() * sizeof(std::uint32_t)),
+                  meshes[m]->indices.data(), GL_STATIC_DRAW);
+    gl.EnableVertexAttribArray(0);
+    gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+    gl.Uniform1ui(firstIdLocation, firstIds.at(m));
+    gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(meshes[m]->indices.size()), GL_UNSIGNED_INT,
+                    nullptr);
+    gl.DeleteBuffers(2, buffers);
+  }
+  gl.BindVertexArray(0);
+  gl.DeleteVertexArrays(1, &vertexArray);
+  gl.UseProgram(0);
+  gl.DeleteProgram(program);
+}
+
+}  // namespace app

@@ -1,0 +1,168 @@
+// The app's picking and rendering tested with clipray from the installed package, as a consumer's
+// CI would, and the tests of the tests: each classic bug in the app must fail them.
+
+#include <gtest/gtest-spi.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <span>
+#include <string>
+
+#include <clipray/SceneBuilder.hpp>
+#include <clipray/gtest.hpp>
+
+#include "App.hpp"
+
+// No compile definition of clipray's reaches a consumer (clipray once passed GLM_FORCE_XYZW_ONLY
+// on, which took glm's colour and texture-coordinate names away).
+#ifdef GLM_FORCE_XYZW_ONLY
+#error "GLM_FORCE_XYZW_ONLY reached a consumer of clipray"
+#endif
+static_assert(
+    requires(glm::vec4 v) {
+      v.r;
+      v.s;
+    },
+    "glm's .r/.s names must stay available to consumers");
+
+namespace {
+
+const app::App theApp;
+
+clipray::TestScene appScene() {
+  const clipray::Viewport viewport{theApp.camera.viewport.z, theApp.camera.viewport.w};
+  return clipray::SceneBuilder("app")
+      .mesh("floor", std::span<const float>(theApp.floor.positions),
+            std::span<const std::uint32_t>(theApp.floor.indices))
+      .mesh("box", std::span<const float>(theApp.box.positions),
+            std::span<const std::uint32_t>(theApp.box.indices))
+      .camera("main", theApp.camera.viewFromWorld, theApp.camera.clipFromView, viewport)
+      .conventions({clipray::kZeroToOne})
+      .build();
+}
+
+clipray::AppWindow appWindow() {
+  clipray::AppWindow window;
+  window.origin = clipray::WindowOrigin::UpperLeft;
+  window.pixelRatio = theApp.window.pixelRatio;
+  window.viewportX = theApp.camera.viewport.x;
+  window.viewportY = theApp.camera.viewport.y;
+  window.framebufferWidth = theApp.window.framebufferWidth();
+  window.framebufferHeight = theApp.window.framebufferHeight();
+  return window;
+}
+
+clipray::PickRayFunction appPicking(app::PickingBug bug = app::PickingBug::None) {
+  return clipray::pickingInWindow(
+      appWindow(),
+      [bug](glm::dvec2 mouse, const clipray::PickingCamera&) -> std::optional<clipray::Ray> {
+        const std::optional<app::PickRay> ray = theApp.pick(mouse, bug);
+        if (!ray) return std::nullopt;
+        clipray::Ray result;
+        result.origin = ray->origin;
+        result.direction = ray->direction;  // tMax 0: to the far plane
+        return result;
+      });
+}
+
+clipray::ReconcileOptions options(app::RenderBug renderBug = app::RenderBug::None,
+                                  bool appRender = false) {
+  clipray::ReconcileOptions options;
+  options.window = appWindow();
+  options.reportDirectory = ::testing::TempDir() + "clipray-consumer";
+  if (appRender) {
+    options.render = [renderBug](const clipray::AppFrame& frame) {
+      app::render(theApp, frame.getProcAddress, frame.firstIds, renderBug);
+    };
+  }
+  return options;
+}
+
+TEST(AppPicking, AgreesWithTheRaster) {
+  EXPECT_PICKING_CONSISTENT(appScene(), appPicking(), options());
+}
+
+TEST(AppRendering, AgreesWithTheRays) {
+  EXPECT_PICKING_CONSISTENT(appScene(), clipray::robustPickRays(),
+                            options(app::RenderBug::None, true));
+}
+
+TEST(AppRenderingAndPicking, AgreeWithEachOther) {
+  EXPECT_PICKING_CONSISTENT(appScene(), appPicking(), options(app::RenderBug::None, true));
+}
+
+// The tests of the tests: a classic bug in the app fails them, with the worst pixels named.
+TEST(TestOfTheTest, MouseYNotFlippedFails) {
+  EXPECT_NONFATAL_FAILURE(EXPECT_PICKING_CONSISTENT(
+                              appScene(), appPicking(app::PickingBug::MouseYNotFlipped), options()),
+                          "worst pixels");
+  const clipray::ReconcileResult result =
+      clipray::reconcile(appScene(), appPicking(app::PickingBug::MouseYNotFlipped), options());
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_FALSE(result.runs[0].consistent);
+  EXPECT_GT(result.runs[0].coverageUnexplained + result.runs[0].idUnexplained, 1000);
+  ASSERT_EQ(result.runs[0].worstPixels.size(), 5u);
+  EXPECT_TRUE(result.runs[0].worstPixels[0].window.has_value());
+}
+
+TEST(TestOfTheTest, PickingUnprojectedForTheOtherConventionFailsWhereItMatters) {
+  // unProjectNO's window z 0 is NDC z -1: under this ZERO_TO_ONE projection (near 0.1) that point
+  // lies 0.05 from the eye, in front of the near plane. Nothing of the app's scene is there, so
+  // both rays hit the same surfaces and the run is rightly consistent...
+  const clipray::PickRayFunction buggy = appPicking(app::PickingBug::UnprojectsNegativeOneToOne);
+  EXPECT_TRUE(clipray::reconcile(appScene(), buggy, options()).consistent());
+  // ...until something sits between the two: a card 0.07 in front of the eye, which the raster
+  // clips away and only the buggy rays hit.
+  const glm::dvec3 eye(3.0, 2.5, 4.0);
+  const glm::dvec3 forward = glm::normalize(glm::dvec3(0.0, 0.5, 0.0) - eye);
+  const glm::dvec3 right = glm::normalize(glm::cross(forward, glm::dvec3(0.0, 1.0, 0.0)));
+  const glm::dvec3 up = glm::cross(right, forward);
+  const clipray::Viewport viewport{theApp.camera.viewport.z, theApp.camera.viewport.w};
+  const clipray::TestScene withCard =
+      clipray::SceneBuilder("app-with-card")
+          .mesh("floor", std::span<const float>(theApp.floor.positions),
+                std::span<const std::uint32_t>(theApp.floor.indices))
+          .quad("card", eye + 0.07 * forward, 0.02 * right, 0.02 * up)
+          .camera("main", theApp.camera.viewFromWorld, theApp.camera.clipFromView, viewport)
+          .conventions({clipray::kZeroToOne})
+          .build();
+  EXPECT_TRUE(clipray::reconcile(withCard, appPicking(), options()).consistent());
+  const clipray::ReconcileResult result = clipray::reconcile(withCard, buggy, options());
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_FALSE(result.runs[0].consistent);
+  // The first of them (lowest row, then column): the floor on screen, the card behind the near
+  // plane (a negative window depth) for the ray.
+  const clipray::PixelReport& first = result.runs[0].worstPixels.at(0);
+  EXPECT_EQ(first.pixelClass, "id_unexplained") << result.text();
+  EXPECT_EQ(first.rasterHit, "\"floor\" triangle 1") << result.text();
+  EXPECT_EQ(first.rayHit, "\"card\" (quad)") << result.text();
+  EXPECT_LT(first.rayDepth, 0.0) << result.text();
+}
+
+TEST(TestOfTheTest, RenderingWithoutClipControlFails) {
+  EXPECT_NONFATAL_FAILURE(EXPECT_PICKING_CONSISTENT(appScene(), clipray::robustPickRays(),
+                                                    options(app::RenderBug::NoClipControl, true)),
+                          "depth_beyond_tolerance");
+}
+
+TEST(TestOfTheTest, RenderingWithTheWrongDepthFunctionFails) {
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(), clipray::robustPickRays(), options(app::RenderBug::DepthFuncGreater, true));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_FALSE(result.runs[0].consistent) << result.text();
+}
+
+TEST(SceneBuilderInput, AnIndexOutOfRangeIsRefusedAsAFileWouldBe) {
+  const float positions[] = {0, 0, 0, 1, 0, 0, 0, 1, 0, 1, 1, 0};
+  const std::uint32_t indices[] = {0, 1, 99};
+  try {
+    clipray::SceneBuilder("bad").mesh("quad", positions, indices).build();
+    FAIL() << "expected clipray::InputError";
+  } catch (const clipray::InputError& error) {
+    EXPECT_STREQ(
+        error.what(),
+        "SceneBuilder \"bad\": /objects/0/indices/2: index 99 out of range for 4 vertices");
+  }
+}
+
+}  // namespace

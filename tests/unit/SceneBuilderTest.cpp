@@ -1,0 +1,139 @@
+// SceneBuilder: a scene built in code is the scene its json() file loads, and every mistake is
+// refused with the message the same mistake in a file gets.
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <span>
+#include <string>
+#include <variant>
+
+#include <gtest/gtest.h>
+
+#include "clipray/SceneBuilder.hpp"
+#include "clipray/math/Projections.hpp"
+#include "clipray/scene/Scene.hpp"
+
+namespace clipray {
+namespace {
+
+const float kQuadPositions[] = {0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0};
+const std::uint32_t kQuadIndices[] = {0, 1, 2, 0, 2, 3};
+
+glm::dmat4 cameraMatrix() {
+  return perspectiveClipFromView(glm::radians(60.0), 4.0 / 3.0, 0.1, 100.0, kZeroToOne) *
+         viewFromWorldLookAt({0.5, 0.5, 3.0}, {0.5, 0.5, 0.0}, {0.0, 1.0, 0.0});
+}
+
+std::string messageOf(const SceneBuilder& builder) {
+  try {
+    builder.build();
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+std::string fileMessageOf(const SceneBuilder& builder) {
+  try {
+    parseScene(builder.json(), "scene.json");
+  } catch (const InputError& error) {
+    return error.what();
+  }
+  return "no error";
+}
+
+TEST(SceneBuilder, BuildsTheSceneItsFileLoads) {
+  glm::dmat4 placement(1.0);
+  placement[3] = glm::dvec4(2.0, -1.0, 0.5, 1.0);
+  const std::uint16_t shortIndices[] = {0, 2, 3};
+  SceneBuilder builder("built");
+  builder.comment("a quad, a triangle, a ball")
+      .conventions({kNegativeOneToOne, kZeroToOneReversed})
+      .mesh("quad", kQuadPositions, kQuadIndices, placement)
+      .mesh("corner", kQuadPositions, shortIndices)
+      .sphere("ball", {0.5, 0.5, -1.0}, 0.25)
+      .camera("raw", cameraMatrix(), {64, 48})
+      .perspectiveCamera("rebuilt",
+                         viewFromWorldLookAt({0.5, 0.5, 3.0}, {0.5, 0.5, 0.0}, {0.0, 1.0, 0.0}),
+                         60.0, 0.1, std::nullopt, {32, 24});
+  const TestScene built = builder.build();
+  const Scene file = parseScene(builder.json(), "built.json");
+  const Scene& scene = built.model();
+
+  EXPECT_EQ(built.name(), "built");
+  EXPECT_EQ(scene.comment, "a quad, a triangle, a ball");
+  EXPECT_EQ(scene.conventions, file.conventions);
+  ASSERT_EQ(scene.conventions.size(), 2u);
+  EXPECT_EQ(built.objectNames(), (std::vector<std::string>{"quad", "corner", "ball"}));
+  EXPECT_EQ(built.cameraNames(), (std::vector<std::string>{"raw", "rebuilt"}));
+  EXPECT_EQ(built.triangleCount(), 3u);
+  ASSERT_EQ(scene.objects.size(), 2u);
+  EXPECT_EQ(scene.objects[0].worldPositions, file.objects[0].worldPositions);
+  EXPECT_EQ(scene.objects[0].worldPositions[2], glm::dvec3(3.0, 0.0, 0.5));  // placed in double
+  EXPECT_EQ(scene.objects[1].triangles, (std::vector<glm::u32vec3>{{0, 2, 3}}));
+  ASSERT_EQ(scene.primitives.size(), 1u);
+  EXPECT_EQ(scene.primitives[0].worldFromLocal, file.primitives[0].worldFromLocal);
+  // The raw camera is drawn as given under every convention; the rebuilt one is built for each.
+  EXPECT_EQ(scene.cameras[0].clipFromWorld(kNegativeOneToOne, {64, 48}), cameraMatrix());
+  EXPECT_EQ(scene.cameras[1].clipFromWorld(kZeroToOneReversed, {32, 24}),
+            file.cameras[1].clipFromWorld(kZeroToOneReversed, {32, 24}));
+  EXPECT_FALSE(std::get<PerspectiveProjection>(scene.cameras[1].projection).farDistance);
+}
+
+TEST(SceneBuilder, WithoutCamerasUsesTheAutomaticOnes) {
+  const TestScene scene = SceneBuilder("auto").mesh("quad", kQuadPositions, kQuadIndices).build();
+  EXPECT_EQ(scene.cameraNames().size(), 4u);
+}
+
+TEST(SceneBuilder, RefusesWhatAFileIsRefusedFor) {
+  const std::uint32_t outOfRange[] = {0, 1, 99};
+  SceneBuilder badIndex("t");
+  badIndex.mesh("quad", kQuadPositions, outOfRange);
+  EXPECT_EQ(messageOf(badIndex),
+            "SceneBuilder \"t\": /objects/0/indices/2: index 99 out of range for 4 vertices");
+  EXPECT_EQ(fileMessageOf(badIndex),
+            "scene.json: /objects/0/indices/2: index 99 out of range for 4 vertices");
+
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float withNan[] = {0, 0, 0, 1, nan, 0, 1, 1, 0, 0, 1, 0};
+  SceneBuilder badPosition("t");
+  badPosition.mesh("quad", withNan, kQuadIndices);
+  EXPECT_EQ(messageOf(badPosition),
+            "SceneBuilder \"t\": /objects/0/positions/4: expected a finite number, got nan");
+
+  const float twoVertices[] = {0, 0, 0, 1, 0, 0};
+  SceneBuilder tooFew("t");
+  tooFew.mesh("line", twoVertices, kQuadIndices);
+  EXPECT_EQ(
+      messageOf(tooFew),
+      "SceneBuilder \"t\": /objects/0/positions: expected a flat array of x, y, z coordinates "
+      "of at least 3 vertices, got [0.0,0.0,0.0,1.0,0.0,0.0]");
+
+  SceneBuilder zeroViewport("t");
+  zeroViewport.mesh("quad", kQuadPositions, kQuadIndices).camera("main", cameraMatrix(), {0, 48});
+  EXPECT_EQ(messageOf(zeroViewport),
+            "SceneBuilder \"t\": /cameras/0/viewport/0: expected an integer in [1, 16384], got 0");
+  EXPECT_EQ(fileMessageOf(zeroViewport),
+            "scene.json: /cameras/0/viewport/0: expected an integer in [1, 16384], got 0");
+
+  glm::dmat4 singular = cameraMatrix();
+  singular[2] = singular[1];  // two equal columns
+  SceneBuilder badCamera("t");
+  badCamera.mesh("quad", kQuadPositions, kQuadIndices).camera("main", singular, {64, 48});
+  EXPECT_EQ(messageOf(badCamera),
+            "SceneBuilder \"t\": /cameras/0/clipFromWorld: expected an invertible matrix, got a "
+            "singular one (scaled determinant 0)");
+
+  SceneBuilder twice("t");
+  twice.mesh("quad", kQuadPositions, kQuadIndices).sphere("quad", {0, 0, 0}, 1.0);
+  EXPECT_EQ(messageOf(twice), fileMessageOf(twice).replace(0, 10, "SceneBuilder \"t\""));
+
+  SceneBuilder negativeRadius("t");
+  negativeRadius.sphere("ball", {0, 0, 0}, -1.0);
+  EXPECT_EQ(messageOf(negativeRadius),
+            "SceneBuilder \"t\": /objects/0/radius: expected a positive number, got -1.0");
+}
+
+}  // namespace
+}  // namespace clipray
