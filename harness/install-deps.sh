@@ -10,6 +10,7 @@ packages=(
   libtinygltf-dev libtinyobjloader-dev clang-14 libclang-rt-14-dev
   libimgui-dev xvfb xauth
   assimp-testmodels chromium fonts-liberation
+  apitrace apitrace-tracers mesa-utils glmark2-x11
 )
 missing=()
 for p in "${packages[@]}"; do

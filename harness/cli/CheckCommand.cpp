@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "Commands.hpp"
+#include "TraceCheckRun.hpp"
 #include "clipray/InputError.hpp"
 #include "clipray/check/CheckFields.hpp"
 #include "clipray/check/ConventionCheck.hpp"
@@ -26,11 +27,35 @@ struct CheckOptions {
   bool json = false;
   bool verify = false;
   std::string backend = "osmesa";
+  std::string trace;   // --trace: an apitrace trace of the app instead of typed numbers
+  std::string frames;  // --frames A-B with --trace
   std::size_t optionsGiven =
       0;  // field options on the command line (not --json/--verify/--backend)
 };
 
+int runTraceCheck(const CheckOptions& options) {
+  // The trace is the app's own state: typed fields would contradict it.
+  if (!options.file.empty() || options.optionsGiven > 0) {
+    throw InputError(
+        "--trace: the depth state and matrices come from the trace; give no check "
+        "file or field options with it");
+  }
+  trace::TraceCheckResult result = checkTrace(options.trace, options.frames);
+  if (options.verify) verifyTrace(options.trace, result);
+  if (options.json) {
+    // The trace's path is the user's bytes: not necessarily UTF-8.
+    std::cout << trace::traceCheckJson(result).dump(2, ' ', false,
+                                                    nlohmann::json::error_handler_t::replace)
+              << "\n";
+  } else {
+    std::cout << trace::traceCheckText(result);
+  }
+  return result.hasErrors() ? 1 : 0;
+}
+
 int runCheck(CheckOptions options) {
+  if (!options.trace.empty()) return runTraceCheck(options);
+  if (!options.frames.empty()) throw InputError("--frames needs --trace");
   if (!options.file.empty()) {
     // One source of truth: a file's fields are not silently overridden or mixed with options.
     if (options.optionsGiven > 0) {
@@ -104,6 +129,10 @@ CommandRunner addCheckOptions(CLI::App& app) {
   app.add_option("--near", options->fields.nearPlane,
                  "The near plane the app meant: settles a matrix that reads as NO or ZO");
   app.add_option("--far", options->fields.farPlane, "The far plane the app meant (checked)");
+  app.add_option("--trace", options->trace,
+                 "An apitrace trace of the app (apitrace trace --api egl|glx APP): check every "
+                 "projection it draws with under the depth state traced at each draw");
+  app.add_option("--frames", options->frames, "With --trace: frames A-B (from 0) or A only");
   app.add_flag("--json", options->json, "Print the report as JSON");
   app.add_flag(
       "--verify", options->verify,

@@ -1,0 +1,34 @@
+#pragma once
+// `clipray check` from inside a running app: the depth state of the current GL context, read
+// with glGet* (clip control, depth test and func, depth range, clear value, viewport, the draw
+// framebuffer's depth format), declared for the matrix the app is about to draw with. The same
+// analysis and findings as `clipray check --trace` gives for a draw with this state.
+//
+//   auto result = clipray::gl::checkCurrentState(clipFromWorld, myGetProcAddress);
+//   if (result.report.hasErrors()) std::cerr << clipray::checkReportText(result.report,
+//   result.input);
+
+#include <glm/glm.hpp>
+
+#include "clipray/check/ConventionCheck.hpp"
+#include "clipray/gl/GlContext.hpp"
+#include "clipray/trace/GlTraceState.hpp"
+
+namespace clipray::gl {
+
+struct CurrentStateCheck {
+  trace::TraceDepthState state;  // as read (call numbers 0; clearedDepth: GL_DEPTH_CLEAR_VALUE)
+  CheckInput input;
+  CheckReport report;
+};
+
+// The GL state read from the current context, with entry points from `loader` (the app's
+// eglGetProcAddress, glfwGetProcAddress, ...). Needs GL 4.5 (GL_CLIP_ORIGIN). Throws
+// BackendError when no GL 4.5 context is current, InputError when the matrix check refuses the
+// matrix.
+trace::TraceDepthState readCurrentDepthState(GlLoader loader);
+
+// clipFromWorld: column-major, as uploaded with glUniformMatrix4fv(..., GL_FALSE, ...).
+CurrentStateCheck checkCurrentState(const glm::dmat4& clipFromWorld, GlLoader loader);
+
+}  // namespace clipray::gl

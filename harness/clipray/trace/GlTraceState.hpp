@@ -1,0 +1,145 @@
+#pragma once
+// The GL state a trace sets, call by call, as far as `clipray check --trace` needs it: the depth
+// state in force at each draw (glClipControl, depth test and func, depth range, the depth clear,
+// viewport, the draw framebuffer's depth format), the 4x4 matrices uploaded as uniforms
+// (glUniformMatrix4fv, glProgramUniformMatrix4fv, named by glGetUniformLocation), and the
+// fixed-function matrix stacks. At each draw it hands over every matrix in force that has a
+// projection's structure.
+//
+// The core has no GL headers: the enum values are written here (from Khronos' gl.xml, the
+// registry glcorearb.h is generated from), and apitrace writes most enums by name, which is
+// mapped to the same values.
+
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "clipray/Conventions.hpp"
+#include "clipray/trace/DumpLine.hpp"
+
+namespace clipray::trace {
+
+// GL enum values (Khronos OpenGL-Registry, xml/gl.xml).
+inline constexpr std::uint32_t kGlNever = 0x0200;
+inline constexpr std::uint32_t kGlLess = 0x0201;
+inline constexpr std::uint32_t kGlEqual = 0x0202;
+inline constexpr std::uint32_t kGlLequal = 0x0203;
+inline constexpr std::uint32_t kGlGreater = 0x0204;
+inline constexpr std::uint32_t kGlNotequal = 0x0205;
+inline constexpr std::uint32_t kGlGequal = 0x0206;
+inline constexpr std::uint32_t kGlAlways = 0x0207;
+inline constexpr std::uint32_t kGlDepthTest = 0x0B71;
+inline constexpr std::uint32_t kGlModelview = 0x1700;
+inline constexpr std::uint32_t kGlProjection = 0x1701;
+inline constexpr std::uint32_t kGlTexture = 0x1702;
+inline constexpr std::uint32_t kGlLowerLeft = 0x8CA1;
+inline constexpr std::uint32_t kGlUpperLeft = 0x8CA2;
+inline constexpr std::uint32_t kGlNegativeOneToOne = 0x935E;
+inline constexpr std::uint32_t kGlZeroToOne = 0x935F;
+inline constexpr std::uint32_t kGlDepthBufferBit = 0x00000100;
+inline constexpr std::uint32_t kGlDepth = 0x1801;  // glClearBuffer's buffer
+inline constexpr std::uint32_t kGlDepthStencil = 0x84F9;
+inline constexpr std::uint32_t kGlFramebuffer = 0x8D40;
+inline constexpr std::uint32_t kGlReadFramebuffer = 0x8CA8;
+inline constexpr std::uint32_t kGlDrawFramebuffer = 0x8CA9;
+inline constexpr std::uint32_t kGlDepthAttachment = 0x8D00;
+inline constexpr std::uint32_t kGlDepthStencilAttachment = 0x821A;
+inline constexpr std::uint32_t kGlDepthComponent16 = 0x81A5;
+inline constexpr std::uint32_t kGlDepthComponent24 = 0x81A6;
+inline constexpr std::uint32_t kGlDepthComponent32 = 0x81A7;
+inline constexpr std::uint32_t kGlDepthComponent32F = 0x8CAC;
+inline constexpr std::uint32_t kGlDepth24Stencil8 = 0x88F0;
+inline constexpr std::uint32_t kGlDepth32FStencil8 = 0x8CAD;
+inline constexpr std::uint32_t kGlTrue = 1;
+inline constexpr std::uint32_t kGlCompile = 0x1300;  // glNewList mode
+
+// The value of an enum argument as apitrace writes it (a name, or a number where apitrace's
+// tables lack the name); nullopt for a name clipray does not know.
+std::optional<std::uint32_t> glEnumValue(const DumpValue& value);
+// "GL_LESS" for the values above; the hex value otherwise.
+std::string glEnumName(std::uint32_t value);
+
+// The depth state in force at a draw. Call numbers say where each part was set (0: GL's default).
+struct TraceDepthState {
+  bool clipZeroToOne = false;  // glClipControl depth: GL_ZERO_TO_ONE (default NEGATIVE_ONE_TO_ONE)
+  bool clipUpperLeft = false;  // glClipControl origin: GL_UPPER_LEFT (default LOWER_LEFT)
+  bool depthTest = false;      // glEnable(GL_DEPTH_TEST)
+  std::uint32_t depthFunc = kGlLess;
+  glm::dvec2 depthRange{0.0, 1.0};
+  // The value the last depth clear wrote (glClear with the depth bit uses glClearDepth's value;
+  // glClearBuffer*(GL_DEPTH...) its own); none before the first depth clear.
+  std::optional<double> clearedDepth;
+  Viewport viewport{0, 0};
+  std::optional<DepthFormat> depthFormat;   // of the draw framebuffer's depth attachment, if known
+  std::string depthFormatName = "unknown";  // "32f", "24", "16", "32" (unorm), "unknown"
+
+  std::uint64_t clipControlCall = 0, depthFuncCall = 0, depthRangeCall = 0, clearCall = 0;
+
+  // The same state, call numbers aside (the key of a distinct (matrix, state) pair).
+  std::string key() const;
+};
+
+// A matrix in force at a draw, with the structure of a projection.
+struct TracedMatrix {
+  // "uniform clipFromWorld (program 1)" or "fixed-function GL_PROJECTION".
+  std::string source;
+  bool fixedFunction = false;
+  glm::dmat4 matrix{1.0};  // column-major as the GL applies it (transpose flag undone)
+};
+
+struct TraceDraw {
+  std::uint64_t frame = 0;
+  std::uint64_t call = 0;
+  std::string function;  // "glDrawArrays"
+  TraceDepthState depth;
+  std::vector<TracedMatrix> matrices;
+};
+
+// Perspective (row 3 has an xyz part, and the matrix is not the transpose of an affine map such
+// as a normal matrix) or orthographic (an affine map whose linear part reverses
+// orientation: GL's clip space is left-handed, so glOrtho and every GL orthographic projection
+// flips z while a model or view matrix does not); finite and invertible either way.
+bool hasProjectionStructure(const glm::dmat4& matrix);
+
+class GlTraceState {
+ public:
+  // Feeds one call. Returns true when the call ended a frame (eglSwapBuffers, glXSwapBuffers, ...).
+  // Throws std::invalid_argument when a call the state needs has arguments it cannot read.
+  bool apply(const DumpCall& call, const std::function<void(const TraceDraw&)>& onDraw);
+
+  // Whether the state needs this function at all (the others need not be parsed).
+  static bool needs(std::string_view function);
+
+  std::uint64_t frame() const { return frame_; }
+
+ private:
+  void applyMatrixStack(const DumpCall& call);
+  void emitDraw(const DumpCall& call, const std::function<void(const TraceDraw&)>& onDraw);
+  void setUniformMatrices(std::uint32_t program, const DumpCall& call);
+
+  TraceDepthState depth_;
+  std::uint64_t frame_ = 0;
+
+  std::uint32_t currentProgram_ = 0;
+  std::map<std::pair<std::uint32_t, std::int64_t>, std::string> uniformNames_;
+  std::map<std::pair<std::uint32_t, std::int64_t>, glm::dmat4> uniformMatrices_;
+
+  bool compilingList_ = false;  // inside glNewList(..., GL_COMPILE): draws are recorded only
+  std::uint32_t matrixMode_ = kGlModelview;
+  std::map<std::uint32_t, std::vector<glm::dmat4>> stacks_;  // mode -> stack, top at the back
+
+  std::uint32_t boundRenderbuffer_ = 0;
+  std::uint32_t drawFramebuffer_ = 0;
+  std::map<std::uint32_t, std::uint32_t> renderbufferFormats_;  // renderbuffer -> internalformat
+  std::map<std::uint32_t, std::uint32_t> framebufferDepth_;     // framebuffer -> internalformat
+  glm::dmat4& stackTop(std::uint32_t mode);
+  void updateDepthFormat();
+  double clearDepthValue_ = 1.0;  // glClearDepth
+};
+
+}  // namespace clipray::trace

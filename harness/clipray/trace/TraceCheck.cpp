@@ -1,0 +1,349 @@
+#include "clipray/trace/TraceCheck.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <stdexcept>
+
+#include "clipray/InputError.hpp"
+#include "clipray/check/CheckText.hpp"
+
+namespace clipray::trace {
+
+namespace {
+
+std::string number(double value) {
+  return detail::checkNumber(value);
+}
+
+// The matrix's bits as a key: equal keys, equal matrices.
+std::string matrixKey(const glm::dmat4& matrix) {
+  std::string key(sizeof(double) * 16, '\0');
+  for (int column = 0; column < 4; ++column) {
+    std::memcpy(key.data() + sizeof(double) * 4 * column, &matrix[column][0], sizeof(double) * 4);
+  }
+  return key;
+}
+
+bool isGreaterTest(std::uint32_t func) {
+  return func == kGlGreater || func == kGlGequal;
+}
+
+bool isLessTest(std::uint32_t func) {
+  return func == kGlLess || func == kGlLequal;
+}
+
+CheckInput checkInputOf(const TracedMatrix& matrix, const TraceDepthState& depth) {
+  CheckInput input;
+  input.clipFromWorld = matrix.matrix;
+  if (matrix.fixedFunction) {
+    input.projection = matrix.matrix;
+    input.view = glm::dmat4(1.0);
+  }
+  input.declaredDepth =
+      depth.clipZeroToOne ? DepthConvention::ZeroToOne : DepthConvention::NegativeOneToOne;
+  // The depth test is what declares reversed-Z: GREATER or GEQUAL keeps the larger depth.
+  input.declaredReversed = depth.depthTest && isGreaterTest(depth.depthFunc);
+  input.depthRange = depth.depthRange;
+  input.origin = depth.clipUpperLeft ? WindowOrigin::UpperLeft : WindowOrigin::LowerLeft;
+  if (depth.viewport.width > 0 && depth.viewport.height > 0) input.viewport = depth.viewport;
+  if (depth.depthFormat) input.depthFormat = *depth.depthFormat;
+  input.predictMethods = false;
+  return input;
+}
+
+std::string callNote(std::uint64_t call) {
+  return call == 0 ? "GL's default" : "call " + std::to_string(call);
+}
+
+// What only the traced state shows, beyond the matrix check's findings.
+void addTraceFindings(const TraceDepthState& depth, CheckReport& report) {
+  const MatrixProperties& p = report.properties;
+  // A transposed upload reads as any convention: its depth readings mean nothing.
+  if (!depth.depthTest || !p.reversedDecided || p.likelyTransposed) return;
+  const bool rangeReversed = depth.depthRange.x > depth.depthRange.y;
+  // Near ends at the larger window depth: a reversed matrix, or a classic one through
+  // glDepthRange(1, 0). Then only GREATER/GEQUAL keeps the nearer surface.
+  const bool nearIsDeeper = p.reversed != rangeReversed;
+  // A reversed-Z matrix drawn with LESS/LEQUAL, or a classic one with GREATER/GEQUAL: the
+  // matrix check's reversed-z-mismatch (the traced test is its declared state); the trace adds
+  // the call that set the test.
+  for (Finding& finding : report.findings) {
+    if (finding.code == "reversed-z-mismatch") {
+      finding.message += " (traced: glDepthFunc(" + glEnumName(depth.depthFunc) + ") at " +
+                         callNote(depth.depthFuncCall) + ")";
+    }
+  }
+  // The far plane's window depth under this matrix, and under the other convention.
+  const double ownFar = nearIsDeeper ? std::min(depth.depthRange.x, depth.depthRange.y)
+                                     : std::max(depth.depthRange.x, depth.depthRange.y);
+  const double otherFar = nearIsDeeper ? std::max(depth.depthRange.x, depth.depthRange.y)
+                                       : std::min(depth.depthRange.x, depth.depthRange.y);
+  if (depth.clearedDepth && *depth.clearedDepth == otherFar && otherFar != ownFar) {
+    report.findings.push_back(
+        {"error", "clear-depth-mismatch",
+         "the depth buffer is cleared to " + number(*depth.clearedDepth) + " (" +
+             callNote(depth.clearCall) + "), the far value of the " +
+             (nearIsDeeper ? "classic" : "reversed-Z") + " convention; this matrix puts far at " +
+             number(ownFar) + ", so " +
+             (isLessTest(depth.depthFunc) || isGreaterTest(depth.depthFunc)
+                  ? "the cleared depth is nearer than any surface and nothing passes the test"
+                  : "the cleared depth reads as nearest"),
+         "glClearDepth(" + number(ownFar) + ") before glClear(GL_DEPTH_BUFFER_BIT)"});
+  }
+  if (rangeReversed && !p.reversed) {
+    report.findings.push_back(
+        {"warning", "depth-range-reversed",
+         "glDepthRange(" + number(depth.depthRange.x) + ", " + number(depth.depthRange.y) + ") (" +
+             callNote(depth.depthRangeCall) +
+             ") reverses window depth under a classic matrix: reversed-Z by depth range keeps "
+             "float depth precise only under ZERO_TO_ONE, where the matrix itself can be "
+             "reversed",
+         "build the projection reversed-Z, keep glDepthRange(0, 1), and draw under "
+         "glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)"});
+  }
+}
+
+// A shadow-map or projective-texture matrix: bias * projection * view, the bias (scale 0.5,
+// translate 0.5, as glmark2's scene-shadow.cpp builds its LightMatrix) taking NDC [-1, 1] to
+// texture coordinates [0, 1]. It feeds a texture look-up, not gl_Position, and reads as an
+// off-axis ZO matrix. Undone (row_i := 2 row_i - row_3 for x, y, z), it is an on-axis projection:
+// then the report is that projection's, with a note instead of the depth-state findings.
+bool readAsTextureSpace(const CheckInput& input, CheckReport& report) {
+  if (!report.properties.offAxis || !report.properties.perspective) return false;
+  CheckInput unbiased = input;
+  for (int column = 0; column < 4; ++column) {
+    for (int row = 0; row < 3; ++row) {
+      // Rounded to the dump's 7 digits again, so that the entries read at the listing's
+      // precision and the listing's rounding is not taken for an off-axis offset.
+      char digits[32];
+      std::snprintf(digits, sizeof digits, "%.7g",
+                    2.0 * input.clipFromWorld[column][row] - input.clipFromWorld[column][3]);
+      unbiased.clipFromWorld[column][row] = std::strtod(digits, nullptr);
+    }
+  }
+  if (unbiased.projection) unbiased.projection = unbiased.clipFromWorld;
+  CheckReport projection;
+  try {
+    projection = checkConventions(unbiased);
+  } catch (const InputError&) {
+    return false;
+  }
+  if (projection.properties.offAxis) return false;
+  const MatrixProperties& p = projection.properties;
+  std::string reading = p.builtFor;
+  if (p.nearIfBuiltForNo && p.nearIfBuiltForZo) {
+    reading += " (near " + number(p.nearIfBuiltForNo->value) + " if NO, " +
+               number(p.nearIfBuiltForZo->value) + " if ZO)";
+  }
+  report = CheckReport{};
+  report.properties = p;
+  report.findings.push_back(
+      {"info", "texture-space-matrix",
+       "the matrix is a [0, 1] bias (scale 0.5, translate 0.5) times an on-axis projection, built "
+       "for " +
+           reading +
+           ": a shadow-map or projective-texture look-up matrix, not the one the app draws with, "
+           "so it is not checked against the depth state; the properties above are the "
+           "projection's",
+       "nothing, if it only feeds texture look-ups; if it reaches gl_Position, drop the bias"});
+  return true;
+}
+
+// Groups pairs whose analysis reads alike: same source and depth state, same reading of the
+// convention, same findings (codes).
+std::string groupKey(const TracedPair& pair, const CheckReport* report,
+                     const std::string& unusable) {
+  std::string key = pair.matrix.source + "|" + pair.depth.key() + "|" + unusable;
+  if (report) {
+    key += "|" + report->properties.builtFor + (report->properties.perspective ? "|p" : "|o") +
+           (report->properties.reversed ? "r" : "c");
+    for (const Finding& f : report->findings) key += "|" + f.severity + ":" + f.code;
+  }
+  return key;
+}
+
+}  // namespace
+
+CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthState& depth,
+                                 CheckInput* inputUsed) {
+  const CheckInput input = checkInputOf(matrix, depth);
+  if (inputUsed) *inputUsed = input;
+  CheckReport report = checkConventions(input);
+  if (!readAsTextureSpace(input, report)) addTraceFindings(depth, report);
+  return report;
+}
+
+FrameRange parseFrameRange(const std::string& text) {
+  const auto parse = [&](std::string_view part, std::uint64_t& value) {
+    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
+    return error == std::errc() && end == part.data() + part.size() && !part.empty();
+  };
+  FrameRange range;
+  const std::size_t dash = text.find('-');
+  const std::string_view whole = text;
+  const bool ok =
+      dash == std::string::npos
+          ? parse(whole, range.first) && ((range.last = range.first), true)
+          : parse(whole.substr(0, dash), range.first) && parse(whole.substr(dash + 1), range.last);
+  if (!ok || range.last < range.first) {
+    throw InputError("--frames: expected A-B or A (frame numbers from 0, A <= B), got \"" + text +
+                     "\"");
+  }
+  return range;
+}
+
+bool TraceCheckResult::hasErrors() const {
+  return std::any_of(groups.begin(), groups.end(),
+                     [](const TracePairGroup& g) { return g.report.hasErrors(); }) ||
+         std::any_of(findings.begin(), findings.end(),
+                     [](const Finding& f) { return f.severity == "error"; });
+}
+
+TraceCheckCollector::TraceCheckCollector(std::string traceName, FrameRange frames)
+    : traceName_(std::move(traceName)), frames_(frames) {}
+
+bool TraceCheckCollector::addLine(std::string_view line) {
+  const auto head = dumpCallHead(line);
+  if (!head) {
+    // apitrace's own messages on the merged stderr (lib/trace/trace_parser.cpp, cli/cli_dump.cpp).
+    if (line.starts_with("warning: unexpected end of file")) truncated_ = true;
+    if (line.starts_with("error: ")) apitraceErrors_.emplace_back(line.substr(7));
+    return true;
+  }
+  ++callLines_;
+  if (!GlTraceState::needs(head->second)) return true;
+  try {
+    const DumpCall call = parseDumpCall(line);
+    state_.apply(call, [this](const TraceDraw& draw) { onDraw(draw); });
+  } catch (const std::invalid_argument& error) {
+    throw InputError(traceName_ + ": call " + std::to_string(head->first) + " (" +
+                     std::string(head->second) + "): " + error.what());
+  }
+  return state_.frame() <= frames_.last;
+}
+
+void TraceCheckCollector::onDraw(const TraceDraw& draw) {
+  if (draw.frame < frames_.first || draw.frame > frames_.last) return;
+  ++draws_;
+  if (draw.matrices.empty()) return;
+  ++drawsWithProjection_;
+  const std::string depthKey = draw.depth.key();
+  for (const TracedMatrix& matrix : draw.matrices) {
+    const std::string bits = matrixKey(matrix.matrix);
+    // Projection changes within a frame, per source.
+    const std::string frameSource = std::to_string(draw.frame) + "|" + matrix.source;
+    auto [previous, inserted] = lastInFrame_.try_emplace(frameSource, bits);
+    if (!inserted && previous->second != bits) {
+      if (lastChangedFrame_ != draw.frame) {
+        ++framesWithChanges_;
+        lastChangedFrame_ = draw.frame;
+      }
+      if (firstChange_.empty()) {
+        firstChange_ = "frame " + std::to_string(draw.frame) + ", " + matrix.source + ", at call " +
+                       std::to_string(draw.call);
+      }
+      previous->second = bits;
+    }
+    const std::string key = matrix.source + "|" + bits + "|" + depthKey;
+    const auto found = pairIndex_.find(key);
+    if (found == pairIndex_.end()) {
+      std::size_t& ofSource = pairsPerSource_[matrix.source];
+      if (pairs_.size() >= kMaxDistinctPairs || ofSource >= kMaxPairsPerSource) {
+        ++drawsNotKept_;
+        continue;
+      }
+      ++ofSource;
+      pairIndex_.emplace(key, pairs_.size());
+      pairs_.push_back({matrix, draw.depth, {draw.frame, draw.call}, {draw.frame, draw.call}, 1});
+      continue;
+    }
+    TracedPair& pair = pairs_[found->second];
+    pair.last = {draw.frame, draw.call};
+    ++pair.draws;
+  }
+  // Only this frame's entries matter from here on.
+  if (lastInFrame_.size() > 4 * draw.matrices.size() + 64) {
+    std::erase_if(lastInFrame_, [&](const auto& entry) {
+      return !entry.first.starts_with(std::to_string(draw.frame) + "|");
+    });
+  }
+}
+
+TraceCheckResult TraceCheckCollector::finish() {
+  if (!apitraceErrors_.empty()) throw InputError(traceName_ + ": apitrace: " + apitraceErrors_[0]);
+  if (truncated_) {
+    throw InputError(traceName_ +
+                     ": truncated trace (apitrace: unexpected end of file while reading trace)");
+  }
+  if (callLines_ == 0) {
+    throw InputError(traceName_ + ": no calls: not an apitrace trace, or an empty one");
+  }
+  TraceCheckResult result;
+  result.traceName = traceName_;
+  result.frames = frames_;
+  result.framesSeen = state_.frame();
+  result.draws = draws_;
+  result.drawsWithProjection = drawsWithProjection_;
+  result.drawsNotKept = drawsNotKept_;
+  result.distinctPairs = pairs_.size();
+  const std::string where =
+      frames_.first == 0 && frames_.last == UINT64_MAX
+          ? std::string()
+          : " in frames " + std::to_string(frames_.first) + "-" +
+                (frames_.last == UINT64_MAX ? std::string("end") : std::to_string(frames_.last));
+  if (draws_ == 0) {
+    throw InputError(traceName_ + ": no GL draw calls" + where + " (" + std::to_string(callLines_) +
+                     " calls in " + std::to_string(state_.frame()) +
+                     " frames read): nothing to check");
+  }
+  if (pairs_.empty()) {
+    throw InputError(traceName_ + ": none of the " + std::to_string(draws_) + " draws" + where +
+                     " has a matrix with a projection's structure (uniform mat4 or "
+                     "fixed-function GL_PROJECTION)");
+  }
+  std::map<std::string, std::size_t> groupIndex;
+  for (const TracedPair& pair : pairs_) {
+    CheckInput input;
+    std::optional<CheckReport> report;
+    std::string unusable;
+    try {
+      report = checkUnderDepthState(pair.matrix, pair.depth, &input);
+    } catch (const InputError& error) {
+      unusable = error.what();
+    }
+    const std::string key = groupKey(pair, report ? &*report : nullptr, unusable);
+    const auto [found, inserted] = groupIndex.try_emplace(key, result.groups.size());
+    if (inserted) {
+      TracePairGroup group;
+      group.source = pair.matrix.source;
+      group.depth = pair.depth;
+      group.matrix = pair.matrix.matrix;
+      group.input = input;
+      if (report) group.report = std::move(*report);
+      group.unusable = unusable;
+      group.first = pair.first;
+      group.last = pair.last;
+      result.groups.push_back(std::move(group));
+    }
+    TracePairGroup& group = result.groups[found->second];
+    ++group.distinctMatrices;
+    group.draws += pair.draws;
+    if (pair.first.call < group.first.call) group.first = pair.first;
+    if (pair.last.call > group.last.call) group.last = pair.last;
+  }
+  if (framesWithChanges_ > 0) {
+    result.findings.push_back(
+        {"info", "projection-changes-within-frame",
+         "a projective matrix changes between draws of one frame in " +
+             std::to_string(framesWithChanges_) + " frame(s) (first: " + firstChange_ +
+             "): per-object MVPs, or a second camera (shadow map, UI)",
+         "nothing to fix if intended; picking must use the matrix of the pass it picks in"});
+  }
+  return result;
+}
+
+}  // namespace clipray::trace

@@ -1,0 +1,154 @@
+// `clipray check --trace` reports: the text summary and the JSON (stable field names).
+
+#include <algorithm>
+#include <sstream>
+
+#include "clipray/check/CheckText.hpp"
+#include "clipray/trace/TraceCheck.hpp"
+
+namespace clipray::trace {
+
+namespace {
+
+std::string number(double value) {
+  return detail::checkNumber(value);
+}
+
+std::string depthStateText(const TraceDepthState& d) {
+  std::ostringstream out;
+  out << "clip control " << (d.clipUpperLeft ? "upper-left" : "lower-left") << ", "
+      << (d.clipZeroToOne ? "zero-to-one" : "negative-one-to-one") << "; depth test "
+      << (d.depthTest ? glEnumName(d.depthFunc) : std::string("off")) << "; depth range "
+      << number(d.depthRange.x) << ", " << number(d.depthRange.y) << "; cleared to "
+      << (d.clearedDepth ? number(*d.clearedDepth) : std::string("-")) << "; viewport "
+      << d.viewport.width << "x" << d.viewport.height << "; depth buffer " << d.depthFormatName;
+  return out.str();
+}
+
+nlohmann::json depthStateJson(const TraceDepthState& d) {
+  return {{"clip_origin", d.clipUpperLeft ? "upper-left" : "lower-left"},
+          {"clip_depth", d.clipZeroToOne ? "zero-to-one" : "negative-one-to-one"},
+          {"depth_test", d.depthTest},
+          {"depth_func", glEnumName(d.depthFunc)},
+          {"depth_range", {d.depthRange.x, d.depthRange.y}},
+          {"cleared_depth", d.clearedDepth ? nlohmann::json(*d.clearedDepth) : nullptr},
+          {"viewport", {d.viewport.width, d.viewport.height}},
+          {"depth_format", d.depthFormatName},
+          {"calls",
+           {{"clip_control", d.clipControlCall},
+            {"depth_func", d.depthFuncCall},
+            {"depth_range", d.depthRangeCall},
+            {"clear", d.clearCall}}}};
+}
+
+std::string framesText(const TraceCheckResult& r) {
+  if (r.frames.first == 0 && r.frames.last == UINT64_MAX) {
+    return std::to_string(r.framesSeen) + " frames";
+  }
+  return "frames " + std::to_string(r.frames.first) + "-" +
+         (r.frames.last == UINT64_MAX ? std::string("end") : std::to_string(r.frames.last));
+}
+
+std::size_t countSeverity(const TraceCheckResult& r, const std::string& severity) {
+  std::size_t count = 0;
+  for (const TracePairGroup& g : r.groups) {
+    count += static_cast<std::size_t>(
+        std::count_if(g.report.findings.begin(), g.report.findings.end(),
+                      [&](const Finding& f) { return f.severity == severity; }));
+  }
+  return count + static_cast<std::size_t>(
+                     std::count_if(r.findings.begin(), r.findings.end(),
+                                   [&](const Finding& f) { return f.severity == severity; }));
+}
+
+}  // namespace
+
+nlohmann::json traceCheckJson(const TraceCheckResult& r) {
+  nlohmann::json groups = nlohmann::json::array();
+  for (const TracePairGroup& g : r.groups) {
+    nlohmann::json matrix = nlohmann::json::array();
+    for (int column = 0; column < 4; ++column) {
+      for (int row = 0; row < 4; ++row) matrix.push_back(g.matrix[column][row]);
+    }
+    nlohmann::json group = {{"source", g.source},
+                            {"distinct_matrices", g.distinctMatrices},
+                            {"draws", g.draws},
+                            {"first", {{"frame", g.first.frame}, {"call", g.first.call}}},
+                            {"last", {{"frame", g.last.frame}, {"call", g.last.call}}},
+                            {"depth_state", depthStateJson(g.depth)},
+                            {"matrix_column_major", matrix}};
+    if (!g.verify.is_null()) group["verify"] = g.verify;
+    if (!g.unusable.empty()) {
+      group["unusable"] = g.unusable;
+    } else {
+      const nlohmann::json check = checkReportJson(g.report, g.input);
+      group["properties"] = check["properties"];
+      group["findings"] = check["findings"];
+      group["verdict"] = check["verdict"];
+    }
+    groups.push_back(std::move(group));
+  }
+  nlohmann::json findings = nlohmann::json::array();
+  for (const Finding& f : r.findings) {
+    findings.push_back(
+        {{"severity", f.severity}, {"code", f.code}, {"message", f.message}, {"fix", f.fix}});
+  }
+  return {{"tool", "clipray check --trace"},
+          {"trace", r.traceName},
+          {"frames",
+           {{"first", r.frames.first},
+            {"last",
+             r.frames.last == UINT64_MAX ? nlohmann::json(nullptr) : nlohmann::json(r.frames.last)},
+            {"read", r.framesSeen}}},
+          {"draws", r.draws},
+          {"draws_with_projection", r.drawsWithProjection},
+          {"draws_not_kept", r.drawsNotKept},
+          {"distinct_pairs", r.distinctPairs},
+          {"groups", groups},
+          {"findings", findings},
+          {"verdict", r.hasErrors() ? "errors" : "ok"}};
+}
+
+std::string traceCheckText(const TraceCheckResult& r) {
+  std::ostringstream out;
+  out << "trace " << r.traceName << ": " << framesText(r) << ", " << r.draws << " draws ("
+      << r.drawsWithProjection << " with a projection), " << r.distinctPairs
+      << " distinct (matrix, depth state) pairs in " << r.groups.size() << " groups\n";
+  if (r.drawsNotKept > 0) {
+    out << "  " << r.drawsNotKept << " draws with further new pairs not analysed (more than "
+        << kMaxPairsPerSource << " pairs of one source, or " << kMaxDistinctPairs << " in all)\n";
+  }
+  std::size_t index = 0;
+  for (const TracePairGroup& g : r.groups) {
+    out << "\n[" << ++index << "] " << g.source << ": " << g.distinctMatrices
+        << (g.distinctMatrices == 1 ? " matrix, " : " matrices, ") << g.draws
+        << " draws, first frame " << g.first.frame << " call " << g.first.call << ", last frame "
+        << g.last.frame << " call " << g.last.call << "\n";
+    out << "  depth state: " << depthStateText(g.depth) << "\n";
+    if (!g.unusable.empty()) {
+      out << "  not analysed: " << g.unusable << "\n";
+      continue;
+    }
+    // The matrix check's report, indented, without its own totals line.
+    std::istringstream lines(checkReportText(g.report, g.input));
+    std::string line;
+    while (std::getline(lines, line)) {
+      if (line.find(" errors, ") != std::string::npos && line.ends_with(" notes")) continue;
+      out << "  " << line << "\n";
+    }
+    if (!g.verifyObservations.empty()) out << "  verify (replayed by eglretrace):\n";
+    for (const std::string& observation : g.verifyObservations) {
+      out << "    " << observation << "\n";
+    }
+  }
+  if (!r.findings.empty()) out << "\n";
+  for (const Finding& f : r.findings) {
+    out << f.severity << " [" << f.code << "] " << f.message << "\n  fix: " << f.fix << "\n";
+  }
+  out << "\n"
+      << countSeverity(r, "error") << " errors, " << countSeverity(r, "warning") << " warnings, "
+      << countSeverity(r, "info") << " notes\n";
+  return out.str();
+}
+
+}  // namespace clipray::trace

@@ -1,0 +1,125 @@
+// gl::checkCurrentState: the depth state of a live context (OSMesa, llvmpipe) read with glGet*,
+// declared for the app's matrix. The test sets the state through the context's own loader, as an
+// app would with its own GL loader (no GL headers here: the enum values are clipray's).
+
+#include <gtest/gtest.h>
+
+#include <string>
+#include <vector>
+
+#include "clipray/gl/CurrentStateCheck.hpp"
+#include "clipray/trace/GlTraceState.hpp"
+
+namespace clipray {
+namespace {
+
+constexpr std::uint32_t kGlRenderbuffer = 0x8D41;  // Khronos gl.xml
+
+struct GlCalls {
+  explicit GlCalls(gl::GlLoader loader)
+      : clipControl(
+            reinterpret_cast<void (*)(std::uint32_t, std::uint32_t)>(loader("glClipControl"))),
+        depthFunc(reinterpret_cast<void (*)(std::uint32_t)>(loader("glDepthFunc"))),
+        enable(reinterpret_cast<void (*)(std::uint32_t)>(loader("glEnable"))),
+        clearDepth(reinterpret_cast<void (*)(double)>(loader("glClearDepth"))),
+        viewport(reinterpret_cast<void (*)(int, int, int, int)>(loader("glViewport"))),
+        genFramebuffers(
+            reinterpret_cast<void (*)(int, std::uint32_t*)>(loader("glGenFramebuffers"))),
+        bindFramebuffer(
+            reinterpret_cast<void (*)(std::uint32_t, std::uint32_t)>(loader("glBindFramebuffer"))),
+        genRenderbuffers(
+            reinterpret_cast<void (*)(int, std::uint32_t*)>(loader("glGenRenderbuffers"))),
+        bindRenderbuffer(
+            reinterpret_cast<void (*)(std::uint32_t, std::uint32_t)>(loader("glBindRenderbuffer"))),
+        renderbufferStorage(reinterpret_cast<void (*)(std::uint32_t, std::uint32_t, int, int)>(
+            loader("glRenderbufferStorage"))),
+        framebufferRenderbuffer(
+            reinterpret_cast<void (*)(std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t)>(
+                loader("glFramebufferRenderbuffer"))) {}
+
+  // A framebuffer with only a depth renderbuffer of `format`, 64x48.
+  void bindDepthFramebuffer(std::uint32_t format) const {
+    std::uint32_t framebuffer = 0, renderbuffer = 0;
+    genFramebuffers(1, &framebuffer);
+    bindFramebuffer(trace::kGlFramebuffer, framebuffer);
+    genRenderbuffers(1, &renderbuffer);
+    bindRenderbuffer(kGlRenderbuffer, renderbuffer);
+    renderbufferStorage(kGlRenderbuffer, format, 64, 48);
+    framebufferRenderbuffer(trace::kGlFramebuffer, trace::kGlDepthAttachment, kGlRenderbuffer,
+                            renderbuffer);
+    viewport(0, 0, 64, 48);
+  }
+
+  void (*clipControl)(std::uint32_t, std::uint32_t);
+  void (*depthFunc)(std::uint32_t);
+  void (*enable)(std::uint32_t);
+  void (*clearDepth)(double);
+  void (*viewport)(int, int, int, int);
+  void (*genFramebuffers)(int, std::uint32_t*);
+  void (*bindFramebuffer)(std::uint32_t, std::uint32_t);
+  void (*genRenderbuffers)(int, std::uint32_t*);
+  void (*bindRenderbuffer)(std::uint32_t, std::uint32_t);
+  void (*renderbufferStorage)(std::uint32_t, std::uint32_t, int, int);
+  void (*framebufferRenderbuffer)(std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t);
+};
+
+glm::dmat4 columnMajor(const std::vector<double>& values) {
+  glm::dmat4 m(0.0);
+  for (int k = 0; k < 16; ++k) m[k / 4][k % 4] = values[static_cast<std::size_t>(k)];
+  return m;
+}
+
+// glm::perspectiveRH_NO(60 deg, 4/3, 0.1, 100) * lookAtRH((0, 2, 5), 0, +Y) in float (7 digits).
+const glm::dmat4 kNoMatrix =
+    columnMajor({1.299038, 0, 0, 0, 0, 1.608169, -0.3721342, -0.3713907, 0, -0.6432676, -0.9303355,
+                 -0.9284767, 0, 0, 5.195746, 5.385165});
+// The same camera reversed-Z with an infinite far plane (ZERO_TO_ONE): z_clip = 0.1 w_view.
+const glm::dmat4 kReversedMatrix = columnMajor({1.299038, 0, 0, 0, 0, 1.608169, -0, -0.3713907, 0,
+                                                -0.6432676, 0, -0.9284767, 0, 0, 0.1, 5.385165});
+
+std::vector<std::string> codes(const CheckReport& report) {
+  std::vector<std::string> result;
+  for (const Finding& f : report.findings) result.push_back(f.severity + ":" + f.code);
+  return result;
+}
+
+TEST(CurrentStateCheck, NoMatrixUnderZeroToOne) {
+  const auto context = gl::createOsMesaContext();
+  const GlCalls gl(context->loader());
+  gl.bindDepthFramebuffer(trace::kGlDepthComponent24);
+  gl.clipControl(trace::kGlLowerLeft, trace::kGlZeroToOne);
+  gl.enable(trace::kGlDepthTest);
+  gl.depthFunc(trace::kGlLess);
+  const gl::CurrentStateCheck result = gl::checkCurrentState(kNoMatrix, context->loader());
+  EXPECT_TRUE(result.state.clipZeroToOne);
+  EXPECT_FALSE(result.state.clipUpperLeft);
+  EXPECT_TRUE(result.state.depthTest);
+  EXPECT_EQ(result.state.depthFunc, trace::kGlLess);
+  EXPECT_EQ(result.state.depthFormatName, "24");
+  EXPECT_EQ(result.state.viewport, (Viewport{64, 48}));
+  EXPECT_EQ(result.state.clearedDepth, 1.0);
+  EXPECT_EQ(result.input.declaredDepth, DepthConvention::ZeroToOne);
+  EXPECT_EQ(result.report.properties.builtFor, "no");
+  EXPECT_EQ(codes(result.report), std::vector<std::string>{"error:depth-convention-mismatch"});
+}
+
+TEST(CurrentStateCheck, ReversedZNeedsGreaterAndClearZero) {
+  const auto context = gl::createOsMesaContext();
+  const GlCalls gl(context->loader());
+  gl.bindDepthFramebuffer(trace::kGlDepthComponent32F);
+  gl.clipControl(trace::kGlLowerLeft, trace::kGlZeroToOne);
+  gl.enable(trace::kGlDepthTest);
+  gl.depthFunc(trace::kGlGreater);
+  gl.clearDepth(0.0);
+  const gl::CurrentStateCheck right = gl::checkCurrentState(kReversedMatrix, context->loader());
+  EXPECT_EQ(right.state.depthFormatName, "32f");
+  EXPECT_EQ(right.report.properties.builtFor, "zo-reversed");
+  EXPECT_EQ(codes(right.report), std::vector<std::string>{"warning:infinite-far-plane"});
+  gl.clearDepth(1.0);
+  const gl::CurrentStateCheck wrong = gl::checkCurrentState(kReversedMatrix, context->loader());
+  EXPECT_EQ(codes(wrong.report),
+            (std::vector<std::string>{"warning:infinite-far-plane", "error:clear-depth-mismatch"}));
+}
+
+}  // namespace
+}  // namespace clipray

@@ -1,0 +1,308 @@
+// `clipray check --trace` on real traces: tests/traceapps/ConventionApp.cpp, one case per depth
+// convention and per classic mistake, recorded with `apitrace trace --api egl` on Mesa's
+// surfaceless EGL platform (no display, no GPU: llvmpipe), then checked by the clipray binary.
+// Needs Debian's apitrace (harness/install-deps.sh).
+
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "support/RunCommand.hpp"
+
+namespace clipray {
+namespace {
+
+using testing::runClipray;
+using testing::TempFolder;
+
+// Records `clipray_trace_app CASE FRAMES` into FOLDER/CASE.trace; "" on success, else apitrace's
+// output.
+std::string recordTrace(const std::string& name, const TempFolder& folder, int frames = 3) {
+  const std::filesystem::path log = folder.path() / (name + ".log");
+  const std::string command = "cd '" + folder.path().string() +
+                              "' && apitrace trace --api egl -o '" + name + ".trace' '" +
+                              CLIPRAY_TRACE_APP + "' " + name + " " + std::to_string(frames) +
+                              " >'" + log.string() + "' 2>&1";
+  const int raw = std::system(command.c_str());
+  const int status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  const std::string output = testing::readText(log);
+  std::filesystem::remove(log);
+  if (status != 0 || !std::filesystem::exists(folder.path() / (name + ".trace"))) {
+    return "apitrace trace of " + name + " failed (status " + std::to_string(status) +
+           "; is Debian's apitrace installed? harness/install-deps.sh): " + output;
+  }
+  return "";
+}
+
+struct Checked {
+  int status = -1;
+  nlohmann::json report;
+  std::string err;
+};
+
+Checked checkTraced(const std::string& name, const TempFolder& folder) {
+  Checked checked;
+  const std::string failure = recordTrace(name, folder);
+  if (!failure.empty()) {
+    checked.err = failure;
+    return checked;
+  }
+  const auto result = runClipray("check --trace " + name + ".trace --json", folder.path());
+  checked.status = result.status;
+  checked.err = result.err;
+  if (result.status == 0 || result.status == 1) checked.report = nlohmann::json::parse(result.out);
+  return checked;
+}
+
+std::vector<std::string> codes(const nlohmann::json& group) {
+  std::vector<std::string> result;
+  for (const auto& f : group["findings"]) {
+    result.push_back(f["severity"].get<std::string>() + ":" + f["code"].get<std::string>());
+  }
+  return result;
+}
+
+// The one group every test app draws: one matrix, three frames, one draw each.
+const nlohmann::json& onlyGroup(const Checked& checked) {
+  static const nlohmann::json empty = nlohmann::json::object();
+  if (!checked.report.contains("groups") || checked.report["groups"].size() != 1) {
+    ADD_FAILURE() << "expected one group: " << checked.report.dump(2) << checked.err;
+    return empty;
+  }
+  const nlohmann::json& group = checked.report["groups"][0];
+  EXPECT_EQ(group["draws"], 3);
+  EXPECT_EQ(group["distinct_matrices"], 1);
+  EXPECT_EQ(group["first"]["frame"], 0);
+  EXPECT_EQ(group["last"]["frame"], 2);
+  EXPECT_EQ(checked.report["frames"]["read"], 3);
+  return group;
+}
+
+TEST(TraceCli, NegativeOneToOneApp) {
+  TempFolder folder;
+  const Checked checked = checkTraced("no", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["source"], "uniform clipFromWorld (program 1)");
+  EXPECT_EQ(group["depth_state"]["clip_depth"], "negative-one-to-one");
+  EXPECT_EQ(group["depth_state"]["depth_func"], "GL_LESS");
+  EXPECT_EQ(group["depth_state"]["depth_format"], "32f");
+  EXPECT_EQ(group["depth_state"]["viewport"], nlohmann::json::array({64, 48}));
+  EXPECT_EQ(group["properties"]["built_for"], "no");
+  EXPECT_NEAR(group["properties"]["near"].get<double>(), 0.1, 2e-5);
+  EXPECT_NEAR(group["properties"]["far"].get<double>(), 100.0, 0.2);
+  EXPECT_NEAR(group["properties"]["fov_y_degrees"].get<double>(), 60.0, 2e-4);
+  EXPECT_EQ(codes(group), std::vector<std::string>{});
+  EXPECT_EQ(checked.report["verdict"], "ok");
+}
+
+TEST(TraceCli, ZeroToOneApp) {
+  TempFolder folder;
+  const Checked checked = checkTraced("zo", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["depth_state"]["clip_depth"], "zero-to-one");
+  EXPECT_EQ(group["properties"]["built_for"], "zo");
+  EXPECT_NEAR(group["properties"]["near"].get<double>(), 0.1, 3e-5);
+  EXPECT_EQ(codes(group), std::vector<std::string>{});
+}
+
+TEST(TraceCli, ReversedInfiniteApp) {
+  TempFolder folder;
+  const Checked checked = checkTraced("reversed-infinite", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["depth_state"]["depth_func"], "GL_GREATER");
+  EXPECT_EQ(group["depth_state"]["cleared_depth"], 0.0);
+  EXPECT_EQ(group["properties"]["built_for"], "zo-reversed");
+  EXPECT_EQ(group["properties"]["reversed"], true);
+  EXPECT_EQ(group["properties"]["infinite_far"], true);
+  EXPECT_NEAR(group["properties"]["near"].get<double>(), 0.1, 1e-5);
+  // About picking rays at an infinite far plane, not about the app's depth state.
+  EXPECT_EQ(codes(group), std::vector<std::string>{"warning:infinite-far-plane"});
+}
+
+TEST(TraceCli, NegativeOneToOneMatrixUnderZeroToOne) {
+  TempFolder folder;
+  const Checked checked = checkTraced("no-under-zo", folder);
+  ASSERT_EQ(checked.status, 1) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["first"]["call"], 49);
+  EXPECT_EQ(group["last"]["call"], 57);
+  EXPECT_EQ(group["depth_state"]["calls"]["clip_control"], 23);
+  EXPECT_EQ(group["properties"]["built_for"], "no");
+  ASSERT_EQ(codes(group), std::vector<std::string>{"error:depth-convention-mismatch"});
+  const std::string message = group["findings"][0]["message"];
+  EXPECT_NE(message.find("the effective near plane moves to 0.1998 (1.998x)"), std::string::npos)
+      << message;
+  EXPECT_EQ(checked.report["verdict"], "errors");
+}
+
+TEST(TraceCli, ReversedMatrixWithLess) {
+  TempFolder folder;
+  const Checked checked = checkTraced("reversed-with-less", folder);
+  ASSERT_EQ(checked.status, 1) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(codes(group),
+            (std::vector<std::string>{"error:reversed-z-mismatch", "warning:infinite-far-plane",
+                                      "error:clear-depth-mismatch"}));
+  const std::string mismatch = group["findings"][0]["message"];
+  EXPECT_NE(mismatch.find("(traced: glDepthFunc(GL_LESS) at call 24)"), std::string::npos)
+      << mismatch;
+  EXPECT_EQ(group["findings"][2]["message"],
+            "the depth buffer is cleared to 1 (call 47), the far value of the classic "
+            "convention; this matrix puts far at 0, so the cleared depth is nearer than any "
+            "surface and nothing passes the test");
+}
+
+TEST(TraceCli, RowMajorMatrixUploadedUntransposed) {
+  TempFolder folder;
+  const Checked checked = checkTraced("row-major-untransposed", folder);
+  ASSERT_EQ(checked.status, 1) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["properties"]["likely_transposed"], true);
+  EXPECT_EQ(codes(group), std::vector<std::string>{"error:likely-transposed"});
+}
+
+TEST(TraceCli, VulkanFlipUnderLowerLeftOrigin) {
+  TempFolder folder;
+  const Checked checked = checkTraced("vulkan-flip", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["depth_state"]["clip_origin"], "lower-left");
+  EXPECT_EQ(group["properties"]["y_flipped"], true);
+  EXPECT_EQ(group["properties"]["built_for"], "zo");
+  EXPECT_EQ(codes(group), std::vector<std::string>{"warning:y-flipped"});
+}
+
+TEST(TraceCli, FixedFunctionFrustumUnderZeroToOne) {
+  TempFolder folder;
+  const Checked checked = checkTraced("fixed-function-frustum-under-zo", folder);
+  ASSERT_EQ(checked.status, 1) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["source"], "fixed-function GL_PROJECTION");
+  EXPECT_EQ(group["depth_state"]["depth_func"], "GL_LEQUAL");
+  EXPECT_EQ(group["properties"]["built_for"], "no");
+  EXPECT_NEAR(group["properties"]["near_if_built_for_no"].get<double>(), 0.1, 1e-6);
+  EXPECT_EQ(codes(group), std::vector<std::string>{"error:depth-convention-mismatch"});
+}
+
+TEST(TraceCli, TextReport) {
+  TempFolder folder;
+  ASSERT_EQ(recordTrace("no-under-zo", folder), "");
+  const auto result = runClipray("check --trace no-under-zo.trace --frames 1-2", folder.path());
+  EXPECT_EQ(result.status, 1) << result.err;
+  EXPECT_NE(result.out.find("trace no-under-zo.trace: frames 1-2, 2 draws (2 with a projection), "
+                            "1 distinct (matrix, depth state) pairs in 1 groups\n"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("[1] uniform clipFromWorld (program 1): 1 matrix, 2 draws, first "
+                            "frame 1 call 53, last frame 2 call 57\n"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("  depth state: clip control lower-left, zero-to-one; depth test "
+                            "GL_LESS; depth range 0, 1; cleared to 1; viewport 64x48; depth "
+                            "buffer 32f\n"),
+            std::string::npos)
+      << result.out;
+  EXPECT_NE(result.out.find("\n1 errors, 0 warnings, 0 notes\n"), std::string::npos) << result.out;
+}
+
+TEST(TraceCli, VerifyReplaysTheDepthBuffer) {
+  TempFolder folder;
+  ASSERT_EQ(recordTrace("no-under-zo", folder), "");
+  ASSERT_EQ(recordTrace("no", folder), "");
+  const auto mistaken =
+      runClipray("check --trace no-under-zo.trace --verify --json", folder.path());
+  ASSERT_EQ(mistaken.status, 1) << mistaken.err;
+  const nlohmann::json verify = nlohmann::json::parse(mistaken.out)["groups"][0]["verify"];
+  EXPECT_EQ(verify["call"], 49);
+  EXPECT_EQ(verify["pixels"], 64 * 48);
+  EXPECT_EQ(verify["written"], 56);  // the triangle's pixel centres on llvmpipe
+  // The triangle spans view depths 5.07..5.36 from the eye (0, 2, 5); read back as the NO
+  // matrix it was built for, a pick puts it at 2.60..2.75.
+  EXPECT_NEAR(verify["nearest_view_depth"].get<double>(), 5.06817, 1e-4);
+  EXPECT_NEAR(verify["farthest_view_depth"].get<double>(), 5.35939, 1e-4);
+  EXPECT_NEAR(verify["picked_nearest"].get<double>(), 2.59997, 1e-4);
+  EXPECT_NEAR(verify["pick_worst_relative_error"].get<double>(), 0.487, 1e-3);
+
+  const auto right = runClipray("check --trace no.trace --verify", folder.path());
+  ASSERT_EQ(right.status, 0) << right.err;
+  EXPECT_NE(right.out.find("  verify (replayed by eglretrace):\n    depth buffer after call 48 "
+                           "(frame 0): 64x48 GL_DEPTH_COMPONENT32F, 56 of 3072 pixels differ "
+                           "from the cleared depth 1\n    window depth used: 0.98125 to "
+                           "0.982323\n    view depth of those pixels under the traced "
+                           "NEGATIVE_ONE_TO_ONE: 5.06817 to 5.35938\n"),
+            std::string::npos)
+      << right.out;
+  EXPECT_EQ(right.out.find("read back with"), std::string::npos) << right.out;
+}
+
+// Unusable input: one line naming the file, exit 2, nothing on stdout, nothing written.
+void expectRefused(const std::string& arguments, const TempFolder& folder,
+                   const std::string& message, const std::string& environment = "") {
+  std::vector<std::filesystem::path> before;
+  for (const auto& entry : std::filesystem::directory_iterator(folder.path())) {
+    before.push_back(entry.path());
+  }
+  const auto result = runClipray("check " + arguments, folder.path(), environment);
+  EXPECT_EQ(result.status, 2) << arguments;
+  EXPECT_EQ(result.out, "") << arguments;
+  EXPECT_EQ(result.err, "clipray: " + message + "\n") << arguments;
+  std::vector<std::filesystem::path> after;
+  for (const auto& entry : std::filesystem::directory_iterator(folder.path())) {
+    after.push_back(entry.path());
+  }
+  std::sort(before.begin(), before.end());
+  std::sort(after.begin(), after.end());
+  EXPECT_EQ(before, after) << arguments;
+}
+
+TEST(TraceCli, BadTraces) {
+  TempFolder folder;
+  ASSERT_EQ(recordTrace("no", folder), "");
+  ASSERT_EQ(recordTrace("identity", folder), "");
+  ASSERT_EQ(recordTrace("clear-only", folder), "");
+  {
+    // The first 30000 bytes of a trace: apitrace reads what is there and warns.
+    std::ifstream whole(folder.path() / "no.trace", std::ios::binary);
+    std::string bytes(30000, '\0');
+    whole.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    std::ofstream(folder.path() / "truncated.trace", std::ios::binary) << bytes;
+    std::ofstream(folder.path() / "scene.json") << R"({"objects": []})";
+  }
+  expectRefused("--trace missing.trace", folder, "missing.trace: cannot open file");
+  expectRefused("--trace truncated.trace", folder,
+                "truncated.trace: truncated trace (apitrace: unexpected end of file while "
+                "reading trace)");
+  expectRefused("--trace scene.json", folder,
+                "scene.json: no calls: not an apitrace trace, or an empty one");
+  expectRefused("--trace clear-only.trace", folder,
+                "clear-only.trace: no GL draw calls (29 calls in 3 frames read): nothing to check");
+  expectRefused("--trace identity.trace", folder,
+                "identity.trace: none of the 3 draws has a matrix with a projection's structure "
+                "(uniform mat4 or fixed-function GL_PROJECTION)");
+  expectRefused("--trace no.trace --frames 5-9", folder,
+                "no.trace: no GL draw calls in frames 5-9 (58 calls in 3 frames read): nothing "
+                "to check");
+  expectRefused("--trace no.trace --frames 2-1", folder,
+                "--frames: expected A-B or A (frame numbers from 0, A <= B), got \"2-1\"");
+  expectRefused("--trace no.trace --declared-depth zo", folder,
+                "--trace: the depth state and matrices come from the trace; give no check file "
+                "or field options with it");
+  expectRefused("--trace no.trace", folder,
+                "/nonexistent/apitrace: cannot run apitrace (not installed?): install Debian's "
+                "apitrace (harness/install-deps.sh), or set CLIPRAY_APITRACE",
+                "CLIPRAY_APITRACE=/nonexistent/apitrace");
+}
+
+}  // namespace
+}  // namespace clipray

@@ -1,0 +1,313 @@
+// A tiny headless GL app for `clipray check --trace`: it draws one triangle per frame into an FBO
+// on an EGL pbuffer (Mesa's surfaceless platform: no display, no GPU needed), with the matrix and
+// depth state of one convention or one classic mistake. CI records it with `apitrace trace` and
+// checks what clipray reads from the trace. It links libEGL and libOpenGL/libGL directly, like a
+// real app, so apitrace's egltrace.so (LD_PRELOAD) sees every call.
+//
+//   clipray_trace_app CASE [FRAMES]
+//
+// CASE: no, zo, reversed-infinite (correct apps); no-under-zo, reversed-with-less,
+// row-major-untransposed, vulkan-flip, fixed-function-frustum-under-zo (classic mistakes);
+// identity (draws without a projection), clear-only (frames without draws).
+// Every matrix is a glm-style camera: perspective fov 60 deg, aspect 4/3, near 0.1, far 100,
+// looking from (0, 2, 5) at the origin, built in float as apps do.
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <EGL/egl.h>
+#include <EGL/eglext.h>
+#include <GL/gl.h>
+#include <GL/glext.h>
+
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+
+namespace {
+
+using Matrix = std::array<float, 16>;  // column-major: element (row r, column c) at [c * 4 + r]
+
+constexpr float kFovY = 1.04719755f;  // 60 degrees
+constexpr float kAspect = 4.0f / 3.0f;
+constexpr float kNear = 0.1f;
+constexpr float kFar = 100.0f;
+
+Matrix multiply(const Matrix& a, const Matrix& b) {
+  Matrix product{};
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) {
+      float sum = 0.0f;
+      for (int k = 0; k < 4; ++k) sum += a[k * 4 + r] * b[c * 4 + k];
+      product[c * 4 + r] = sum;
+    }
+  }
+  return product;
+}
+
+// glm::lookAtRH (glm/ext/matrix_transform.inl), eye (0, 2, 5), centre 0, up +Y.
+Matrix viewFromWorld() {
+  const float eye[3] = {0.0f, 2.0f, 5.0f};
+  float forward[3] = {-eye[0], -eye[1], -eye[2]};
+  const float length =
+      std::sqrt(forward[0] * forward[0] + forward[1] * forward[1] + forward[2] * forward[2]);
+  for (float& v : forward) v /= length;
+  // side = normalize(cross(forward, up)), up = (0, 1, 0)
+  float side[3] = {-forward[2], 0.0f, forward[0]};
+  const float sideLength = std::sqrt(side[0] * side[0] + side[2] * side[2]);
+  for (float& v : side) v /= sideLength;
+  const float up[3] = {side[1] * forward[2] - side[2] * forward[1],
+                       side[2] * forward[0] - side[0] * forward[2],
+                       side[0] * forward[1] - side[1] * forward[0]};
+  Matrix view{};
+  for (int i = 0; i < 3; ++i) {
+    view[i * 4 + 0] = side[i];
+    view[i * 4 + 1] = up[i];
+    view[i * 4 + 2] = -forward[i];
+  }
+  view[12] = -(side[0] * eye[0] + side[1] * eye[1] + side[2] * eye[2]);
+  view[13] = -(up[0] * eye[0] + up[1] * eye[1] + up[2] * eye[2]);
+  view[14] = forward[0] * eye[0] + forward[1] * eye[1] + forward[2] * eye[2];
+  view[15] = 1.0f;
+  return view;
+}
+
+// glm::perspectiveRH_NO / perspectiveRH_ZO (glm/ext/matrix_clip_space.inl): the NO matrix maps
+// near to z_ndc -1, the ZO matrix maps near to 0; both map far to 1.
+Matrix perspective(bool zeroToOne) {
+  const float focal = 1.0f / std::tan(kFovY / 2.0f);
+  Matrix projection{};
+  projection[0] = focal / kAspect;
+  projection[5] = focal;
+  projection[11] = -1.0f;
+  if (zeroToOne) {
+    projection[10] = kFar / (kNear - kFar);
+    projection[14] = -(kFar * kNear) / (kFar - kNear);
+  } else {
+    projection[10] = -(kFar + kNear) / (kFar - kNear);
+    projection[14] = -(2.0f * kFar * kNear) / (kFar - kNear);
+  }
+  return projection;
+}
+
+// Reversed-Z with an infinite far plane, for ZERO_TO_ONE: near -> 1, infinity -> 0
+// (z_clip = near, w_clip = -z_view).
+Matrix reversedInfinitePerspective() {
+  const float focal = 1.0f / std::tan(kFovY / 2.0f);
+  Matrix projection{};
+  projection[0] = focal / kAspect;
+  projection[5] = focal;
+  projection[11] = -1.0f;
+  projection[14] = kNear;
+  return projection;
+}
+
+Matrix transposed(const Matrix& m) {
+  Matrix t{};
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) t[r * 4 + c] = m[c * 4 + r];
+  }
+  return t;
+}
+
+[[noreturn]] void fail(const std::string& what) {
+  std::fprintf(stderr, "clipray_trace_app: %s\n", what.c_str());
+  std::exit(2);
+}
+
+struct Context {
+  EGLDisplay display = EGL_NO_DISPLAY;
+  EGLSurface surface = EGL_NO_SURFACE;
+};
+
+// A pbuffer (not a surfaceless context) so that eglSwapBuffers marks the end of each frame in
+// the trace, as a windowed app's swaps do.
+Context createContext(bool compatibility) {
+  auto getPlatformDisplay = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
+      eglGetProcAddress("eglGetPlatformDisplayEXT"));
+  if (!getPlatformDisplay) fail("eglGetPlatformDisplayEXT missing");
+  Context context;
+  context.display = getPlatformDisplay(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+  if (context.display == EGL_NO_DISPLAY || !eglInitialize(context.display, nullptr, nullptr)) {
+    fail("no EGL surfaceless display");
+  }
+  const EGLint configAttributes[] = {EGL_SURFACE_TYPE, EGL_PBUFFER_BIT, EGL_RENDERABLE_TYPE,
+                                     EGL_OPENGL_BIT, EGL_NONE};
+  EGLConfig config = nullptr;
+  EGLint count = 0;
+  if (!eglChooseConfig(context.display, configAttributes, &config, 1, &count) || count == 0) {
+    fail("no EGL pbuffer config");
+  }
+  const EGLint surfaceAttributes[] = {EGL_WIDTH, 64, EGL_HEIGHT, 48, EGL_NONE};
+  context.surface = eglCreatePbufferSurface(context.display, config, surfaceAttributes);
+  if (context.surface == EGL_NO_SURFACE) fail("cannot create a pbuffer");
+  eglBindAPI(EGL_OPENGL_API);
+  const EGLint profile = compatibility ? EGL_CONTEXT_OPENGL_COMPATIBILITY_PROFILE_BIT
+                                       : EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT;
+  const EGLint contextAttributes[] = {EGL_CONTEXT_MAJOR_VERSION,
+                                      4,
+                                      EGL_CONTEXT_MINOR_VERSION,
+                                      5,
+                                      EGL_CONTEXT_OPENGL_PROFILE_MASK,
+                                      profile,
+                                      EGL_NONE};
+  EGLContext glContext =
+      eglCreateContext(context.display, config, EGL_NO_CONTEXT, contextAttributes);
+  if (glContext == EGL_NO_CONTEXT) fail("cannot create a GL 4.5 context");
+  if (!eglMakeCurrent(context.display, context.surface, context.surface, glContext)) {
+    fail("eglMakeCurrent failed");
+  }
+  return context;
+}
+
+// A depth-only FBO of the pbuffer's size with a 32-bit float depth attachment.
+void bindDepthFramebuffer() {
+  GLuint framebuffer = 0, colour = 0, depth = 0;
+  glGenFramebuffers(1, &framebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glGenRenderbuffers(1, &colour);
+  glBindRenderbuffer(GL_RENDERBUFFER, colour);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 64, 48);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
+  glGenRenderbuffers(1, &depth);
+  glBindRenderbuffer(GL_RENDERBUFFER, depth);
+  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, 64, 48);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    fail("framebuffer incomplete");
+  }
+  glViewport(0, 0, 64, 48);
+}
+
+GLuint compile(GLenum stage, const char* source) {
+  const GLuint shader = glCreateShader(stage);
+  glShaderSource(shader, 1, &source, nullptr);
+  glCompileShader(shader);
+  GLint ok = 0;
+  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+  if (!ok) fail("shader does not compile");
+  return shader;
+}
+
+// The shader path: a program with a `clipFromWorld` uniform and one triangle at world z = 0.
+void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Context context) {
+  const char* vertexSource =
+      "#version 450 core\n"
+      "layout(location = 0) in vec3 position;\n"
+      "uniform mat4 clipFromWorld;\n"
+      "void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }\n";
+  const char* fragmentSource =
+      "#version 450 core\n"
+      "out vec4 colour;\n"
+      "void main() { colour = vec4(1.0); }\n";
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, compile(GL_VERTEX_SHADER, vertexSource));
+  glAttachShader(program, compile(GL_FRAGMENT_SHADER, fragmentSource));
+  glLinkProgram(program);
+  glUseProgram(program);
+  const GLint location = glGetUniformLocation(program, "clipFromWorld");
+  const float triangle[] = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+  GLuint vertexArray = 0, buffer = 0;
+  glGenVertexArrays(1, &vertexArray);
+  glBindVertexArray(vertexArray);
+  glGenBuffers(1, &buffer);
+  glBindBuffer(GL_ARRAY_BUFFER, buffer);
+  glBufferData(GL_ARRAY_BUFFER, sizeof triangle, triangle, GL_STATIC_DRAW);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  for (int frame = 0; frame < frames; ++frame) {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUniformMatrix4fv(location, 1, transpose, uploaded.data());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    eglSwapBuffers(context.display, context.surface);
+  }
+}
+
+// The fixed-function path (compatibility profile): glFrustum for the same camera, classic GL
+// (built for NEGATIVE_ONE_TO_ONE).
+void drawFixedFunction(int frames, Context context) {
+  const double top = kNear * std::tan(kFovY / 2.0);
+  const double right = top * kAspect;
+  for (int frame = 0; frame < frames; ++frame) {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glMatrixMode(GL_PROJECTION);
+    glLoadIdentity();
+    glFrustum(-right, right, -top, top, kNear, kFar);
+    glMatrixMode(GL_MODELVIEW);
+    glLoadMatrixf(viewFromWorld().data());
+    glPushMatrix();
+    glTranslatef(0.0f, 0.0f, -1.0f);
+    glBegin(GL_TRIANGLES);
+    glVertex3f(-1.0f, 0.0f, 0.0f);
+    glVertex3f(1.0f, 0.0f, 0.0f);
+    glVertex3f(0.0f, 1.0f, 0.0f);
+    glEnd();
+    glPopMatrix();
+    eglSwapBuffers(context.display, context.surface);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || argc > 3) fail("usage: clipray_trace_app CASE [FRAMES]");
+  const std::string name = argv[1];
+  const int frames = argc == 3 ? std::atoi(argv[2]) : 3;
+  if (frames < 1) fail("FRAMES must be a positive number");
+  const bool fixedFunction = name == "fixed-function-frustum-under-zo";
+  const Context context = createContext(fixedFunction);
+  bindDepthFramebuffer();
+  glEnable(GL_DEPTH_TEST);
+  const Matrix view = viewFromWorld();
+  if (name == "no") {
+    glDepthFunc(GL_LESS);
+    drawWithShaders(multiply(perspective(false), view), GL_FALSE, frames, context);
+  } else if (name == "zo") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawWithShaders(multiply(perspective(true), view), GL_FALSE, frames, context);
+  } else if (name == "reversed-infinite") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_GREATER);
+    glClearDepth(0.0);
+    drawWithShaders(multiply(reversedInfinitePerspective(), view), GL_FALSE, frames, context);
+  } else if (name == "no-under-zo") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawWithShaders(multiply(perspective(false), view), GL_FALSE, frames, context);
+  } else if (name == "reversed-with-less") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawWithShaders(multiply(reversedInfinitePerspective(), view), GL_FALSE, frames, context);
+  } else if (name == "row-major-untransposed") {
+    // The matrix written out row by row (a C array m[row][col]) uploaded as if column-major.
+    glDepthFunc(GL_LESS);
+    drawWithShaders(transposed(multiply(perspective(false), view)), GL_FALSE, frames, context);
+  } else if (name == "vulkan-flip") {
+    Matrix flipped = perspective(true);
+    flipped[5] = -flipped[5];  // Vulkan's y points down: proj[1][1] *= -1
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawWithShaders(multiply(flipped, view), GL_FALSE, frames, context);
+  } else if (name == "identity") {
+    // Draws, but with no projection: clip = world.
+    glDepthFunc(GL_LESS);
+    drawWithShaders(Matrix{1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1}, GL_FALSE, frames,
+                    context);
+  } else if (name == "clear-only") {
+    // Frames without a single draw.
+    for (int frame = 0; frame < frames; ++frame) {
+      glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+      eglSwapBuffers(context.display, context.surface);
+    }
+  } else if (fixedFunction) {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LEQUAL);
+    drawFixedFunction(frames, context);
+  } else {
+    fail("unknown case " + name);
+  }
+  glFinish();
+  return 0;
+}
