@@ -7,8 +7,10 @@
 #include <cmath>
 #include <span>
 #include <string>
+#include <vector>
 
 #include <clipray/SceneBuilder.hpp>
+#include <clipray/StateCheck.hpp>
 #include <clipray/gtest.hpp>
 
 #include "App.hpp"
@@ -161,6 +163,32 @@ TEST(TestOfTheTest, RenderingWithoutClipControlFailsDrawCallByDrawCall) {
   ASSERT_EQ(result.runs.size(), 1u);
   EXPECT_FALSE(result.runs[0].consistent) << result.text();
   EXPECT_GT(result.runs[0].depthBeyondTolerance, 10000) << result.text();
+}
+
+// The app's render function asks clipray about its own GL state as it draws (a debug build's
+// check): nothing declared by hand, the context says what the app set.
+std::vector<std::string> stateCheckCodes(app::RenderBug bug) {
+  std::vector<std::string> codes;
+  clipray::ReconcileOptions checked = options(bug, true);
+  checked.render = [bug, &codes](const clipray::AppFrame& frame) {
+    app::render(theApp, frame.getProcAddress, frame.firstIds, bug);
+    const clipray::StateCheckResult check = clipray::checkCurrentState(
+        theApp.camera.clipFromView * theApp.camera.viewFromWorld, frame.getProcAddress);
+    for (const clipray::StateFinding& finding : check.findings) {
+      codes.push_back(finding.severity + ":" + finding.code);
+    }
+  };
+  (void)clipray::reconcile(appScene(), clipray::robustPickRays(), checked);
+  return codes;
+}
+
+TEST(AppRendering, StateCheckFindsNothingWrong) {
+  EXPECT_EQ(stateCheckCodes(app::RenderBug::None), std::vector<std::string>{});
+}
+
+TEST(TestOfTheTest, StateCheckNamesTheMissingClipControl) {
+  EXPECT_EQ(stateCheckCodes(app::RenderBug::NoClipControl),
+            std::vector<std::string>{"error:depth-convention-mismatch"});
 }
 
 TEST(TestOfTheTest, RenderingWithTheWrongDepthFunctionFails) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "clipray/StateCheck.hpp"
 #include "clipray/gl/CurrentStateCheck.hpp"
 #include "clipray/trace/GlTraceState.hpp"
 
@@ -119,6 +120,22 @@ TEST(CurrentStateCheck, ReversedZNeedsGreaterAndClearZero) {
   const gl::CurrentStateCheck wrong = gl::checkCurrentState(kReversedMatrix, context->loader());
   EXPECT_EQ(codes(wrong.report),
             (std::vector<std::string>{"warning:infinite-far-plane", "error:clear-depth-mismatch"}));
+}
+
+TEST(CurrentStateCheck, ThePublicEntryPointGivesTheSameFindings) {
+  const auto context = gl::createOsMesaContext();
+  const GlCalls gl(context->loader());
+  gl.bindDepthFramebuffer(trace::kGlDepthComponent24);
+  gl.clipControl(trace::kGlLowerLeft, trace::kGlZeroToOne);
+  gl.enable(trace::kGlDepthTest);
+  gl.depthFunc(trace::kGlLess);
+  const StateCheckResult result = checkCurrentState(kNoMatrix, context->loader());
+  ASSERT_EQ(result.findings.size(), 1u);
+  EXPECT_EQ(result.findings[0].severity, "error");
+  EXPECT_EQ(result.findings[0].code, "depth-convention-mismatch");
+  EXPECT_TRUE(result.hasErrors());
+  EXPECT_NE(result.text.find("error [depth-convention-mismatch]"), std::string::npos)
+      << result.text;
 }
 
 }  // namespace

@@ -13,14 +13,12 @@
 #include <vector>
 
 #include "clipray/Conventions.hpp"
+#include "clipray/GlFunctions.hpp"
 #include "clipray/InputError.hpp"
 #include "clipray/Picking.hpp"
 #include "clipray/SceneBuilder.hpp"
 
 namespace clipray {
-
-using GlFunction = void (*)();
-using GlGetProcAddress = GlFunction (*)(const char* name);
 
 // What the app's render function gets, with clipray's headless GL 4.5 core context current and
 // `framebuffer` bound to GL_FRAMEBUFFER: the app's window's framebuffer (ReconcileOptions::window;
