@@ -64,8 +64,9 @@ CommandRunner addReportOptions(CLI::App& app) {
   return [options] { return runMerge(*options); };
 }
 
-const bool registered = registerCommand(
-    {"report", "Work with reports: merge the reports of a sharded reconcile", 3, addReportOptions});
+const bool registered =
+    registerCommand({"report", "Work with reports: merge the reports of a sharded reconcile", 30,
+                     addReportOptions});
 
 }  // namespace
 }  // namespace clipray::cli

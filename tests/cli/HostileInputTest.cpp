@@ -152,13 +152,13 @@ TEST(HostileInput, OptionValuesThatAreEmptyOrExplodeAreRefused) {
   for (const Case& c : {
            Case{"reconcle",
                 "clipray: unknown command \"reconcle\"; did you mean \"reconcile\"? "
-                "(commands: reconcile, check, bench)\n"},
+                "(commands: reconcile, check, bench, report)\n"},
            Case{"chek x.json",
                 "clipray: unknown command \"chek\"; did you mean \"check\"? "
-                "(commands: reconcile, check, bench)\n"},
+                "(commands: reconcile, check, bench, report)\n"},
            Case{"frobnicate",
                 "clipray: unknown command \"frobnicate\" (commands: reconcile, "
-                "check, bench)\n"},
+                "check, bench, report)\n"},
            Case{"reconcile --size ''",
                 "--size: expected a value, got an empty string\nRun with --help for more "
                 "information.\n"},
