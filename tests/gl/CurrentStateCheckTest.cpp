@@ -84,13 +84,17 @@ std::vector<std::string> codes(const CheckReport& report) {
   return result;
 }
 
-TEST(CurrentStateCheck, NoMatrixUnderZeroToOne) {
-  const auto context = gl::createOsMesaContext();
-  const GlCalls gl(context->loader());
+// A 24-bit depth framebuffer, glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE), GL_LESS.
+void drawUnderZeroToOneWithLess(const GlCalls& gl) {
   gl.bindDepthFramebuffer(trace::kGlDepthComponent24);
   gl.clipControl(trace::kGlLowerLeft, trace::kGlZeroToOne);
   gl.enable(trace::kGlDepthTest);
   gl.depthFunc(trace::kGlLess);
+}
+
+TEST(CurrentStateCheck, NoMatrixUnderZeroToOne) {
+  const auto context = gl::createOsMesaContext();
+  drawUnderZeroToOneWithLess(GlCalls(context->loader()));
   const gl::CurrentStateCheck result = gl::checkCurrentState(kNoMatrix, context->loader());
   EXPECT_TRUE(result.state.clipZeroToOne);
   EXPECT_FALSE(result.state.clipUpperLeft);
@@ -124,11 +128,7 @@ TEST(CurrentStateCheck, ReversedZNeedsGreaterAndClearZero) {
 
 TEST(CurrentStateCheck, ThePublicEntryPointGivesTheSameFindings) {
   const auto context = gl::createOsMesaContext();
-  const GlCalls gl(context->loader());
-  gl.bindDepthFramebuffer(trace::kGlDepthComponent24);
-  gl.clipControl(trace::kGlLowerLeft, trace::kGlZeroToOne);
-  gl.enable(trace::kGlDepthTest);
-  gl.depthFunc(trace::kGlLess);
+  drawUnderZeroToOneWithLess(GlCalls(context->loader()));
   const StateCheckResult result = checkCurrentState(kNoMatrix, context->loader());
   ASSERT_EQ(result.findings.size(), 1u);
   EXPECT_EQ(result.findings[0].severity, "error");
