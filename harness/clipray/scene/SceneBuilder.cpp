@@ -49,15 +49,8 @@ Json placed(Json object, const glm::dmat4& worldFromObject) {
   return object;
 }
 
-// An int as the JSON parser stores it: non-negative numbers unsigned, so that a builder's value
-// and a file's are the same JSON value to the validators.
-Json integer(int value) {
-  return value >= 0 ? Json(static_cast<std::uint64_t>(value))
-                    : Json(static_cast<std::int64_t>(value));
-}
-
 Json viewportValue(Viewport viewport) {
-  return Json::array({integer(viewport.width), integer(viewport.height)});
+  return Json::array({viewport.width, viewport.height});
 }
 
 }  // namespace

@@ -78,8 +78,13 @@ std::string SceneValidator::string(const json& value, const Pointer& at) const {
 }
 
 std::optional<std::uint64_t> SceneValidator::unsignedInteger(const json& value) {
+  // The parser stores non-negative integers as unsigned; a document built in code (SceneBuilder)
+  // may hold them signed: the same value either way.
   if (value.is_number_unsigned()) return value.get<std::uint64_t>();
-  return std::nullopt;  // nlohmann stores non-negative integers as unsigned
+  if (value.is_number_integer() && value.get<std::int64_t>() >= 0) {
+    return static_cast<std::uint64_t>(value.get<std::int64_t>());
+  }
+  return std::nullopt;
 }
 
 glm::dvec3 SceneValidator::vector3(const json& value, const Pointer& at) const {
