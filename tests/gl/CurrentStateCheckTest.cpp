@@ -10,6 +10,7 @@
 #include "clipray/StateCheck.hpp"
 #include "clipray/gl/CurrentStateCheck.hpp"
 #include "clipray/trace/GlTraceState.hpp"
+#include "support/GlFixture.hpp"
 
 namespace clipray {
 namespace {
@@ -93,7 +94,7 @@ void drawUnderZeroToOneWithLess(const GlCalls& gl) {
 }
 
 TEST(CurrentStateCheck, NoMatrixUnderZeroToOne) {
-  const auto context = gl::createOsMesaContext();
+  const auto context = testing::createContextForTests();
   drawUnderZeroToOneWithLess(GlCalls(context->loader()));
   const gl::CurrentStateCheck result = gl::checkCurrentState(kNoMatrix, context->loader());
   EXPECT_TRUE(result.state.clipZeroToOne);
@@ -109,7 +110,7 @@ TEST(CurrentStateCheck, NoMatrixUnderZeroToOne) {
 }
 
 TEST(CurrentStateCheck, ReversedZNeedsGreaterAndClearZero) {
-  const auto context = gl::createOsMesaContext();
+  const auto context = testing::createContextForTests();
   const GlCalls gl(context->loader());
   gl.bindDepthFramebuffer(trace::kGlDepthComponent32F);
   gl.clipControl(trace::kGlLowerLeft, trace::kGlZeroToOne);
@@ -127,7 +128,7 @@ TEST(CurrentStateCheck, ReversedZNeedsGreaterAndClearZero) {
 }
 
 TEST(CurrentStateCheck, ThePublicEntryPointGivesTheSameFindings) {
-  const auto context = gl::createOsMesaContext();
+  const auto context = testing::createContextForTests();
   drawUnderZeroToOneWithLess(GlCalls(context->loader()));
   const StateCheckResult result = checkCurrentState(kNoMatrix, context->loader());
   ASSERT_EQ(result.findings.size(), 1u);

@@ -11,6 +11,7 @@
 #include "clipray/Reconcile.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/math/Projections.hpp"
+#include "support/GlFixture.hpp"
 
 namespace clipray {
 namespace {
@@ -28,6 +29,14 @@ TestScene quadScene() {
       .build();
 }
 
+// The library's default options on the backend the suite runs on (OSMesa unless
+// CLIPRAY_TEST_GL_BACKEND says otherwise).
+ReconcileOptions defaultOptions() {
+  ReconcileOptions options;
+  options.backend = testing::glBackendForTests();
+  return options;
+}
+
 std::string messageOf(const ReconcileOptions& options) {
   try {
     reconcile(quadScene(), robustPickRays(), options);
@@ -38,7 +47,7 @@ std::string messageOf(const ReconcileOptions& options) {
 }
 
 TEST(LibraryReconcile, ClipraysOwnRaysAndRasterAgree) {
-  const ReconcileResult result = reconcile(quadScene(), robustPickRays());
+  const ReconcileResult result = reconcile(quadScene(), robustPickRays(), defaultOptions());
   ASSERT_EQ(result.runs.size(), 1u);  // the scene names no conventions: zo
   const RunResult& run = result.runs[0];
   EXPECT_TRUE(run.consistent) << result.text();
@@ -60,21 +69,21 @@ TEST(LibraryReconcile, ClipraysOwnRaysAndRasterAgree) {
 }
 
 TEST(LibraryReconcile, OptionsAreRefusedByField) {
-  ReconcileOptions options;
+  ReconcileOptions options = defaultOptions();
   options.cameras = {"side"};
   EXPECT_EQ(messageOf(options),
             "ReconcileOptions: cameras: no camera \"side\" in scene \"quad\" (it has \"main\")");
-  options = {};
+  options = defaultOptions();
   options.depthFormats.clear();
   EXPECT_EQ(messageOf(options),
             "ReconcileOptions: depthFormats: expected at least one depth format, got none");
-  options = {};
+  options = defaultOptions();
   options.render = [](const AppFrame&) {};
   options.vertexMode = VertexMode::CameraRelative;
   EXPECT_EQ(messageOf(options),
             "ReconcileOptions: vertexMode: the app's render function draws its own vertices; "
             "expected world, got camera-relative");
-  options = {};
+  options = defaultOptions();
   AppWindow window;
   window.viewportX = 10;
   window.framebufferWidth = 70;
@@ -86,7 +95,7 @@ TEST(LibraryReconcile, OptionsAreRefusedByField) {
 }
 
 TEST(LibraryReconcile, AnAppThatDrawsDepthWithoutIdsIsTold) {
-  ReconcileOptions options;
+  ReconcileOptions options = defaultOptions();
   options.render = [](const AppFrame&) {
     glClearDepth(0.25);  // depth no clear value of any convention, and no ids
     glClear(GL_DEPTH_BUFFER_BIT);
@@ -98,7 +107,7 @@ TEST(LibraryReconcile, AnAppThatDrawsDepthWithoutIdsIsTold) {
 }
 
 TEST(LibraryReconcile, AnAppThatWritesIdsTheSceneLacksIsTold) {
-  ReconcileOptions options;
+  ReconcileOptions options = defaultOptions();
   options.render = [](const AppFrame& frame) {
     const GLuint ids[4] = {7, 0, 0, 0};  // the quad's ids are 1 and 2
     glClearBufferuiv(GL_COLOR, 1, ids);
@@ -113,7 +122,7 @@ TEST(LibraryReconcile, AnAppThatWritesIdsTheSceneLacksIsTold) {
 }
 
 TEST(LibraryReconcile, AnAppThatLeavesAGlErrorIsTold) {
-  ReconcileOptions options;
+  ReconcileOptions options = defaultOptions();
   options.render = [](const AppFrame&) { glEnable(0xFFFF); };
   EXPECT_EQ(messageOf(options), "GL: the app's render function left GL error 0x0500");
   options.render = [](const AppFrame&) { glBindFramebuffer(GL_FRAMEBUFFER, 0); };
@@ -122,7 +131,7 @@ TEST(LibraryReconcile, AnAppThatLeavesAGlErrorIsTold) {
 }
 
 TEST(LibraryReconcile, AnAppThatDrawsNothingIsInconsistent) {
-  ReconcileOptions options;
+  ReconcileOptions options = defaultOptions();
   options.render = [](const AppFrame&) {
     glClearDepth(1.0);
     glClear(GL_DEPTH_BUFFER_BIT);
@@ -141,7 +150,7 @@ TEST(LibraryReconcile, AnAppThatDrawsNothingIsInconsistent) {
 }
 
 TEST(LibraryReconcile, OneIdPerDrawCallCountsTheAppsDrawCalls) {
-  ReconcileOptions options;
+  ReconcileOptions options = defaultOptions();
   options.appIds = AppIds::PerDrawCall;
   // Two draw calls for a scene of one mesh, through the function the frame hands out.
   options.render = [](const AppFrame& frame) {

@@ -179,7 +179,7 @@ TEST_F(ShippedScenes, ReversedZStoresNearerSurfacesDeeper) {
 
 TEST_F(ShippedScenes, RendererReportsItsLimits) {
   const GlInfo& info = renderer().info();
-  EXPECT_EQ(info.backend, "osmesa");
+  EXPECT_EQ(info.backend, testing::glBackendForTests());
   EXPECT_FALSE(info.renderer.empty());
   EXPECT_GE(info.subpixelBits, 4);  // the GL spec's minimum
   EXPECT_GE(renderer().maxViewport().width, 4096);

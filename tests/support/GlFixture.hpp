@@ -1,10 +1,13 @@
 #pragma once
-// One OSMesa context and renderer per test process (gtest_discover_tests runs each test in its
-// own process, so this is one per test).
+// One GL context and renderer per test process (gtest_discover_tests runs each test in its
+// own process, so this is one per test). The backend is OSMesa unless CLIPRAY_TEST_GL_BACKEND
+// names another ("egl"): the same suite then runs on whatever EGL offers, a GPU included.
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <memory>
+#include <string>
 
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/ReconcileRun.hpp"
@@ -12,10 +15,19 @@
 
 namespace clipray::testing {
 
+inline std::string glBackendForTests() {
+  const char* requested = std::getenv("CLIPRAY_TEST_GL_BACKEND");
+  return requested && *requested ? requested : "osmesa";
+}
+
+inline std::unique_ptr<gl::GlContext> createContextForTests() {
+  return gl::createContext(glBackendForTests());
+}
+
 class GlTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    context_ = gl::createOsMesaContext();
+    context_ = createContextForTests();
     renderer_ = std::make_unique<gl::Renderer>(*context_);
   }
   static void TearDownTestSuite() {
