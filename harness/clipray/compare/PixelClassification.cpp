@@ -68,8 +68,9 @@ __attribute__((target("avx2"))) inline __m256d dotDirection(const glm::dvec4& ro
       _mm256_mul_pd(broadcast(row.z), z));
 }
 
-// Returns false (and computes nothing useful) when a lane's window depth is not a finite float
-// (quantumAt then asks depthQuantum): the caller takes the scalar path for those four.
+// Returns false (and computes nothing useful) when, under a float depth buffer, a lane's window
+// depth is not a finite float (quantumAt then asks depthQuantum): the caller takes the scalar path
+// for those four.
 __attribute__((target("avx2"))) bool fourTrianglePixels(const FourPixelsInput& in, const Ray* rays,
                                                         const Hit* hits,
                                                         const float* rasterDepthFloat,
@@ -99,17 +100,20 @@ __attribute__((target("avx2"))) bool fourTrianglePixels(const FourPixelsInput& i
       _mm256_mul_pd(_mm256_sub_pd(zNdc, broadcast(in.zn)), broadcast(in.toWindowDepth));
   const __m256d error = absolute(_mm256_sub_pd(rasterDepth, rayDepth));
 
-  // quantumAt for Float32: the next float up minus the depth, at least FLT_MIN.
-  const __m128 depthFloat = _mm256_cvtpd_ps(absolute(rayDepth));
-  const __m128i bits = _mm_castps_si128(depthFloat);
-  // Unsigned bits >= 0x7f800000 (inf, NaN; the sign bit is clear): not this path.
-  if (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(bits, _mm_set1_epi32(0x7f7fffff)))) != 0) {
-    return false;
+  // quantumAt: a fixed-point format's constant, or for Float32 the next float up minus the
+  // depth, at least FLT_MIN.
+  __m256d quantum = broadcast(in.fixedQuantum);
+  if (in.fixedQuantum == 0.0) {
+    const __m128 depthFloat = _mm256_cvtpd_ps(absolute(rayDepth));
+    const __m128i bits = _mm_castps_si128(depthFloat);
+    // Unsigned bits >= 0x7f800000 (inf, NaN; the sign bit is clear): not this path.
+    if (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(bits, _mm_set1_epi32(0x7f7fffff)))) != 0) {
+      return false;
+    }
+    const __m128 next = _mm_castsi128_ps(_mm_add_epi32(bits, _mm_set1_epi32(1)));
+    quantum = _mm256_max_pd(broadcast(static_cast<double>(std::numeric_limits<float>::min())),
+                            _mm256_cvtps_pd(_mm_sub_ps(next, depthFloat)));
   }
-  const __m128 next = _mm_castsi128_ps(_mm_add_epi32(bits, _mm_set1_epi32(1)));
-  const __m256d quantum =
-      _mm256_max_pd(broadcast(static_cast<double>(std::numeric_limits<float>::min())),
-                    _mm256_cvtps_pd(_mm_sub_ps(next, depthFloat)));
 
   // triangleDepthTolerance.
   const double u = kFloatUnitRoundoff;
@@ -197,18 +201,20 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
   eye_ = glm::dvec3(eyeHomogeneous) / eyeHomogeneous.w;
 #if CLIPRAY_COMPARE_AVX2
   const DepthConvention convention = setup.mode.convention;
-  fourAtOnce_ = setup.depthFormat == DepthFormat::Float32 && cpuHasAvx2();
-  fourInput_ = {setup.clipFromWorld,
-                rowZ_,
-                rowW_,
-                eye_,
-                parallel_,
-                convention == DepthConvention::ZeroToOne ? 0.0 : -1.0,
-                convention == DepthConvention::ZeroToOne ? 1.0 : 0.5,
-                model.windowFromNdcScale_,
-                model.subpixelStep_,
-                static_cast<double>(raster.viewport.width),
-                static_cast<double>(raster.viewport.height)};
+  fourAtOnce_ = cpuHasAvx2();
+  fourInput_ = {
+      setup.clipFromWorld,
+      rowZ_,
+      rowW_,
+      eye_,
+      parallel_,
+      convention == DepthConvention::ZeroToOne ? 0.0 : -1.0,
+      convention == DepthConvention::ZeroToOne ? 1.0 : 0.5,
+      model.windowFromNdcScale_,
+      model.subpixelStep_,
+      static_cast<double>(raster.viewport.width),
+      static_cast<double>(raster.viewport.height),
+      setup.depthFormat == DepthFormat::Float32 ? 0.0 : depthQuantum(setup.depthFormat, 0.0)};
 #endif
 }
 

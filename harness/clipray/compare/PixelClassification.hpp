@@ -36,6 +36,9 @@ struct FourPixelsInput {
   double toWindow;       // the tolerance model's 1 / (1 - clipVolumeMinZ)
   double subpixelStep;
   double width, height;  // the viewport, as doubles
+  // The depth quantum of a fixed-point format (2^-16, 2^-24: the same at every depth); 0 for a
+  // float depth buffer, whose quantum the kernel computes per pixel.
+  double fixedQuantum;
 };
 
 // The per-frame constants of the classification; classifyRows runs on any number of threads at
@@ -77,7 +80,7 @@ class FrameClassifier {
   bool parallel_;           // an orthographic camera: no eye point
   glm::dvec3 eye_;
   // Four pixels at a time where all four show the same triangle on both sides (most pixels of a
-  // mesh), with a float depth buffer (quantumAt's bit trick) on a CPU with AVX2.
+  // mesh), on a CPU with AVX2.
   bool fourAtOnce_ = false;
   FourPixelsInput fourInput_{};
 };
