@@ -1,0 +1,97 @@
+// The report's quantiles of per-pixel figures: distributionOfParts (histograms of bit patterns
+// over a frame's parts) must give distributionOf's values on the concatenation, bit for bit, on
+// the kinds of data a frame gives: spread values, values crowded into one bucket and one
+// sub-bucket, many ties, zeros and infinities, NaN (which takes distributionOf itself), parts of
+// every size including empty ones.
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "clipray/compare/Distributions.hpp"
+
+namespace clipray::detail {
+namespace {
+
+// Splits values into `partCount` parts of random sizes (some empty) and compares both answers.
+void expectSameAsConcatenation(const std::vector<double>& values, int partCount,
+                               std::mt19937_64& random) {
+  std::vector<FrameVector<double>> parts(static_cast<std::size_t>(partCount));
+  std::uniform_int_distribution<int> pick(0, partCount - 1);
+  for (const double value : values) parts[static_cast<std::size_t>(pick(random))].push_back(value);
+  if (partCount > 2) parts[1].clear();  // an empty part among them (its values are dropped)
+  std::vector<const FrameVector<double>*> pointers;
+  std::vector<double> concatenation;
+  for (const FrameVector<double>& part : parts) {
+    pointers.push_back(&part);
+    concatenation.insert(concatenation.end(), part.begin(), part.end());
+  }
+  const Distribution expected = distributionOf(concatenation);
+  const Distribution actual = distributionOfParts(pointers);
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.p50), std::bit_cast<std::uint64_t>(expected.p50))
+      << actual.p50 << " vs " << expected.p50;
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.p99), std::bit_cast<std::uint64_t>(expected.p99))
+      << actual.p99 << " vs " << expected.p99;
+  EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.max), std::bit_cast<std::uint64_t>(expected.max))
+      << actual.max << " vs " << expected.max;
+}
+
+TEST(Distributions, PartsGiveTheQuantilesOfTheirConcatenation) {
+  std::mt19937_64 random(20261126);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    const std::size_t count = 1 + random() % 200000;
+    std::vector<double> values(count);
+    switch (trial % 5) {
+      case 0:  // spread over many octaves
+        for (double& v : values) v = std::exp2(60.0 * unit(random) - 40.0);
+        break;
+      case 1:  // crowded into one top-16-bit bucket (1 .. 1 + 1/16): the sub-bucket narrowing
+        for (double& v : values) v = 1.0 + 0x1p-5 * unit(random);
+        break;
+      case 2:  // crowded into one sub-bucket too: the same top 32 bits, ties
+        for (double& v : values) v = 0.25 + 0x1p-40 * std::floor(64.0 * unit(random));
+        break;
+      case 3:  // a flat floor: one value nearly everywhere, a few others
+        for (double& v : values) v = unit(random) < 0.999 ? 0.40660191442293 : unit(random);
+        break;
+      case 4:  // zeros and infinities among them
+        for (double& v : values) {
+          const double u = unit(random);
+          v = u < 0.3 ? 0.0 : u > 0.995 ? std::numeric_limits<double>::infinity() : u;
+        }
+        break;
+    }
+    expectSameAsConcatenation(values, 1 + trial % 7, random);
+  }
+}
+
+TEST(Distributions, NaNAmongThePartsTakesTheConcatenation) {
+  std::mt19937_64 random(7);
+  std::vector<double> values(5000);
+  for (std::size_t i = 0; i < values.size(); ++i) values[i] = 1.0 + 0x1p-30 * double(i % 97);
+  values[1234] = std::numeric_limits<double>::quiet_NaN();
+  expectSameAsConcatenation(values, 3, random);
+}
+
+TEST(Distributions, QuantilesAreTheValuesAtTheirRanks) {
+  // 0, 1, ..., 1000 in reverse, in two parts: rank round(0.5 * 1000) = 500, round(0.99 * 1000) =
+  // 990, and the largest.
+  FrameVector<double> first, second;
+  for (int v = 1000; v >= 0; --v) (v % 3 == 0 ? first : second).push_back(double(v));
+  const Distribution d = distributionOfParts({&first, &second});
+  EXPECT_EQ(d.p50, 500.0);
+  EXPECT_EQ(d.p99, 990.0);
+  EXPECT_EQ(d.max, 1000.0);
+  const Distribution thirds = distributionOfParts({&first});
+  EXPECT_EQ(thirds.max, 999.0);  // 999 = 3 * 333 is the largest multiple of 3
+  EXPECT_EQ(distributionOfParts({}).max, 0.0);
+}
+
+}  // namespace
+}  // namespace clipray::detail
