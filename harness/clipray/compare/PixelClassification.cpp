@@ -337,26 +337,30 @@ bool FrameClassifier::classifyFour(std::size_t first, const Ray* rays, RunMetric
                                    WorkerSamples& samples) const {
 #if CLIPRAY_COMPARE_AVX2
   FourPolygons polygons;
+  const std::uint32_t* rasterIds = &raster_.ids[first];
+  const Hit* hits = &analytic_.hits[first];
+  std::uint32_t previousId = 0;
+  const ToleranceModel::PixelTerms* terms = nullptr;
   for (std::size_t l = 0; l < 4; ++l) {
-    const std::uint32_t rasterId = raster_.ids[first + l];
-    const std::uint32_t rayId = analytic_.hits[first + l].primitiveId;
-    if (rasterId == 0 || rasterId != rayId || rasterId > primitiveCount_ || rays[l].tMax < 0.0 ||
-        intersector_.isAnalytic(rayId)) {
-      return false;
+    const std::uint32_t rasterId = rasterIds[l];
+    if (rasterId == 0 || rasterId != hits[l].primitiveId || rays[l].tMax < 0.0) return false;
+    // Neighbouring pixels mostly show one triangle: its terms are looked up once.
+    if (rasterId != previousId) {
+      if (rasterId > primitiveCount_ || intersector_.isAnalytic(rasterId)) return false;
+      const std::uint32_t slot = model_.slotOfId_[rasterId];
+      if (slot == ToleranceModel::kNoSlot) return false;
+      terms = &model_.pixelTerms_[slot];
+      previousId = rasterId;
     }
-    const std::uint32_t slot = model_.slotOfId_[rayId];
-    if (slot == ToleranceModel::kNoSlot) return false;
-    const ToleranceModel::PixelTerms& terms = model_.pixelTerms_[slot];
-    polygons.boundX[l] = terms.clipErrorBound.x;
-    polygons.boundY[l] = terms.clipErrorBound.y;
-    polygons.boundZ[l] = terms.clipErrorBound.z;
-    polygons.boundW[l] = terms.clipErrorBound.w;
-    polygons.gradient[l] = terms.gradient;
-    polygons.interpolation[l] = terms.interpolation;
+    polygons.boundX[l] = terms->clipErrorBound.x;
+    polygons.boundY[l] = terms->clipErrorBound.y;
+    polygons.boundZ[l] = terms->clipErrorBound.z;
+    polygons.boundW[l] = terms->clipErrorBound.w;
+    polygons.gradient[l] = terms->gradient;
+    polygons.interpolation[l] = terms->interpolation;
   }
   FourPixels figures;
-  if (!fourTrianglePixels(fourInput_, rays, &analytic_.hits[first], &raster_.depth[first], polygons,
-                          figures)) {
+  if (!fourTrianglePixels(fourInput_, rays, hits, &raster_.depth[first], polygons, figures)) {
     return false;
   }
   // The four pixels' figures and images, as classifyPixel writes them one by one
