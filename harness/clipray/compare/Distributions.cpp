@@ -102,6 +102,10 @@ Distribution distributionOfParts(const std::vector<const FrameVector<double>*>& 
     }
   }
   const auto valueOfRank = [](std::vector<std::uint64_t>& inBucket, std::size_t rank) {
+    // A frame's flat surface gives one figure at every pixel: a bucket of a million copies of one
+    // value, where nth_element would still move them about. One pass finds that it is one value.
+    const auto [lowest, highest] = std::minmax_element(inBucket.begin(), inBucket.end());
+    if (*lowest == *highest) return std::bit_cast<double>(*lowest);
     std::nth_element(inBucket.begin(), inBucket.begin() + static_cast<std::ptrdiff_t>(rank),
                      inBucket.end());
     return std::bit_cast<double>(inBucket[rank]);
