@@ -283,7 +283,16 @@ TEST(TraceCheck, BadTracesAreRefusedWithOneLine) {
             "app.trace: no GL draw calls (1 calls in 1 frames read): nothing to check");
   EXPECT_EQ(refusal("1 glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n"),
             "app.trace: none of the 1 draws has a matrix with a projection's structure (uniform "
-            "mat4 or fixed-function GL_PROJECTION)");
+            "mat4, std140 uniform block mat4 or fixed-function GL_PROJECTION)");
+  // A camera block that cannot be read says why.
+  EXPECT_EQ(refusal("1 glShaderSource(shader = 2, count = 1, string = &\"uniform Camera { mat4 "
+                    "clipFromWorld; };\", length = NULL)\n2 glAttachShader(program = 1, shader = "
+                    "2)\n3 glLinkProgram(program = 1)\n4 glUseProgram(program = 1)\n5 "
+                    "glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n"),
+            "app.trace: none of the 1 draws has a matrix with a projection's structure (uniform "
+            "mat4, std140 uniform block mat4 or fixed-function GL_PROJECTION); not read: ubo "
+            "Camera (program 1): shared layout: its offsets are the implementation's, so its "
+            "matrices are not read (first at the draw at call 5)");
   EXPECT_EQ(refusal("1 glDepthFunc(func = GL_LESS\n"),
             "app.trace: call 1 (glDepthFunc): column 29: expected ','");
   EXPECT_EQ(refusal("1 glViewport(x = 0, y = 0, width = wide, height = 48)\n"),

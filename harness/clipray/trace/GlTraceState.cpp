@@ -4,6 +4,8 @@
 
 #include "clipray/trace/GlTraceState.hpp"
 
+#include "clipray/trace/DumpArguments.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -59,43 +61,10 @@ const std::unordered_map<std::string_view, std::uint32_t>& enumNames() {
   return names;
 }
 
-const DumpValue& argument(const DumpCall& call, std::string_view name) {
-  const DumpValue* value = call.argument(name);
-  if (!value) {
-    throw std::invalid_argument(call.name + ": no argument \"" + std::string(name) + "\"");
-  }
-  return *value;
-}
-
-double numberArgument(const DumpCall& call, std::string_view name) {
-  const DumpValue& value = argument(call, name);
-  const auto number = value.number();
-  if (!number) {
-    throw std::invalid_argument(call.name + ": " + std::string(name) + " = " + value.text +
-                                " is not a number");
-  }
-  return *number;
-}
-
 std::uint32_t enumArgument(const DumpCall& call, std::string_view name) {
   const DumpValue& value = argument(call, name);
   const auto parsed = glEnumValue(value);
   return parsed ? *parsed : 0xFFFFFFFFu;  // an enum clipray does not know: matches none
-}
-
-// An integer argument within [low, high] (GL names, locations, sizes): anything else is refused
-// before a conversion that would be undefined.
-std::int64_t integerArgument(const DumpCall& call, std::string_view name, double low, double high) {
-  const double value = numberArgument(call, name);
-  if (!(value >= low && value <= high) || value != std::floor(value)) {
-    throw std::invalid_argument(call.name + ": " + std::string(name) + " = " +
-                                argument(call, name).text + " is not an integer in range");
-  }
-  return static_cast<std::int64_t>(value);
-}
-
-std::uint32_t objectArgument(const DumpCall& call, std::string_view name) {
-  return static_cast<std::uint32_t>(integerArgument(call, name, 0.0, 4294967295.0));
 }
 
 // A bitmask as apitrace writes it: "GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT" or "0x100".
@@ -117,25 +86,6 @@ bool maskHasDepthBit(const DumpValue& value) {
     text.remove_prefix(bar + 3);
   }
   return false;
-}
-
-std::vector<double> numbers(const DumpCall& call, std::string_view name) {
-  const DumpValue& value = argument(call, name);
-  std::vector<double> result;
-  if (!value.isList) {
-    if (const auto single = value.number()) result.push_back(*single);
-    return result;
-  }
-  result.reserve(value.items.size());
-  for (const DumpValue& item : value.items) {
-    const auto number = item.number();
-    if (!number) {
-      throw std::invalid_argument(call.name + ": " + std::string(name) + " holds " + item.text +
-                                  ", not a number");
-    }
-    result.push_back(*number);
-  }
-  return result;
 }
 
 glm::dmat4 columnMajor(const double* values, bool transpose) {
@@ -388,7 +338,8 @@ bool hasProjectionStructure(const glm::dmat4& m) {
 }
 
 bool GlTraceState::needs(std::string_view function) {
-  return isDraw(function) || endsFrame(function) || stateFunctions().contains(function);
+  return isDraw(function) || endsFrame(function) || stateFunctions().contains(function) ||
+         UniformBuffers::needs(function);
 }
 
 glm::dmat4& GlTraceState::stackTop(std::uint32_t mode) {
@@ -481,6 +432,11 @@ void GlTraceState::emitDraw(const DumpCall& call,
           {"uniform " + name + " (program " + std::to_string(currentProgram_) + ")", false,
            it->second});
     }
+    for (UniformBlockMatrix& read : uniformBuffers_.matrices(currentProgram_, call.number)) {
+      if (hasProjectionStructure(read.matrix)) {
+        draw.matrices.push_back({std::move(read.source), false, read.matrix});
+      }
+    }
   } else {
     // Fixed function: the projection stack is the projection; the modelview moves the camera
     // and cannot change the depth convention, so it is left out of the analysis.
@@ -498,6 +454,10 @@ bool GlTraceState::apply(const DumpCall& call,
   if (endsFrame(name)) {
     ++frame_;
     return true;
+  }
+  if (UniformBuffers::needs(name)) {
+    uniformBuffers_.apply(call);
+    if (name != "glLinkProgram") return false;  // which resets the program's uniforms below too
   }
   if (name == "glNewList") {
     // GL_COMPILE (0x1300) records without drawing; GL_COMPILE_AND_EXECUTE draws as well.
