@@ -170,6 +170,32 @@ TEST(TraceUniformBuffers, WhatCannotBeReadIsNoted) {
                 "the draw at call 58)"}));
 }
 
+// Vertex data is not held: a buffer filled through GL_ARRAY_BUFFER and only then bound as a
+// uniform buffer has bytes clipray does not know, and says so.
+TEST(TraceUniformBuffers, BytesWrittenBeforeTheBufferWasAUniformBuffer) {
+  TempFolder folder;
+  writeBlob(folder, "blob_call46.bin", cameraBlock(), 208);
+  UniformBuffers buffers;
+  buffers.setBlobDirectory(folder.path());
+  feed(buffers, cameraProgram());
+  feed(buffers, {"45 glBindBuffer(target = GL_ARRAY_BUFFER, buffer = 9)",
+                 "46 glBufferData(target = GL_ARRAY_BUFFER, size = 208, data = "
+                 "blob(\"blob_call46.bin\"), usage = GL_STATIC_DRAW)",
+                 "47 glBindBufferBase(target = GL_UNIFORM_BUFFER, index = 3, buffer = 9)"});
+  EXPECT_EQ(buffers.matrices(1, 48).size(), 0u);
+  ASSERT_EQ(buffers.unreadNotes().size(), 2u);
+  EXPECT_EQ(buffers.unreadNotes()[0],
+            "ubo Camera.viewFromWorld (program 1): buffer 9 holds bytes the trace does not show "
+            "here (last: its data was written before glBindBufferBase at call 47 made it a "
+            "uniform buffer) (first at the draw at call 48)");
+  // Written again while a uniform buffer: read.
+  feed(buffers, {"49 glBufferSubData(target = GL_UNIFORM_BUFFER, offset = 0, size = 208, data = "
+                 "blob(\"blob_call46.bin\"))"});
+  EXPECT_EQ(sources(buffers.matrices(1, 50)),
+            (std::vector<std::string>{"ubo Camera.viewFromWorld (program 1)",
+                                      "ubo Camera.clipFromWorld (program 1)"}));
+}
+
 TEST(TraceUniformBuffers, SharedLayoutAndUnknownOffsetsAreNotGuessed) {
   UniformBuffers buffers;
   feed(buffers,

@@ -120,22 +120,44 @@ std::optional<std::vector<std::uint8_t>> UniformBuffers::blobBytes(const DumpCal
   return bytes;
 }
 
-void UniformBuffers::allocate(std::uint32_t buffer, std::uint64_t size, const DumpCall& call,
-                              const DumpValue& data) {
+void UniformBuffers::allocate(std::uint32_t buffer, std::uint64_t size, bool asUniform,
+                              const DumpCall& call, const DumpValue& data) {
   if (buffer == 0) return;  // nothing bound: a GL error
   Buffer& target = buffers_[buffer];
   if (target.followed) followedBytes_ -= target.bytes.size();
+  const bool uniform = target.uniform || asUniform;
   target = Buffer{};
   target.size = size;
-  target.unwrittenWhy = "";
-  if (size > kMaxFollowedBufferBytes || followedBytes_ + size > kMaxFollowedBufferTotal) {
+  target.uniform = uniform;
+  // Vertex and index data need not be held: a buffer is followed once it is a uniform buffer, or
+  // (glNamedBuffer* of a DSA app, which binds it later) when it is no larger than a block can be.
+  if (!uniform && !(call.name.starts_with("glNamed") && size <= kMaxUniformBlockBytes)) return;
+  follow(buffer, call.name + " at call " + std::to_string(call.number) + " gave no data");
+  write(buffer, 0, size, call, data);
+}
+
+void UniformBuffers::followFromNowOn(std::uint32_t buffer, const DumpCall& call) {
+  const auto found = buffers_.find(buffer);
+  if (found == buffers_.end()) {
+    buffers_[buffer].uniform = true;  // no data store yet: followed from its glBufferData on
+  } else if (!found->second.uniform) {
+    follow(buffer, "its data was written before " + call.name + " at call " +
+                       std::to_string(call.number) + " made it a uniform buffer");
+  }
+}
+
+void UniformBuffers::follow(std::uint32_t buffer, const std::string& unwrittenWhy) {
+  Buffer& target = buffers_[buffer];
+  target.uniform = true;
+  if (target.followed || target.size > kMaxFollowedBufferBytes ||
+      followedBytes_ + target.size > kMaxFollowedBufferTotal) {
     return;  // noted when a block reads from it
   }
   target.followed = true;
-  target.bytes.assign(static_cast<std::size_t>(size), 0);
-  target.written.assign(static_cast<std::size_t>(size), false);
-  followedBytes_ += size;
-  write(buffer, 0, size, call, data);
+  target.bytes.assign(static_cast<std::size_t>(target.size), 0);
+  target.written.assign(static_cast<std::size_t>(target.size), false);
+  target.unwrittenWhy = unwrittenWhy;
+  followedBytes_ += target.size;
 }
 
 void UniformBuffers::write(std::uint32_t buffer, std::uint64_t offset, std::uint64_t size,
@@ -177,11 +199,16 @@ void UniformBuffers::link(std::uint32_t program) {
 void UniformBuffers::apply(const DumpCall& call) {
   const std::string_view name = call.name;
   if (name == "glBindBuffer") {
-    targets_[argument(call, "target").text] = objectArgument(call, "buffer");
+    const std::uint32_t buffer = objectArgument(call, "buffer");
+    targets_[argument(call, "target").text] = buffer;
+    if (buffer != 0 && isUniformBufferTarget(argument(call, "target"))) {
+      followFromNowOn(buffer, call);
+    }
   } else if (name == "glBindBufferBase" || name == "glBindBufferRange") {
     const std::uint32_t buffer = objectArgument(call, "buffer");
     targets_[argument(call, "target").text] = buffer;
     if (!isUniformBufferTarget(argument(call, "target"))) return;
+    if (buffer != 0) followFromNowOn(buffer, call);
     Range range{buffer, 0, std::nullopt};
     if (name == "glBindBufferRange") {
       range.offset = byteArgument(call, "offset");
@@ -196,9 +223,10 @@ void UniformBuffers::apply(const DumpCall& call) {
       buffers_.erase(found);
     }
   } else if (name == "glBufferData" || name == "glBufferStorage") {
-    allocate(bufferAt(call, "target"), byteArgument(call, "size"), call, argument(call, "data"));
+    allocate(bufferAt(call, "target"), byteArgument(call, "size"),
+             isUniformBufferTarget(argument(call, "target")), call, argument(call, "data"));
   } else if (name == "glNamedBufferData" || name == "glNamedBufferStorage") {
-    allocate(objectArgument(call, "buffer"), byteArgument(call, "size"), call,
+    allocate(objectArgument(call, "buffer"), byteArgument(call, "size"), false, call,
              argument(call, "data"));
   } else if (name == "glBufferSubData") {
     write(bufferAt(call, "target"), byteArgument(call, "offset"), byteArgument(call, "size"), call,

@@ -7,6 +7,10 @@
 // blocks (the GLSL of its attached shaders' glShaderSource) and their bindings (layout(binding)
 // or glUniformBlockBinding, with the block index from glGetUniformBlockIndex's result).
 //
+// The bytes of buffers bound to GL_UNIFORM_BUFFER are kept (from that binding on, or from their
+// glBufferData when bound first), and of small buffers written with glNamedBuffer* before any
+// binding; vertex and index data are not held.
+//
 // Buffer bytes come from the blob files `apitrace dump --blobs` writes (blob_call<N>.bin in the
 // dump's working directory); without that directory every buffer's contents are unknown.
 //
@@ -35,6 +39,10 @@ namespace clipray::trace {
 inline constexpr std::uint64_t kMaxFollowedBufferBytes = 16u << 20;
 // ... and up to this much in all, which bounds the memory a trace's buffers take.
 inline constexpr std::uint64_t kMaxFollowedBufferTotal = 256u << 20;
+// A buffer written with glNamedBuffer* before it is ever bound is followed up to this size:
+// GL_MAX_UNIFORM_BLOCK_SIZE on common drivers, so a buffer made for one block fits, and
+// vertex data of a DSA app mostly does not.
+inline constexpr std::uint64_t kMaxUniformBlockBytes = 64u << 10;
 // Of a mat4 array (a bone palette), at most this many elements are read at each draw.
 inline constexpr std::uint32_t kMaxMatricesPerArray = 256;
 // At most this many distinct reasons for a block not read are kept.
@@ -69,6 +77,7 @@ class UniformBuffers {
  private:
   struct Buffer {
     std::uint64_t size = 0;
+    bool uniform = false;   // bound to GL_UNIFORM_BUFFER at some point
     bool followed = false;  // contents kept (see kMaxFollowedBuffer*)
     std::vector<std::uint8_t> bytes;
     std::vector<bool> written;  // per byte: whether the trace shows what it holds
@@ -88,8 +97,13 @@ class UniformBuffers {
     std::uint32_t binding = 0;
   };
 
-  void allocate(std::uint32_t buffer, std::uint64_t size, const DumpCall& call,
+  // A new data store (glBufferData, glBufferStorage); asUniform: through GL_UNIFORM_BUFFER.
+  void allocate(std::uint32_t buffer, std::uint64_t size, bool asUniform, const DumpCall& call,
                 const DumpValue& data);
+  // Keeps the buffer's bytes from now on (within kMaxFollowedBuffer*), none of them known yet.
+  void follow(std::uint32_t buffer, const std::string& unwrittenWhy);
+  // The buffer is bound as a uniform buffer: its bytes are followed from here on.
+  void followFromNowOn(std::uint32_t buffer, const DumpCall& call);
   void write(std::uint32_t buffer, std::uint64_t offset, std::uint64_t size, const DumpCall& call,
              const DumpValue& data);
   // The bytes a data argument holds (a blob file of the dump); nullopt, with the reason in why,
