@@ -291,8 +291,9 @@ TEST(TraceCheck, BadTracesAreRefusedWithOneLine) {
                     "glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n"),
             "app.trace: none of the 1 draws has a matrix with a projection's structure (uniform "
             "mat4, std140 uniform block mat4 or fixed-function GL_PROJECTION); not read: ubo "
-            "Camera (program 1): shared layout: its offsets are the implementation's, so its "
-            "matrices are not read (first at the draw at call 5)");
+            "Camera (program 1): shared layout: its offsets are the implementation's (apitrace "
+            "records an app's GL_UNIFORM_OFFSET query without its result), so its matrices are "
+            "not read (first at the draw at call 5)");
   EXPECT_EQ(refusal("1 glDepthFunc(func = GL_LESS\n"),
             "app.trace: call 1 (glDepthFunc): column 29: expected ','");
   EXPECT_EQ(refusal("1 glViewport(x = 0, y = 0, width = wide, height = 48)\n"),

@@ -204,13 +204,20 @@ TEST(TraceUniformBuffers, SharedLayoutAndUnknownOffsetsAreNotGuessed) {
         "NULL)",
         "4 glAttachShader(program = 1, shader = 4)", "5 glLinkProgram(program = 1)",
         "6 glUniformBlockBinding(program = 1, uniformBlockIndex = 1, uniformBlockBinding = 2)"});
+  // apitrace 11.1 writes the offsets an app queries as the address they went to: no offsets.
+  const DumpCall query = parseDumpCall(
+      "8 glGetActiveUniformsiv(program = 1, uniformCount = 1, uniformIndices = &0, pname = "
+      "GL_UNIFORM_OFFSET, params = 0x7fffba05a6c0)");
+  EXPECT_EQ(query.argument("params")->text, "0x7fffba05a6c0");
+  EXPECT_FALSE(UniformBuffers::needs(query.name));
   EXPECT_EQ(buffers.matrices(1, 9).size(), 0u);
   EXPECT_EQ(buffers.unreadNotes(),
             (std::vector<std::string>{
                 "glUniformBlockBinding at call 6: block index 1 of program 1 was not queried with "
                 "glGetUniformBlockIndex in the trace: that block's binding is unknown",
-                "ubo Shared (program 1): shared layout: its offsets are the implementation's, so "
-                "its matrices are not read (first at the draw at call 9)",
+                "ubo Shared (program 1): shared layout: its offsets are the implementation's "
+                "(apitrace records an app's GL_UNIFORM_OFFSET query without its result), so its "
+                "matrices are not read (first at the draw at call 9)",
                 "ubo Later.projection (program 1): not read: the array size of planes is not a "
                 "literal number (first at the draw at call 9)"}));
 }

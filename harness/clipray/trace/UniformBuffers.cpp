@@ -350,7 +350,8 @@ std::vector<UniformBlockMatrix> UniformBuffers::matrices(std::uint32_t program,
       if (declaration.layout != BlockLayout::kStd140) {
         note(key + "layout",
              blockName + ofProgram + ": " + std::string(blockLayoutName(declaration.layout)) +
-                 " layout: its offsets are the implementation's, so its matrices are not read" +
+                 " layout: its offsets are the implementation's (apitrace records an app's "
+                 "GL_UNIFORM_OFFSET query without its result), so its matrices are not read" +
                  atDraw);
         break;
       }
