@@ -228,6 +228,23 @@ TEST(TraceCheck, FixedFunctionStackOrthoPushPop) {
   EXPECT_FALSE(group.depth.depthTest);
 }
 
+// glOrtho(-1, 1, -1, 1, -1, 1), the unit cube: once missed as a mirror, now a projection whose
+// NO/ZO reading is open (near -1 or 0 around the camera), so the ZO state gives no error.
+TEST(TraceCheck, CubeOrthoIsAProjectionLeftAmbiguous) {
+  const TraceCheckResult result = checkLines(
+      "1 glClipControl(origin = GL_LOWER_LEFT, depth = GL_ZERO_TO_ONE)\n"
+      "2 glMatrixMode(mode = GL_PROJECTION)\n3 glLoadIdentity()\n"
+      "4 glOrtho(left = -1, right = 1, bottom = -1, top = 1, zNear = -1, zFar = 1)\n"
+      "5 glBegin(mode = GL_TRIANGLES)\n6 glEnd()\n");
+  ASSERT_EQ(result.groups.size(), 1u);
+  const TracePairGroup& group = result.groups[0];
+  EXPECT_EQ(group.source, "fixed-function GL_PROJECTION");
+  EXPECT_EQ(group.matrix[2][2], -1.0);
+  EXPECT_EQ(group.report.properties.builtFor, "ambiguous");
+  EXPECT_EQ(codes(group), std::vector<std::string>{"info:depth-convention-ambiguous"});
+  EXPECT_FALSE(result.hasErrors());
+}
+
 TEST(TraceCheck, DrawsCompiledIntoADisplayListAreNotDraws) {
   // As glxgears builds its gears: glBegin inside glNewList(GL_COMPILE) only records.
   const TraceCheckResult result = checkLines(

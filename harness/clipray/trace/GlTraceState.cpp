@@ -323,8 +323,11 @@ bool hasProjectionStructure(const glm::dmat4& m) {
   if (glm::determinant(linear) >= 0.0) return false;
   // A mirrored model or view matrix (a reflection, scale(1, -1, 1)) also reverses orientation,
   // but it scales every direction alike: its columns are orthogonal and of one length. An
-  // orthographic projection scales x, y and depth by 2/width, 2/height and 2/depth; one whose
-  // view volume is a cube reads as a mirror and is missed.
+  // orthographic projection scales x, y and depth by 2/width, 2/height and 2/depth, which differ
+  // unless its view volume is a cube (glOrtho(-1, 1, -1, 1, -1, 1)). Such a cube volume is told
+  // from a mirror by glOrtho's own shape: on-axis, with z alone flipped (x and y kept), where a
+  // reflection in a floor or wall flips x or y. (A model matrix scale(1, 1, -1) has that shape
+  // too and is taken for a projection; a cube volume times a rotating view is still missed.)
   const glm::dmat3 gram = glm::transpose(linear) * linear;
   const double scale = (gram[0][0] + gram[1][1] + gram[2][2]) / 3.0;
   const double tolerance = 1e-5 * scale;  // 7-digit decimals of the dump
@@ -334,7 +337,12 @@ bool hasProjectionStructure(const glm::dmat4& m) {
       if (std::abs(gram[i][j] - (i == j ? scale : 0.0)) > tolerance) similarity = false;
     }
   }
-  return !similarity;
+  if (!similarity) return true;
+  const bool onAxis = std::abs(linear[0][1]) + std::abs(linear[0][2]) + std::abs(linear[1][0]) +
+                          std::abs(linear[1][2]) + std::abs(linear[2][0]) +
+                          std::abs(linear[2][1]) <=
+                      1e-5 * std::sqrt(scale);
+  return onAxis && linear[0][0] > 0.0 && linear[1][1] > 0.0 && linear[2][2] < 0.0;
 }
 
 bool GlTraceState::needs(std::string_view function) {
