@@ -115,6 +115,18 @@ TEST(TraceCli, ZeroToOneApp) {
   EXPECT_EQ(codes(group), std::vector<std::string>{});
 }
 
+// The depth buffer is a GL_DEPTH_COMPONENT24 texture (glTexStorage2D, glFramebufferTexture2D),
+// set up after a GL_DEPTH_COMPONENT16 texture on another unit.
+TEST(TraceCli, ZeroToOneAppIntoADepthTexture) {
+  TempFolder folder;
+  const Checked checked = checkTraced("zo-depth-texture", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["depth_state"]["depth_format"], "24");
+  EXPECT_EQ(group["properties"]["built_for"], "zo");
+  EXPECT_EQ(codes(group), std::vector<std::string>{});
+}
+
 TEST(TraceCli, ReversedInfiniteApp) {
   TempFolder folder;
   const Checked checked = checkTraced("reversed-infinite", folder);

@@ -9,7 +9,8 @@
 // CASE: no, zo, reversed-infinite (correct apps); no-under-zo, reversed-with-less,
 // row-major-untransposed, vulkan-flip, fixed-function-frustum-under-zo (classic mistakes);
 // identity (draws without a projection), clear-only (frames without draws); zo-ubo and
-// no-under-zo-ubo (the camera in a std140 uniform block instead of a uniform).
+// no-under-zo-ubo (the camera in a std140 uniform block instead of a uniform); zo-depth-texture
+// (zo into a GL_DEPTH_COMPONENT24 depth texture instead of a 32F renderbuffer).
 // Every matrix is a glm-style camera: perspective fov 60 deg, aspect 4/3, near 0.1, far 100,
 // looking from (0, 2, 5) at the origin, built in float as apps do.
 
@@ -162,8 +163,10 @@ Context createContext(bool compatibility) {
   return context;
 }
 
-// A depth-only FBO of the pbuffer's size with a 32-bit float depth attachment.
-void bindDepthFramebuffer() {
+// An FBO of the pbuffer's size with a 32-bit float depth renderbuffer, or (depthTexture) a
+// GL_DEPTH_COMPONENT24 texture as a shadow-map pass would attach (glTexImage2D for the first
+// mip level, glTexStorage2D for an immutable one).
+void bindDepthFramebuffer(bool depthTexture) {
   GLuint framebuffer = 0, colour = 0, depth = 0;
   glGenFramebuffers(1, &framebuffer);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
@@ -171,10 +174,24 @@ void bindDepthFramebuffer() {
   glBindRenderbuffer(GL_RENDERBUFFER, colour);
   glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 64, 48);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
-  glGenRenderbuffers(1, &depth);
-  glBindRenderbuffer(GL_RENDERBUFFER, depth);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, 64, 48);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+  if (depthTexture) {
+    GLuint unused = 0;  // a texture on another unit, so the unit's binding is what counts
+    glGenTextures(1, &unused);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, unused);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT16, 64, 48, 0, GL_DEPTH_COMPONENT,
+                 GL_UNSIGNED_SHORT, nullptr);
+    glActiveTexture(GL_TEXTURE0);
+    glGenTextures(1, &depth);
+    glBindTexture(GL_TEXTURE_2D, depth);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT24, 64, 48);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
+  } else {
+    glGenRenderbuffers(1, &depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, 64, 48);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+  }
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     fail("framebuffer incomplete");
   }
@@ -345,13 +362,17 @@ int main(int argc, char** argv) {
   if (frames < 1) fail("FRAMES must be a positive number");
   const bool fixedFunction = name == "fixed-function-frustum-under-zo";
   const Context context = createContext(fixedFunction);
-  bindDepthFramebuffer();
+  bindDepthFramebuffer(name == "zo-depth-texture");
   glEnable(GL_DEPTH_TEST);
   const Matrix view = viewFromWorld();
   if (name == "no") {
     glDepthFunc(GL_LESS);
     drawWithShaders(multiply(perspective(false), view), GL_FALSE, frames, context);
   } else if (name == "zo") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawWithShaders(multiply(perspective(true), view), GL_FALSE, frames, context);
+  } else if (name == "zo-depth-texture") {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LESS);
     drawWithShaders(multiply(perspective(true), view), GL_FALSE, frames, context);

@@ -245,6 +245,66 @@ TEST(TraceCheck, CubeOrthoIsAProjectionLeftAmbiguous) {
   EXPECT_FALSE(result.hasErrors());
 }
 
+// The depth format of a depth texture attachment: level 0's internalformat from glTexImage2D /
+// glTexStorage* on the texture bound to that unit and target (cube faces set the cube map), or
+// glTextureStorage* by name; an unsized GL_DEPTH_COMPONENT stays unknown.
+TEST(TraceCheck, DepthTextureFormats) {
+  const std::string frustum =
+      "3 glMatrixMode(mode = GL_PROJECTION)\n"
+      "4 glFrustum(left = -1, right = 1, bottom = -1, top = 1, zNear = 5, zFar = 60)\n";
+  const auto formatAfter = [&](const std::string& setup) {
+    const TraceCheckResult result =
+        checkLines("1 glBindFramebuffer(target = GL_FRAMEBUFFER, framebuffer = 3)\n" + frustum +
+                   setup + "90 glBegin(mode = GL_TRIANGLES)\n");
+    return result.groups.empty() ? std::string("(no group)")
+                                 : result.groups[0].depth.depthFormatName;
+  };
+  EXPECT_EQ(
+      formatAfter("10 glActiveTexture(texture = GL_TEXTURE1)\n"
+                  "11 glBindTexture(target = GL_TEXTURE_2D, texture = 7)\n"
+                  "12 glActiveTexture(texture = GL_TEXTURE0)\n"
+                  "13 glBindTexture(target = GL_TEXTURE_2D, texture = 8)\n"
+                  "14 glTexImage2D(target = GL_TEXTURE_2D, level = 0, internalformat = "
+                  "GL_DEPTH_COMPONENT16, width = 64, height = 48, border = 0, format = "
+                  "GL_DEPTH_COMPONENT, type = GL_UNSIGNED_SHORT, pixels = NULL)\n"
+                  "15 glTexImage2D(target = GL_TEXTURE_2D, level = 1, internalformat = "
+                  "GL_DEPTH_COMPONENT32F, width = 32, height = 24, border = 0, format = "
+                  "GL_DEPTH_COMPONENT, type = GL_FLOAT, pixels = NULL)\n"
+                  "16 glFramebufferTexture2D(target = GL_FRAMEBUFFER, attachment = "
+                  "GL_DEPTH_ATTACHMENT, textarget = GL_TEXTURE_2D, texture = 8, level = 0)\n"),
+      "16");
+  // Texture 7 on unit 1 got nothing: its format is unknown.
+  EXPECT_EQ(formatAfter("11 glActiveTexture(texture = GL_TEXTURE1)\n"
+                        "12 glBindTexture(target = GL_TEXTURE_2D, texture = 7)\n"
+                        "13 glActiveTexture(texture = GL_TEXTURE0)\n"
+                        "14 glTexStorage2D(target = GL_TEXTURE_2D, levels = 1, internalformat = "
+                        "GL_DEPTH32F_STENCIL8, width = 64, height = 48)\n"
+                        "16 glFramebufferTexture(target = GL_DRAW_FRAMEBUFFER, attachment = "
+                        "GL_DEPTH_STENCIL_ATTACHMENT, texture = 7, level = 0)\n"),
+            "unknown");
+  EXPECT_EQ(formatAfter("12 glBindTexture(target = GL_TEXTURE_CUBE_MAP, texture = 5)\n"
+                        "13 glTexImage2D(target = GL_TEXTURE_CUBE_MAP_POSITIVE_X, level = 0, "
+                        "internalformat = GL_DEPTH_COMPONENT32F, width = 64, height = 64, border "
+                        "= 0, format = GL_DEPTH_COMPONENT, type = GL_FLOAT, pixels = NULL)\n"
+                        "16 glFramebufferTexture2D(target = GL_FRAMEBUFFER, attachment = "
+                        "GL_DEPTH_ATTACHMENT, textarget = GL_TEXTURE_CUBE_MAP_POSITIVE_X, texture "
+                        "= 5, level = 0)\n"),
+            "32f");
+  EXPECT_EQ(formatAfter("14 glTextureStorage3D(texture = 4, levels = 1, internalformat = "
+                        "GL_DEPTH24_STENCIL8, width = 64, height = 64, depth = 4)\n"
+                        "16 glNamedFramebufferTextureLayer(framebuffer = 3, attachment = "
+                        "GL_DEPTH_ATTACHMENT, texture = 4, level = 0, layer = 2)\n"),
+            "24");
+  EXPECT_EQ(
+      formatAfter("12 glBindTexture(target = GL_TEXTURE_2D, texture = 8)\n"
+                  "13 glTexImage2D(target = GL_TEXTURE_2D, level = 0, internalformat = "
+                  "GL_DEPTH_COMPONENT, width = 64, height = 48, border = 0, format = "
+                  "GL_DEPTH_COMPONENT, type = GL_FLOAT, pixels = NULL)\n"
+                  "16 glFramebufferTexture2D(target = GL_FRAMEBUFFER, attachment = "
+                  "GL_DEPTH_ATTACHMENT, textarget = GL_TEXTURE_2D, texture = 8, level = 0)\n"),
+      "unknown");
+}
+
 TEST(TraceCheck, DrawsCompiledIntoADisplayListAreNotDraws) {
   // As glxgears builds its gears: glBegin inside glNewList(GL_COMPILE) only records.
   const TraceCheckResult result = checkLines(

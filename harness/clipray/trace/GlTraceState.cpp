@@ -160,6 +160,13 @@ glm::dmat4 rotation(double degrees, glm::dvec3 axis) {
   return m;
 }
 
+// The binding a texture target names: a cube map's faces are set through its face targets.
+std::string textureTarget(const std::string& target) {
+  return target.starts_with("GL_TEXTURE_CUBE_MAP_") && !target.starts_with("GL_TEXTURE_CUBE_MAP_A")
+             ? std::string("GL_TEXTURE_CUBE_MAP")
+             : target;
+}
+
 bool isDraw(std::string_view name) {
   if (name.starts_with("glDrawBuffer") || name.starts_with("glDrawPixels")) return false;
   return name.starts_with("glDraw") || name.starts_with("glMultiDraw") || name == "glBegin" ||
@@ -240,7 +247,20 @@ const std::unordered_set<std::string_view>& stateFunctions() {
                                   "glFramebufferTexture",
                                   "glFramebufferTexture2D",
                                   "glFramebufferTexture2DEXT",
-                                  "glNamedFramebufferTexture"}) {
+                                  "glNamedFramebufferTexture",
+                                  "glFramebufferTextureLayer",
+                                  "glNamedFramebufferTextureLayer",
+                                  "glActiveTexture",
+                                  "glBindTexture",
+                                  "glTexImage2D",
+                                  "glTexImage3D",
+                                  "glTexImage2DMultisample",
+                                  "glTexStorage2D",
+                                  "glTexStorage3D",
+                                  "glTexStorage2DMultisample",
+                                  "glTextureStorage2D",
+                                  "glTextureStorage3D",
+                                  "glTextureStorage2DMultisample"}) {
       table.insert(name);
     }
     return table;
@@ -558,20 +578,40 @@ bool GlTraceState::apply(const DumpCall& call,
   } else if (name.starts_with("glNamedRenderbufferStorage")) {
     renderbufferFormats_[objectArgument(call, "renderbuffer")] =
         enumArgument(call, "internalformat");
+  } else if (name == "glActiveTexture") {
+    activeTextureUnit_ = argument(call, "texture").text;
+  } else if (name == "glBindTexture") {
+    boundTextures_[{activeTextureUnit_, textureTarget(argument(call, "target").text)}] =
+        objectArgument(call, "texture");
+  } else if (name.starts_with("glTexImage") || name.starts_with("glTexStorage")) {
+    // The format of level 0 (glTexImage's other levels do not change what is attached).
+    if (name.starts_with("glTexImage") && !name.ends_with("Multisample") &&
+        numberArgument(call, "level") != 0.0) {
+      return false;
+    }
+    const auto bound =
+        boundTextures_.find({activeTextureUnit_, textureTarget(argument(call, "target").text)});
+    if (bound != boundTextures_.end()) {
+      textureFormats_[bound->second] = enumArgument(call, "internalformat");
+    }
+  } else if (name.starts_with("glTextureStorage")) {
+    textureFormats_[objectArgument(call, "texture")] = enumArgument(call, "internalformat");
   } else if (name.starts_with("glFramebufferRenderbuffer") ||
              name == "glNamedFramebufferRenderbuffer" || name.starts_with("glFramebufferTexture") ||
-             name == "glNamedFramebufferTexture") {
+             name.starts_with("glNamedFramebufferTexture")) {
     const std::uint32_t attachment = enumArgument(call, "attachment");
     if (attachment != kGlDepthAttachment && attachment != kGlDepthStencilAttachment) return false;
     const bool named = name.starts_with("glNamed");
     std::uint32_t framebuffer = drawFramebuffer_;
     if (named) framebuffer = objectArgument(call, "framebuffer");
     if (!named && enumArgument(call, "target") == kGlReadFramebuffer) return false;
-    // Textures: their formats are not followed (yet), so the depth format reads "unknown".
     std::uint32_t format = 0;
     if (name.find("Renderbuffer") != std::string_view::npos) {
       const auto found = renderbufferFormats_.find(objectArgument(call, "renderbuffer"));
       if (found != renderbufferFormats_.end()) format = found->second;
+    } else {
+      const auto found = textureFormats_.find(objectArgument(call, "texture"));
+      if (found != textureFormats_.end()) format = found->second;
     }
     framebufferDepth_[framebuffer] = format;
     updateDepthFormat();

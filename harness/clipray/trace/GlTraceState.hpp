@@ -1,10 +1,11 @@
 #pragma once
 // The GL state a trace sets, call by call, as far as `clipray check --trace` needs it: the depth
 // state in force at each draw (glClipControl, depth test and func, depth range, the depth clear,
-// viewport, the draw framebuffer's depth format), the 4x4 matrices uploaded as uniforms
-// (glUniformMatrix4fv, glProgramUniformMatrix4fv, named by glGetUniformLocation) or kept in
-// std140 uniform blocks (UniformBuffers.hpp), and the fixed-function matrix stacks. At each draw it
-// hands over every matrix in force that has a projection's structure.
+// viewport, the depth format of the draw framebuffer's renderbuffer or texture), the 4x4 matrices
+// uploaded as uniforms (glUniformMatrix4fv, glProgramUniformMatrix4fv, named by
+// glGetUniformLocation) or kept in std140 uniform blocks (UniformBuffers.hpp), and the
+// fixed-function matrix stacks. At each draw it hands over every matrix in force that has a
+// projection's structure.
 //
 // The core has no GL headers: the enum values are written here (from Khronos' gl.xml, the
 // registry glcorearb.h is generated from), and apitrace writes most enums by name, which is
@@ -150,6 +151,10 @@ class GlTraceState {
   std::uint32_t drawFramebuffer_ = 0;
   std::map<std::uint32_t, std::uint32_t> renderbufferFormats_;  // renderbuffer -> internalformat
   std::map<std::uint32_t, std::uint32_t> framebufferDepth_;     // framebuffer -> internalformat
+  std::string activeTextureUnit_ = "GL_TEXTURE0";               // as apitrace writes it
+  // (texture unit, target; as written) -> texture; texture -> internalformat of level 0.
+  std::map<std::pair<std::string, std::string>, std::uint32_t> boundTextures_;
+  std::map<std::uint32_t, std::uint32_t> textureFormats_;
   glm::dmat4& stackTop(std::uint32_t mode);
   void updateDepthFormat();
   double clearDepthValue_ = 1.0;  // glClearDepth
