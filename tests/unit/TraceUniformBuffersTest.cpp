@@ -153,6 +153,10 @@ TEST(TraceUniformBuffers, WhatCannotBeReadIsNoted) {
         "size = 160)"});
   EXPECT_EQ(sources(buffers.matrices(1, 56)),
             std::vector<std::string>{"ubo Camera.viewFromWorld (program 1)"});
+  // A range past the buffer's end (464 bytes), with an offset that would wrap a sum.
+  feed(buffers, {"56 glBindBufferRange(target = GL_UNIFORM_BUFFER, index = 3, buffer = 1, offset = "
+                 "18446744073709551600, size = 208)"});
+  EXPECT_EQ(buffers.matrices(1, 56).size(), 0u);
   feed(buffers, {"57 glBindBufferBase(target = GL_UNIFORM_BUFFER, index = 3, buffer = 0)"});
   EXPECT_EQ(buffers.matrices(1, 58).size(), 0u);
   EXPECT_EQ(buffers.unreadNotes(),
@@ -165,6 +169,9 @@ TEST(TraceUniformBuffers, WhatCannotBeReadIsNoted) {
                 "bytes, not the 208 written) (first at the draw at call 51)",
                 "ubo Camera.clipFromWorld (program 1): the bound range of buffer 1 ends at byte "
                 "160 of the block, before the matrix (bytes 144 to 208) (first at the draw at "
+                "call 56)",
+                "ubo Camera (program 1): the range bound at binding 3 starts at byte "
+                "18446744073709551600, past the end of buffer 1 (464 bytes) (first at the draw at "
                 "call 56)",
                 "ubo Camera (program 1): no buffer bound to uniform buffer binding 3 (first at "
                 "the draw at call 58)"}));

@@ -380,8 +380,19 @@ std::vector<UniformBlockMatrix> UniformBuffers::matrices(std::uint32_t program,
         break;
       }
       const Buffer& data = buffer->second;
-      const std::uint64_t rangeEnd =
-          range.size ? std::min(data.size, range.offset + *range.size) : data.size;
+      if (range.offset >= data.size) {
+        note(key + "offset", blockName + ofProgram + ": the range bound at binding " +
+                                 std::to_string(block.binding) + " starts at byte " +
+                                 std::to_string(range.offset) + ", past the end of buffer " +
+                                 std::to_string(range.buffer) + " (" + std::to_string(data.size) +
+                                 " bytes)" + atDraw);
+        break;
+      }
+      // Written so that no sum can wrap: every offset below stays under the buffer's size plus
+      // a block's.
+      const std::uint64_t rangeEnd = range.size && *range.size < data.size - range.offset
+                                         ? range.offset + *range.size
+                                         : data.size;
       const std::uint32_t count =
           member.arraySize == 0 ? 1 : std::min(member.arraySize, kMaxMatricesPerArray);
       for (std::uint32_t element = 0; element < count; ++element) {
