@@ -305,6 +305,26 @@ TEST(TraceCheck, DepthTextureFormats) {
       "unknown");
 }
 
+// A block that cannot be read is a note about the trace, beside the matrices that can.
+TEST(TraceCheck, UnreadUniformBlockIsANote) {
+  const TraceCheckResult result = checkLines(
+      "2 glShaderSource(shader = 2, count = 1, string = &\"uniform Shared { mat4 m; };\\nuniform "
+      "mat4 clipFromWorld;\\n\", length = NULL)\n3 glAttachShader(program = 1, shader = 2)\n"
+      "4 glLinkProgram(program = 1)\n5 glUseProgram(program = 1)\n"
+      "6 glGetUniformLocation(program = 1, name = \"clipFromWorld\") = 0\n"
+      "7 glUniformMatrix4fv(location = 0, count = 1, transpose = GL_FALSE, value = " +
+      kNoMatrix + ")\n8 glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n");
+  ASSERT_EQ(result.groups.size(), 1u);
+  EXPECT_EQ(result.groups[0].source, "uniform clipFromWorld (program 1)");
+  ASSERT_EQ(result.findings.size(), 1u);
+  EXPECT_EQ(result.findings[0].severity, "info");
+  EXPECT_EQ(result.findings[0].code, "uniform-block-not-read");
+  EXPECT_EQ(result.findings[0].message,
+            "ubo Shared (program 1): shared layout: its offsets are the implementation's "
+            "(apitrace records an app's GL_UNIFORM_OFFSET query without its result), so its "
+            "matrices are not read (first at the draw at call 8)");
+}
+
 TEST(TraceCheck, DrawsCompiledIntoADisplayListAreNotDraws) {
   // As glxgears builds its gears: glBegin inside glNewList(GL_COMPILE) only records.
   const TraceCheckResult result = checkLines(

@@ -341,8 +341,8 @@ TraceCheckResult TraceCheckCollector::finish() {
   for (const std::string& unread : unreadBlocks) {
     result.findings.push_back(
         {"info", "uniform-block-not-read", unread,
-         "a projection in this block is not checked; see docs/check.md (--trace) for what is "
-         "read from uniform buffers"});
+         "a projection kept in this block is not checked: std140 blocks whose bytes the trace "
+         "shows are (docs/check.md, --trace)"});
   }
   if (framesWithChanges_ > 0) {
     result.findings.push_back(
