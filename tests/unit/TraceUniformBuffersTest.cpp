@@ -157,7 +157,8 @@ TEST(TraceUniformBuffers, WhatCannotBeReadIsNoted) {
   feed(buffers, {"56 glBindBufferRange(target = GL_UNIFORM_BUFFER, index = 3, buffer = 1, offset = "
                  "18446744073709551600, size = 208)"});
   EXPECT_EQ(buffers.matrices(1, 56).size(), 0u);
-  feed(buffers, {"57 glBindBufferBase(target = GL_UNIFORM_BUFFER, index = 3, buffer = 0)"});
+  // Deleting the buffer unbinds it, as glBindBufferBase(..., 0) does.
+  feed(buffers, {"57 glDeleteBuffers(n = 2, buffers = {-1, 1})"});
   EXPECT_EQ(buffers.matrices(1, 58).size(), 0u);
   EXPECT_EQ(buffers.unreadNotes(),
             (std::vector<std::string>{

@@ -217,10 +217,18 @@ void UniformBuffers::apply(const DumpCall& call) {
     uniformBindings_[objectArgument(call, "index")] = range;
   } else if (name == "glDeleteBuffers") {
     for (const double deleted : numbers(call, "buffers")) {
-      const auto found = buffers_.find(static_cast<std::uint32_t>(deleted));
-      if (found == buffers_.end()) continue;
-      if (found->second.followed) followedBytes_ -= found->second.bytes.size();
-      buffers_.erase(found);
+      if (!(deleted > 0.0 && deleted <= 4294967295.0)) continue;  // 0 and non-names: ignored
+      const auto buffer = static_cast<std::uint32_t>(deleted);
+      const auto found = buffers_.find(buffer);
+      if (found != buffers_.end()) {
+        if (found->second.followed) followedBytes_ -= found->second.bytes.size();
+        buffers_.erase(found);
+      }
+      // Deleting a bound buffer unbinds it (OpenGL 4.6, 6.1.1); its name may come back new.
+      std::erase_if(targets_, [&](const auto& entry) { return entry.second == buffer; });
+      std::erase_if(uniformBindings_,
+                    [&](const auto& entry) { return entry.second.buffer == buffer; });
+      std::erase_if(mappings_, [&](const auto& entry) { return entry.second.buffer == buffer; });
     }
   } else if (name == "glBufferData" || name == "glBufferStorage") {
     allocate(bufferAt(call, "target"), byteArgument(call, "size"),
