@@ -3,12 +3,9 @@
 // rejected with an InputError; anything else (a crash, a sanitizer report, another exception, a
 // hang) is a bug.
 
-#include <stdlib.h>
-
 #include <algorithm>
 #include <cstddef>
 #include <cstdint>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -22,22 +19,20 @@ namespace {
 
 // A blob folder as `apitrace dump --blobs` leaves it, holding the 208-byte camera block of the
 // no-under-zo-ubo seed (blob_call55.bin), so that inputs naming it reach the uniform-buffer
-// reads; removed at exit.
+// reads. One fixed folder, rewritten by every run: libFuzzer ends without running atexit
+// handlers, so a folder of its own per run would be left behind each time.
 const std::filesystem::path& blobFolder() {
   static const std::filesystem::path folder = [] {
-    std::string pattern =
-        (std::filesystem::temp_directory_path() / "clipray-fuzz-blobs-XXXXXX").string();
-    if (!mkdtemp(pattern.data())) return std::filesystem::path();
+    const std::filesystem::path path =
+        std::filesystem::temp_directory_path() / "clipray-fuzz-trace-blobs";
+    std::error_code ignored;
+    std::filesystem::create_directories(path, ignored);
     std::vector<float> block(52, 0.0f);
     for (std::size_t k = 0; k < block.size(); ++k) block[k] = 0.25f * static_cast<float>(k);
-    std::ofstream(std::filesystem::path(pattern) / "blob_call55.bin", std::ios::binary)
+    std::ofstream(path / "blob_call55.bin", std::ios::binary)
         .write(reinterpret_cast<const char*>(block.data()),
                static_cast<std::streamsize>(block.size() * sizeof(float)));
-    std::atexit([] {
-      std::error_code ignored;
-      std::filesystem::remove_all(blobFolder(), ignored);
-    });
-    return std::filesystem::path(pattern);
+    return path;
   }();
   return folder;
 }
