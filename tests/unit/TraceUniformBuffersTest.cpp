@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <fstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -130,6 +131,34 @@ TEST(TraceUniformBuffers, RowMajorMatrixAtBindingFromTheShader) {
   // Row-major: the second float is row 0, column 1.
   EXPECT_EQ(matrices[0].matrix[1][0], 2.0);
   EXPECT_EQ(matrices[0].matrix[0][1], 5.0);
+}
+
+// GL 4.4 multi-bind: glBindBuffersRange sets bindings first .. first + count - 1 at once, and
+// glBindBuffersBase with buffers = NULL unbinds them.
+TEST(TraceUniformBuffers, MultiBind) {
+  TempFolder folder;
+  writeBlob(folder, "blob_call50.bin", cameraBlock(), 208);
+  UniformBuffers buffers;
+  buffers.setBlobDirectory(folder.path());
+  feed(buffers, cameraProgram());
+  feed(buffers,
+       {"50 glBufferSubData(target = GL_UNIFORM_BUFFER, offset = 0, size = 208, data = "
+        "blob(\"blob_call50.bin\"))",
+        "51 glBindBuffersRange(target = GL_UNIFORM_BUFFER, first = 2, count = 2, buffers = {1, "
+        "1}, offsets = {256, 0}, sizes = {208, 208})"});
+  const auto matrices = buffers.matrices(1, 52);  // binding 3: buffer 1 at offset 0
+  ASSERT_EQ(sources(matrices), (std::vector<std::string>{"ubo Camera.viewFromWorld (program 1)",
+                                                         "ubo Camera.clipFromWorld (program 1)"}));
+  EXPECT_EQ(matrices[1].matrix[0][0], 300.0);
+  feed(buffers, {"53 glBindBuffersBase(target = GL_UNIFORM_BUFFER, first = 0, count = 4, buffers "
+                 "= NULL)"});
+  EXPECT_EQ(buffers.matrices(1, 54).size(), 0u);
+  EXPECT_EQ(buffers.unreadNotes(),
+            std::vector<std::string>{"ubo Camera (program 1): no buffer bound to uniform buffer "
+                                     "binding 3 (first at the draw at call 54)"});
+  EXPECT_THROW(feed(buffers, {"55 glBindBuffersBase(target = GL_UNIFORM_BUFFER, first = 0, count "
+                              "= 2, buffers = {1})"}),
+               std::invalid_argument);
 }
 
 TEST(TraceUniformBuffers, WhatCannotBeReadIsNoted) {

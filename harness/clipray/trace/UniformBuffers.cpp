@@ -3,6 +3,7 @@
 #include "clipray/trace/UniformBuffers.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -47,6 +48,8 @@ bool UniformBuffers::needs(std::string_view function) {
   static const std::unordered_set<std::string_view> functions = {"glBindBuffer",
                                                                  "glBindBufferBase",
                                                                  "glBindBufferRange",
+                                                                 "glBindBuffersBase",
+                                                                 "glBindBuffersRange",
                                                                  "glDeleteBuffers",
                                                                  "glBufferData",
                                                                  "glNamedBufferData",
@@ -215,6 +218,38 @@ void UniformBuffers::apply(const DumpCall& call) {
       range.size = byteArgument(call, "size");
     }
     uniformBindings_[objectArgument(call, "index")] = range;
+  } else if (name == "glBindBuffersBase" || name == "glBindBuffersRange") {
+    // GL 4.4 multi-bind: bindings first .. first + count - 1; buffers = NULL unbinds them all.
+    if (!isUniformBufferTarget(argument(call, "target"))) return;
+    const std::uint32_t first = objectArgument(call, "first");
+    const std::uint32_t count = objectArgument(call, "count");
+    const bool ranged = name == "glBindBuffersRange";
+    const bool none = argument(call, "buffers").text == "NULL";
+    const std::vector<double> buffers = none ? std::vector<double>{} : numbers(call, "buffers");
+    const std::vector<double> offsets = ranged && !none ? numbers(call, "offsets") : buffers;
+    const std::vector<double> sizes = ranged && !none ? numbers(call, "sizes") : buffers;
+    if (!none && (buffers.size() != count || offsets.size() != count || sizes.size() != count)) {
+      throw std::invalid_argument(call.name + ": count = " + std::to_string(count) +
+                                  " but the arrays hold other numbers of values");
+    }
+    const auto wholeNumber = [&](double value, std::string_view what, double most) {
+      if (!(value >= 0.0 && value <= most) || value != std::floor(value)) {
+        throw std::invalid_argument(call.name + ": " + std::string(what) +
+                                    " holds a value out of range");
+      }
+      return static_cast<std::uint64_t>(value);
+    };
+    for (std::uint32_t k = 0; k < count && k < kMaxMultiBindCount; ++k) {
+      const std::uint32_t buffer =
+          none ? 0u : static_cast<std::uint32_t>(wholeNumber(buffers[k], "buffers", 4294967295.0));
+      if (buffer != 0) followFromNowOn(buffer, call);
+      Range range{buffer, 0, std::nullopt};
+      if (ranged && !none) {
+        range.offset = wholeNumber(offsets[k], "offsets", 9007199254740992.0);
+        range.size = wholeNumber(sizes[k], "sizes", 9007199254740992.0);
+      }
+      uniformBindings_[first + k] = range;
+    }
   } else if (name == "glDeleteBuffers") {
     for (const double deleted : numbers(call, "buffers")) {
       if (!(deleted > 0.0 && deleted <= 4294967295.0)) continue;  // 0 and non-names: ignored

@@ -3,9 +3,10 @@
 // `clipray check --trace`: buffer contents (glBufferData, glBufferSubData, glBufferStorage, their
 // glNamed* forms, glCopyBufferSubData, and glMapBuffer*/glMapNamedBuffer* writes, which apitrace
 // records as a fake `memcpy(dest, src = blob(...), n)` call before the unmap), the indexed
-// GL_UNIFORM_BUFFER bindings (glBindBufferBase / glBindBufferRange), each program's uniform
-// blocks (the GLSL of its attached shaders' glShaderSource) and their bindings (layout(binding)
-// or glUniformBlockBinding, with the block index from glGetUniformBlockIndex's result).
+// GL_UNIFORM_BUFFER bindings (glBindBufferBase / glBindBufferRange, glBindBuffersBase/Range),
+// each program's uniform blocks (the GLSL of its attached shaders' glShaderSource) and their
+// bindings (layout(binding) or glUniformBlockBinding, with the block index from
+// glGetUniformBlockIndex's result).
 //
 // The bytes of buffers bound to GL_UNIFORM_BUFFER are kept (from that binding on, or from their
 // glBufferData when bound first), and of small buffers written with glNamedBuffer* before any
@@ -45,6 +46,9 @@ inline constexpr std::uint64_t kMaxFollowedBufferTotal = 256u << 20;
 inline constexpr std::uint64_t kMaxUniformBlockBytes = 64u << 10;
 // Of a mat4 array (a bone palette), at most this many elements are read at each draw.
 inline constexpr std::uint32_t kMaxMatricesPerArray = 256;
+// glBindBuffersBase/Range set at most this many bindings (GL_MAX_UNIFORM_BUFFER_BINDINGS is
+// 84 or so on current drivers; a damaged count must not loop for long).
+inline constexpr std::uint32_t kMaxMultiBindCount = 1024;
 // At most this many distinct reasons for a block not read are kept.
 inline constexpr std::size_t kMaxUnreadNotes = 20;
 
