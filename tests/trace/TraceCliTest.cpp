@@ -248,6 +248,16 @@ TEST(TraceCli, NegativeOneToOneCameraInMappedUniformBlockUnderZeroToOne) {
       << message;
   EXPECT_EQ(checked.report["findings"], nlohmann::json::array());
   EXPECT_EQ(checked.report["verdict"], "errors");
+  // Replayed, the block's matrix puts the triangle where the uniform app's does (the same camera
+  // in VerifyReplaysTheDepthBuffer): the bytes were read as the shader reads them.
+  const auto verified =
+      runClipray("check --trace no-under-zo-ubo.trace --verify --json", folder.path());
+  ASSERT_EQ(verified.status, 1) << verified.err;
+  const nlohmann::json verify = nlohmann::json::parse(verified.out)["groups"][0]["verify"];
+  EXPECT_EQ(verify["call"], 57);
+  EXPECT_EQ(verify["written"], 56);
+  EXPECT_NEAR(verify["nearest_view_depth"].get<double>(), 5.06817, 1e-4);
+  EXPECT_NEAR(verify["picked_nearest"].get<double>(), 2.59997, 1e-4);
 }
 
 TEST(TraceCli, TextReport) {
