@@ -4,7 +4,6 @@
 #include "clipray/trace/DumpLine.hpp"
 
 #include <algorithm>
-
 #include <cctype>
 #include <charconv>
 #include <cmath>

@@ -4,8 +4,6 @@
 
 #include "clipray/trace/GlTraceState.hpp"
 
-#include "clipray/trace/DumpArguments.hpp"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -15,6 +13,8 @@
 #include <string_view>
 #include <unordered_map>
 #include <unordered_set>
+
+#include "clipray/trace/DumpArguments.hpp"
 
 namespace clipray::trace {
 
