@@ -3,6 +3,11 @@
 // same pipe, so its "warning: unexpected end of file" and "error: ..." lines reach the checker.
 // Only the distinct (matrix, depth state) pairs are kept, never the dump.
 //
+// The dump runs with --blobs, in a private temporary folder (removed afterwards): apitrace writes
+// each call's buffer data there as blob_call<N>.bin, the checker reads the uniform buffers'
+// bytes from those files, and each file is removed once its line is read, so the folder holds a
+// pipe's worth of calls at most.
+//
 // CLIPRAY_APITRACE overrides the apitrace executable (default: "apitrace" on PATH).
 
 #include "TraceCheckRun.hpp"
@@ -22,6 +27,7 @@
 #include <vector>
 
 #include "clipray/InputError.hpp"
+#include "clipray/trace/DumpLine.hpp"
 #include "clipray/trace/ReplayDepth.hpp"
 #include "clipray/trace/TraceCheck.hpp"
 
@@ -29,10 +35,12 @@ namespace clipray::cli {
 
 namespace {
 
-// A line longer than this is no dump line apitrace writes for a GL app (blobs are written as
-// "blob(N)"; a shader source is the longest string): refused rather than held.
+// A line longer than this is no dump line apitrace writes for a GL app (blobs are files, the line
+// names them: blob("blob_call45.bin"); a shader source is the longest string): refused rather
+// than held.
 constexpr std::size_t kMaxDumpLineBytes = 64u << 20;
 constexpr int kExecFailed = 127;
+constexpr int kChdirFailed = 126;
 // --verify replays the trace once per group, up to the group's first draw.
 constexpr std::size_t kMaxReplays = 8;
 // A state dump holds every bound texture and buffer; beyond this the group is not verified.
@@ -53,7 +61,8 @@ void requireTraceFile(const std::string& path) {
 // A child process whose stdout (and stderr, or /dev/null) comes back through a pipe.
 class DumpProcess {
  public:
-  DumpProcess(std::vector<std::string> words, bool mergeStderr, const char* waffle = nullptr) {
+  DumpProcess(std::vector<std::string> words, bool mergeStderr, const char* waffle = nullptr,
+              const char* workingDirectory = nullptr) {
     int fds[2];
     if (pipe2(fds, O_CLOEXEC) != 0) {
       throw std::runtime_error("pipe: " + std::string(strerror(errno)));
@@ -69,6 +78,7 @@ class DumpProcess {
         if (null >= 0) dup2(null, STDERR_FILENO);
       }
       if (waffle) setenv("WAFFLE_PLATFORM", waffle, 1);
+      if (workingDirectory && chdir(workingDirectory) != 0) _exit(kChdirFailed);
       std::vector<char*> argv;
       for (std::string& word : words) argv.push_back(word.data());
       argv.push_back(nullptr);
@@ -117,6 +127,29 @@ class DumpProcess {
   bool reaped_ = false;
 };
 
+// A folder of its own under the system's temporary folder, removed with what is in it.
+class PrivateFolder {
+ public:
+  PrivateFolder() {
+    std::string pattern = (std::filesystem::temp_directory_path() / "clipray-dump-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) {
+      throw std::runtime_error("cannot create a temporary folder for apitrace's blob files: " +
+                               std::string(strerror(errno)));
+    }
+    path_ = pattern;
+  }
+  ~PrivateFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  PrivateFolder(const PrivateFolder&) = delete;
+  PrivateFolder& operator=(const PrivateFolder&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
 }  // namespace
 
 trace::TraceCheckResult checkTrace(const std::string& tracePath, const std::string& frames) {
@@ -126,7 +159,23 @@ trace::TraceCheckResult checkTrace(const std::string& tracePath, const std::stri
   const char* overridden = std::getenv("CLIPRAY_APITRACE");
   const std::string apitrace = overridden && *overridden ? overridden : "apitrace";
   trace::TraceCheckCollector collector(tracePath, range);
-  DumpProcess dump({apitrace, "dump", "--color=never", "--multiline=false", "--", tracePath}, true);
+  const PrivateFolder blobs;
+  collector.setBlobDirectory(blobs.path());
+  // The dump runs in the blob folder: the trace's path is made absolute first.
+  const std::string traceFile = std::filesystem::absolute(tracePath).string();
+  DumpProcess dump(
+      {apitrace, "dump", "--color=never", "--multiline=false", "--blobs", "--", traceFile}, true,
+      nullptr, blobs.path().c_str());
+  const auto addLine = [&](std::string_view line) {
+    const bool wantsMore = collector.addLine(line);
+    if (line.find("blob(\"") != std::string_view::npos) {
+      for (const std::string& name : trace::blobFileNames(line)) {
+        std::error_code ignored;
+        std::filesystem::remove(blobs.path() / name, ignored);
+      }
+    }
+    return wantsMore;
+  };
   std::string pending;
   std::vector<char> buffer(1 << 16);
   bool more = true;
@@ -138,10 +187,10 @@ trace::TraceCheckResult checkTrace(const std::string& tracePath, const std::stri
     for (std::size_t k = 0; k < got && more; ++k) {
       if (buffer[k] != '\n') continue;
       if (pending.empty()) {
-        more = collector.addLine(std::string_view(buffer.data() + start, k - start));
+        more = addLine(std::string_view(buffer.data() + start, k - start));
       } else {
         pending.append(buffer.data() + start, k - start);
-        more = collector.addLine(pending);
+        more = addLine(pending);
         pending.clear();
       }
       ++lines;
@@ -153,12 +202,16 @@ trace::TraceCheckResult checkTrace(const std::string& tracePath, const std::stri
                        std::to_string(kMaxDumpLineBytes) + " bytes");
     }
   }
-  if (more && !pending.empty()) more = collector.addLine(pending);
+  if (more && !pending.empty()) more = addLine(pending);
   const int status = dump.finish(!more);
   if (status == kExecFailed && lines == 0) {
     throw InputError(apitrace +
                      ": cannot run apitrace (not installed?): install Debian's "
                      "apitrace (harness/install-deps.sh), or set CLIPRAY_APITRACE");
+  }
+  if (status == kChdirFailed && lines == 0) {
+    throw InputError(apitrace + ": cannot run apitrace in the temporary folder " +
+                     blobs.path().string());
   }
   trace::TraceCheckResult result = collector.finish();
   if (status != 0) {

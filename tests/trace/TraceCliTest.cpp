@@ -115,6 +115,18 @@ TEST(TraceCli, ZeroToOneApp) {
   EXPECT_EQ(codes(group), std::vector<std::string>{});
 }
 
+// The depth buffer is a GL_DEPTH_COMPONENT24 texture (glTexStorage2D, glFramebufferTexture2D),
+// set up after a GL_DEPTH_COMPONENT16 texture on another unit.
+TEST(TraceCli, ZeroToOneAppIntoADepthTexture) {
+  TempFolder folder;
+  const Checked checked = checkTraced("zo-depth-texture", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["depth_state"]["depth_format"], "24");
+  EXPECT_EQ(group["properties"]["built_for"], "zo");
+  EXPECT_EQ(codes(group), std::vector<std::string>{});
+}
+
 TEST(TraceCli, ReversedInfiniteApp) {
   TempFolder folder;
   const Checked checked = checkTraced("reversed-infinite", folder);
@@ -193,6 +205,59 @@ TEST(TraceCli, FixedFunctionFrustumUnderZeroToOne) {
   EXPECT_EQ(group["properties"]["built_for"], "no");
   EXPECT_NEAR(group["properties"]["near_if_built_for_no"].get<double>(), 0.1, 1e-6);
   EXPECT_EQ(codes(group), std::vector<std::string>{"error:depth-convention-mismatch"});
+}
+
+// The camera in a std140 uniform block: written with glBufferSubData, bound with
+// glBindBufferBase to the shader's `binding = 0`. The block's view matrix (no projection) and its
+// vec4[4] of the projection's columns (no matrix) give no group.
+TEST(TraceCli, ZeroToOneCameraInUniformBlock) {
+  TempFolder folder;
+  const Checked checked = checkTraced("zo-ubo", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["source"], "ubo Camera.clipFromWorld (program 1)");
+  EXPECT_EQ(group["depth_state"]["clip_depth"], "zero-to-one");
+  EXPECT_EQ(group["properties"]["built_for"], "zo");
+  EXPECT_NEAR(group["properties"]["near"].get<double>(), 0.1, 3e-5);
+  EXPECT_NEAR(group["properties"]["fov_y_degrees"].get<double>(), 60.0, 2e-4);
+  EXPECT_EQ(codes(group), std::vector<std::string>{});
+  EXPECT_EQ(checked.report["findings"], nlohmann::json::array());
+  // apitrace's blob files went to a folder of clipray's own, not next to the trace.
+  std::vector<std::string> left;
+  for (const auto& entry : std::filesystem::directory_iterator(folder.path())) {
+    left.push_back(entry.path().filename().string());
+  }
+  EXPECT_EQ(left, std::vector<std::string>{"zo-ubo.trace"});
+}
+
+// A NEGATIVE_ONE_TO_ONE camera in a std140 block at binding 3 (glUniformBlockBinding), in a
+// glBindBufferRange at offset 256, written through glMapBufferRange (apitrace's memcpy record).
+TEST(TraceCli, NegativeOneToOneCameraInMappedUniformBlockUnderZeroToOne) {
+  TempFolder folder;
+  const Checked checked = checkTraced("no-under-zo-ubo", folder);
+  ASSERT_EQ(checked.status, 1) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["source"], "ubo Camera.clipFromWorld (program 1)");
+  EXPECT_EQ(group["first"]["call"], 57);
+  EXPECT_EQ(group["last"]["call"], 71);
+  EXPECT_EQ(group["depth_state"]["calls"]["clip_control"], 23);
+  EXPECT_EQ(group["properties"]["built_for"], "no");
+  ASSERT_EQ(codes(group), std::vector<std::string>{"error:depth-convention-mismatch"});
+  const std::string message = group["findings"][0]["message"];
+  EXPECT_NE(message.find("the effective near plane moves to 0.1998 (1.998x)"), std::string::npos)
+      << message;
+  EXPECT_EQ(checked.report["findings"], nlohmann::json::array());
+  EXPECT_EQ(checked.report["verdict"], "errors");
+  // Replayed, the block's matrix puts the triangle where the uniform app's does (the same camera
+  // in VerifyReplaysTheDepthBuffer): the bytes were read as the shader reads them.
+  const auto verified =
+      runClipray("check --trace no-under-zo-ubo.trace --verify --json", folder.path());
+  ASSERT_EQ(verified.status, 1) << verified.err;
+  const nlohmann::json verify = nlohmann::json::parse(verified.out)["groups"][0]["verify"];
+  EXPECT_EQ(verify["call"], 57);
+  EXPECT_EQ(verify["written"], 56);
+  EXPECT_NEAR(verify["nearest_view_depth"].get<double>(), 5.06817, 1e-4);
+  EXPECT_NEAR(verify["picked_nearest"].get<double>(), 2.59997, 1e-4);
 }
 
 TEST(TraceCli, TextReport) {
@@ -289,7 +354,7 @@ TEST(TraceCli, BadTraces) {
                 "clear-only.trace: no GL draw calls (29 calls in 3 frames read): nothing to check");
   expectRefused("--trace identity.trace", folder,
                 "identity.trace: none of the 3 draws has a matrix with a projection's structure "
-                "(uniform mat4 or fixed-function GL_PROJECTION)");
+                "(uniform mat4, std140 uniform block mat4 or fixed-function GL_PROJECTION)");
   expectRefused("--trace no.trace --frames 5-9", folder,
                 "no.trace: no GL draw calls in frames 5-9 (58 calls in 3 frames read): nothing "
                 "to check");

@@ -8,7 +8,9 @@
 //
 // CASE: no, zo, reversed-infinite (correct apps); no-under-zo, reversed-with-less,
 // row-major-untransposed, vulkan-flip, fixed-function-frustum-under-zo (classic mistakes);
-// identity (draws without a projection), clear-only (frames without draws).
+// identity (draws without a projection), clear-only (frames without draws); zo-ubo and
+// no-under-zo-ubo (the camera in a std140 uniform block instead of a uniform); zo-depth-texture
+// (zo into a GL_DEPTH_COMPONENT24 depth texture instead of a 32F renderbuffer).
 // Every matrix is a glm-style camera: perspective fov 60 deg, aspect 4/3, near 0.1, far 100,
 // looking from (0, 2, 5) at the origin, built in float as apps do.
 
@@ -161,8 +163,10 @@ Context createContext(bool compatibility) {
   return context;
 }
 
-// A depth-only FBO of the pbuffer's size with a 32-bit float depth attachment.
-void bindDepthFramebuffer() {
+// An FBO of the pbuffer's size with a 32-bit float depth renderbuffer, or (depthTexture) a
+// GL_DEPTH_COMPONENT24 texture as a shadow-map pass would attach (glTexImage2D for the first
+// mip level, glTexStorage2D for an immutable one).
+void bindDepthFramebuffer(bool depthTexture) {
   GLuint framebuffer = 0, colour = 0, depth = 0;
   glGenFramebuffers(1, &framebuffer);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
@@ -170,10 +174,24 @@ void bindDepthFramebuffer() {
   glBindRenderbuffer(GL_RENDERBUFFER, colour);
   glRenderbufferStorage(GL_RENDERBUFFER, GL_RGBA8, 64, 48);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colour);
-  glGenRenderbuffers(1, &depth);
-  glBindRenderbuffer(GL_RENDERBUFFER, depth);
-  glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, 64, 48);
-  glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+  if (depthTexture) {
+    GLuint unused = 0;  // a texture on another unit, so the unit's binding is what counts
+    glGenTextures(1, &unused);
+    glActiveTexture(GL_TEXTURE1);
+    glBindTexture(GL_TEXTURE_2D, unused);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_DEPTH_COMPONENT16, 64, 48, 0, GL_DEPTH_COMPONENT,
+                 GL_UNSIGNED_SHORT, nullptr);
+    glActiveTexture(GL_TEXTURE0);
+    glGenTextures(1, &depth);
+    glBindTexture(GL_TEXTURE_2D, depth);
+    glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT24, 64, 48);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, depth, 0);
+  } else {
+    glGenRenderbuffers(1, &depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, 64, 48);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depth);
+  }
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     fail("framebuffer incomplete");
   }
@@ -224,6 +242,93 @@ void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Co
   }
 }
 
+// The uniform-buffer path: the camera in a std140 block, as engines upload it. Beside the
+// clip-from-world matrix the block holds a view matrix (a mat4 that is no projection) and the
+// projection's four columns as a vec4[4] (frustum data, not a matrix: clipray must not read it
+// as one), after a vec3 + float pair that std140 packs into one 16-byte slot.
+//   zo-ubo: `binding = 0` in the shader, glBindBufferBase, glBufferSubData every frame.
+//   no-under-zo-ubo: no binding in the shader, glGetUniformBlockIndex + glUniformBlockBinding to
+//   binding 3, glBindBufferRange at offset 256, the block written through glMapBufferRange.
+void drawWithUniformBlock(const Matrix& clipFromWorld, const Matrix& view, bool mapped, int frames,
+                          Context context) {
+  const char* vertexSource =
+      mapped ? "#version 450 core\n"
+               "layout(location = 0) in vec3 position;\n"
+               "layout(std140) uniform Camera {\n"
+               "  vec3 eye;\n"
+               "  float exposure;\n"
+               "  mat4 viewFromWorld;\n"
+               "  vec4 frustumColumns[4];\n"
+               "  mat4 clipFromWorld;\n"
+               "} camera;\n"
+               "void main() { gl_Position = camera.clipFromWorld * vec4(position, 1.0); }\n"
+             : "#version 450 core\n"
+               "layout(location = 0) in vec3 position;\n"
+               "layout(std140, binding = 0) uniform Camera {\n"
+               "  vec3 eye;\n"
+               "  float exposure;\n"
+               "  mat4 viewFromWorld;\n"
+               "  vec4 frustumColumns[4];\n"
+               "  mat4 clipFromWorld;\n"
+               "};\n"
+               "void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }\n";
+  const char* fragmentSource =
+      "#version 450 core\n"
+      "out vec4 colour;\n"
+      "void main() { colour = vec4(1.0); }\n";
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, compile(GL_VERTEX_SHADER, vertexSource));
+  glAttachShader(program, compile(GL_FRAGMENT_SHADER, fragmentSource));
+  glLinkProgram(program);
+  glUseProgram(program);
+  // std140 offsets: eye 0, exposure 12, viewFromWorld 16, frustumColumns 80, clipFromWorld 144.
+  constexpr GLsizeiptr kBlockSize = 208;
+  constexpr GLintptr kRangeOffset = 256;  // a multiple of every GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT
+  float block[kBlockSize / 4] = {};
+  block[0] = 0.0f;
+  block[1] = 2.0f;
+  block[2] = 5.0f;
+  block[3] = 1.0f;
+  std::memcpy(block + 4, view.data(), sizeof(float) * 16);
+  std::memcpy(block + 20, clipFromWorld.data(), sizeof(float) * 16);
+  std::memcpy(block + 36, clipFromWorld.data(), sizeof(float) * 16);
+  GLuint uniforms = 0;
+  glGenBuffers(1, &uniforms);
+  glBindBuffer(GL_UNIFORM_BUFFER, uniforms);
+  glBufferData(GL_UNIFORM_BUFFER, kRangeOffset + kBlockSize, nullptr, GL_DYNAMIC_DRAW);
+  if (mapped) {
+    const GLuint blockIndex = glGetUniformBlockIndex(program, "Camera");
+    glUniformBlockBinding(program, blockIndex, 3);
+    glBindBufferRange(GL_UNIFORM_BUFFER, 3, uniforms, kRangeOffset, kBlockSize);
+  } else {
+    glBindBufferBase(GL_UNIFORM_BUFFER, 0, uniforms);
+  }
+  const float triangle[] = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+  GLuint vertexArray = 0, vertices = 0;
+  glGenVertexArrays(1, &vertexArray);
+  glBindVertexArray(vertexArray);
+  glGenBuffers(1, &vertices);
+  glBindBuffer(GL_ARRAY_BUFFER, vertices);
+  glBufferData(GL_ARRAY_BUFFER, sizeof triangle, triangle, GL_STATIC_DRAW);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  for (int frame = 0; frame < frames; ++frame) {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glBindBuffer(GL_UNIFORM_BUFFER, uniforms);
+    if (mapped) {
+      void* target = glMapBufferRange(GL_UNIFORM_BUFFER, kRangeOffset, kBlockSize,
+                                      GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_RANGE_BIT);
+      if (!target) fail("glMapBufferRange failed");
+      std::memcpy(target, block, sizeof block);
+      glUnmapBuffer(GL_UNIFORM_BUFFER);
+    } else {
+      glBufferSubData(GL_UNIFORM_BUFFER, 0, sizeof block, block);
+    }
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    eglSwapBuffers(context.display, context.surface);
+  }
+}
+
 // The fixed-function path (compatibility profile): glFrustum for the same camera, classic GL
 // (built for NEGATIVE_ONE_TO_ONE).
 void drawFixedFunction(int frames, Context context) {
@@ -257,13 +362,17 @@ int main(int argc, char** argv) {
   if (frames < 1) fail("FRAMES must be a positive number");
   const bool fixedFunction = name == "fixed-function-frustum-under-zo";
   const Context context = createContext(fixedFunction);
-  bindDepthFramebuffer();
+  bindDepthFramebuffer(name == "zo-depth-texture");
   glEnable(GL_DEPTH_TEST);
   const Matrix view = viewFromWorld();
   if (name == "no") {
     glDepthFunc(GL_LESS);
     drawWithShaders(multiply(perspective(false), view), GL_FALSE, frames, context);
   } else if (name == "zo") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawWithShaders(multiply(perspective(true), view), GL_FALSE, frames, context);
+  } else if (name == "zo-depth-texture") {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LESS);
     drawWithShaders(multiply(perspective(true), view), GL_FALSE, frames, context);
@@ -290,6 +399,14 @@ int main(int argc, char** argv) {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LESS);
     drawWithShaders(multiply(flipped, view), GL_FALSE, frames, context);
+  } else if (name == "zo-ubo") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawWithUniformBlock(multiply(perspective(true), view), view, false, frames, context);
+  } else if (name == "no-under-zo-ubo") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawWithUniformBlock(multiply(perspective(false), view), view, true, frames, context);
   } else if (name == "identity") {
     // Draws, but with no projection: clip = world.
     glDepthFunc(GL_LESS);

@@ -162,6 +162,28 @@ TEST(ConventionCheck, GlmOrthoVariants) {
   EXPECT_EQ(codes(zoUnderNo), std::vector<std::string>{"error:depth-convention-mismatch"});
 }
 
+// gluOrtho2D and glOrtho(..., -1, 1): a view volume centred on the camera. Its NO reading puts
+// the near plane behind the camera (-1) and its ZO reading at 0, the same matrix as
+// glm::orthoRH_ZO(..., 0, 1): neither is evidence, so no mismatch is claimed either way.
+TEST(ConventionCheck, OrthoCentredOnTheCameraIsNotDecidedByTheBehindCameraRule) {
+  const glm::dmat4 ui = glm::orthoRH_NO(0.0, 640.0, 0.0, 480.0, -1.0, 1.0);
+  for (const DepthConvention declared : {NO, ZO}) {
+    const CheckReport r = checkConventions(separate(ui, glm::dmat4(1.0), declared));
+    EXPECT_EQ(r.properties.builtFor, "ambiguous");
+    EXPECT_EQ(r.properties.builtForReason,
+              "both readings of the near plane are round numbers (-1 if NO, 0 if ZO)");
+    EXPECT_EQ(codes(r), std::vector<std::string>{"info:depth-convention-ambiguous"});
+  }
+  const glm::dmat4 cube = glm::orthoRH_NO(-1.0, 1.0, -1.0, 1.0, -1.0, 1.0);
+  EXPECT_EQ(checkConventions(separate(cube, glm::dmat4(1.0), NO)).properties.builtFor, "ambiguous");
+  // Behind the camera but not centred on it: still read as the other convention.
+  const CheckReport offCentre = checkConventions(
+      separate(glm::orthoRH_NO(0.0, 640.0, 0.0, 480.0, -1.0, 9.0), glm::dmat4(1.0), ZO));
+  EXPECT_EQ(offCentre.properties.builtFor, "zo");
+  EXPECT_EQ(offCentre.properties.builtForReason,
+            "the NO reading puts the near plane at -1, behind the camera");
+}
+
 // The reversed-Z infinite projection modern engines use: z_ndc = n / distance under ZERO_TO_ONE.
 glm::dmat4 reversedInfinite(double fovY, double aspect, double n) {
   glm::dmat4 m(0.0);

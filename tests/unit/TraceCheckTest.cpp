@@ -228,6 +228,103 @@ TEST(TraceCheck, FixedFunctionStackOrthoPushPop) {
   EXPECT_FALSE(group.depth.depthTest);
 }
 
+// glOrtho(-1, 1, -1, 1, -1, 1), the unit cube: once missed as a mirror, now a projection whose
+// NO/ZO reading is open (near -1 or 0 around the camera), so the ZO state gives no error.
+TEST(TraceCheck, CubeOrthoIsAProjectionLeftAmbiguous) {
+  const TraceCheckResult result = checkLines(
+      "1 glClipControl(origin = GL_LOWER_LEFT, depth = GL_ZERO_TO_ONE)\n"
+      "2 glMatrixMode(mode = GL_PROJECTION)\n3 glLoadIdentity()\n"
+      "4 glOrtho(left = -1, right = 1, bottom = -1, top = 1, zNear = -1, zFar = 1)\n"
+      "5 glBegin(mode = GL_TRIANGLES)\n6 glEnd()\n");
+  ASSERT_EQ(result.groups.size(), 1u);
+  const TracePairGroup& group = result.groups[0];
+  EXPECT_EQ(group.source, "fixed-function GL_PROJECTION");
+  EXPECT_EQ(group.matrix[2][2], -1.0);
+  EXPECT_EQ(group.report.properties.builtFor, "ambiguous");
+  EXPECT_EQ(codes(group), std::vector<std::string>{"info:depth-convention-ambiguous"});
+  EXPECT_FALSE(result.hasErrors());
+}
+
+// The depth format of a depth texture attachment: level 0's internalformat from glTexImage2D /
+// glTexStorage* on the texture bound to that unit and target (cube faces set the cube map), or
+// glTextureStorage* by name; an unsized GL_DEPTH_COMPONENT stays unknown.
+TEST(TraceCheck, DepthTextureFormats) {
+  const std::string frustum =
+      "3 glMatrixMode(mode = GL_PROJECTION)\n"
+      "4 glFrustum(left = -1, right = 1, bottom = -1, top = 1, zNear = 5, zFar = 60)\n";
+  const auto formatAfter = [&](const std::string& setup) {
+    const TraceCheckResult result =
+        checkLines("1 glBindFramebuffer(target = GL_FRAMEBUFFER, framebuffer = 3)\n" + frustum +
+                   setup + "90 glBegin(mode = GL_TRIANGLES)\n");
+    return result.groups.empty() ? std::string("(no group)")
+                                 : result.groups[0].depth.depthFormatName;
+  };
+  EXPECT_EQ(
+      formatAfter("10 glActiveTexture(texture = GL_TEXTURE1)\n"
+                  "11 glBindTexture(target = GL_TEXTURE_2D, texture = 7)\n"
+                  "12 glActiveTexture(texture = GL_TEXTURE0)\n"
+                  "13 glBindTexture(target = GL_TEXTURE_2D, texture = 8)\n"
+                  "14 glTexImage2D(target = GL_TEXTURE_2D, level = 0, internalformat = "
+                  "GL_DEPTH_COMPONENT16, width = 64, height = 48, border = 0, format = "
+                  "GL_DEPTH_COMPONENT, type = GL_UNSIGNED_SHORT, pixels = NULL)\n"
+                  "15 glTexImage2D(target = GL_TEXTURE_2D, level = 1, internalformat = "
+                  "GL_DEPTH_COMPONENT32F, width = 32, height = 24, border = 0, format = "
+                  "GL_DEPTH_COMPONENT, type = GL_FLOAT, pixels = NULL)\n"
+                  "16 glFramebufferTexture2D(target = GL_FRAMEBUFFER, attachment = "
+                  "GL_DEPTH_ATTACHMENT, textarget = GL_TEXTURE_2D, texture = 8, level = 0)\n"),
+      "16");
+  // Texture 7 on unit 1 got nothing: its format is unknown.
+  EXPECT_EQ(formatAfter("11 glActiveTexture(texture = GL_TEXTURE1)\n"
+                        "12 glBindTexture(target = GL_TEXTURE_2D, texture = 7)\n"
+                        "13 glActiveTexture(texture = GL_TEXTURE0)\n"
+                        "14 glTexStorage2D(target = GL_TEXTURE_2D, levels = 1, internalformat = "
+                        "GL_DEPTH32F_STENCIL8, width = 64, height = 48)\n"
+                        "16 glFramebufferTexture(target = GL_DRAW_FRAMEBUFFER, attachment = "
+                        "GL_DEPTH_STENCIL_ATTACHMENT, texture = 7, level = 0)\n"),
+            "unknown");
+  EXPECT_EQ(formatAfter("12 glBindTexture(target = GL_TEXTURE_CUBE_MAP, texture = 5)\n"
+                        "13 glTexImage2D(target = GL_TEXTURE_CUBE_MAP_POSITIVE_X, level = 0, "
+                        "internalformat = GL_DEPTH_COMPONENT32F, width = 64, height = 64, border "
+                        "= 0, format = GL_DEPTH_COMPONENT, type = GL_FLOAT, pixels = NULL)\n"
+                        "16 glFramebufferTexture2D(target = GL_FRAMEBUFFER, attachment = "
+                        "GL_DEPTH_ATTACHMENT, textarget = GL_TEXTURE_CUBE_MAP_POSITIVE_X, texture "
+                        "= 5, level = 0)\n"),
+            "32f");
+  EXPECT_EQ(formatAfter("14 glTextureStorage3D(texture = 4, levels = 1, internalformat = "
+                        "GL_DEPTH24_STENCIL8, width = 64, height = 64, depth = 4)\n"
+                        "16 glNamedFramebufferTextureLayer(framebuffer = 3, attachment = "
+                        "GL_DEPTH_ATTACHMENT, texture = 4, level = 0, layer = 2)\n"),
+            "24");
+  EXPECT_EQ(
+      formatAfter("12 glBindTexture(target = GL_TEXTURE_2D, texture = 8)\n"
+                  "13 glTexImage2D(target = GL_TEXTURE_2D, level = 0, internalformat = "
+                  "GL_DEPTH_COMPONENT, width = 64, height = 48, border = 0, format = "
+                  "GL_DEPTH_COMPONENT, type = GL_FLOAT, pixels = NULL)\n"
+                  "16 glFramebufferTexture2D(target = GL_FRAMEBUFFER, attachment = "
+                  "GL_DEPTH_ATTACHMENT, textarget = GL_TEXTURE_2D, texture = 8, level = 0)\n"),
+      "unknown");
+}
+
+// A block that cannot be read is a note about the trace, beside the matrices that can.
+TEST(TraceCheck, UnreadUniformBlockIsANote) {
+  const TraceCheckResult result = checkLines(
+      "2 glShaderSource(shader = 2, count = 1, string = &\"uniform Shared { mat4 m; };\\nuniform "
+      "mat4 clipFromWorld;\\n\", length = NULL)\n3 glAttachShader(program = 1, shader = 2)\n"
+      "4 glLinkProgram(program = 1)\n5 glUseProgram(program = 1)\n"
+      "6 glGetUniformLocation(program = 1, name = \"clipFromWorld\") = 0\n"
+      "7 glUniformMatrix4fv(location = 0, count = 1, transpose = GL_FALSE, value = " +
+      kNoMatrix + ")\n8 glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n");
+  ASSERT_EQ(result.groups.size(), 1u);
+  EXPECT_EQ(result.groups[0].source, "uniform clipFromWorld (program 1)");
+  ASSERT_EQ(result.findings.size(), 1u);
+  EXPECT_EQ(result.findings[0].severity, "info");
+  EXPECT_EQ(result.findings[0].code, "uniform-block-not-read");
+  EXPECT_EQ(result.findings[0].message,
+            "ubo Shared (program 1): shared layout: its offsets are the implementation's "
+            "(apitrace records an app's GL_UNIFORM_OFFSET query without its result), so its "
+            "matrices are not read (first at the draw at call 8)");
+}
+
 TEST(TraceCheck, DrawsCompiledIntoADisplayListAreNotDraws) {
   // As glxgears builds its gears: glBegin inside glNewList(GL_COMPILE) only records.
   const TraceCheckResult result = checkLines(
@@ -283,7 +380,17 @@ TEST(TraceCheck, BadTracesAreRefusedWithOneLine) {
             "app.trace: no GL draw calls (1 calls in 1 frames read): nothing to check");
   EXPECT_EQ(refusal("1 glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n"),
             "app.trace: none of the 1 draws has a matrix with a projection's structure (uniform "
-            "mat4 or fixed-function GL_PROJECTION)");
+            "mat4, std140 uniform block mat4 or fixed-function GL_PROJECTION)");
+  // A camera block that cannot be read says why.
+  EXPECT_EQ(refusal("1 glShaderSource(shader = 2, count = 1, string = &\"uniform Camera { mat4 "
+                    "clipFromWorld; };\", length = NULL)\n2 glAttachShader(program = 1, shader = "
+                    "2)\n3 glLinkProgram(program = 1)\n4 glUseProgram(program = 1)\n5 "
+                    "glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n"),
+            "app.trace: none of the 1 draws has a matrix with a projection's structure (uniform "
+            "mat4, std140 uniform block mat4 or fixed-function GL_PROJECTION); not read: ubo "
+            "Camera (program 1): shared layout: its offsets are the implementation's (apitrace "
+            "records an app's GL_UNIFORM_OFFSET query without its result), so its matrices are "
+            "not read (first at the draw at call 5)");
   EXPECT_EQ(refusal("1 glDepthFunc(func = GL_LESS\n"),
             "app.trace: call 1 (glDepthFunc): column 29: expected ','");
   EXPECT_EQ(refusal("1 glViewport(x = 0, y = 0, width = wide, height = 48)\n"),

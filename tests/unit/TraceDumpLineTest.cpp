@@ -138,6 +138,22 @@ TEST(TraceDumpLine, ProjectionStructure) {
   glm::dmat4 mirror(1.0);
   mirror[1][1] = -1.0;  // a reflected model matrix: orientation reversed, every axis scaled alike
   EXPECT_FALSE(hasProjectionStructure(view * mirror));
+  // glOrtho(-1, 1, -1, 1, -1, 1): a cube view volume scales every axis alike too, but on-axis
+  // with z alone flipped, glOrtho's shape (so is a model matrix scale(1, 1, -1): read alike).
+  glm::dmat4 cube(1.0);
+  cube[2][2] = -1.0;
+  EXPECT_TRUE(hasProjectionStructure(cube));
+  glm::dmat4 offsetCube = cube * 0.1;  // glOrtho(-10, 10, -10, 10, 0, 20)
+  offsetCube[3] = glm::dvec4(0.0, 0.0, -1.0, 1.0);
+  EXPECT_TRUE(hasProjectionStructure(offsetCube));
+  glm::dmat4 xFlipped = cube;
+  xFlipped[0][0] = -1.0;  // a point reflection (det < 0): every axis flipped
+  xFlipped[1][1] = -1.0;
+  EXPECT_FALSE(hasProjectionStructure(xFlipped));
+  // A cube volume times a rotating view is no longer on-axis: still missed.
+  EXPECT_FALSE(hasProjectionStructure(
+      cube * glm::dmat4(glm::dmat3(glm::dvec3(0.6, 0.8, 0.0), glm::dvec3(-0.8, 0.6, 0.0),
+                                   glm::dvec3(0.0, 0.0, 1.0)))));
   // A planar shadow projection onto y = 0 from a light at (1, 4, 2): rank 3, no camera.
   const glm::dvec4 light(1.0, 4.0, 2.0, 1.0), plane(0.0, 1.0, 0.0, 0.0);
   glm::dmat4 shadow = glm::dot(plane, light) * glm::dmat4(1.0) - glm::outerProduct(light, plane);

@@ -55,10 +55,14 @@ int readingDigits(const Uncertain& reading) {
 }
 
 // behindCamera: readings are offsets from a camera position (orthographic), so a negative one puts
-// the plane behind the camera, which an app rarely means when the other reading does not.
+// the plane behind the camera, which an app rarely means when the other reading does not --
+// except for a view volume centred on the camera (near = -far, with `far` the far plane's
+// offset): gluOrtho2D and glOrtho(..., -1, 1) build exactly that, and its other reading (near 0)
+// is just as natural, so it is left to the rules that follow.
 BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<Uncertain>& zo,
                        std::optional<double> stated, const std::string& what,
-                       bool behindCamera = false) {
+                       bool behindCamera = false,
+                       const std::optional<Uncertain>& far = std::nullopt) {
   // A reading lost to rounding (the eye far from the origin cancels the translation) is no
   // evidence for the other one: only a precise reading may stand alone.
   const auto precise = [](const std::optional<Uncertain>& r) {
@@ -81,12 +85,16 @@ BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<U
       return {byNo ? "no" : "zo", "the stated near plane, " + number(*stated), true};
     }
     if (!byNo) {
-      BuildReading fallback = readBuild(no, zo, std::nullopt, what, behindCamera);
+      BuildReading fallback = readBuild(no, zo, std::nullopt, what, behindCamera, far);
       fallback.statedMatches = false;
       return fallback;
     }
   }
-  if (behindCamera && (no->clearlyNegative() != zo->clearlyNegative())) {
+  const auto centredOnCamera = [&](const Uncertain& near) {
+    return far && std::abs(near.value + far->value) <= near.error + far->error;
+  };
+  if (behindCamera && (no->clearlyNegative() != zo->clearlyNegative()) &&
+      !centredOnCamera(no->clearlyNegative() ? *no : *zo)) {
     const bool noBehind = no->clearlyNegative();
     return {noBehind ? "zo" : "no",
             std::string("the ") + (noBehind ? "NO" : "ZO") + " reading puts the " + what + " at " +
@@ -409,7 +417,7 @@ CheckReport checkConventions(const CheckInput& input) {
       // view, or a projection given alone) makes the readings comparable with typed planes.
       const BuildReading build =
           viewOrigin ? readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear,
-                                 "near plane", true)
+                                 "near plane", true, p.far)
                      : BuildReading{"ambiguous",
                                     "an orthographic matrix alone does not fix the camera "
                                     "position its near plane is measured from (give --projection "

@@ -3,6 +3,7 @@
 
 #include "clipray/trace/DumpLine.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <charconv>
 #include <cmath>
@@ -229,6 +230,45 @@ std::optional<std::pair<std::uint64_t, std::string_view>> dumpCallHead(std::stri
   const std::size_t nameEnd = line.find('(', position);
   if (nameEnd == std::string_view::npos || nameEnd == position) return std::nullopt;
   return std::make_pair(number, line.substr(position, nameEnd - position));
+}
+
+namespace {
+
+// apitrace's Dumper::visit(Blob*) (lib/trace/trace_dump.cpp) names the files "blob_call%u.bin".
+bool isBlobFileName(std::string_view name) {
+  constexpr std::string_view prefix = "blob_call", suffix = ".bin";
+  if (!name.starts_with(prefix) || !name.ends_with(suffix)) return false;
+  const std::string_view digits =
+      name.substr(prefix.size(), name.size() - prefix.size() - suffix.size());
+  return !digits.empty() && digits.size() <= 20 &&
+         std::all_of(digits.begin(), digits.end(),
+                     [](char c) { return std::isdigit(static_cast<unsigned char>(c)) != 0; });
+}
+
+}  // namespace
+
+std::optional<std::string> blobFileName(const DumpValue& value) {
+  std::string_view text = value.text;
+  if (value.isList || value.isString || !text.starts_with("blob(\"") || !text.ends_with("\")")) {
+    return std::nullopt;
+  }
+  text = text.substr(6, text.size() - 8);
+  if (!isBlobFileName(text)) return std::nullopt;
+  return std::string(text);
+}
+
+std::vector<std::string> blobFileNames(std::string_view line) {
+  std::vector<std::string> names;
+  std::size_t at = 0;
+  while ((at = line.find("blob(\"", at)) != std::string_view::npos) {
+    at += 6;
+    const std::size_t end = line.find('"', at);
+    if (end == std::string_view::npos) break;
+    const std::string_view name = line.substr(at, end - at);
+    if (isBlobFileName(name)) names.emplace_back(name);
+    at = end;
+  }
+  return names;
 }
 
 DumpCall parseDumpCall(std::string_view line) {

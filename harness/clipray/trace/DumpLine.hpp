@@ -45,6 +45,13 @@ struct DumpCall {
 // apitrace's "warning: ..." lines).
 std::optional<std::pair<std::uint64_t, std::string_view>> dumpCallHead(std::string_view line);
 
+// The file a blob value names when apitrace dumps with --blobs: `blob("blob_call45.bin")` gives
+// "blob_call45.bin". nullopt for "blob(36)" (a dump without --blobs) and for any name other than
+// blob_call<N>.bin, so a damaged dump cannot name a file outside the dump's folder.
+std::optional<std::string> blobFileName(const DumpValue& value);
+// Every blob file a dump line names (the files to remove once the line is read).
+std::vector<std::string> blobFileNames(std::string_view line);
+
 // The whole call. Throws std::invalid_argument "column N: ..." when the line does not follow the
 // dumper's grammar.
 DumpCall parseDumpCall(std::string_view line);

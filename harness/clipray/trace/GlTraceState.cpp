@@ -14,6 +14,8 @@
 #include <unordered_map>
 #include <unordered_set>
 
+#include "clipray/trace/DumpArguments.hpp"
+
 namespace clipray::trace {
 
 namespace {
@@ -59,43 +61,10 @@ const std::unordered_map<std::string_view, std::uint32_t>& enumNames() {
   return names;
 }
 
-const DumpValue& argument(const DumpCall& call, std::string_view name) {
-  const DumpValue* value = call.argument(name);
-  if (!value) {
-    throw std::invalid_argument(call.name + ": no argument \"" + std::string(name) + "\"");
-  }
-  return *value;
-}
-
-double numberArgument(const DumpCall& call, std::string_view name) {
-  const DumpValue& value = argument(call, name);
-  const auto number = value.number();
-  if (!number) {
-    throw std::invalid_argument(call.name + ": " + std::string(name) + " = " + value.text +
-                                " is not a number");
-  }
-  return *number;
-}
-
 std::uint32_t enumArgument(const DumpCall& call, std::string_view name) {
   const DumpValue& value = argument(call, name);
   const auto parsed = glEnumValue(value);
   return parsed ? *parsed : 0xFFFFFFFFu;  // an enum clipray does not know: matches none
-}
-
-// An integer argument within [low, high] (GL names, locations, sizes): anything else is refused
-// before a conversion that would be undefined.
-std::int64_t integerArgument(const DumpCall& call, std::string_view name, double low, double high) {
-  const double value = numberArgument(call, name);
-  if (!(value >= low && value <= high) || value != std::floor(value)) {
-    throw std::invalid_argument(call.name + ": " + std::string(name) + " = " +
-                                argument(call, name).text + " is not an integer in range");
-  }
-  return static_cast<std::int64_t>(value);
-}
-
-std::uint32_t objectArgument(const DumpCall& call, std::string_view name) {
-  return static_cast<std::uint32_t>(integerArgument(call, name, 0.0, 4294967295.0));
 }
 
 // A bitmask as apitrace writes it: "GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT" or "0x100".
@@ -117,25 +86,6 @@ bool maskHasDepthBit(const DumpValue& value) {
     text.remove_prefix(bar + 3);
   }
   return false;
-}
-
-std::vector<double> numbers(const DumpCall& call, std::string_view name) {
-  const DumpValue& value = argument(call, name);
-  std::vector<double> result;
-  if (!value.isList) {
-    if (const auto single = value.number()) result.push_back(*single);
-    return result;
-  }
-  result.reserve(value.items.size());
-  for (const DumpValue& item : value.items) {
-    const auto number = item.number();
-    if (!number) {
-      throw std::invalid_argument(call.name + ": " + std::string(name) + " holds " + item.text +
-                                  ", not a number");
-    }
-    result.push_back(*number);
-  }
-  return result;
 }
 
 glm::dmat4 columnMajor(const double* values, bool transpose) {
@@ -208,6 +158,13 @@ glm::dmat4 rotation(double degrees, glm::dvec3 axis) {
   m[1][2] = y * z * k + x * s;
   m[2][2] = z * z * k + c;
   return m;
+}
+
+// The binding a texture target names: a cube map's faces are set through its face targets.
+std::string textureTarget(const std::string& target) {
+  return target.starts_with("GL_TEXTURE_CUBE_MAP_") && !target.starts_with("GL_TEXTURE_CUBE_MAP_A")
+             ? std::string("GL_TEXTURE_CUBE_MAP")
+             : target;
 }
 
 bool isDraw(std::string_view name) {
@@ -290,7 +247,20 @@ const std::unordered_set<std::string_view>& stateFunctions() {
                                   "glFramebufferTexture",
                                   "glFramebufferTexture2D",
                                   "glFramebufferTexture2DEXT",
-                                  "glNamedFramebufferTexture"}) {
+                                  "glNamedFramebufferTexture",
+                                  "glFramebufferTextureLayer",
+                                  "glNamedFramebufferTextureLayer",
+                                  "glActiveTexture",
+                                  "glBindTexture",
+                                  "glTexImage2D",
+                                  "glTexImage3D",
+                                  "glTexImage2DMultisample",
+                                  "glTexStorage2D",
+                                  "glTexStorage3D",
+                                  "glTexStorage2DMultisample",
+                                  "glTextureStorage2D",
+                                  "glTextureStorage3D",
+                                  "glTextureStorage2DMultisample"}) {
       table.insert(name);
     }
     return table;
@@ -373,8 +343,11 @@ bool hasProjectionStructure(const glm::dmat4& m) {
   if (glm::determinant(linear) >= 0.0) return false;
   // A mirrored model or view matrix (a reflection, scale(1, -1, 1)) also reverses orientation,
   // but it scales every direction alike: its columns are orthogonal and of one length. An
-  // orthographic projection scales x, y and depth by 2/width, 2/height and 2/depth; one whose
-  // view volume is a cube reads as a mirror and is missed.
+  // orthographic projection scales x, y and depth by 2/width, 2/height and 2/depth, which differ
+  // unless its view volume is a cube (glOrtho(-1, 1, -1, 1, -1, 1)). Such a cube volume is told
+  // from a mirror by glOrtho's own shape: on-axis, with z alone flipped (x and y kept), where a
+  // reflection in a floor or wall flips x or y. (A model matrix scale(1, 1, -1) has that shape
+  // too and is taken for a projection; a cube volume times a rotating view is still missed.)
   const glm::dmat3 gram = glm::transpose(linear) * linear;
   const double scale = (gram[0][0] + gram[1][1] + gram[2][2]) / 3.0;
   const double tolerance = 1e-5 * scale;  // 7-digit decimals of the dump
@@ -384,11 +357,17 @@ bool hasProjectionStructure(const glm::dmat4& m) {
       if (std::abs(gram[i][j] - (i == j ? scale : 0.0)) > tolerance) similarity = false;
     }
   }
-  return !similarity;
+  if (!similarity) return true;
+  const bool onAxis = std::abs(linear[0][1]) + std::abs(linear[0][2]) + std::abs(linear[1][0]) +
+                          std::abs(linear[1][2]) + std::abs(linear[2][0]) +
+                          std::abs(linear[2][1]) <=
+                      1e-5 * std::sqrt(scale);
+  return onAxis && linear[0][0] > 0.0 && linear[1][1] > 0.0 && linear[2][2] < 0.0;
 }
 
 bool GlTraceState::needs(std::string_view function) {
-  return isDraw(function) || endsFrame(function) || stateFunctions().contains(function);
+  return isDraw(function) || endsFrame(function) || stateFunctions().contains(function) ||
+         UniformBuffers::needs(function);
 }
 
 glm::dmat4& GlTraceState::stackTop(std::uint32_t mode) {
@@ -481,6 +460,11 @@ void GlTraceState::emitDraw(const DumpCall& call,
           {"uniform " + name + " (program " + std::to_string(currentProgram_) + ")", false,
            it->second});
     }
+    for (UniformBlockMatrix& read : uniformBuffers_.matrices(currentProgram_, call.number)) {
+      if (hasProjectionStructure(read.matrix)) {
+        draw.matrices.push_back({std::move(read.source), false, read.matrix});
+      }
+    }
   } else {
     // Fixed function: the projection stack is the projection; the modelview moves the camera
     // and cannot change the depth convention, so it is left out of the analysis.
@@ -498,6 +482,10 @@ bool GlTraceState::apply(const DumpCall& call,
   if (endsFrame(name)) {
     ++frame_;
     return true;
+  }
+  if (UniformBuffers::needs(name)) {
+    uniformBuffers_.apply(call);
+    if (name != "glLinkProgram") return false;  // which resets the program's uniforms below too
   }
   if (name == "glNewList") {
     // GL_COMPILE (0x1300) records without drawing; GL_COMPILE_AND_EXECUTE draws as well.
@@ -590,20 +578,40 @@ bool GlTraceState::apply(const DumpCall& call,
   } else if (name.starts_with("glNamedRenderbufferStorage")) {
     renderbufferFormats_[objectArgument(call, "renderbuffer")] =
         enumArgument(call, "internalformat");
+  } else if (name == "glActiveTexture") {
+    activeTextureUnit_ = argument(call, "texture").text;
+  } else if (name == "glBindTexture") {
+    boundTextures_[{activeTextureUnit_, textureTarget(argument(call, "target").text)}] =
+        objectArgument(call, "texture");
+  } else if (name.starts_with("glTexImage") || name.starts_with("glTexStorage")) {
+    // The format of level 0 (glTexImage's other levels do not change what is attached).
+    if (name.starts_with("glTexImage") && !name.ends_with("Multisample") &&
+        numberArgument(call, "level") != 0.0) {
+      return false;
+    }
+    const auto bound =
+        boundTextures_.find({activeTextureUnit_, textureTarget(argument(call, "target").text)});
+    if (bound != boundTextures_.end()) {
+      textureFormats_[bound->second] = enumArgument(call, "internalformat");
+    }
+  } else if (name.starts_with("glTextureStorage")) {
+    textureFormats_[objectArgument(call, "texture")] = enumArgument(call, "internalformat");
   } else if (name.starts_with("glFramebufferRenderbuffer") ||
              name == "glNamedFramebufferRenderbuffer" || name.starts_with("glFramebufferTexture") ||
-             name == "glNamedFramebufferTexture") {
+             name.starts_with("glNamedFramebufferTexture")) {
     const std::uint32_t attachment = enumArgument(call, "attachment");
     if (attachment != kGlDepthAttachment && attachment != kGlDepthStencilAttachment) return false;
     const bool named = name.starts_with("glNamed");
     std::uint32_t framebuffer = drawFramebuffer_;
     if (named) framebuffer = objectArgument(call, "framebuffer");
     if (!named && enumArgument(call, "target") == kGlReadFramebuffer) return false;
-    // Textures: their formats are not followed (yet), so the depth format reads "unknown".
     std::uint32_t format = 0;
     if (name.find("Renderbuffer") != std::string_view::npos) {
       const auto found = renderbufferFormats_.find(objectArgument(call, "renderbuffer"));
       if (found != renderbufferFormats_.end()) format = found->second;
+    } else {
+      const auto found = textureFormats_.find(objectArgument(call, "texture"));
+      if (found != textureFormats_.end()) format = found->second;
     }
     framebufferDepth_[framebuffer] = format;
     updateDepthFormat();

@@ -1,8 +1,9 @@
 #pragma once
 // The GL state a trace sets, call by call, as far as `clipray check --trace` needs it: the depth
 // state in force at each draw (glClipControl, depth test and func, depth range, the depth clear,
-// viewport, the draw framebuffer's depth format), the 4x4 matrices uploaded as uniforms
-// (glUniformMatrix4fv, glProgramUniformMatrix4fv, named by glGetUniformLocation), and the
+// viewport, the depth format of the draw framebuffer's renderbuffer or texture), the 4x4 matrices
+// uploaded as uniforms (glUniformMatrix4fv, glProgramUniformMatrix4fv, named by
+// glGetUniformLocation) or kept in std140 uniform blocks (UniformBuffers.hpp), and the
 // fixed-function matrix stacks. At each draw it hands over every matrix in force that has a
 // projection's structure.
 //
@@ -11,6 +12,7 @@
 // mapped to the same values.
 
 #include <cstdint>
+#include <filesystem>
 #include <functional>
 #include <map>
 #include <optional>
@@ -21,6 +23,7 @@
 
 #include "clipray/Conventions.hpp"
 #include "clipray/trace/DumpLine.hpp"
+#include "clipray/trace/UniformBuffers.hpp"
 
 namespace clipray::trace {
 
@@ -86,7 +89,8 @@ struct TraceDepthState {
 
 // A matrix in force at a draw, with the structure of a projection.
 struct TracedMatrix {
-  // "uniform clipFromWorld (program 1)" or "fixed-function GL_PROJECTION".
+  // "uniform clipFromWorld (program 1)", "ubo Camera.clipFromWorld (program 1)" or
+  // "fixed-function GL_PROJECTION".
   std::string source;
   bool fixedFunction = false;
   glm::dmat4 matrix{1.0};  // column-major as the GL applies it (transpose flag undone)
@@ -117,6 +121,15 @@ class GlTraceState {
 
   std::uint64_t frame() const { return frame_; }
 
+  // Where `apitrace dump --blobs` writes buffer data (UniformBuffers::setBlobDirectory).
+  void setBlobDirectory(std::filesystem::path directory) {
+    uniformBuffers_.setBlobDirectory(std::move(directory));
+  }
+  // Why uniform blocks' matrices were not read (UniformBuffers::unreadNotes).
+  const std::vector<std::string>& unreadUniformBlocks() const {
+    return uniformBuffers_.unreadNotes();
+  }
+
  private:
   void applyMatrixStack(const DumpCall& call);
   void emitDraw(const DumpCall& call, const std::function<void(const TraceDraw&)>& onDraw);
@@ -128,6 +141,7 @@ class GlTraceState {
   std::uint32_t currentProgram_ = 0;
   std::map<std::pair<std::uint32_t, std::int64_t>, std::string> uniformNames_;
   std::map<std::pair<std::uint32_t, std::int64_t>, glm::dmat4> uniformMatrices_;
+  UniformBuffers uniformBuffers_;
 
   bool compilingList_ = false;  // inside glNewList(..., GL_COMPILE): draws are recorded only
   std::uint32_t matrixMode_ = kGlModelview;
@@ -137,6 +151,10 @@ class GlTraceState {
   std::uint32_t drawFramebuffer_ = 0;
   std::map<std::uint32_t, std::uint32_t> renderbufferFormats_;  // renderbuffer -> internalformat
   std::map<std::uint32_t, std::uint32_t> framebufferDepth_;     // framebuffer -> internalformat
+  std::string activeTextureUnit_ = "GL_TEXTURE0";               // as apitrace writes it
+  // (texture unit, target; as written) -> texture; texture -> internalformat of level 0.
+  std::map<std::pair<std::string, std::string>, std::uint32_t> boundTextures_;
+  std::map<std::uint32_t, std::uint32_t> textureFormats_;
   glm::dmat4& stackTop(std::uint32_t mode);
   void updateDepthFormat();
   double clearDepthValue_ = 1.0;  // glClearDepth

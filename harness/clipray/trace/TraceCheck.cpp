@@ -300,10 +300,13 @@ TraceCheckResult TraceCheckCollector::finish() {
                      " calls in " + std::to_string(state_.frame()) +
                      " frames read): nothing to check");
   }
+  const std::vector<std::string>& unreadBlocks = state_.unreadUniformBlocks();
   if (pairs_.empty()) {
-    throw InputError(traceName_ + ": none of the " + std::to_string(draws_) + " draws" + where +
-                     " has a matrix with a projection's structure (uniform mat4 or "
-                     "fixed-function GL_PROJECTION)");
+    throw InputError(
+        traceName_ + ": none of the " + std::to_string(draws_) + " draws" + where +
+        " has a matrix with a projection's structure (uniform mat4, std140 uniform "
+        "block mat4 or fixed-function GL_PROJECTION)" +
+        (unreadBlocks.empty() ? std::string() : "; not read: " + unreadBlocks.front()));
   }
   std::map<std::string, std::size_t> groupIndex;
   for (const TracedPair& pair : pairs_) {
@@ -334,6 +337,12 @@ TraceCheckResult TraceCheckCollector::finish() {
     group.draws += pair.draws;
     if (pair.first.call < group.first.call) group.first = pair.first;
     if (pair.last.call > group.last.call) group.last = pair.last;
+  }
+  for (const std::string& unread : unreadBlocks) {
+    result.findings.push_back(
+        {"info", "uniform-block-not-read", unread,
+         "a projection kept in this block is not checked: std140 blocks whose bytes the trace "
+         "shows are (docs/check.md, --trace)"});
   }
   if (framesWithChanges_ > 0) {
     result.findings.push_back(

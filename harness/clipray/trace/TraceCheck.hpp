@@ -6,6 +6,7 @@
 // analysis reads alike (an animated MVP over many frames) are reported as one group.
 
 #include <cstdint>
+#include <filesystem>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -92,6 +93,11 @@ class TraceCheckCollector {
   // Returns false once the frame range is past: the rest of the trace need not be read. Throws
   // InputError "<trace>: call N: ..." where a call the checker needs cannot be read.
   bool addLine(std::string_view line);
+
+  // Where `apitrace dump --blobs` writes its blob files, for the uniform buffers' contents.
+  void setBlobDirectory(std::filesystem::path directory) {
+    state_.setBlobDirectory(std::move(directory));
+  }
 
   // The analysis. Throws InputError "<trace>: ..." for a truncated trace, an apitrace error, a
   // trace without draws, or draws without a projective matrix.
