@@ -260,6 +260,23 @@ TEST(TraceCli, NegativeOneToOneCameraInMappedUniformBlockUnderZeroToOne) {
   EXPECT_NEAR(verify["picked_nearest"].get<double>(), 2.59997, 1e-4);
 }
 
+// Separable programs in a program pipeline and no glUseProgram: the camera is the vertex stage's
+// program's uniform, set with glProgramUniformMatrix4fv (a checker that follows glUseProgram alone
+// sees draws without a projection and refuses the trace).
+TEST(TraceCli, NegativeOneToOneMatrixInAProgramPipelineUnderZeroToOne) {
+  TempFolder folder;
+  const Checked checked = checkTraced("no-under-zo-pipeline", folder);
+  ASSERT_EQ(checked.status, 1) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["source"], "uniform clipFromWorld (program 2)");
+  EXPECT_EQ(group["first"]["call"], 43);
+  EXPECT_EQ(group["last"]["call"], 51);
+  EXPECT_EQ(group["depth_state"]["calls"]["clip_control"], 23);
+  EXPECT_EQ(group["properties"]["built_for"], "no");
+  ASSERT_EQ(codes(group), std::vector<std::string>{"error:depth-convention-mismatch"});
+  EXPECT_EQ(checked.report["verdict"], "errors");
+}
+
 TEST(TraceCli, TextReport) {
   TempFolder folder;
   ASSERT_EQ(recordTrace("no-under-zo", folder), "");

@@ -10,7 +10,8 @@
 // row-major-untransposed, vulkan-flip, fixed-function-frustum-under-zo (classic mistakes);
 // identity (draws without a projection), clear-only (frames without draws); zo-ubo and
 // no-under-zo-ubo (the camera in a std140 uniform block instead of a uniform); zo-depth-texture
-// (zo into a GL_DEPTH_COMPONENT24 depth texture instead of a 32F renderbuffer).
+// (zo into a GL_DEPTH_COMPONENT24 depth texture instead of a 32F renderbuffer);
+// no-under-zo-pipeline (separable programs in a program pipeline, no glUseProgram).
 // Every matrix is a glm-style camera: perspective fov 60 deg, aspect 4/3, near 0.1, far 100,
 // looking from (0, 2, 5) at the origin, built in float as apps do.
 
@@ -242,6 +243,50 @@ void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Co
   }
 }
 
+// The program-pipeline path (GL 4.1 separable programs): glCreateShaderProgramv per stage,
+// glUseProgramStages into one pipeline, the camera set on the vertex stage's program with
+// glProgramUniformMatrix4fv, and no glUseProgram at all.
+void drawWithPipeline(const Matrix& uploaded, int frames, Context context) {
+  const char* vertexSource =
+      "#version 450 core\n"
+      "layout(location = 0) in vec3 position;\n"
+      "uniform mat4 clipFromWorld;\n"
+      "out gl_PerVertex { vec4 gl_Position; };\n"
+      "void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }\n";
+  const char* fragmentSource =
+      "#version 450 core\n"
+      "out vec4 colour;\n"
+      "void main() { colour = vec4(1.0); }\n";
+  const GLuint vertexProgram = glCreateShaderProgramv(GL_VERTEX_SHADER, 1, &vertexSource);
+  const GLuint fragmentProgram = glCreateShaderProgramv(GL_FRAGMENT_SHADER, 1, &fragmentSource);
+  for (const GLuint program : {vertexProgram, fragmentProgram}) {
+    GLint linked = 0;
+    glGetProgramiv(program, GL_LINK_STATUS, &linked);
+    if (!linked) fail("a separable program does not link");
+  }
+  GLuint pipeline = 0;
+  glGenProgramPipelines(1, &pipeline);
+  glUseProgramStages(pipeline, GL_VERTEX_SHADER_BIT, vertexProgram);
+  glUseProgramStages(pipeline, GL_FRAGMENT_SHADER_BIT, fragmentProgram);
+  glBindProgramPipeline(pipeline);
+  const GLint location = glGetUniformLocation(vertexProgram, "clipFromWorld");
+  const float triangle[] = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+  GLuint vertexArray = 0, buffer = 0;
+  glGenVertexArrays(1, &vertexArray);
+  glBindVertexArray(vertexArray);
+  glGenBuffers(1, &buffer);
+  glBindBuffer(GL_ARRAY_BUFFER, buffer);
+  glBufferData(GL_ARRAY_BUFFER, sizeof triangle, triangle, GL_STATIC_DRAW);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  for (int frame = 0; frame < frames; ++frame) {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glProgramUniformMatrix4fv(vertexProgram, location, 1, GL_FALSE, uploaded.data());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    eglSwapBuffers(context.display, context.surface);
+  }
+}
+
 // The uniform-buffer path: the camera in a std140 block, as engines upload it. Beside the
 // clip-from-world matrix the block holds a view matrix (a mat4 that is no projection) and the
 // projection's four columns as a vec4[4] (frustum data, not a matrix: clipray must not read it
@@ -407,6 +452,10 @@ int main(int argc, char** argv) {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LESS);
     drawWithUniformBlock(multiply(perspective(false), view), view, true, frames, context);
+  } else if (name == "no-under-zo-pipeline") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawWithPipeline(multiply(perspective(false), view), frames, context);
   } else if (name == "identity") {
     // Draws, but with no projection: clip = world.
     glDepthFunc(GL_LESS);

@@ -165,6 +165,50 @@ TEST(TraceCheck, TransposeFlagAndProgramUniforms) {
   EXPECT_FALSE(result.hasErrors());
 }
 
+TEST(TraceCheck, ProgramPipelinesReadTheVertexStagesUniforms) {
+  // Separable programs: program 2 is pipeline 1's vertex stage, program 3 its fragment stage
+  // (whose matrix is no camera's). The vertex stage's matrix arrives through
+  // glActiveShaderProgram + glUniformMatrix4fv; glUseProgram's program takes precedence over the
+  // pipeline while it is bound, and glUseProgram(0) hands the draws back to the pipeline.
+  const std::string text =
+      "1 glViewport(x = 0, y = 0, width = 64, height = 48)\n"
+      "2 glEnable(cap = GL_DEPTH_TEST)\n"
+      "3 glClipControl(origin = GL_LOWER_LEFT, depth = GL_ZERO_TO_ONE)\n"
+      "4 glDepthFunc(func = GL_LESS)\n"
+      "5 glGetUniformLocation(program = 2, name = \"clipFromWorld\") = 0\n"
+      "6 glUseProgramStages(pipeline = 1, stages = GL_VERTEX_SHADER_BIT, program = 2)\n"
+      "7 glUseProgramStages(pipeline = 1, stages = GL_FRAGMENT_SHADER_BIT, program = 3)\n"
+      "8 glBindProgramPipeline(pipeline = 1)\n"
+      "9 glProgramUniformMatrix4fv(program = 3, location = 0, count = 1, transpose = GL_FALSE, "
+      "value = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, -1, 0, 0, 2, 0})\n"
+      "10 glActiveShaderProgram(pipeline = 1, program = 2)\n"
+      "11 glUniformMatrix4fv(location = 0, count = 1, transpose = GL_FALSE, value = " +
+      kNoMatrix +
+      ")\n"
+      "12 glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n"
+      "13 glUseProgram(program = 4)\n"
+      "14 glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n"
+      "15 glUseProgram(program = 0)\n"
+      "16 glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n"
+      "17 eglSwapBuffers(dpy = 0x1, surface = 0x2) = EGL_TRUE\n";
+  const TraceCheckResult result = checkLines(text);
+  EXPECT_EQ(result.draws, 3u);
+  ASSERT_EQ(result.groups.size(), 1u);
+  const TracePairGroup& group = result.groups[0];
+  EXPECT_EQ(group.source, "uniform clipFromWorld (program 2)");
+  EXPECT_EQ(group.draws, 2u);
+  EXPECT_EQ(group.first.call, 12u);
+  EXPECT_EQ(group.last.call, 16u);
+  EXPECT_EQ(group.report.properties.builtFor, "no");
+  EXPECT_EQ(codes(group), std::vector<std::string>{"error:depth-convention-mismatch"});
+  // GL_ALL_SHADER_BITS holds the vertex stage too.
+  std::string allStages = text;
+  allStages.replace(allStages.find("GL_VERTEX_SHADER_BIT"), 20, "GL_ALL_SHADER_BITS");
+  const TraceCheckResult all = checkLines(allStages);
+  ASSERT_EQ(all.groups.size(), 1u);
+  EXPECT_EQ(all.groups[0].source, "uniform clipFromWorld (program 2)");
+}
+
 TEST(TraceCheck, ReversedDepthRangeWithClassicMatrix) {
   const TraceCheckResult result = checkLines(
       shaderApp("4 glDepthFunc(func = GL_GREATER)\n5 glDepthRange(zNear = 1, zFar = 0)\n"

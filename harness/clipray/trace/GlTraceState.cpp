@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <initializer_list>
 #include <stdexcept>
 #include <string_view>
 #include <unordered_map>
@@ -67,18 +68,20 @@ std::uint32_t enumArgument(const DumpCall& call, std::string_view name) {
   return parsed ? *parsed : 0xFFFFFFFFu;  // an enum clipray does not know: matches none
 }
 
-// A bitmask as apitrace writes it: "GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT" or "0x100".
-bool maskHasDepthBit(const DumpValue& value) {
+// Whether a bitmask as apitrace writes it ("GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT", "0x100")
+// holds `bit`, which the flags named in `names` include.
+bool maskHasBit(const DumpValue& value, std::uint64_t bit,
+                std::initializer_list<std::string_view> names) {
   std::string_view text = value.text;
   while (!text.empty()) {
     const std::size_t bar = text.find(" | ");
     const std::string_view flag = text.substr(0, bar);
-    if (flag == "GL_DEPTH_BUFFER_BIT"sv) return true;
+    if (std::find(names.begin(), names.end(), flag) != names.end()) return true;
     DumpValue single;
     single.text = std::string(flag);
     if (const auto number = single.number()) {
       if (*number >= 0.0 && *number <= 4294967295.0 &&
-          (static_cast<std::uint64_t>(*number) & kGlDepthBufferBit) != 0) {
+          (static_cast<std::uint64_t>(*number) & bit) != 0) {
         return true;
       }
     }
@@ -86,6 +89,15 @@ bool maskHasDepthBit(const DumpValue& value) {
     text.remove_prefix(bar + 3);
   }
   return false;
+}
+
+bool maskHasDepthBit(const DumpValue& value) {
+  return maskHasBit(value, kGlDepthBufferBit, {"GL_DEPTH_BUFFER_BIT"sv});
+}
+
+// glUseProgramStages' stages: GL_VERTEX_SHADER_BIT is 0x1; GL_ALL_SHADER_BITS includes it.
+bool stagesHaveVertexShader(const DumpValue& value) {
+  return maskHasBit(value, 0x1u, {"GL_VERTEX_SHADER_BIT"sv, "GL_ALL_SHADER_BITS"sv});
 }
 
 glm::dmat4 columnMajor(const double* values, bool transpose) {
@@ -202,6 +214,9 @@ const std::unordered_set<std::string_view>& stateFunctions() {
                                   "glViewport",
                                   "glUseProgram",
                                   "glUseProgramObjectARB",
+                                  "glBindProgramPipeline",
+                                  "glUseProgramStages",
+                                  "glActiveShaderProgram",
                                   "glLinkProgram",
                                   "glLinkProgramARB",
                                   "glGetUniformLocation",
@@ -441,6 +456,12 @@ void GlTraceState::setUniformMatrices(std::uint32_t program, const DumpCall& cal
   }
 }
 
+std::uint32_t GlTraceState::drawProgram() const {
+  if (currentProgram_ != 0 || boundPipeline_ == 0) return currentProgram_;
+  const auto stage = pipelineVertexProgram_.find(boundPipeline_);
+  return stage != pipelineVertexProgram_.end() ? stage->second : 0;
+}
+
 void GlTraceState::emitDraw(const DumpCall& call,
                             const std::function<void(const TraceDraw&)>& onDraw) {
   TraceDraw draw;
@@ -448,19 +469,19 @@ void GlTraceState::emitDraw(const DumpCall& call,
   draw.call = call.number;
   draw.function = call.name;
   draw.depth = depth_;
-  if (currentProgram_ != 0) {
-    for (auto it = uniformMatrices_.lower_bound({currentProgram_, INT64_MIN});
-         it != uniformMatrices_.end() && it->first.first == currentProgram_; ++it) {
+  const std::uint32_t program = drawProgram();
+  if (program != 0) {
+    for (auto it = uniformMatrices_.lower_bound({program, INT64_MIN});
+         it != uniformMatrices_.end() && it->first.first == program; ++it) {
       if (!hasProjectionStructure(it->second)) continue;
       const auto named = uniformNames_.find(it->first);
       const std::string name = named != uniformNames_.end()
                                    ? named->second
                                    : "at location " + std::to_string(it->first.second);
       draw.matrices.push_back(
-          {"uniform " + name + " (program " + std::to_string(currentProgram_) + ")", false,
-           it->second});
+          {"uniform " + name + " (program " + std::to_string(program) + ")", false, it->second});
     }
-    for (UniformBlockMatrix& read : uniformBuffers_.matrices(currentProgram_, call.number)) {
+    for (UniformBlockMatrix& read : uniformBuffers_.matrices(program, call.number)) {
       if (hasProjectionStructure(read.matrix)) {
         draw.matrices.push_back({std::move(read.source), false, read.matrix});
       }
@@ -541,6 +562,14 @@ bool GlTraceState::apply(const DumpCall& call,
                        static_cast<int>(integerArgument(call, "height", 0.0, 2147483647.0))};
   } else if (name == "glUseProgram" || name == "glUseProgramObjectARB") {
     currentProgram_ = objectArgument(call, name == "glUseProgram" ? "program" : "programObj");
+  } else if (name == "glBindProgramPipeline") {
+    boundPipeline_ = objectArgument(call, "pipeline");
+  } else if (name == "glUseProgramStages") {
+    if (stagesHaveVertexShader(argument(call, "stages"))) {
+      pipelineVertexProgram_[objectArgument(call, "pipeline")] = objectArgument(call, "program");
+    }
+  } else if (name == "glActiveShaderProgram") {
+    pipelineActiveProgram_[objectArgument(call, "pipeline")] = objectArgument(call, "program");
   } else if (name == "glLinkProgram" || name == "glLinkProgramARB") {
     // Linking resets the program's uniforms (and may move their locations).
     const std::uint32_t program =
@@ -562,7 +591,13 @@ bool GlTraceState::apply(const DumpCall& call,
       uniformNames_[{program, static_cast<std::int64_t>(*location)}] = uniform;
     }
   } else if (name.starts_with("glUniformMatrix4")) {
-    setUniformMatrices(currentProgram_, call);
+    // Without glUseProgram's program, glUniform* goes to the bound pipeline's active program.
+    std::uint32_t program = currentProgram_;
+    if (program == 0 && boundPipeline_ != 0) {
+      const auto active = pipelineActiveProgram_.find(boundPipeline_);
+      if (active != pipelineActiveProgram_.end()) program = active->second;
+    }
+    if (program != 0) setUniformMatrices(program, call);
   } else if (name.starts_with("glProgramUniformMatrix4")) {
     setUniformMatrices(objectArgument(call, "program"), call);
   } else if (name == "glBindFramebuffer" || name == "glBindFramebufferEXT") {

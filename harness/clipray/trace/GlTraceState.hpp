@@ -134,11 +134,18 @@ class GlTraceState {
   void applyMatrixStack(const DumpCall& call);
   void emitDraw(const DumpCall& call, const std::function<void(const TraceDraw&)>& onDraw);
   void setUniformMatrices(std::uint32_t program, const DumpCall& call);
+  // The program whose uniforms a draw reads for its vertices: glUseProgram's, which takes
+  // precedence, else the bound program pipeline's vertex-stage program (0: fixed function).
+  std::uint32_t drawProgram() const;
 
   TraceDepthState depth_;
   std::uint64_t frame_ = 0;
 
   std::uint32_t currentProgram_ = 0;
+  // Separable programs (GL 4.1): the bound pipeline, each pipeline's vertex-stage program and
+  // the program its glUniform* calls go to (glActiveShaderProgram).
+  std::uint32_t boundPipeline_ = 0;
+  std::map<std::uint32_t, std::uint32_t> pipelineVertexProgram_, pipelineActiveProgram_;
   std::map<std::pair<std::uint32_t, std::int64_t>, std::string> uniformNames_;
   std::map<std::pair<std::uint32_t, std::int64_t>, glm::dmat4> uniformMatrices_;
   UniformBuffers uniformBuffers_;
