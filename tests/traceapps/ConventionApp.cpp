@@ -209,6 +209,19 @@ GLuint compile(GLenum stage, const char* source) {
   return shader;
 }
 
+// One triangle at world z = 0 in a vertex array (attribute 0), bound for the draws.
+void bindTriangle() {
+  const float triangle[] = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+  GLuint vertexArray = 0, buffer = 0;
+  glGenVertexArrays(1, &vertexArray);
+  glBindVertexArray(vertexArray);
+  glGenBuffers(1, &buffer);
+  glBindBuffer(GL_ARRAY_BUFFER, buffer);
+  glBufferData(GL_ARRAY_BUFFER, sizeof triangle, triangle, GL_STATIC_DRAW);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+}
+
 // The shader path: a program with a `clipFromWorld` uniform and one triangle at world z = 0.
 void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Context context) {
   const char* vertexSource =
@@ -226,15 +239,7 @@ void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Co
   glLinkProgram(program);
   glUseProgram(program);
   const GLint location = glGetUniformLocation(program, "clipFromWorld");
-  const float triangle[] = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
-  GLuint vertexArray = 0, buffer = 0;
-  glGenVertexArrays(1, &vertexArray);
-  glBindVertexArray(vertexArray);
-  glGenBuffers(1, &buffer);
-  glBindBuffer(GL_ARRAY_BUFFER, buffer);
-  glBufferData(GL_ARRAY_BUFFER, sizeof triangle, triangle, GL_STATIC_DRAW);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-  glEnableVertexAttribArray(0);
+  bindTriangle();
   for (int frame = 0; frame < frames; ++frame) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glUniformMatrix4fv(location, 1, transpose, uploaded.data());
@@ -270,15 +275,7 @@ void drawWithPipeline(const Matrix& uploaded, int frames, Context context) {
   glUseProgramStages(pipeline, GL_FRAGMENT_SHADER_BIT, fragmentProgram);
   glBindProgramPipeline(pipeline);
   const GLint location = glGetUniformLocation(vertexProgram, "clipFromWorld");
-  const float triangle[] = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
-  GLuint vertexArray = 0, buffer = 0;
-  glGenVertexArrays(1, &vertexArray);
-  glBindVertexArray(vertexArray);
-  glGenBuffers(1, &buffer);
-  glBindBuffer(GL_ARRAY_BUFFER, buffer);
-  glBufferData(GL_ARRAY_BUFFER, sizeof triangle, triangle, GL_STATIC_DRAW);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-  glEnableVertexAttribArray(0);
+  bindTriangle();
   for (int frame = 0; frame < frames; ++frame) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glProgramUniformMatrix4fv(vertexProgram, location, 1, GL_FALSE, uploaded.data());
@@ -348,15 +345,7 @@ void drawWithUniformBlock(const Matrix& clipFromWorld, const Matrix& view, bool 
   } else {
     glBindBufferBase(GL_UNIFORM_BUFFER, 0, uniforms);
   }
-  const float triangle[] = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
-  GLuint vertexArray = 0, vertices = 0;
-  glGenVertexArrays(1, &vertexArray);
-  glBindVertexArray(vertexArray);
-  glGenBuffers(1, &vertices);
-  glBindBuffer(GL_ARRAY_BUFFER, vertices);
-  glBufferData(GL_ARRAY_BUFFER, sizeof triangle, triangle, GL_STATIC_DRAW);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-  glEnableVertexAttribArray(0);
+  bindTriangle();
   for (int frame = 0; frame < frames; ++frame) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glBindBuffer(GL_UNIFORM_BUFFER, uniforms);
