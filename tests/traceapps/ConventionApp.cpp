@@ -209,6 +209,22 @@ GLuint compile(GLenum stage, const char* source) {
   return shader;
 }
 
+// Every case's fragment stage: white.
+const char* const kFragmentSource =
+    "#version 450 core\n"
+    "out vec4 colour;\n"
+    "void main() { colour = vec4(1.0); }\n";
+
+// A program of vertexSource and kFragmentSource, linked and in use.
+GLuint useProgram(const char* vertexSource) {
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, compile(GL_VERTEX_SHADER, vertexSource));
+  glAttachShader(program, compile(GL_FRAGMENT_SHADER, kFragmentSource));
+  glLinkProgram(program);
+  glUseProgram(program);
+  return program;
+}
+
 // One triangle at world z = 0 in a vertex array (attribute 0), bound for the draws.
 void bindTriangle() {
   const float triangle[] = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
@@ -229,15 +245,7 @@ void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Co
       "layout(location = 0) in vec3 position;\n"
       "uniform mat4 clipFromWorld;\n"
       "void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }\n";
-  const char* fragmentSource =
-      "#version 450 core\n"
-      "out vec4 colour;\n"
-      "void main() { colour = vec4(1.0); }\n";
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, compile(GL_VERTEX_SHADER, vertexSource));
-  glAttachShader(program, compile(GL_FRAGMENT_SHADER, fragmentSource));
-  glLinkProgram(program);
-  glUseProgram(program);
+  const GLuint program = useProgram(vertexSource);
   const GLint location = glGetUniformLocation(program, "clipFromWorld");
   bindTriangle();
   for (int frame = 0; frame < frames; ++frame) {
@@ -258,10 +266,7 @@ void drawWithPipeline(const Matrix& uploaded, int frames, Context context) {
       "uniform mat4 clipFromWorld;\n"
       "out gl_PerVertex { vec4 gl_Position; };\n"
       "void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }\n";
-  const char* fragmentSource =
-      "#version 450 core\n"
-      "out vec4 colour;\n"
-      "void main() { colour = vec4(1.0); }\n";
+  const char* fragmentSource = kFragmentSource;
   const GLuint vertexProgram = glCreateShaderProgramv(GL_VERTEX_SHADER, 1, &vertexSource);
   const GLuint fragmentProgram = glCreateShaderProgramv(GL_FRAGMENT_SHADER, 1, &fragmentSource);
   for (const GLuint program : {vertexProgram, fragmentProgram}) {
@@ -314,15 +319,7 @@ void drawWithUniformBlock(const Matrix& clipFromWorld, const Matrix& view, bool 
                "  mat4 clipFromWorld;\n"
                "};\n"
                "void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }\n";
-  const char* fragmentSource =
-      "#version 450 core\n"
-      "out vec4 colour;\n"
-      "void main() { colour = vec4(1.0); }\n";
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, compile(GL_VERTEX_SHADER, vertexSource));
-  glAttachShader(program, compile(GL_FRAGMENT_SHADER, fragmentSource));
-  glLinkProgram(program);
-  glUseProgram(program);
+  const GLuint program = useProgram(vertexSource);
   // std140 offsets: eye 0, exposure 12, viewFromWorld 16, frustumColumns 80, clipFromWorld 144.
   constexpr GLsizeiptr kBlockSize = 208;
   constexpr GLintptr kRangeOffset = 256;  // a multiple of every GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT
