@@ -27,6 +27,7 @@
 #include "clipray/report/OutputFolder.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/Scene.hpp"
+#include "clipray/util/KernelChoice.hpp"
 #include "clipray/util/OptionValues.hpp"
 
 namespace clipray::cli {
@@ -58,6 +59,7 @@ struct ReconcileOptions {
   std::string size;
   std::string out = "report";
   std::string images = "failing";
+  std::string kernels = "simd";
   std::string junit;  // empty: no JUnit file
   bool json = false;
   unsigned threads = 0;
@@ -114,6 +116,11 @@ int runReconcileSteps(const ReconcileOptions& options) {
     throw InputError("--images: unknown value \"" + options.images +
                      "\"; expected one of: failing, all, none");
   }
+  if (options.kernels != "simd" && options.kernels != "portable") {
+    throw InputError("--kernels: unknown value \"" + options.kernels +
+                     "\"; expected one of: simd, portable");
+  }
+  chooseKernels(options.kernels == "simd" ? KernelChoice::Simd : KernelChoice::Portable);
   std::optional<std::vector<DepthMode>> conventions;
   if (!options.conventions.empty()) {
     conventions = parseList<DepthMode>("--conventions", options.conventions, DepthMode::parse,
@@ -353,6 +360,11 @@ CommandRunner addReconcileOptions(CLI::App& app) {
   app.add_option("--junit", options->junit,
                  "Also write the runs as JUnit XML to this file (one test case per run) for CI");
   app.add_flag("--json", options->json, "Also print report.json to stdout");
+  app.add_option("--kernels", options->kernels,
+                 "Code for the analytic side: simd (AVX2 kernels where the CPU has them), or "
+                 "portable (one ray and one pixel at a time in double: the same report and "
+                 "images, slower; shows the kernels change nothing)")
+      ->capture_default_str();
   app.add_option("--shard", options->shard,
                  "I/N: only shard I of N (1-based) of the scene/camera pairs, split by their "
                  "names, for CI jobs in parallel");

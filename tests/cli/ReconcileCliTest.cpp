@@ -438,6 +438,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadInvocation{"UnknownOption", "reconcile --frobnicate", "", "frobnicate"},
         BadInvocation{"UnknownImagePolicy", "reconcile " + kStandard + " --images some", "",
                       "--images: unknown value \"some\"; expected one of: failing, all, none"},
+        BadInvocation{"UnknownKernels", "reconcile " + kStandard + " --kernels fast", "",
+                      "clipray: --kernels: unknown value \"fast\"; expected one of: simd, "
+                      "portable"},
         BadInvocation{"JUnitInAMissingFolder",
                       "reconcile " + kStandard + " --junit nowhere/junit.xml", "",
                       "--junit: nowhere/junit.xml: the folder nowhere does not exist"},

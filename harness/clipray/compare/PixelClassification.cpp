@@ -20,6 +20,7 @@
 #include "clipray/compare/ToleranceTerms.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/FourRays.hpp"
+#include "clipray/util/KernelChoice.hpp"
 
 namespace clipray::detail {
 
@@ -201,7 +202,7 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
   eye_ = glm::dvec3(eyeHomogeneous) / eyeHomogeneous.w;
 #if CLIPRAY_COMPARE_AVX2
   const DepthConvention convention = setup.mode.convention;
-  fourAtOnce_ = cpuHasAvx2();
+  fourAtOnce_ = cpuHasAvx2() && simdKernelsChosen();
   fourInput_ = {
       setup.clipFromWorld,
       rowZ_,

@@ -28,6 +28,7 @@
 
 #include "clipray/intersect/Watertight.hpp"
 #include "clipray/rays/FourRays.hpp"
+#include "clipray/util/KernelChoice.hpp"
 
 #if defined(__x86_64__) || defined(__i386__)
 #define CLIPRAY_HAVE_AVX2_KERNELS 1
@@ -855,7 +856,7 @@ CLIPRAY_AVX2 void traceBins(const SceneIntersector& scene, const std::vector<Tri
 
 bool PacketKernels::available() {
   static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma");
-  return avx2;
+  return avx2 && simdKernelsChosen();
 }
 
 void PacketKernels::trace(const SceneIntersector& scene, const Ray* rays, Hit* hits,

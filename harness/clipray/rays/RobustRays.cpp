@@ -8,6 +8,7 @@
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/FourRays.hpp"
 #include "clipray/rays/QuadReference.hpp"
+#include "clipray/util/KernelChoice.hpp"
 
 #if defined(__x86_64__) && defined(__GNUC__)
 #define CLIPRAY_ROW_KERNELS 1
@@ -215,7 +216,7 @@ void RobustRayGenerator::generateRow(const RowTerms& row, std::span<const double
   const glm::dvec4& rowPart = row.nearPoint;
   const glm::dvec4& depthPart = depthPart_;
 #if CLIPRAY_ROW_KERNELS
-  if (rowKernelsAllowed && cpuHasAvx2Fma()) {
+  if (rowKernelsAllowed && cpuHasAvx2Fma() && simdKernelsChosen()) {
     const RowConstants constants{worldFromClip_[0], rowPart,   depthPart,
                                  facingNormal_,     farPlane_, facingSign_};
     alignas(32) double directions[3][kRowBlock];
