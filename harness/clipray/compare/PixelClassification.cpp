@@ -69,61 +69,111 @@ __attribute__((target("avx2"))) inline __m256d dotDirection(const glm::dvec4& ro
       _mm256_mul_pd(broadcast(row.z), z));
 }
 
+// Four pixels' hits as the scalar code computes them before its tolerance: the rays, the hit
+// point in clip space, its window depth, the error against the raster's depth and the storage
+// quantum there.
+struct FourHits {
+  __m256d ox, oy, oz, dx, dy, dz, tMax, t, rasterDepth;
+  __m256d c[4];  // m * (o + t d, 1)
+  __m256d zNdc, rayDepth, error, quantum;
+};
+
 // Returns false (and computes nothing useful) when, under a float depth buffer, a lane's window
 // depth is not a finite float (quantumAt then asks depthQuantum): the caller takes the scalar path
 // for those four.
-__attribute__((target("avx2"))) bool fourTrianglePixels(const FourPixelsInput& in, const Ray* rays,
-                                                        const Hit* hits,
-                                                        const float* rasterDepthFloat,
-                                                        const FourPolygons& polygons,
-                                                        FourPixels& out) {
+__attribute__((target("avx2"))) inline bool loadFourHits(const FourPixelsInput& in, const Ray* rays,
+                                                         const Hit* hits,
+                                                         const float* rasterDepthFloat,
+                                                         FourHits& h) {
   const simd::FourRays four = simd::loadFourRays(rays);
-  const __m256d ox = four.originX, oy = four.originY, oz = four.originZ;
-  const __m256d dx = four.directionX, dy = four.directionY, dz = four.directionZ;
-  const __m256d tMax = four.tMax;
-  const __m256d t = _mm256_set_pd(hits[3].t, hits[2].t, hits[1].t, hits[0].t);
-  const __m256d rasterDepth = _mm256_cvtps_pd(_mm_loadu_ps(rasterDepthFloat));
+  h.ox = four.originX, h.oy = four.originY, h.oz = four.originZ;
+  h.dx = four.directionX, h.dy = four.directionY, h.dz = four.directionZ;
+  h.tMax = four.tMax;
+  h.t = _mm256_set_pd(hits[3].t, hits[2].t, hits[1].t, hits[0].t);
+  h.rasterDepth = _mm256_cvtps_pd(_mm_loadu_ps(rasterDepthFloat));
 
   // The hit in clip space: m * (o + t d, 1).
-  const __m256d px = _mm256_add_pd(ox, _mm256_mul_pd(t, dx));
-  const __m256d py = _mm256_add_pd(oy, _mm256_mul_pd(t, dy));
-  const __m256d pz = _mm256_add_pd(oz, _mm256_mul_pd(t, dz));
+  const __m256d px = _mm256_add_pd(h.ox, _mm256_mul_pd(h.t, h.dx));
+  const __m256d py = _mm256_add_pd(h.oy, _mm256_mul_pd(h.t, h.dy));
+  const __m256d pz = _mm256_add_pd(h.oz, _mm256_mul_pd(h.t, h.dz));
   const glm::dmat4& m = in.clipFromWorld;
-  __m256d c[4];
   for (int row = 0; row < 4; ++row) {
-    c[row] =
+    h.c[row] =
         _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(broadcast(m[0][row]), px),
                                     _mm256_mul_pd(broadcast(m[1][row]), py)),
                       _mm256_add_pd(_mm256_mul_pd(broadcast(m[2][row]), pz), broadcast(m[3][row])));
   }
-  const __m256d zNdc = _mm256_div_pd(c[2], c[3]);
-  const __m256d rayDepth =
-      _mm256_mul_pd(_mm256_sub_pd(zNdc, broadcast(in.zn)), broadcast(in.toWindowDepth));
-  const __m256d error = absolute(_mm256_sub_pd(rasterDepth, rayDepth));
+  h.zNdc = _mm256_div_pd(h.c[2], h.c[3]);
+  h.rayDepth = _mm256_mul_pd(_mm256_sub_pd(h.zNdc, broadcast(in.zn)), broadcast(in.toWindowDepth));
+  h.error = absolute(_mm256_sub_pd(h.rasterDepth, h.rayDepth));
 
   // quantumAt: a fixed-point format's constant, or for Float32 the next float up minus the
   // depth, at least FLT_MIN.
-  __m256d quantum = broadcast(in.fixedQuantum);
+  h.quantum = broadcast(in.fixedQuantum);
   if (in.fixedQuantum == 0.0) {
-    const __m128 depthFloat = _mm256_cvtpd_ps(absolute(rayDepth));
+    const __m128 depthFloat = _mm256_cvtpd_ps(absolute(h.rayDepth));
     const __m128i bits = _mm_castps_si128(depthFloat);
     // Unsigned bits >= 0x7f800000 (inf, NaN; the sign bit is clear): not this path.
     if (_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(bits, _mm_set1_epi32(0x7f7fffff)))) != 0) {
       return false;
     }
     const __m128 next = _mm_castsi128_ps(_mm_add_epi32(bits, _mm_set1_epi32(1)));
-    quantum = _mm256_max_pd(broadcast(static_cast<double>(std::numeric_limits<float>::min())),
-                            _mm256_cvtps_pd(_mm_sub_ps(next, depthFloat)));
+    h.quantum = _mm256_max_pd(broadcast(static_cast<double>(std::numeric_limits<float>::min())),
+                              _mm256_cvtps_pd(_mm_sub_ps(next, depthFloat)));
   }
+  return true;
+}
 
-  // triangleDepthTolerance.
+// The figures of four pixels from their hits and tolerances: error over tolerance and over the
+// quantum, and the distance along the ray to the raster depth, relative to the distance from the
+// eye (or the view volume's depth).
+__attribute__((target("avx2"))) inline void finishFour(const FourPixelsInput& in, const FourHits& h,
+                                                       __m256d tolerance, FourPixels& out) {
+  const __m256d ratio = _mm256_div_pd(h.error, tolerance);
+  const __m256d quanta = _mm256_div_pd(h.error, h.quantum);
+  const __m256d zRaster =
+      _mm256_add_pd(_mm256_mul_pd(h.rasterDepth, broadcast(1.0 - in.zn)), broadcast(in.zn));
+  const __m256d z0 = dotPoint(in.rowZ, h.ox, h.oy, h.oz);
+  const __m256d z1 = dotDirection(in.rowZ, h.dx, h.dy, h.dz);
+  const __m256d w0 = dotPoint(in.rowW, h.ox, h.oy, h.oz);
+  const __m256d w1 = dotDirection(in.rowW, h.dx, h.dy, h.dz);
+  const __m256d tRaster = _mm256_div_pd(_mm256_sub_pd(z0, _mm256_mul_pd(zRaster, w0)),
+                                        _mm256_sub_pd(_mm256_mul_pd(zRaster, w1), z1));
+  __m256d scale;
+  if (in.parallel) {
+    const __m256d finite = _mm256_cmp_pd(
+        absolute(h.tMax), broadcast(std::numeric_limits<double>::infinity()), _CMP_LT_OQ);
+    scale = _mm256_blendv_pd(h.t, h.tMax, finite);
+  } else {
+    const __m256d ex = _mm256_sub_pd(h.ox, broadcast(in.eye.x));
+    const __m256d ey = _mm256_sub_pd(h.oy, broadcast(in.eye.y));
+    const __m256d ez = _mm256_sub_pd(h.oz, broadcast(in.eye.z));
+    const __m256d length = _mm256_sqrt_pd(_mm256_add_pd(
+        _mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)), _mm256_mul_pd(ez, ez)));
+    scale = _mm256_add_pd(h.t, length);
+  }
+  const __m256d relative = _mm256_div_pd(absolute(_mm256_sub_pd(tRaster, h.t)), scale);
+  _mm256_storeu_pd(out.rayDepth, h.rayDepth);
+  _mm256_storeu_pd(out.ratio, ratio);
+  _mm256_storeu_pd(out.quanta, quanta);
+  _mm256_storeu_pd(out.relative, relative);
+}
+
+// Four pixels showing the same triangle on both sides: triangleDepthTolerance per lane.
+__attribute__((target("avx2"))) bool fourTrianglePixels(const FourPixelsInput& in, const Ray* rays,
+                                                        const Hit* hits,
+                                                        const float* rasterDepthFloat,
+                                                        const FourPolygons& polygons,
+                                                        FourPixels& out) {
+  FourHits h;
+  if (!loadFourHits(in, rays, hits, rasterDepthFloat, h)) return false;
   const double u = kFloatUnitRoundoff;
   const __m256d boundX = _mm256_loadu_pd(polygons.boundX),
                 boundY = _mm256_loadu_pd(polygons.boundY),
                 boundZ = _mm256_loadu_pd(polygons.boundZ),
                 boundW = _mm256_loadu_pd(polygons.boundW);
-  const __m256d xNdc = _mm256_div_pd(c[0], c[3]);
-  const __m256d yNdc = _mm256_div_pd(c[1], c[3]);
+  const __m256d xNdc = _mm256_div_pd(h.c[0], h.c[3]);
+  const __m256d yNdc = _mm256_div_pd(h.c[1], h.c[3]);
   const __m256d errorX = _mm256_mul_pd(
       _mm256_mul_pd(_mm256_add_pd(boundX, _mm256_mul_pd(absolute(xNdc), boundW)), broadcast(0.5)),
       broadcast(in.width));
@@ -131,45 +181,123 @@ __attribute__((target("avx2"))) bool fourTrianglePixels(const FourPixelsInput& i
       _mm256_mul_pd(_mm256_add_pd(boundY, _mm256_mul_pd(absolute(yNdc), boundW)), broadcast(0.5)),
       broadcast(in.height));
   const __m256d xyError = _mm256_max_pd(errorY, errorX);  // std::max(errorX, errorY)
-  const __m256d absW = absolute(c[3]);
+  const __m256d absW = absolute(h.c[3]);
   const __m256d vertexNdc =
-      _mm256_div_pd(_mm256_add_pd(boundZ, _mm256_mul_pd(absolute(zNdc), boundW)), absW);
+      _mm256_div_pd(_mm256_add_pd(boundZ, _mm256_mul_pd(absolute(h.zNdc), boundW)), absW);
   const __m256d xyErrorPixels = _mm256_div_pd(xyError, absW);
   const __m256d vertex = _mm256_add_pd(_mm256_mul_pd(vertexNdc, broadcast(in.toWindow)),
-                                       _mm256_mul_pd(broadcast(2.0 * u), absolute(rayDepth)));
+                                       _mm256_mul_pd(broadcast(2.0 * u), absolute(h.rayDepth)));
   const __m256d xyShift = _mm256_add_pd(broadcast(in.subpixelStep), xyErrorPixels);
   const __m256d snap = _mm256_mul_pd(_mm256_loadu_pd(polygons.gradient), xyShift);
-  const __m256d tolerance = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(quantum, vertex), snap),
+  const __m256d tolerance = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(h.quantum, vertex), snap),
                                           _mm256_loadu_pd(polygons.interpolation));
-  const __m256d ratio = _mm256_div_pd(error, tolerance);
-  const __m256d quanta = _mm256_div_pd(error, quantum);
+  finishFour(in, h, tolerance, out);
+  return true;
+}
 
-  // Distance along the ray to the raster depth, relative to the distance from the eye (or the view
-  // volume's depth).
-  const __m256d zRaster =
-      _mm256_add_pd(_mm256_mul_pd(rasterDepth, broadcast(1.0 - in.zn)), broadcast(in.zn));
-  const __m256d z0 = dotPoint(in.rowZ, ox, oy, oz), z1 = dotDirection(in.rowZ, dx, dy, dz);
-  const __m256d w0 = dotPoint(in.rowW, ox, oy, oz), w1 = dotDirection(in.rowW, dx, dy, dz);
-  const __m256d tRaster = _mm256_div_pd(_mm256_sub_pd(z0, _mm256_mul_pd(zRaster, w0)),
-                                        _mm256_sub_pd(_mm256_mul_pd(zRaster, w1), z1));
-  __m256d scale;
-  if (in.parallel) {
-    const __m256d finite = _mm256_cmp_pd(
-        absolute(tMax), broadcast(std::numeric_limits<double>::infinity()), _CMP_LT_OQ);
-    scale = _mm256_blendv_pd(t, tMax, finite);
-  } else {
-    const __m256d ex = _mm256_sub_pd(ox, broadcast(in.eye.x));
-    const __m256d ey = _mm256_sub_pd(oy, broadcast(in.eye.y));
-    const __m256d ez = _mm256_sub_pd(oz, broadcast(in.eye.z));
-    const __m256d length = _mm256_sqrt_pd(_mm256_add_pd(
-        _mm256_add_pd(_mm256_mul_pd(ex, ex), _mm256_mul_pd(ey, ey)), _mm256_mul_pd(ez, ez)));
-    scale = _mm256_add_pd(t, length);
+// What analyticDepthTolerance reads of one analytic primitive.
+struct FourAnalytic {
+  const glm::dmat4* localFromWorld;
+  glm::dvec4 magnitudeRowZ, magnitudeRowW;
+  PrimitiveKind kind;
+};
+
+// (x x + y y) + z z: glm's dot of a vector with itself, and its length.
+__attribute__((target("avx2"))) inline __m256d dotSelf(__m256d x, __m256d y, __m256d z) {
+  return _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(y, y)),
+                       _mm256_mul_pd(z, z));
+}
+
+// Four pixels showing the same analytic primitive on both sides: analyticDepthTolerance
+// (AnalyticTolerance.cpp) per lane, in its order. False, as for a non-finite float depth, when a
+// lane's error exceeds its tolerance: the scalar path then asks whether the pixel is
+// edge-ambiguous.
+__attribute__((target("avx2"))) bool fourAnalyticPixels(const FourPixelsInput& in, const Ray* rays,
+                                                        const Hit* hits,
+                                                        const float* rasterDepthFloat,
+                                                        const FourAnalytic& primitive,
+                                                        FourPixels& out) {
+  FourHits h;
+  if (!loadFourHits(in, rays, hits, rasterDepthFloat, h)) return false;
+  const double u = kFloatUnitRoundoff;
+  const glm::dmat4& l = *primitive.localFromWorld;
+  // origin = localFromWorld * (o, 1) (glm's mat4 * vec4), direction = mat3(localFromWorld) * d
+  // (glm's mat3 * vec3: (a x + b y) + c z), p = origin + t direction.
+  __m256d origin[3], direction[3], p[3];
+  for (int r = 0; r < 3; ++r) {
+    origin[r] = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(broadcast(l[0][r]), h.ox),
+                                            _mm256_mul_pd(broadcast(l[1][r]), h.oy)),
+                              _mm256_add_pd(_mm256_mul_pd(broadcast(l[2][r]), h.oz),
+                                            _mm256_mul_pd(broadcast(l[3][r]), broadcast(1.0))));
+    direction[r] = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(broadcast(l[0][r]), h.dx),
+                                               _mm256_mul_pd(broadcast(l[1][r]), h.dy)),
+                                 _mm256_mul_pd(broadcast(l[2][r]), h.dz));
+    p[r] = _mm256_add_pd(origin[r], _mm256_mul_pd(h.t, direction[r]));
   }
-  const __m256d relative = _mm256_div_pd(absolute(_mm256_sub_pd(tRaster, t)), scale);
-  _mm256_storeu_pd(out.rayDepth, rayDepth);
-  _mm256_storeu_pd(out.ratio, ratio);
-  _mm256_storeu_pd(out.quanta, quanta);
-  _mm256_storeu_pd(out.relative, relative);
+  // 2. The depth evaluated in float: sum_i M_ri |p_i| from 0.0, then the divide and the mapping.
+  __m256d magnitudeZ = _mm256_setzero_pd(), magnitudeW = _mm256_setzero_pd();
+  for (int i = 0; i < 4; ++i) {
+    const __m256d coordinate = i < 3 ? absolute(p[i]) : broadcast(1.0);
+    magnitudeZ =
+        _mm256_add_pd(magnitudeZ, _mm256_mul_pd(broadcast(primitive.magnitudeRowZ[i]), coordinate));
+    magnitudeW =
+        _mm256_add_pd(magnitudeW, _mm256_mul_pd(broadcast(primitive.magnitudeRowW[i]), coordinate));
+  }
+  const __m256d absW = absolute(h.c[3]);
+  const __m256d evaluation = _mm256_add_pd(
+      _mm256_mul_pd(
+          _mm256_div_pd(
+              _mm256_mul_pd(broadcast(6.0 * u),
+                            _mm256_add_pd(magnitudeZ, _mm256_mul_pd(absolute(h.zNdc), magnitudeW))),
+              absW),
+          broadcast(in.analyticToWindow)),
+      _mm256_mul_pd(broadcast(2.0 * u), absolute(h.rayDepth)));
+  // 3. Where the float ray meets the surface: delta across the ray, delta / cos along it.
+  const __m256d originLength = _mm256_sqrt_pd(dotSelf(origin[0], origin[1], origin[2]));
+  const __m256d directionLength = _mm256_sqrt_pd(dotSelf(direction[0], direction[1], direction[2]));
+  const __m256d delta = _mm256_mul_pd(
+      broadcast(32.0 * u), _mm256_add_pd(originLength, _mm256_mul_pd(h.t, directionLength)));
+  // glm::normalize(v) = v * (1 / sqrt(dot(v, v))).
+  const __m256d directionScale = _mm256_div_pd(broadcast(1.0), directionLength);
+  __m256d cosine;
+  if (primitive.kind == PrimitiveKind::Sphere) {  // normal p
+    const __m256d normalScale =
+        _mm256_div_pd(broadcast(1.0), _mm256_sqrt_pd(dotSelf(p[0], p[1], p[2])));
+    const __m256d n0 = _mm256_mul_pd(p[0], normalScale), n1 = _mm256_mul_pd(p[1], normalScale),
+                  n2 = _mm256_mul_pd(p[2], normalScale);
+    cosine =
+        _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(n0, _mm256_mul_pd(direction[0], directionScale)),
+                                    _mm256_mul_pd(n1, _mm256_mul_pd(direction[1], directionScale))),
+                      _mm256_mul_pd(n2, _mm256_mul_pd(direction[2], directionScale)));
+  } else if (primitive.kind == PrimitiveKind::Box) {
+    // The normal is +-1 on the axis of the largest |p_i| (ties to the lower axis), normalized
+    // exactly; the dot product's other terms are 0 * d_i = +-0, which leaves the sum unchanged
+    // unless it is itself zero, and |cosine| takes no sign.
+    const __m256d a0 = absolute(p[0]), a1 = absolute(p[1]), a2 = absolute(p[2]);
+    const __m256d axis0 =
+        _mm256_and_pd(_mm256_cmp_pd(a0, a1, _CMP_GE_OQ), _mm256_cmp_pd(a0, a2, _CMP_GE_OQ));
+    const __m256d axis1 = _mm256_andnot_pd(axis0, _mm256_cmp_pd(a1, a2, _CMP_GE_OQ));
+    const __m256d along =
+        _mm256_blendv_pd(_mm256_blendv_pd(direction[2], direction[1], axis1), direction[0], axis0);
+    cosine = _mm256_mul_pd(along, directionScale);
+  } else {  // disk, quad, plane: the normal (0, 0, 1)
+    cosine = _mm256_mul_pd(direction[2], directionScale);
+  }
+  cosine = absolute(cosine);
+  const __m256d alongRay = _mm256_div_pd(
+      delta, _mm256_mul_pd(directionLength, _mm256_max_pd(_mm256_sqrt_pd(delta), cosine)));
+  // d(window depth)/dt along the world ray: (z' w - z w') / w^2.
+  const __m256d zRate = dotDirection(in.rowZ, h.dx, h.dy, h.dz);
+  const __m256d wRate = dotDirection(in.rowW, h.dx, h.dy, h.dz);
+  const __m256d depthRate = _mm256_mul_pd(
+      _mm256_div_pd(
+          absolute(_mm256_sub_pd(_mm256_mul_pd(zRate, h.c[3]), _mm256_mul_pd(h.c[2], wRate))),
+          _mm256_mul_pd(h.c[3], h.c[3])),
+      broadcast(in.analyticToWindow));
+  const __m256d tolerance =
+      _mm256_add_pd(_mm256_add_pd(h.quantum, evaluation), _mm256_mul_pd(depthRate, alongRay));
+  if (_mm256_movemask_pd(_mm256_cmp_pd(h.error, tolerance, _CMP_LE_OQ)) != 0xF) return false;
+  finishFour(in, h, tolerance, out);
   return true;
 }
 
@@ -215,7 +343,8 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
       model.subpixelStep_,
       static_cast<double>(raster.viewport.width),
       static_cast<double>(raster.viewport.height),
-      setup.depthFormat == DepthFormat::Float32 ? 0.0 : depthQuantum(setup.depthFormat, 0.0)};
+      setup.depthFormat == DepthFormat::Float32 ? 0.0 : depthQuantum(setup.depthFormat, 0.0),
+      1.0 / (1.0 - setup.mode.clipVolumeMinZ())};
 #endif
 }
 
@@ -337,36 +466,57 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
 bool FrameClassifier::classifyFour(std::size_t first, const Ray* rays, RunMetrics& metrics,
                                    WorkerSamples& samples) const {
 #if CLIPRAY_COMPARE_AVX2
-  FourPolygons polygons;
   const std::uint32_t* rasterIds = &raster_.ids[first];
   const Hit* hits = &analytic_.hits[first];
-  std::uint32_t previousId = 0;
-  const ToleranceModel::PixelTerms* terms = nullptr;
   for (std::size_t l = 0; l < 4; ++l) {
-    const std::uint32_t rasterId = rasterIds[l];
-    if (rasterId == 0 || rasterId != hits[l].primitiveId || rays[l].tMax < 0.0) return false;
-    // Neighbouring pixels mostly show one triangle: its terms are looked up once.
-    if (rasterId != previousId) {
-      if (rasterId > primitiveCount_ || intersector_.isAnalytic(rasterId)) return false;
-      const std::uint32_t slot = model_.slotOfId_[rasterId];
-      if (slot == ToleranceModel::kNoSlot) return false;
-      terms = &model_.pixelTerms_[slot];
-      previousId = rasterId;
+    if (rasterIds[l] == 0 || rasterIds[l] != hits[l].primitiveId || rays[l].tMax < 0.0) {
+      return false;
     }
-    polygons.boundX[l] = terms->clipErrorBound.x;
-    polygons.boundY[l] = terms->clipErrorBound.y;
-    polygons.boundZ[l] = terms->clipErrorBound.z;
-    polygons.boundW[l] = terms->clipErrorBound.w;
-    polygons.gradient[l] = terms->gradient;
-    polygons.interpolation[l] = terms->interpolation;
   }
+  if (rasterIds[0] > primitiveCount_) return false;
   FourPixels figures;
-  if (!fourTrianglePixels(fourInput_, rays, hits, &raster_.depth[first], polygons, figures)) {
-    return false;
+  std::size_t kindIndex = 0;
+  if (intersector_.isAnalytic(rasterIds[0])) {
+    // Four pixels of one analytic primitive (a sphere's, a box's: most of their pixels).
+    const std::uint32_t id = rasterIds[0];
+    if (rasterIds[1] != id || rasterIds[2] != id || rasterIds[3] != id) return false;
+    const AnalyticPrimitive& primitive = intersector_.analyticPrimitive(id);
+    const ToleranceModel::AnalyticTransform& transform =
+        model_.analyticTransforms_[id - 1 - intersector_.triangleCount()];
+    const FourAnalytic four{&primitive.localFromWorld, transform.magnitudeRowZ,
+                            transform.magnitudeRowW, primitive.kind};
+    if (!fourAnalyticPixels(fourInput_, rays, hits, &raster_.depth[first], four, figures)) {
+      return false;
+    }
+    kindIndex = kindOf(id);
+  } else {
+    FourPolygons polygons;
+    std::uint32_t previousId = 0;
+    const ToleranceModel::PixelTerms* terms = nullptr;
+    for (std::size_t l = 0; l < 4; ++l) {
+      const std::uint32_t rasterId = rasterIds[l];
+      // Neighbouring pixels mostly show one triangle: its terms are looked up once.
+      if (rasterId != previousId) {
+        if (rasterId > primitiveCount_ || intersector_.isAnalytic(rasterId)) return false;
+        const std::uint32_t slot = model_.slotOfId_[rasterId];
+        if (slot == ToleranceModel::kNoSlot) return false;
+        terms = &model_.pixelTerms_[slot];
+        previousId = rasterId;
+      }
+      polygons.boundX[l] = terms->clipErrorBound.x;
+      polygons.boundY[l] = terms->clipErrorBound.y;
+      polygons.boundZ[l] = terms->clipErrorBound.z;
+      polygons.boundW[l] = terms->clipErrorBound.w;
+      polygons.gradient[l] = terms->gradient;
+      polygons.interpolation[l] = terms->interpolation;
+    }
+    if (!fourTrianglePixels(fourInput_, rays, hits, &raster_.depth[first], polygons, figures)) {
+      return false;
+    }
   }
   // The four pixels' figures and images, as classifyPixel writes them one by one
   // (the samples in the same order).
-  KindSamples& kind = samplesOf(samples, 0);
+  KindSamples& kind = samplesOf(samples, kindIndex);
   metrics.rasterHits += 4;
   metrics.rayHits += 4;
   metrics.depthCompared += 4;

@@ -39,6 +39,7 @@ struct FourPixelsInput {
   // The depth quantum of a fixed-point format (2^-16, 2^-24: the same at every depth); 0 for a
   // float depth buffer, whose quantum the kernel computes per pixel.
   double fixedQuantum;
+  double analyticToWindow;  // analyticDepthTolerance's 1 / (1 - clipVolumeMinZ)
 };
 
 // The per-frame constants of the classification; classifyRows runs on any number of threads at
@@ -62,8 +63,9 @@ class FrameClassifier {
   // only where the pixel shows something).
   void classifyPixel(std::size_t i, glm::dvec2 centre, const Ray& ray, RunMetrics& metrics,
                      WorkerSamples& samples) const;
-  // Pixels first .. first + 3 when each shows the same triangle on both sides (with a ray and a
-  // polygon built up front), through the AVX2 kernel; false (nothing written) otherwise.
+  // Pixels first .. first + 3 through the AVX2 kernels when each shows the same triangle on both
+  // sides (with a ray and a polygon built up front), or all four the same analytic primitive
+  // within its depth tolerance; false (nothing written) otherwise.
   bool classifyFour(std::size_t first, const Ray* rays, RunMetrics& metrics,
                     WorkerSamples& samples) const;
 
