@@ -13,6 +13,7 @@
 
 #include "clipray/intersect/FrameBins.hpp"
 #include "clipray/intersect/PacketKernels.hpp"
+#include "clipray/intersect/PrimitiveKernels.hpp"
 #include "clipray/intersect/Primitives.hpp"
 #include "clipray/intersect/Watertight.hpp"
 #include "clipray/util/HugePages.hpp"
@@ -544,8 +545,22 @@ void SceneIntersector::addAnalyticToTile(const Ray* rays, Hit* hits, std::size_t
       }
     }
     if (count == 0) continue;
+    const bool fourAtOnce = detail::primitiveKernelsAvailable();
+    const AnalyticPrimitive* batchPrimitives[kBatch];
+    std::uint32_t batchIds[kBatch];
+    for (std::size_t k = 0; k < count; ++k) {
+      batchPrimitives[k] = &primitives_[batch[k]];
+      batchIds[k] = firstAnalyticId_ + batch[k];
+    }
     for (int y = 0; y < height; ++y) {
-      for (int x = 0; x < width; ++x) {
+      int x = 0;
+      if (fourAtOnce) {
+        for (; x + 4 <= width; x += 4) {
+          const std::size_t i = static_cast<std::size_t>(y) * rowStride + x;
+          detail::addPrimitivesToFour(batchPrimitives, batchIds, count, rays + i, hits + i);
+        }
+      }
+      for (; x < width; ++x) {
         const std::size_t i = static_cast<std::size_t>(y) * rowStride + x;
         if (!finiteRay(rays[i])) continue;  // closestHit answers Hit{}, as the packets did
         Hit best = hits[i];
