@@ -41,8 +41,9 @@ class KernelsFor {
 // A point the camera sees and a size that covers part of the screen there: along the ray of a
 // random pixel, at a random fraction of the way to the far plane (log-uniform, so near, middle
 // and far all come up), or a random multiple of the near distance when the far plane is at
-// infinity. The size is the distance to the ray of a pixel a tenth of the screen away, at the same
-// ray parameter: right for telephoto, orthographic and far-from-origin cameras alike.
+// infinity; a sixth of them on the near plane itself. The size is the distance to the ray of a
+// pixel a tenth of the screen away, at the same ray parameter: right for telephoto, orthographic
+// and far-from-origin cameras alike.
 struct Placement {
   glm::dvec3 centre;
   double size = 0.0;
@@ -60,7 +61,9 @@ std::optional<Placement> randomPlacement(const glm::dmat4& clipFromWorld,
       generator.generateForPixel(x + step < viewport.width ? x + step : x - step, y, viewport);
   if (!(ray.tMax > 0.0) || !(aside.tMax > 0.0)) return std::nullopt;  // no ray at this pixel
   double t = 0.0;
-  if (std::isfinite(ray.tMax)) {
+  if (unit(rng) < 1.0 / 6.0) {
+    // On the near plane, cut by it: rays that start inside a shape or on its surface.
+  } else if (std::isfinite(ray.tMax)) {
     t = ray.tMax * std::pow(10.0, -2.5 * unit(rng));
   } else {
     // An infinite far plane (a perspective camera): 2 to 300 times the distance from the eye,
