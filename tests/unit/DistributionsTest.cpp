@@ -4,6 +4,7 @@
 // sub-bucket, many ties, zeros and infinities, NaN (which takes distributionOf itself), parts of
 // every size including empty ones.
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -32,16 +33,10 @@ void expectSameAsConcatenation(const std::vector<double>& values, int partCount,
     concatenation.insert(concatenation.end(), part.begin(), part.end());
   }
   const Distribution expected = distributionOf(concatenation);
-  // As the compare asks for the overall figures of several surface kinds: the parts split into
-  // two kinds, each with its histogram, and the overall histogram their sum.
-  const std::size_t split = pointers.size() / 2;
-  const FigureParts firstKind(pointers.begin(), pointers.begin() + static_cast<long>(split));
-  const FigureParts secondKind(pointers.begin() + static_cast<long>(split), pointers.end());
-  const FigureHistogram firstHistogram = histogramOf(firstKind);
-  const FigureHistogram secondHistogram = histogramOf(secondKind);
+  // The sampled pass where there are enough values (its own fallback otherwise), and the
+  // histogram alone.
   for (const Distribution& actual :
-       {distributionOfParts(pointers),
-        distributionOfParts(pointers, sumOf({&firstHistogram, &secondHistogram}))}) {
+       {distributionOfParts(pointers), distributionOfPartsByHistogram(pointers)}) {
     EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.p50), std::bit_cast<std::uint64_t>(expected.p50))
         << actual.p50 << " vs " << expected.p50;
     EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.p99), std::bit_cast<std::uint64_t>(expected.p99))
@@ -55,7 +50,8 @@ TEST(Distributions, PartsGiveTheQuantilesOfTheirConcatenation) {
   std::mt19937_64 random(20261126);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   for (int trial = 0; trial < 48; ++trial) {
-    const std::size_t count = 1 + random() % 200000;
+    // Up to 400,000 values: the sampled pass takes 131,072 and more.
+    const std::size_t count = 1 + random() % 400000;
     std::vector<double> values(count);
     switch (trial % 6) {
       case 0:  // spread over many octaves
@@ -89,6 +85,40 @@ TEST(Distributions, PartsGiveTheQuantilesOfTheirConcatenation) {
     }
     expectSameAsConcatenation(values, 1 + trial % 7, random);
   }
+}
+
+TEST(Distributions, ASampleThePatternFoolsStillGivesTheExactRanks) {
+  // Every 16th value is 1 and the others 2, 3, ...: a strided sample of 8,192 values (stride
+  // count / 8,192 = 32) sees only ones, and the ranks lie far above its brackets.
+  std::mt19937_64 random(3);
+  std::vector<double> values(32 * 8192);
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    values[i] = i % 16 == 0 ? 1.0 : 2.0 + static_cast<double>(i % 1000);
+  }
+  expectSameAsConcatenation(values, 1, random);
+  expectSameAsConcatenation(values, 5, random);
+}
+
+TEST(Distributions, TheValueJustPastABracketIsNotTheBracketsEnd) {
+  // 131,072 values; the sample takes every 16th, which hold 0, 1, ..., 8191. The median's rank,
+  // 65,536, has a bracket of sample values [3944, 4247]; 61,288 other values of 0.5 make exactly
+  // 65,536 values up to 4247, so the median is the next one, 4248, just past the bracket. The
+  // rest, 8100, lie within the 99th percentile's bracket [8067, 8153], which holds that rank.
+  std::mt19937_64 random(5);
+  std::vector<double> values(131072);
+  std::size_t small = 0;
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i % 16 == 0) {
+      values[i] = static_cast<double>(i / 16);
+    } else {
+      values[i] = small++ < 61288 ? 0.5 : 8100.0;
+    }
+  }
+  expectSameAsConcatenation(values, 1, random);
+  std::vector<double> sorted = values;
+  std::sort(sorted.begin(), sorted.end());
+  EXPECT_EQ(sorted[65536], 4248.0);
+  EXPECT_EQ(sorted[129761], 8100.0);
 }
 
 TEST(Distributions, NaNAmongThePartsTakesTheConcatenation) {

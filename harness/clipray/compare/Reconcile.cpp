@@ -132,15 +132,13 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
 
   // Every distribution to compute: per kind with samples, then over all kinds. Where one kind
   // holds every sample, the overall figures are that kind's (the same values, so the same
-  // quantiles) and are not computed twice; otherwise the overall histograms are the sums of the
-  // kinds' (the same counts as tallying every value again).
-  using Parts = detail::FigureParts;
-  constexpr std::size_t kFigures = 3;  // quanta, relative error, tolerance ratio
+  // quantiles) and are not computed twice.
+  using Parts = std::vector<const FrameVector<double>*>;
   struct Job {
     Parts parts;
     Distribution* into;
-    detail::FigureHistogram histogram;
   };
+  std::vector<Job> jobs;
   std::vector<std::size_t> kindsWithSamples;
   for (std::size_t k = 0; k < detail::kSurfaceKinds; ++k) {
     for (const auto& worker : samplesOfWorker) {
@@ -151,50 +149,37 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
     }
   }
   total.byKind.resize(kindsWithSamples.size());
-  std::vector<Job> kindJobs;  // kind n's figure f at n * kFigures + f
-  std::array<Parts, kFigures> allParts;
+  Parts allQuanta, allRelative, allRatios;
   for (std::size_t n = 0; n < kindsWithSamples.size(); ++n) {
     const std::size_t k = kindsWithSamples[n];
     RunMetrics::KindFigures& figures = total.byKind[n];
     figures.kind = k == 0 ? "triangle" : primitiveKindName(static_cast<PrimitiveKind>(k - 1));
-    std::array<Parts, kFigures> parts;
+    Parts quanta, relative, ratios;
     for (const auto& worker : samplesOfWorker) {
       figures.depthCompared += static_cast<std::int64_t>(worker[k].quanta.size());
-      parts[0].push_back(&worker[k].quanta);
-      parts[1].push_back(&worker[k].relative);
-      parts[2].push_back(&worker[k].ratios);
+      quanta.push_back(&worker[k].quanta);
+      relative.push_back(&worker[k].relative);
+      ratios.push_back(&worker[k].ratios);
     }
-    Distribution* into[kFigures] = {&figures.depthErrorQuanta, &figures.distanceRelError,
-                                    &figures.toleranceRatio};
-    for (std::size_t f = 0; f < kFigures; ++f) {
-      allParts[f].insert(allParts[f].end(), parts[f].begin(), parts[f].end());
-      kindJobs.push_back({std::move(parts[f]), into[f], {}});
-    }
+    allQuanta.insert(allQuanta.end(), quanta.begin(), quanta.end());
+    allRelative.insert(allRelative.end(), relative.begin(), relative.end());
+    allRatios.insert(allRatios.end(), ratios.begin(), ratios.end());
+    jobs.push_back({std::move(quanta), &figures.depthErrorQuanta});
+    jobs.push_back({std::move(relative), &figures.distanceRelError});
+    jobs.push_back({std::move(ratios), &figures.toleranceRatio});
   }
-  parallelForRows(static_cast<int>(kindJobs.size()), threadCount, [&](int begin, int end) {
-    for (int j = begin; j < end; ++j) {
-      Job& job = kindJobs[j];
-      job.histogram = detail::histogramOf(job.parts);
-      *job.into = detail::distributionOfParts(job.parts, job.histogram);
-    }
+  if (kindsWithSamples.size() > 1) {
+    jobs.push_back({std::move(allQuanta), &total.depthErrorQuanta});
+    jobs.push_back({std::move(allRelative), &total.distanceRelError});
+    jobs.push_back({std::move(allRatios), &total.toleranceRatio});
+  }
+  parallelForRows(static_cast<int>(jobs.size()), threadCount, [&](int begin, int end) {
+    for (int j = begin; j < end; ++j) *jobs[j].into = detail::distributionOfParts(jobs[j].parts);
   });
   if (kindsWithSamples.size() == 1) {
     total.depthErrorQuanta = total.byKind[0].depthErrorQuanta;
     total.distanceRelError = total.byKind[0].distanceRelError;
     total.toleranceRatio = total.byKind[0].toleranceRatio;
-  } else if (kindsWithSamples.size() > 1) {
-    Distribution* into[kFigures] = {&total.depthErrorQuanta, &total.distanceRelError,
-                                    &total.toleranceRatio};
-    parallelForRows(static_cast<int>(kFigures), threadCount, [&](int begin, int end) {
-      for (int f = begin; f < end; ++f) {
-        std::vector<const detail::FigureHistogram*> histograms;
-        for (std::size_t n = 0; n < kindsWithSamples.size(); ++n) {
-          histograms.push_back(&kindJobs[n * kFigures + static_cast<std::size_t>(f)].histogram);
-        }
-        *into[f] = detail::distributionOfParts(allParts[static_cast<std::size_t>(f)],
-                                               detail::sumOf(histograms));
-      }
-    });
   }
   return result;
 }
