@@ -2,9 +2,11 @@
 // Small scenes built in code for tests (the shipped ones live in scenes/).
 
 #include <cmath>
+#include <cstdint>
 #include <map>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "clipray/scene/Scene.hpp"
 
@@ -46,6 +48,21 @@ inline MeshObject icosphere(const std::string& name, glm::dvec3 centre, double r
   for (const auto& p : v) object.worldPositions.push_back(centre + radius * p);
   object.triangles = f;
   return object;
+}
+
+// The triangles of a grid of cells x cells quads over (cells + 1)^2 vertices stored row by row,
+// two per quad with the shared diagonal.
+inline std::vector<glm::u32vec3> gridTriangles(int cells) {
+  std::vector<glm::u32vec3> triangles;
+  const auto n = static_cast<std::uint32_t>(cells + 1);
+  for (int j = 0; j < cells; ++j) {
+    for (int i = 0; i < cells; ++i) {
+      const auto k = static_cast<std::uint32_t>(j) * n + static_cast<std::uint32_t>(i);
+      triangles.emplace_back(k, k + n, k + 1);
+      triangles.emplace_back(k + 1, k + n, k + n + 1);
+    }
+  }
+  return triangles;
 }
 
 inline MeshObject quad(const std::string& name, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c,

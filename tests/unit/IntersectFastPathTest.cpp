@@ -36,13 +36,7 @@ MeshObject terrain(int cells, double size, std::uint64_t seed) {
                                        -size + 2 * size * j / cells);
     }
   }
-  for (int j = 0; j < cells; ++j) {
-    for (int i = 0; i < cells; ++i) {
-      const auto k = static_cast<std::uint32_t>(j * n + i), r = static_cast<std::uint32_t>(n);
-      mesh.triangles.emplace_back(k, k + r, k + 1);
-      mesh.triangles.emplace_back(k + 1, k + r, k + r + 1);
-    }
-  }
+  mesh.triangles = testing::gridTriangles(cells);
   return mesh;
 }
 
