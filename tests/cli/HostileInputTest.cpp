@@ -11,6 +11,7 @@
 #include <string>
 
 #include "support/RunCommand.hpp"
+#include "support/Sanitizers.hpp"
 
 namespace clipray {
 namespace {
@@ -234,15 +235,6 @@ namespace {
 // 8G, while a 20-million-triangle terrain (about 480 MB) is generated) is one line saying what was
 // being done, exit 2, not a bare std::bad_alloc. It runs out while loading, before any GL driver is
 // loaded: a driver may not survive a failed allocation of its own.
-// GCC defines __SANITIZE_ADDRESS__ under -fsanitize=address; clang 14 only answers
-// __has_feature(address_sanitizer).
-#if defined(__SANITIZE_ADDRESS__)
-#define CLIPRAY_UNDER_ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define CLIPRAY_UNDER_ASAN 1
-#endif
-#endif
 
 TEST(HostileInput, OutOfMemoryIsOneLineNamingTheStep) {
 #if defined(CLIPRAY_UNDER_ASAN)

@@ -3,9 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <cstring>
+#include <memory>
 #include <stdexcept>
 #include <vector>
 
@@ -482,6 +484,71 @@ TEST(Compare, NaNRasterDepthIsBeyondTolerance) {
   EXPECT_EQ(r.metrics.depthBeyondTolerance, 1);
   EXPECT_EQ(r.pixels.classes[inside], PixelClass::DepthBeyondTolerance);
   EXPECT_EQ(r.metrics.depthCompared, r.metrics.rayHits);
+}
+
+}  // namespace
+}  // namespace clipray
+
+namespace clipray {
+namespace {
+
+bool sameFigures(const Distribution& a, const Distribution& b) {
+  return std::bit_cast<std::uint64_t>(a.max) == std::bit_cast<std::uint64_t>(b.max) &&
+         std::bit_cast<std::uint64_t>(a.p50) == std::bit_cast<std::uint64_t>(b.p50) &&
+         std::bit_cast<std::uint64_t>(a.p99) == std::bit_cast<std::uint64_t>(b.p99);
+}
+
+TEST(Compare, AModelBuiltForOneDepthFormatAnswersForAnotherRasterAsItsOwnWould) {
+  // The model of a raster that shows only the first quad serves a 16-bit raster that shows the
+  // second quad too (its polygons then come from the thread's cache): the same classes, depths
+  // and figures as the model compareFrames builds for that raster itself.
+  Fixture f({61, 47});
+  f.scene.objects.push_back(
+      testing::quad("second", {-2, -1, -1}, {-0.5, -1, -1}, {-0.5, 0.5, -1}, {-2, 0.5, -1}));
+  f.intersector.emplace(f.scene, glm::dvec3(0, 0, 2.9));
+  intersectFrame(f.analytic, *f.intersector, 1);
+  RasterFrame firstOnly = f.raster;  // the first quad's pixels only (the Fixture's raster)
+  RasterFrame both = f.raster;
+  for (std::size_t i = 0; i < both.ids.size(); ++i) {
+    const Hit& hit = f.analytic.hits[i];
+    both.ids[i] = hit.primitiveId;
+    if (!hit.hit()) continue;
+    const glm::dvec4 c =
+        f.camera.clipFromWorld *
+        glm::dvec4(f.analytic.rays[i].origin + hit.t * f.analytic.rays[i].direction, 1.0);
+    const double depth = windowDepthFromNdc(c.z / c.w, DepthConvention::ZeroToOne);
+    both.depth[i] = static_cast<float>(std::round(depth * 65535.0) / 65535.0);
+  }
+  ASSERT_EQ(std::count_if(firstOnly.ids.begin(), firstOnly.ids.end(),
+                          [](std::uint32_t id) { return id > 2; }),
+            0);  // the second quad's ids, 3 and 4, are not in it
+  ASSERT_GT(
+      std::count_if(both.ids.begin(), both.ids.end(), [](std::uint32_t id) { return id > 2; }),
+      100);
+  const std::unique_ptr<ToleranceModel> model =
+      toleranceModelOfRaster(firstOnly, *f.intersector, f.setup, 2);
+  RasterSetup setup16 = f.setup;
+  setup16.depthFormat = DepthFormat::Unorm16;
+  // Until it is told the other format, it answers for another setup and is refused.
+  EXPECT_THROW(compareFrames(both, f.analytic, *f.intersector, setup16, *model, 2),
+               std::invalid_argument);
+  model->useDepthFormat(DepthFormat::Unorm16);
+  const ComparisonResult shared =
+      compareFrames(both, f.analytic, *f.intersector, setup16, *model, 2);
+  const ComparisonResult own = compareFrames(both, f.analytic, *f.intersector, setup16, 2);
+  EXPECT_GT(own.metrics.depthCompared, 61 * 47 / 4);
+  EXPECT_EQ(shared.metrics.depthCompared, own.metrics.depthCompared);
+  EXPECT_EQ(shared.metrics.depthBeyondTolerance, own.metrics.depthBeyondTolerance);
+  EXPECT_EQ(shared.metrics.coverageMismatch.total, own.metrics.coverageMismatch.total);
+  EXPECT_TRUE(sameFigures(shared.metrics.toleranceRatio, own.metrics.toleranceRatio));
+  EXPECT_TRUE(sameFigures(shared.metrics.depthErrorQuanta, own.metrics.depthErrorQuanta));
+  EXPECT_TRUE(sameFigures(shared.metrics.distanceRelError, own.metrics.distanceRelError));
+  for (std::size_t i = 0; i < both.ids.size(); ++i) {
+    ASSERT_EQ(shared.pixels.classes[i], own.pixels.classes[i]) << i;
+    ASSERT_EQ(std::bit_cast<std::uint32_t>(shared.pixels.toleranceRatio[i]),
+              std::bit_cast<std::uint32_t>(own.pixels.toleranceRatio[i]))
+        << i;
+  }
 }
 
 }  // namespace

@@ -72,11 +72,7 @@ std::vector<std::uint32_t> idsInRaster(const RasterFrame& raster, std::uint32_t 
   return ids;
 }
 
-}  // namespace
-
-ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
-                               const SceneIntersector& intersector, const RasterSetup& setup,
-                               unsigned threadCount) {
+void requireComparableFrames(const RasterFrame& raster, const AnalyticFrame& analytic) {
   const Viewport viewport = raster.viewport;
   const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;
   if (analytic.viewport != viewport || raster.depth.size() != count || raster.ids.size() != count ||
@@ -87,11 +83,47 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
     throw std::invalid_argument(
         "compareFrames: the analytic frame needs one ray per pixel, stored or computed (not both)");
   }
-  const std::uint32_t primitiveCount = intersector.primitiveIdCount();
-  // Screen polygons only for the primitives the frames show (a big scene's other triangles are
+}
+
+}  // namespace
+
+std::unique_ptr<ToleranceModel> toleranceModelOfRaster(const RasterFrame& raster,
+                                                       const SceneIntersector& intersector,
+                                                       const RasterSetup& setup,
+                                                       unsigned threadCount) {
+  // Screen polygons only for the primitives the frame shows (a big scene's other triangles are
   // never asked about), clipped across the threads.
-  const ToleranceModel model(intersector, setup, viewport,
-                             idsInRaster(raster, primitiveCount, threadCount), threadCount);
+  const Viewport viewport = raster.viewport;
+  if (raster.ids.size() != static_cast<std::size_t>(viewport.width) * viewport.height) {
+    throw std::invalid_argument("toleranceModelOfRaster: the raster's ids differ from its size");
+  }
+  return std::make_unique<ToleranceModel>(
+      intersector, setup, raster.viewport,
+      idsInRaster(raster, intersector.primitiveIdCount(), threadCount), threadCount);
+}
+
+ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
+                               const SceneIntersector& intersector, const RasterSetup& setup,
+                               unsigned threadCount) {
+  requireComparableFrames(raster, analytic);
+  const std::unique_ptr<ToleranceModel> model =
+      toleranceModelOfRaster(raster, intersector, setup, threadCount);
+  return compareFrames(raster, analytic, intersector, setup, *model, threadCount);
+}
+
+ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
+                               const SceneIntersector& intersector, const RasterSetup& setup,
+                               const ToleranceModel& model, unsigned threadCount) {
+  const RasterSetup& modelSetup = model.setup();
+  if (modelSetup.clipFromWorld != setup.clipFromWorld || modelSetup.mode != setup.mode ||
+      modelSetup.depthFormat != setup.depthFormat || modelSetup.vertexMode != setup.vertexMode ||
+      modelSetup.vertexReference != setup.vertexReference ||
+      modelSetup.subpixelBits != setup.subpixelBits || model.viewport() != raster.viewport) {
+    throw std::invalid_argument("compareFrames: the tolerance model answers for another setup");
+  }
+  requireComparableFrames(raster, analytic);
+  const Viewport viewport = raster.viewport;
+  const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;
   // Each worker's depth figures per surface kind, kept apart until the distributions.
   const unsigned workerCount = parallelWorkerCount(viewport.height, threadCount);
   std::vector<detail::WorkerSamples> samplesOfWorker(workerCount);

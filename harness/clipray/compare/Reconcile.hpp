@@ -5,6 +5,7 @@
 // RasterSetup::clipFromWorld (column-major, p_clip = clipFromWorld * p_world, for setup.mode).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -94,5 +95,17 @@ PixelClass classifyMismatch(const ToleranceModel& model, std::uint32_t rayId, do
 ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
                                const SceneIntersector& intersector, const RasterSetup& setup,
                                unsigned threadCount = 0);
+// The tolerance model compareFrames builds for a raster frame: the screen polygons of the
+// primitives the raster shows, clipped up front across threadCount threads.
+std::unique_ptr<ToleranceModel> toleranceModelOfRaster(const RasterFrame& raster,
+                                                       const SceneIntersector& intersector,
+                                                       const RasterSetup& setup,
+                                                       unsigned threadCount = 0);
+// The same comparison with a model built before, for this setup (another raster of the same
+// camera, convention and vertex mode, told this depth format: ToleranceModel::useDepthFormat).
+// Throws std::invalid_argument when the model answers for another setup.
+ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
+                               const SceneIntersector& intersector, const RasterSetup& setup,
+                               const ToleranceModel& model, unsigned threadCount = 0);
 
 }  // namespace clipray

@@ -46,6 +46,13 @@ class ToleranceModel {
   // the asking thread's (same answers).
   ToleranceModel(const SceneIntersector& intersector, const RasterSetup& setup, Viewport viewport,
                  std::span<const std::uint32_t> primitiveIds, unsigned threadCount = 0);
+  // The setup the model answers for. Only the tolerances read its depth format (the storage
+  // quantum at a depth); the polygons and their terms do not: a model built for one run serves
+  // the runs of the same camera, convention and vertex mode in other depth formats, once told
+  // which (one run at a time).
+  const RasterSetup& setup() const { return setup_; }
+  Viewport viewport() const { return viewport_; }
+  void useDepthFormat(DepthFormat format) { setup_.depthFormat = format; }
   // Window-depth tolerance for a hit on primitive id at a world hit point.
   double depthTolerance(std::uint32_t primitiveId, const glm::dvec3& hitWorld) const;
   // The same, given the hit's clip coordinates clipFromWorld * (hitWorld, 1) (callers that have

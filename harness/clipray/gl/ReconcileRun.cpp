@@ -43,7 +43,8 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
 
   const PhaseClock intersectClock;
   // The BVH only when a tile of rays needs it: camera rays traced from screen-space bins never do.
-  pass.intersector.emplace(scene, pass.reference, SceneIntersector::BvhBuild::WhenFirstNeeded);
+  pass.intersector = std::make_unique<SceneIntersector>(
+      scene, pass.reference, SceneIntersector::BvhBuild::WhenFirstNeeded);
   intersectFrame(pass.frame, *pass.intersector, pass.camera, threadCount);
   pass.intersectMilliseconds = intersectClock.wallMilliseconds();
   pass.intersectCpuMilliseconds = intersectClock.cpuMilliseconds();
@@ -99,8 +100,17 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   setup.vertexReference = pass.reference;
   setup.subpixelBits = subpixelBits;
   const PhaseClock compareClock;
+  // The last run's model where only the depth format differs (its polygons serve every format),
+  // else one built for this raster (the old one released first).
+  std::unique_ptr<ToleranceModel>& model = pass.toleranceModel;
+  if (!model || model->setup().vertexMode != vertexMode ||
+      model->setup().subpixelBits != subpixelBits || model->viewport() != raster.viewport) {
+    model.reset();
+    model = toleranceModelOfRaster(raster, *pass.intersector, setup, threadCount);
+  }
+  model->useDepthFormat(depthFormat);
   ComparisonResult comparison =
-      compareFrames(raster, pass.frame, *pass.intersector, setup, threadCount);
+      compareFrames(raster, pass.frame, *pass.intersector, setup, *model, threadCount);
   // Where the unexplained pixels are: part of comparing, and only an inconsistent run has any.
   MismatchClusters clusters;
   if (!comparison.metrics.consistent()) {

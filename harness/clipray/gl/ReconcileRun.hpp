@@ -10,7 +10,7 @@
 // Every clipFromWorld here is column-major, p_clip = clipFromWorld * p_world, built for the
 // DepthMode passed beside it.
 
-#include <optional>
+#include <memory>
 
 #include "clipray/compare/Reconcile.hpp"
 #include "clipray/gl/Renderer.hpp"
@@ -27,8 +27,13 @@ struct AnalyticPass {
   std::string cameraName;
   PickingCamera camera;
   glm::dvec3 reference{0.0};  // centre of the near plane: camera-relative origin for both sides
-  std::optional<SceneIntersector> intersector;
+  // Behind a pointer: the tolerance models below refer to it, and the pass may move.
+  std::unique_ptr<SceneIntersector> intersector;
   AnalyticFrame frame;
+  // The tolerance model of the pass's last compare: the next run reuses it when only the depth
+  // format differs (the screen polygons do not depend on it), else it is replaced (one model at
+  // a time, as memory was planned). Kept by compareRasterFrame, one compare at a time.
+  mutable std::unique_ptr<ToleranceModel> toleranceModel;
   double raysMilliseconds = 0.0;
   double intersectMilliseconds = 0.0;
   // The process's CPU time in each (PhaseClock).
