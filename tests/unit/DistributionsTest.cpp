@@ -15,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "clipray/compare/Distributions.hpp"
+#include "clipray/util/KernelChoice.hpp"
 
 namespace clipray::detail {
 namespace {
@@ -33,10 +34,13 @@ void expectSameAsConcatenation(const std::vector<double>& values, int partCount,
     concatenation.insert(concatenation.end(), part.begin(), part.end());
   }
   const Distribution expected = distributionOf(concatenation);
-  // The sampled pass where there are enough values (its own fallback otherwise), and the
-  // histogram alone.
+  // The sampled pass where there are enough values (its own fallback otherwise), its scalar loop
+  // (the portable code), and the histogram alone.
+  chooseKernels(KernelChoice::Portable);
+  const Distribution portable = distributionOfParts(pointers);
+  chooseKernels(KernelChoice::Simd);
   for (const Distribution& actual :
-       {distributionOfParts(pointers), distributionOfPartsByHistogram(pointers)}) {
+       {distributionOfParts(pointers), portable, distributionOfPartsByHistogram(pointers)}) {
     EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.p50), std::bit_cast<std::uint64_t>(expected.p50))
         << actual.p50 << " vs " << expected.p50;
     EXPECT_EQ(std::bit_cast<std::uint64_t>(actual.p99), std::bit_cast<std::uint64_t>(expected.p99))

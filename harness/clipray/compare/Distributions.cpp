@@ -19,6 +19,8 @@
 #include <optional>
 #include <utility>
 
+#include "clipray/util/KernelChoice.hpp"
+
 namespace clipray::detail {
 
 Distribution distributionOf(std::vector<double>& values) {
@@ -37,11 +39,11 @@ Distribution distributionOf(std::vector<double>& values) {
   return result;
 }
 
-// The same Distribution as distributionOf over the concatenation of parts, without
-// concatenating them and without sorting: for non-negative doubles (no NaN, no -0) the order of
-// the values is the order of their bit patterns, so a histogram of the top 16 bits narrows each
-// requested rank to one bucket, and only that bucket's values are looked at again. The values are
-// the ones distributionOf picks (a rank's value does not depend on how ties or the order of the
+// The histogram way to the same Distribution as distributionOf over the concatenation of parts,
+// without concatenating them and without sorting: for non-negative doubles (no NaN, no -0) the
+// order of the values is the order of their bit patterns, so a histogram of the top 16 bits narrows
+// each requested rank to one bucket, and only that bucket's values are looked at again. The values
+// are the ones distributionOf picks (a rank's value does not depend on how ties or the order of the
 // input fall). Anything else (NaN, where nth_element's answer depends on the input's order) takes
 // distributionOf itself on the concatenation.
 
@@ -244,7 +246,7 @@ struct CountingPass {
 #endif
   void run(const double* values, std::size_t size) {
 #if CLIPRAY_DISTRIBUTION_AVX2
-    if (cpuHasAvx2()) {
+    if (cpuHasAvx2() && simdKernelsChosen()) {
       wide(values, size);
       return;
     }
