@@ -27,7 +27,7 @@ struct AnalyticPass {
   std::string cameraName;
   PickingCamera camera;
   glm::dvec3 reference{0.0};  // centre of the near plane: camera-relative origin for both sides
-  // Behind a pointer: the tolerance models below refer to it, and the pass may move.
+  // Behind a pointer: the tolerance model below refers to it, and the pass may move.
   std::unique_ptr<SceneIntersector> intersector;
   AnalyticFrame frame;
   // The tolerance model of the pass's last compare: the next run reuses it when only the depth
