@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Compares two `clipray reconcile --out` folders: report.json field by field with the
 measurements of time left out (timings_ms, cpu_ms, first_round_*, analytic_over_raster), and
-every other file (PNGs, summary.txt lines without timings) byte for byte. A refactoring that
+every other file (PNGs, summary.txt lines without timings) byte for byte; index.html (timings
+and the command line) and the folder's lock file are left out. A refactoring that
 claims "same outputs" runs the suite into two folders, before and after, and this prints
 nothing and exits 0 when they match; otherwise it lists every difference and exits 1.
 
@@ -42,11 +43,18 @@ def differences(a, b, path=""):
         yield f"{path}: {a!r} != {b!r}"
 
 
+# Not outputs of the runs: the output folder's lock, and the page that shows the timings and the
+# command line (everything else on it comes from report.json, compared field by field).
+NOT_COMPARED = {".clipray.lock", "index.html"}
+
+
 def files_under(root):
     found = set()
     for folder, _, names in os.walk(root):
         for name in names:
-            found.add(os.path.relpath(os.path.join(folder, name), root))
+            path = os.path.relpath(os.path.join(folder, name), root)
+            if path not in NOT_COMPARED:
+                found.add(path)
     return found
 
 

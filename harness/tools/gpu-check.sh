@@ -1,0 +1,56 @@
+#!/bin/bash
+# The GL suite and every shipped scene through EGL on whatever GPU EGL offers, with both kernel
+# choices compared (harness/tools/same-outputs.py): the check docs/reconcile.md ("On a real GPU")
+# reports. Run from the repository root of a release build (cmake --preset release), on a machine
+# with an EGL driver. The logs go to $OUT (default /tmp/gpu-check), the two sweeps' output folders
+# to $SWEEPS (default /tmp/gpu-check-sweeps). The test binary reads the shipped scenes from the
+# source folder it was built in (a copy elsewhere needs a link there). Nothing here is needed by CI.
+#
+# NVIDIA's EGL vendor file is used where it sits in the container images we were lent
+# (/usr/local/nvidia); elsewhere glvnd finds the vendor itself.
+set -u
+build=${BUILD:-build/release}
+out=${OUT:-/tmp/gpu-check}
+sweeps=${SWEEPS:-/tmp/gpu-check-sweeps}
+mkdir -p "$out" "$sweeps"
+vendor=/usr/local/nvidia/share/glvnd/egl_vendor.d/10_nvidia.json
+[ -f "$vendor" ] && export __EGL_VENDOR_LIBRARY_FILENAMES=$vendor
+export CLIPRAY_EGL_PLATFORM=${CLIPRAY_EGL_PLATFORM:-device}
+command -v nvidia-smi >/dev/null && nvidia-smi -L
+status=0
+
+started=$(date +%s)
+CLIPRAY_TEST_GL_BACKEND=egl timeout 300 "$build/tests/clipray_gl_tests" \
+  --gtest_output=json:"$out/gl-tests.json" >"$out/gl-tests.log" 2>&1
+echo "GL suite: exit $? in $(($(date +%s) - started)) s (the OSMesa comparison fails where OSMesa is absent)"
+grep -E '^\[  (PASSED|FAILED) ' "$out/gl-tests.log"
+
+every="--backend egl --conventions no,zo,zo-reversed --depth-formats 16,24,32f"
+every="$every --vertex-modes world,camera-relative,pretransformed --images all"
+for kernels in simd portable; do
+  started=$(date +%s)
+  # Exit 1 is a finished sweep with inconsistent runs (27 expected: docs/reconcile.md).
+  timeout 300 "$build/clipray" reconcile $every --kernels $kernels --out "$sweeps/$kernels" \
+    >"$out/reconcile-$kernels.txt" 2>&1
+  code=$?
+  echo "reconcile --kernels $kernels: exit $code in $(($(date +%s) - started)) s"
+  [ $code -le 1 ] || status=1
+done
+if python3 harness/tools/same-outputs.py "$sweeps/simd" "$sweeps/portable" >"$out/same-outputs.txt"; then
+  echo "kernel choices: the same outputs"
+else
+  echo "kernel choices differ:"; head -20 "$out/same-outputs.txt"; status=1
+fi
+python3 - "$sweeps/simd/report.json" <<'PY'
+import json, sys
+runs = json.load(open(sys.argv[1]))["runs"]
+bad = [r for r in runs if r["verdict"] != "consistent"]
+explained = sum(r["id_mismatch"]["depth_ambiguous"] + r["id_mismatch"]["edge_ambiguous"] for r in runs)
+worst = {}
+for r in runs:
+    if r["verdict"] == "consistent":
+        worst[r["depth_format"]] = max(worst.get(r["depth_format"], 0), r["tolerance_ratio"]["max"] or 0)
+print(f"{len(runs)} runs, {len(bad)} inconsistent, {explained} explained mismatches, "
+      "max error / tolerance: " + " / ".join(f"{k} {v:.2f}" for k, v in sorted(worst.items())))
+PY
+exit $status
