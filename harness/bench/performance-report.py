@@ -9,7 +9,9 @@ frames and fewer repetitions, for checking the script itself, never for the page
   2. the 100k-triangle terrain in steady state, several processes, wall and CPU time;
   3. the analytic primitives' float rays against the CPU's double rays (report by_kind);
   4. `clipray bench` on every hard case and the Google Benchmark ray rows side by side;
-  5. `clipray_intersect_bench`: the intersection side by side with Embree, and its scaling.
+  5. `clipray_intersect_bench`: the intersection side by side with Embree, and its scaling;
+  6. where the analytic CPU time goes, from `perf record` samples (analytic_profile.py; skipped
+     with a line saying why where perf cannot record).
 Every table is computed here from what those commands print or write; the page's prose says
 what the columns mean, never a figure of its own. The machine, date and commit go on top.
 """
@@ -22,6 +24,8 @@ import statistics
 import subprocess
 import sys
 import tempfile
+
+from analytic_profile import profile_section
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PHASES = ["raster", "readback", "rays", "intersect", "compare"]
@@ -287,8 +291,7 @@ CPU time over wall time is how many cores a phase keeps busy: a ratio that diffe
 and CPU time comes from how the work is spread over the cores, not from the work. Scenes of a few
 triangles are drawn by llvmpipe in a few milliseconds, so a millisecond of noise moves their
 ratio a lot; the terrain is the representative case. The compare grows with the pixels that show
-something (floors that fill the frame cost most); analytic primitives' tolerance is computed one
-pixel at a time. The first run of a process after idle time can be several times slower than
+something (floors that fill the frame cost most). The first run of a process after idle time can be several times slower than
 these steady medians: the virtual machine's host reclaims idle memory, and touching it again is
 slow; `--rounds` keeps round 1 apart (`first_round_timings_ms`).
 
@@ -328,6 +331,8 @@ def main():
             "\n## Ray methods\n\n" + ray_methods_section(build, work, options.quick),
             "\n" + google_benchmark_section(build, options.quick),
             "\n## Intersection\n\n" + intersection_section(build, options.quick),
+            "\n## Where the analytic time goes\n\n" +
+            profile_section(build, work, options.quick, run, fmt, table),
         ]
     page = "".join(sections)
     staging = options.out + ".tmp"
