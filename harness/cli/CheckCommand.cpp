@@ -13,7 +13,7 @@
 #include "clipray/check/CheckFields.hpp"
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/gl/GlContext.hpp"
-#include "clipray/gl/VerifyCheck.hpp"
+#include "clipray/engine/VerifyCheck.hpp"
 #include "clipray/scene/InputFile.hpp"
 #include "clipray/util/OptionValues.hpp"
 
@@ -68,19 +68,19 @@ int runCheck(CheckOptions options) {
   const CheckInput input =
       checkInputFrom(options.fields, options.file.empty() ? "" : options.file + ": ");
   const CheckReport report = checkConventions(input);
-  std::optional<gl::VerifyResult> verified;
+  std::optional<engine::VerifyResult> verified;
   std::string verifiedWith;
   if (options.verify) {
     // Backed by pixels: the app's matrix under the app's conventions on a real rasterizer.
     std::unique_ptr<gl::GlContext> context = gl::createContext(options.backend);
     gl::Renderer renderer(*context);
-    verified = gl::verifyCheck(input, report, renderer);
+    verified = engine::verifyCheck(input, report, renderer);
     verifiedWith = options.backend + ", " + renderer.info().renderer;
   }
   if (options.json) {
     nlohmann::json json = checkReportJson(report, input);
     if (verified) {
-      json["verify"] = gl::verifyResultJson(*verified);
+      json["verify"] = engine::verifyResultJson(*verified);
       json["verify"]["backend"] = verifiedWith;
     }
     std::cout << json.dump(2) << "\n";

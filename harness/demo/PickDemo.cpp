@@ -19,7 +19,7 @@
 
 #include "PickDemoDetail.hpp"
 #include "clipray/InputError.hpp"
-#include "clipray/gl/ReconcileRun.hpp"
+#include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/report/Report.hpp"
 
 namespace clipray::demo {
@@ -216,7 +216,7 @@ void PickDemo::updateRaster() {
   const Viewport viewport{geometry.framebufferSize.x, geometry.framebufferSize.y};
   if (!rasterDirty_ && raster_.viewport == viewport) return;
   rasterCamera_ = cameraInputs(viewport);
-  const glm::dvec3 reference = gl::nearPlaneCentre(rasterCamera_.clipFromWorld, settings_.mode);
+  const glm::dvec3 reference = engine::nearPlaneCentre(rasterCamera_.clipFromWorld, settings_.mode);
   gl::RenderRequest request;
   request.scene = &shownScene_;
   request.clipFromWorld = rasterCamera_.clipFromWorld;

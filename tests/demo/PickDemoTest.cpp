@@ -18,7 +18,7 @@
 #include "XvfbServer.hpp"
 #include "clipray/InputError.hpp"
 #include "clipray/gl/GlContext.hpp"
-#include "clipray/gl/ReconcileRun.hpp"
+#include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/rays/RayMethods.hpp"
 #include "clipray/rays/RobustRays.hpp"
@@ -78,7 +78,7 @@ class StandardSceneReference {
   StandardSceneReference()
       : scene_(loadScene(kStandard)),
         clipFromWorld_(scene_.cameras[0].clipFromWorld(kZeroToOne, kViewport)),
-        reference_(gl::nearPlaneCentre(clipFromWorld_, kZeroToOne)),
+        reference_(engine::nearPlaneCentre(clipFromWorld_, kZeroToOne)),
         intersector_(scene_, reference_),
         ids_(scene_) {
     std::unique_ptr<gl::GlContext> context = gl::createOsMesaContext();

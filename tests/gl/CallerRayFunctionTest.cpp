@@ -53,9 +53,9 @@ class CallerRayFunction : public GlTest {
  protected:
   RunRecord reconcile(PickingBugs bugs, DepthMode mode = kZeroToOne) {
     const Scene& scene = this->scene();
-    const gl::AnalyticPass pass = gl::runAnalyticPass(
+    const engine::AnalyticPass pass = engine::runAnalyticPass(
         scene, scene.cameras[0], mode, scene.cameras[0].viewport, pickingFunction(bugs));
-    return gl::rasterAndCompare(renderer(), pass, DepthFormat::Float32, VertexMode::World, false);
+    return engine::rasterAndCompare(renderer(), pass, DepthFormat::Float32, VertexMode::World, false);
   }
   static const Scene& scene() {
     // Geometry crosses the near plane and sits between the eye and the near plane.

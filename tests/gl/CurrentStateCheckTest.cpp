@@ -1,4 +1,4 @@
-// gl::checkCurrentState: the depth state of a live context (OSMesa, llvmpipe) read with glGet*,
+// engine::checkCurrentState: the depth state of a live context (OSMesa, llvmpipe) read with glGet*,
 // declared for the app's matrix. The test sets the state through the context's own loader, as an
 // app would with its own GL loader (no GL headers here: the enum values are clipray's).
 
@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "clipray/StateCheck.hpp"
-#include "clipray/gl/CurrentStateCheck.hpp"
+#include "clipray/engine/CurrentStateCheck.hpp"
 #include "clipray/trace/GlTraceState.hpp"
 #include "support/GlFixture.hpp"
 
@@ -96,7 +96,7 @@ void drawUnderZeroToOneWithLess(const GlCalls& gl) {
 TEST(CurrentStateCheck, NoMatrixUnderZeroToOne) {
   const auto context = testing::createContextForTests();
   drawUnderZeroToOneWithLess(GlCalls(context->loader()));
-  const gl::CurrentStateCheck result = gl::checkCurrentState(kNoMatrix, context->loader());
+  const engine::CurrentStateCheck result = engine::checkCurrentState(kNoMatrix, context->loader());
   EXPECT_TRUE(result.state.clipZeroToOne);
   EXPECT_FALSE(result.state.clipUpperLeft);
   EXPECT_TRUE(result.state.depthTest);
@@ -117,12 +117,12 @@ TEST(CurrentStateCheck, ReversedZNeedsGreaterAndClearZero) {
   gl.enable(trace::kGlDepthTest);
   gl.depthFunc(trace::kGlGreater);
   gl.clearDepth(0.0);
-  const gl::CurrentStateCheck right = gl::checkCurrentState(kReversedMatrix, context->loader());
+  const engine::CurrentStateCheck right = engine::checkCurrentState(kReversedMatrix, context->loader());
   EXPECT_EQ(right.state.depthFormatName, "32f");
   EXPECT_EQ(right.report.properties.builtFor, "zo-reversed");
   EXPECT_EQ(codes(right.report), std::vector<std::string>{"warning:infinite-far-plane"});
   gl.clearDepth(1.0);
-  const gl::CurrentStateCheck wrong = gl::checkCurrentState(kReversedMatrix, context->loader());
+  const engine::CurrentStateCheck wrong = engine::checkCurrentState(kReversedMatrix, context->loader());
   EXPECT_EQ(codes(wrong.report),
             (std::vector<std::string>{"warning:infinite-far-plane", "error:clear-depth-mismatch"}));
 }

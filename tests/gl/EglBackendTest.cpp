@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "clipray/gl/GlContext.hpp"
-#include "clipray/gl/ReconcileRun.hpp"
+#include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "support/GlFixture.hpp"
@@ -90,7 +90,7 @@ std::vector<std::pair<FrameKey, RasterFrame>> renderEverything(gl::GlContext& co
         request.viewport = viewport;
         request.mode = mode;
         request.clipFromWorld = camera.clipFromWorld(mode, viewport);
-        request.vertexReference = gl::nearPlaneCentre(request.clipFromWorld, mode);
+        request.vertexReference = engine::nearPlaneCentre(request.clipFromWorld, mode);
         for (const DepthFormat format :
              {DepthFormat::Unorm16, DepthFormat::Unorm24, DepthFormat::Float32}) {
           for (const VertexMode vertexMode :
@@ -162,7 +162,7 @@ TEST(EglBackend, ReconcilesTheStandardSceneConsistently) {
   const Camera& camera = scene.cameras[0];
   for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed}) {
     const RunRecord run =
-        gl::rasterAndCompare(renderer, gl::runAnalyticPass(scene, camera, mode, camera.viewport),
+        engine::rasterAndCompare(renderer, engine::runAnalyticPass(scene, camera, mode, camera.viewport),
                              DepthFormat::Float32, VertexMode::World, false);
     EXPECT_TRUE(run.metrics.consistent()) << mode.name();
     EXPECT_GT(run.metrics.rasterHits, 0) << mode.name();

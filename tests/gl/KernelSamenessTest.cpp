@@ -16,7 +16,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "clipray/gl/ReconcileRun.hpp"
+#include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/rays/HardCases.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/report/Report.hpp"
@@ -214,10 +214,10 @@ TEST_F(KernelSameness, RandomScenesThroughTheHardCaseCamerasGiveTheSameHitsRepor
       camera.projection = std::monostate{};
       camera.rawClipFromWorld = hardCase.inputs.clipFromWorld;
       const DepthMode mode = hardCase.inputs.mode;
-      const gl::AnalyticPass simd = gl::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
-      const gl::AnalyticPass portable = [&] {
+      const engine::AnalyticPass simd = engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
+      const engine::AnalyticPass portable = [&] {
         const KernelsFor kernels(KernelChoice::Portable);
-        return gl::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
+        return engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
       }();
       const std::string what = scene.name + " " + hardCase.convention() + " " +
                                std::to_string(size.width) + "x" + std::to_string(size.height);
@@ -245,11 +245,11 @@ TEST_F(KernelSameness, RandomScenesThroughTheHardCaseCamerasGiveTheSameHitsRepor
         gl::RenderTimings timings;
         const RasterFrame raster = renderer().render(request, &timings);
         const int subpixelBits = renderer().info().subpixelBits;
-        gl::ComparedRun withSimd =
-            gl::compareRasterFrame(simd, raster, format, vertexMode, subpixelBits, timings, 2);
-        gl::ComparedRun withPortable = [&] {
+        engine::ComparedRun withSimd =
+            engine::compareRasterFrame(simd, raster, format, vertexMode, subpixelBits, timings, 2);
+        engine::ComparedRun withPortable = [&] {
           const KernelsFor kernels(KernelChoice::Portable);
-          return gl::compareRasterFrame(portable, raster, format, vertexMode, subpixelBits, timings,
+          return engine::compareRasterFrame(portable, raster, format, vertexMode, subpixelBits, timings,
                                         2);
         }();
         const std::string run = what + " " + depthFormatName(format);

@@ -50,10 +50,10 @@ TEST_P(PrimitiveRaster, ShaderRasterMatchesTheCpuRaysUnderEveryConvention) {
   ASSERT_EQ(scene.primitives.size(), 1u);
   const Camera& camera = scene.cameras[0];
   for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed}) {
-    const gl::AnalyticPass pass = gl::runAnalyticPass(scene, camera, mode, camera.viewport);
+    const engine::AnalyticPass pass = engine::runAnalyticPass(scene, camera, mode, camera.viewport);
     for (const DepthFormat format : {DepthFormat::Float32, DepthFormat::Unorm24}) {
       const RunRecord run =
-          gl::rasterAndCompare(renderer(), pass, format, VertexMode::World, false);
+          engine::rasterAndCompare(renderer(), pass, format, VertexMode::World, false);
       const RunMetrics& m = run.metrics;
       EXPECT_TRUE(m.consistent()) << describe(run);
       // The shape covers a good part of the 160x120 frame on both sides...
@@ -105,7 +105,7 @@ class PrimitiveRasterCases : public GlTest {};
 
 RunRecord reconcile(gl::Renderer& renderer, const Scene& scene, DepthMode mode) {
   const Camera& camera = scene.cameras[0];
-  return gl::rasterAndCompare(renderer, gl::runAnalyticPass(scene, camera, mode, camera.viewport),
+  return engine::rasterAndCompare(renderer, engine::runAnalyticPass(scene, camera, mode, camera.viewport),
                               DepthFormat::Float32, VertexMode::World, false);
 }
 
@@ -146,7 +146,7 @@ TEST_F(PrimitiveRasterCases, NestedSphereNeverShows) {
   const Scene scene = sceneWith(R"({"name": "outer", "type": "sphere", "centre": [0, 0, 0],
       "radius": 1}, {"name": "inner", "type": "sphere", "centre": [0.2, 0, 0], "radius": 0.5})");
   const Camera& camera = scene.cameras[0];
-  const gl::AnalyticPass pass = gl::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport);
+  const engine::AnalyticPass pass = engine::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport);
   const RasterFrame raster =
       renderer().render({&scene, pass.camera.clipFromWorld, kZeroToOne, DepthFormat::Float32,
                          VertexMode::World, pass.reference, camera.viewport});
@@ -170,8 +170,8 @@ TEST_F(PrimitiveRasterCases, AWrongPickingRayIsCaughtOnASphere) {
     const PickRayFunction robust = robustPickRays();
     return robust(x, pickingCamera.viewport.height - 1 - y, pickingCamera);
   };
-  const RunRecord run = gl::rasterAndCompare(
-      renderer(), gl::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport, flipped),
+  const RunRecord run = engine::rasterAndCompare(
+      renderer(), engine::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport, flipped),
       DepthFormat::Float32, VertexMode::World, false);
   EXPECT_FALSE(run.metrics.consistent());
   EXPECT_GT(run.metrics.coverageMismatch.unexplained, 500);

@@ -41,11 +41,11 @@ TEST_F(ShippedScenes, EveryShippedSceneIsConsistent) {
     const Scene scene = loadScene(entry.path().string());
     for (const Camera& camera : scene.cameras) {
       for (const DepthMode mode : conventionsOf(scene)) {
-        const gl::AnalyticPass pass = gl::runAnalyticPass(scene, camera, mode, camera.viewport);
+        const engine::AnalyticPass pass = engine::runAnalyticPass(scene, camera, mode, camera.viewport);
         for (const DepthFormat format : {DepthFormat::Float32, DepthFormat::Unorm24}) {
           for (const VertexMode vertexMode :
                {VertexMode::World, VertexMode::CameraRelative, VertexMode::Pretransformed}) {
-            const RunRecord run = gl::rasterAndCompare(renderer(), pass, format, vertexMode, false);
+            const RunRecord run = engine::rasterAndCompare(renderer(), pass, format, vertexMode, false);
             ++runs;
             EXPECT_TRUE(run.metrics.consistent()) << describe(run);
             EXPECT_GT(run.metrics.rasterHits, 0) << describe(run);
@@ -65,21 +65,21 @@ TEST_F(ShippedScenes, EveryShippedSceneIsConsistent) {
 TEST_F(ShippedScenes, ClipControlMovesTheNearPlaneOfANoMatrix) {
   const Scene scene = loadScene(sourcePath("scenes/no_matrix_under_zo.json"));
   const Camera& camera = scene.cameras[0];
-  const auto underNo = gl::rasterAndCompare(
-      renderer(), gl::runAnalyticPass(scene, camera, kNegativeOneToOne, camera.viewport),
+  const auto underNo = engine::rasterAndCompare(
+      renderer(), engine::runAnalyticPass(scene, camera, kNegativeOneToOne, camera.viewport),
       DepthFormat::Float32, VertexMode::World, false);
-  const auto underZo = gl::rasterAndCompare(
-      renderer(), gl::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport),
+  const auto underZo = engine::rasterAndCompare(
+      renderer(), engine::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport),
       DepthFormat::Float32, VertexMode::World, false);
   // Under ZO the slanted quad is clipped further out: fewer of its pixels, more of the wall behind.
   // The raster and the rays agree in both.
   EXPECT_TRUE(underNo.metrics.consistent()) << describe(underNo);
   EXPECT_TRUE(underZo.metrics.consistent()) << describe(underZo);
-  const gl::AnalyticPass no =
-      gl::runAnalyticPass(scene, camera, kNegativeOneToOne, camera.viewport);
-  const gl::AnalyticPass zo = gl::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport);
+  const engine::AnalyticPass no =
+      engine::runAnalyticPass(scene, camera, kNegativeOneToOne, camera.viewport);
+  const engine::AnalyticPass zo = engine::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport);
   const PrimitiveIdTable ids(scene);
-  auto slantedPixels = [&](const gl::AnalyticPass& pass) {
+  auto slantedPixels = [&](const engine::AnalyticPass& pass) {
     int count = 0;
     for (const Hit& hit : pass.frame.hits)
       count += hit.hit() && ids.decode(hit.primitiveId).object == 0;
@@ -103,7 +103,7 @@ TEST_F(ShippedScenes, AWaterReflectionShowsNothingBelowTheHorizonOrTheWater) {
   for (const Camera& camera : scene.cameras) {
     for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne}) {
       SCOPED_TRACE(camera.name + " under " + mode.name());
-      const gl::AnalyticPass pass = gl::runAnalyticPass(scene, camera, mode, camera.viewport);
+      const engine::AnalyticPass pass = engine::runAnalyticPass(scene, camera, mode, camera.viewport);
       const RobustRayGenerator rays(pass.camera.clipFromWorld, mode);
       const bool ownConvention = camera.name == "reflection_" + mode.name();
       int noRay = 0;
@@ -142,7 +142,7 @@ TEST_F(ShippedScenes, AWaterReflectionShowsNothingBelowTheHorizonOrTheWater) {
         // window depth is ~1e-17 and finer than the double hit point (its error term in the
         // tolerance model, ScreenPolygons.cpp).
         for (const DepthFormat format : {DepthFormat::Unorm24, DepthFormat::Float32}) {
-          const RunRecord run = gl::rasterAndCompare(renderer(), pass, format, vertexMode, false);
+          const RunRecord run = engine::rasterAndCompare(renderer(), pass, format, vertexMode, false);
           EXPECT_TRUE(run.metrics.consistent()) << describe(run);
           EXPECT_GT(run.metrics.rasterHits, 0);
         }

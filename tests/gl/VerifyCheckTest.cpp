@@ -4,7 +4,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "clipray/gl/VerifyCheck.hpp"
+#include "clipray/engine/VerifyCheck.hpp"
 #include "support/GlFixture.hpp"
 
 namespace clipray {
@@ -23,8 +23,8 @@ class VerifyCheck : public GlTest {
     in.depthFormat = DepthFormat::Float32;
     return in;
   }
-  static gl::VerifyResult verify(const CheckInput& in) {
-    return gl::verifyCheck(in, checkConventions(in), renderer());
+  static engine::VerifyResult verify(const CheckInput& in) {
+    return engine::verifyCheck(in, checkConventions(in), renderer());
   }
 };
 
@@ -33,11 +33,11 @@ const glm::dmat4 kView =
 
 TEST_F(VerifyCheck, NoMatrixUnderZoClipsTheNearProbe) {
   const glm::dmat4 m = glm::perspectiveRH_NO(glm::radians(60.0), 16.0 / 9.0, 0.1, 100.0) * kView;
-  const gl::VerifyResult underZo = verify(input(m, DepthConvention::ZeroToOne, false));
+  const engine::VerifyResult underZo = verify(input(m, DepthConvention::ZeroToOne, false));
   ASSERT_TRUE(underZo.nearProbeDrawn.has_value());
   EXPECT_FALSE(*underZo.nearProbeDrawn);  // at 0.15, inside the effective near plane 0.1998
   EXPECT_TRUE(underZo.reconcile.consistent());
-  const gl::VerifyResult underNo = verify(input(m, DepthConvention::NegativeOneToOne, false));
+  const engine::VerifyResult underNo = verify(input(m, DepthConvention::NegativeOneToOne, false));
   EXPECT_TRUE(*underNo.nearProbeDrawn);
   EXPECT_TRUE(underNo.nearerProbeWins);
   EXPECT_TRUE(underNo.reconcile.consistent());
@@ -50,10 +50,10 @@ TEST_F(VerifyCheck, ReversedMatrixWithoutTheReversedDepthTestShowsTheFartherSurf
   reversed[2][3] = -1.0;
   reversed[3][2] = 0.05;  // z_ndc = 0.05 / distance
   const glm::dmat4 m = reversed * kView;
-  const gl::VerifyResult wrong = verify(input(m, DepthConvention::ZeroToOne, false));
+  const engine::VerifyResult wrong = verify(input(m, DepthConvention::ZeroToOne, false));
   EXPECT_FALSE(wrong.nearerProbeWins);
   EXPECT_FALSE(wrong.reconcile.consistent());
-  const gl::VerifyResult right = verify(input(m, DepthConvention::ZeroToOne, true));
+  const engine::VerifyResult right = verify(input(m, DepthConvention::ZeroToOne, true));
   EXPECT_TRUE(right.nearerProbeWins);
   EXPECT_TRUE(right.reconcile.consistent());
   EXPECT_TRUE(*right.nearProbeDrawn);

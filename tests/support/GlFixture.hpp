@@ -10,7 +10,7 @@
 #include <string>
 
 #include "clipray/gl/GlContext.hpp"
-#include "clipray/gl/ReconcileRun.hpp"
+#include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/gl/Renderer.hpp"
 
 namespace clipray::testing {

@@ -28,9 +28,10 @@ std::string readHolder(int fd) {
 
 }  // namespace
 
-OutputFolder::OutputFolder(const std::filesystem::path& folder) : folder_(folder) {
+OutputFolder::OutputFolder(const std::filesystem::path& folder, const std::string& option)
+    : folder_(folder) {
   namespace fs = std::filesystem;
-  const std::string name = "--out " + folder.string();
+  const std::string name = option + " " + folder.string();
   std::error_code error;
   if (fs::exists(folder, error) && !fs::is_directory(folder, error)) {
     throw InputError(name + ": exists and is not a folder");
@@ -71,7 +72,7 @@ OutputFolder::OutputFolder(const std::filesystem::path& folder) : folder_(folder
     release();
     throw InputError(name + ": another clipray run" +
                      (holder.empty() ? std::string() : " (pid " + holder + ")") +
-                     " is writing there; wait for it to finish or choose another --out");
+                     " is writing there; wait for it to finish or choose another " + option);
   }
   // Holding the lock, this run is the only writer: what a killed run left is undone now.
   recovered_ = recoverInterruptedWrite(folder);

@@ -13,9 +13,10 @@ namespace clipray {
 
 class OutputFolder {
  public:
-  // Throws InputError naming --out: not a folder, cannot be created, not writable, or held by
-  // another run ("another clipray run (pid 123) is writing there").
-  explicit OutputFolder(const std::filesystem::path& folder);
+  // Throws InputError naming `option` (the field that named the folder: --out, or the library's
+  // ReconcileOptions: reportDirectory) and the folder: not a folder, cannot be created, not
+  // writable, or held by another run ("another clipray run (pid 123) is writing there").
+  explicit OutputFolder(const std::filesystem::path& folder, const std::string& option = "--out");
   // Releases the lock. Unless committed, removes the lock file and the folders this run created,
   // where they are empty (a failed run's own files are removed by writeReport).
   ~OutputFolder();

@@ -248,9 +248,10 @@ std::string pathComponent(const std::string& name) {
   return out;
 }
 
-void checkDistinctRunFolders(const std::vector<Scene>& scenes) {
+void checkDistinctRunFolders(const std::vector<const Scene*>& scenes) {
   std::map<std::string, const Scene*> sceneByFolder;
-  for (const Scene& scene : scenes) {
+  for (const Scene* planned : scenes) {
+    const Scene& scene = *planned;
     const std::string folder = pathComponent(scene.name);
     const auto [seen, inserted] = sceneByFolder.emplace(folder, &scene);
     if (!inserted) {

@@ -83,7 +83,7 @@ std::string pathComponent(const std::string& name);
 // Throws InputError when two runs would share a folder: two scenes whose names are the same once
 // made safe (two files called standard.json in different folders, "a b" and "a_b"), or two
 // cameras of one scene ("a/b" and "a_b"). One run's images would overwrite the other's.
-void checkDistinctRunFolders(const std::vector<Scene>& scenes);
+void checkDistinctRunFolders(const std::vector<const Scene*>& scenes);
 
 // Encodes raster depth, ray depth, error heat map (with its colour scale drawn in) and mismatch
 // mask PNGs for a run, and stores them in run.images.

@@ -35,7 +35,7 @@ struct FrameRange {
 // the clip control, reversed from a GREATER/GEQUAL depth test, depth range, origin, viewport,
 // depth format), the texture-space reading of a biased projection, and the findings only a depth
 // state gives (clear depth, reversed depth range, the depth func's call). Throws InputError where
-// the matrix check refuses the matrix. Used by the trace checker and gl::checkCurrentState.
+// the matrix check refuses the matrix. Used by the trace checker and engine::checkCurrentState.
 CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthState& depth,
                                  CheckInput* inputUsed = nullptr);
 

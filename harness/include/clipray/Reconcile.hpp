@@ -65,8 +65,10 @@ struct ReconcileOptions {
   VertexMode vertexMode = VertexMode::World;  // clipray's renderer only
   std::vector<std::string> cameras;           // empty: every camera of the scene
   std::string backend = "osmesa";             // or "egl"
-  // Where to write the report of the runs (report.json, index.html, each inconsistent run's
-  // PNGs, or every run's with imagesForEveryRun); empty: nothing is written.
+  // Where to write the report of the runs, as `clipray reconcile --out` writes it (report.json,
+  // index.html with every run's thumbnails, each inconsistent run's PNGs and cluster crops, or
+  // every run's with imagesForEveryRun), claimed and locked before the runs start; empty: nothing
+  // is written.
   std::string reportDirectory;
   bool imagesForEveryRun = false;
   std::size_t worstPixels = 5;  // how many pixels each run describes
@@ -102,8 +104,9 @@ struct RunResult {
   double maxDepthErrorQuanta = 0.0;      // in units of the depth format's quantum
   double maxDistanceRelError = 0.0;      // |t_raster - t_ray| / distance from the eye
   std::vector<PixelReport> worstPixels;  // unexplained first, then by tolerance ratio
-  std::vector<std::string> images;       // files written under ReconcileOptions::reportDirectory
-  std::string summaryLine;               // the line `clipray reconcile` prints for this run
+  // The run's full-size PNGs and cluster crops written under ReconcileOptions::reportDirectory.
+  std::vector<std::string> images;
+  std::string summaryLine;  // the line `clipray reconcile` prints for this run
 };
 
 struct ReconcileResult {
@@ -114,9 +117,11 @@ struct ReconcileResult {
   std::string text() const;
 };
 
-// Reconciles every camera x convention x depth format of the scene. The rays come from `pick`
-// (the app's picking, robustPickRays() for clipray's). Throws InputError for options that name
-// a camera the scene lacks or ask for nothing; std::runtime_error where no headless GL 4.5
+// Reconciles every camera x convention x depth format of the scene, through the same engine as
+// `clipray reconcile` (the same options give the same report.json and images). The rays come from
+// `pick` (the app's picking, robustPickRays() for clipray's). Throws InputError for options that
+// name a camera the scene lacks or ask for nothing, or a reportDirectory that cannot be written (or
+// another run is writing); std::runtime_error where no headless GL 4.5
 // context can be made or the app's render function leaves a GL error or no usable ids (the
 // message says which); and whatever the app's own functions throw. The call makes a headless
 // context of its own current on the calling thread and leaves no context current: a test that

@@ -1,10 +1,10 @@
-// clipray::checkCurrentState (StateCheck.hpp): gl::checkCurrentState's findings in the public
+// clipray::checkCurrentState (StateCheck.hpp): engine::checkCurrentState's findings in the public
 // types.
 
 #include <algorithm>
 
 #include "clipray/StateCheck.hpp"
-#include "clipray/gl/CurrentStateCheck.hpp"
+#include "clipray/engine/CurrentStateCheck.hpp"
 
 namespace clipray {
 
@@ -15,7 +15,7 @@ bool StateCheckResult::hasErrors() const {
 
 StateCheckResult checkCurrentState(const glm::dmat4& clipFromWorld,
                                    GlGetProcAddress getProcAddress) {
-  const gl::CurrentStateCheck check = gl::checkCurrentState(clipFromWorld, getProcAddress);
+  const engine::CurrentStateCheck check = engine::checkCurrentState(clipFromWorld, getProcAddress);
   StateCheckResult result;
   for (const Finding& finding : check.report.findings) {
     result.findings.push_back({finding.severity, finding.code, finding.message, finding.fix});

@@ -8,7 +8,7 @@
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/gl/Renderer.hpp"
 
-namespace clipray::gl {
+namespace clipray::engine {
 
 struct VerifyResult {
   RunMetrics reconcile;  // probe scene: raster vs robust rays under the declared conventions
@@ -20,7 +20,8 @@ struct VerifyResult {
   std::vector<std::string> observations;  // one sentence each, for the report
 };
 
-VerifyResult verifyCheck(const CheckInput& input, const CheckReport& report, Renderer& renderer);
+VerifyResult verifyCheck(const CheckInput& input, const CheckReport& report,
+                         gl::Renderer& renderer);
 nlohmann::json verifyResultJson(const VerifyResult& result);
 
-}  // namespace clipray::gl
+}  // namespace clipray::engine

@@ -1,13 +1,13 @@
-#include "clipray/gl/VerifyCheck.hpp"
+#include "clipray/engine/VerifyCheck.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 
-#include "clipray/gl/ReconcileRun.hpp"
+#include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/rays/RobustRays.hpp"
 
-namespace clipray::gl {
+namespace clipray::engine {
 
 namespace {
 
@@ -19,7 +19,8 @@ std::string number(double value) {
 
 }  // namespace
 
-VerifyResult verifyCheck(const CheckInput& input, const CheckReport& report, Renderer& renderer) {
+VerifyResult verifyCheck(const CheckInput& input, const CheckReport& report,
+                         gl::Renderer& renderer) {
   const MatrixProperties& p = report.properties;
   const DepthMode mode{input.declaredDepth.value_or(DepthConvention::NegativeOneToOne),
                        input.declaredReversed};
@@ -102,7 +103,7 @@ VerifyResult verifyCheck(const CheckInput& input, const CheckReport& report, Ren
   result.reconcile = run.metrics;
 
   // Count what the raster actually shows, from its id buffer.
-  RenderRequest request;
+  gl::RenderRequest request;
   request.scene = &scene;
   request.clipFromWorld = input.clipFromWorld;
   request.mode = mode;
@@ -169,4 +170,4 @@ nlohmann::json verifyResultJson(const VerifyResult& result) {
   return json;
 }
 
-}  // namespace clipray::gl
+}  // namespace clipray::engine

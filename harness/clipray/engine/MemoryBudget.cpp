@@ -1,4 +1,4 @@
-#include "MemoryBudget.hpp"
+#include "clipray/engine/MemoryBudget.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -8,7 +8,7 @@
 
 #include "clipray/InputError.hpp"
 
-namespace clipray::cli {
+namespace clipray::engine {
 
 namespace {
 
@@ -44,6 +44,11 @@ double availableMemoryBytes() {
   return available;
 }
 
+MemoryBudget machineMemoryBudget() {
+  const double bytes = availableMemoryBytes();
+  return {bytes, memoryText(bytes) + " is available"};
+}
+
 double parseMemorySize(const std::string& text, const std::string& option) {
   char* end = nullptr;
   const double number = std::strtod(text.c_str(), &end);
@@ -76,4 +81,4 @@ std::string memoryText(double bytes) {
   return text;
 }
 
-}  // namespace clipray::cli
+}  // namespace clipray::engine

@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <string>
 
-namespace clipray::cli {
+namespace clipray::engine {
 
 // Measured on the 2-core dev machine with /usr/bin/time (max RSS) at 64x48 and at 1080p:
 // a run holds ~128 B per pixel (rays, hits, raster frame, comparison) plus up to two earlier
@@ -23,10 +23,18 @@ inline constexpr double kLoadedBytesPerTriangle = 36.0;
 // memory check is made.
 double availableMemoryBytes();
 
+// What a reconcile may take, and how its messages say where that figure came from.
+struct MemoryBudget {
+  double bytes = 0.0;  // 0: unknown, no memory check is made
+  std::string text;    // "1.50 GiB is available", "--max-memory allows 512.0 MiB"
+};
+// availableMemoryBytes(), said as "... is available".
+MemoryBudget machineMemoryBudget();
+
 // "8G", "512M", "64K" (powers of 1024) or a number of bytes. Throws InputError naming the option.
 double parseMemorySize(const std::string& text, const std::string& option);
 
 // "1.50 GiB", "15.7 MiB"
 std::string memoryText(double bytes);
 
-}  // namespace clipray::cli
+}  // namespace clipray::engine

@@ -4,7 +4,7 @@
 // framebuffer's depth format), declared for the matrix the app is about to draw with. The same
 // analysis and findings as `clipray check --trace` gives for a draw with this state.
 //
-//   auto result = clipray::gl::checkCurrentState(clipFromWorld, myGetProcAddress);
+//   auto result = clipray::engine::checkCurrentState(clipFromWorld, myGetProcAddress);
 //   if (result.report.hasErrors()) std::cerr << clipray::checkReportText(result.report,
 //   result.input);
 
@@ -14,7 +14,7 @@
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/trace/GlTraceState.hpp"
 
-namespace clipray::gl {
+namespace clipray::engine {
 
 struct CurrentStateCheck {
   trace::TraceDepthState state;  // as read (call numbers 0; clearedDepth: GL_DEPTH_CLEAR_VALUE)
@@ -24,11 +24,11 @@ struct CurrentStateCheck {
 
 // The GL state read from the current context, with entry points from `loader` (the app's
 // eglGetProcAddress, glfwGetProcAddress, ...). Needs GL 4.5 (GL_CLIP_ORIGIN). Throws
-// BackendError when no GL 4.5 context is current, InputError when the matrix check refuses the
+// gl::BackendError when no GL 4.5 context is current, InputError when the matrix check refuses the
 // matrix.
-trace::TraceDepthState readCurrentDepthState(GlLoader loader);
+trace::TraceDepthState readCurrentDepthState(gl::GlLoader loader);
 
 // clipFromWorld: column-major, as uploaded with glUniformMatrix4fv(..., GL_FALSE, ...).
-CurrentStateCheck checkCurrentState(const glm::dmat4& clipFromWorld, GlLoader loader);
+CurrentStateCheck checkCurrentState(const glm::dmat4& clipFromWorld, gl::GlLoader loader);
 
-}  // namespace clipray::gl
+}  // namespace clipray::engine

@@ -1,11 +1,11 @@
-#include "clipray/gl/ReconcileRun.hpp"
+#include "clipray/engine/ReconcileRun.hpp"
 
 #include <cmath>
 #include <utility>
 
 #include "clipray/util/PhaseClock.hpp"
 
-namespace clipray::gl {
+namespace clipray::engine {
 
 glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode) {
   const glm::dmat4 worldFromClip = glm::inverse(clipFromWorld);
@@ -64,18 +64,19 @@ AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode
   return analyticPass(scene, camera, mode, viewport, &rayFunction, threadCount);
 }
 
-RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFormat depthFormat,
-                           VertexMode vertexMode, bool images, unsigned threadCount) {
+RunRecord rasterAndCompare(gl::Renderer& renderer, const AnalyticPass& pass,
+                           DepthFormat depthFormat, VertexMode vertexMode, bool images,
+                           unsigned threadCount) {
   ComparedRun compared =
       rasterAndComparePixels(renderer, pass, depthFormat, vertexMode, threadCount);
   if (images) encodeRunImages(compared.run, compared.pixels);
   return std::move(compared.run);
 }
 
-ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
+ComparedRun rasterAndComparePixels(gl::Renderer& renderer, const AnalyticPass& pass,
                                    DepthFormat depthFormat, VertexMode vertexMode,
                                    unsigned threadCount) {
-  RenderRequest request;
+  gl::RenderRequest request;
   request.scene = pass.scene;
   request.clipFromWorld = pass.camera.clipFromWorld;
   request.mode = pass.camera.mode;
@@ -83,7 +84,7 @@ ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
   request.vertexMode = vertexMode;
   request.vertexReference = pass.reference;
   request.viewport = pass.camera.viewport;
-  RenderTimings renderTimings;
+  gl::RenderTimings renderTimings;
   const RasterFrame raster = renderer.render(request, &renderTimings);
   return compareRasterFrame(pass, raster, depthFormat, vertexMode, renderer.info().subpixelBits,
                             renderTimings, threadCount);
@@ -91,7 +92,7 @@ ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
 
 ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& raster,
                                DepthFormat depthFormat, VertexMode vertexMode, int subpixelBits,
-                               const RenderTimings& renderTimings, unsigned threadCount) {
+                               const gl::RenderTimings& renderTimings, unsigned threadCount) {
   RasterSetup setup;
   setup.clipFromWorld = pass.camera.clipFromWorld;
   setup.mode = pass.camera.mode;
@@ -137,4 +138,4 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   return {std::move(run), std::move(comparison.pixels)};
 }
 
-}  // namespace clipray::gl
+}  // namespace clipray::engine

@@ -1,14 +1,16 @@
 #pragma once
-// Reconciling one scene camera: the library entry point for other projects' tests.
+// The steps of one run, below the plan (ReconcileRunner.hpp): the analytic pass of a scene camera
+// under one convention (rays and closest hits, shared by the runs of every depth format and vertex
+// mode), and a raster frame compared with it. Tests and the picking demo use them directly:
 //
 //   clipray::gl::Renderer renderer(*context);
 //   AnalyticPass rays = runAnalyticPass(scene, scene.cameras[0], kZeroToOne, viewport, myPickRays);
 //   RunRecord run = rasterAndCompare(renderer, rays, DepthFormat::Float32, VertexMode::World);
 //   EXPECT_TRUE(run.metrics.consistent());
 //
-// The ray function is the app's own picking code (PickRayFunction); robustPickRays() is clipray's.
-// Every clipFromWorld here is column-major, p_clip = clipFromWorld * p_world, built for the
-// DepthMode passed beside it.
+// Other projects reconcile through include/clipray/Reconcile.hpp. The ray function is the app's
+// own picking code (PickRayFunction); robustPickRays() is clipray's. Every clipFromWorld here is
+// column-major, p_clip = clipFromWorld * p_world, built for the DepthMode passed beside it.
 
 #include <memory>
 
@@ -18,7 +20,7 @@
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/Scene.hpp"
 
-namespace clipray::gl {
+namespace clipray::engine {
 
 // Rays and closest hits for one camera under one convention; independent of the depth format
 // and vertex mode, so one pass serves every raster variant.
@@ -51,8 +53,9 @@ AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode
 
 // Renders the same camera with the renderer and compares. If images is true, the run's PNGs are
 // encoded into the record.
-RunRecord rasterAndCompare(Renderer& renderer, const AnalyticPass& pass, DepthFormat depthFormat,
-                           VertexMode vertexMode, bool images = true, unsigned threadCount = 0);
+RunRecord rasterAndCompare(gl::Renderer& renderer, const AnalyticPass& pass,
+                           DepthFormat depthFormat, VertexMode vertexMode, bool images = true,
+                           unsigned threadCount = 0);
 
 // The same, keeping the per-pixel comparison instead of encoding it: for callers that decide
 // afterwards whether the run's images are wanted, or encode them elsewhere (encodeRunImages,
@@ -61,7 +64,7 @@ struct ComparedRun {
   RunRecord run;
   PixelComparison pixels;
 };
-ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
+ComparedRun rasterAndComparePixels(gl::Renderer& renderer, const AnalyticPass& pass,
                                    DepthFormat depthFormat, VertexMode vertexMode,
                                    unsigned threadCount = 0);
 
@@ -70,10 +73,10 @@ ComparedRun rasterAndComparePixels(Renderer& renderer, const AnalyticPass& pass,
 // was drawn, subpixelBits is the rasterizer's GL_SUBPIXEL_BITS.
 ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& raster,
                                DepthFormat depthFormat, VertexMode vertexMode, int subpixelBits,
-                               const RenderTimings& renderTimings, unsigned threadCount = 0);
+                               const gl::RenderTimings& renderTimings, unsigned threadCount = 0);
 
 // The point near the camera that both passes measure coordinates from: the centre of the near
 // plane the rasterizer clips at, in world space.
 glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode);
 
-}  // namespace clipray::gl
+}  // namespace clipray::engine

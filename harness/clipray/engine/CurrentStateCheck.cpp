@@ -1,10 +1,10 @@
-#include "clipray/gl/CurrentStateCheck.hpp"
+#include "clipray/engine/CurrentStateCheck.hpp"
 
 #include <glad/gl.h>
 
 #include "clipray/trace/TraceCheck.hpp"
 
-namespace clipray::gl {
+namespace clipray::engine {
 
 namespace {
 
@@ -30,10 +30,10 @@ std::string depthFormatName() {
 
 }  // namespace
 
-trace::TraceDepthState readCurrentDepthState(GlLoader loader) {
+trace::TraceDepthState readCurrentDepthState(gl::GlLoader loader) {
   const int version = gladLoadGL(loader);
   if (version == 0 || GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) < 45) {
-    throw BackendError("checkCurrentState: no current GL 4.5 context (glClipControl's state)");
+    throw gl::BackendError("checkCurrentState: no current GL 4.5 context (glClipControl's state)");
   }
   while (glGetError() != GL_NO_ERROR) {
   }
@@ -60,7 +60,7 @@ trace::TraceDepthState readCurrentDepthState(GlLoader loader) {
   return state;
 }
 
-CurrentStateCheck checkCurrentState(const glm::dmat4& clipFromWorld, GlLoader loader) {
+CurrentStateCheck checkCurrentState(const glm::dmat4& clipFromWorld, gl::GlLoader loader) {
   CurrentStateCheck result;
   result.state = readCurrentDepthState(loader);
   result.report = trace::checkUnderDepthState({"the current GL state", false, clipFromWorld},
@@ -68,4 +68,4 @@ CurrentStateCheck checkCurrentState(const glm::dmat4& clipFromWorld, GlLoader lo
   return result;
 }
 
-}  // namespace clipray::gl
+}  // namespace clipray::engine
