@@ -14,7 +14,7 @@
 #include "clipray/check/ConventionCheck.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/engine/VerifyCheck.hpp"
-#include "clipray/scene/InputFile.hpp"
+#include "clipray/io/InputFile.hpp"
 #include "clipray/util/OptionValues.hpp"
 
 namespace clipray::cli {

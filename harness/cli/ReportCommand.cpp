@@ -10,7 +10,7 @@
 #include "Commands.hpp"
 #include "clipray/InputError.hpp"
 #include "clipray/report/JUnit.hpp"
-#include "clipray/report/OutputFolder.hpp"
+#include "clipray/io/OutputFolder.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/report/ReportReading.hpp"
 

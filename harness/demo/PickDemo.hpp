@@ -13,7 +13,7 @@
 
 #include "GlfwBackend.hpp"
 #include "PickScript.hpp"
-#include "Picking.hpp"
+#include "ThreeWayPick.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
 #include "clipray/scene/Scene.hpp"

@@ -7,7 +7,7 @@
 #include <sstream>
 
 #include "clipray/InputError.hpp"
-#include "clipray/scene/InputFile.hpp"
+#include "clipray/io/InputFile.hpp"
 
 namespace clipray::demo {
 

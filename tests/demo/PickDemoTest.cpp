@@ -14,7 +14,7 @@
 
 #include "GlfwBackend.hpp"
 #include "PickScript.hpp"
-#include "Picking.hpp"
+#include "ThreeWayPick.hpp"
 #include "XvfbServer.hpp"
 #include "clipray/InputError.hpp"
 #include "clipray/gl/GlContext.hpp"

@@ -3,7 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "clipray/report/JUnit.hpp"
-#include "clipray/report/XmlText.hpp"
+#include "clipray/io/XmlText.hpp"
 
 namespace clipray {
 namespace {

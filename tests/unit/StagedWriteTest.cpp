@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "clipray/report/StagedWrite.hpp"
+#include "clipray/io/StagedWrite.hpp"
 
 namespace clipray {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "clipray/report/XmlText.hpp"
+#include "clipray/io/XmlText.hpp"
 
 namespace clipray {
 namespace {

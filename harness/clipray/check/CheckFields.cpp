@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "clipray/InputError.hpp"
-#include "clipray/scene/SceneJson.hpp"
+#include "clipray/io/LocatedJson.hpp"
 #include "clipray/util/OptionValues.hpp"
 
 namespace clipray {

@@ -273,27 +273,6 @@ bool CheckReport::hasErrors() const {
                      [](const Finding& f) { return f.severity == "error"; });
 }
 
-glm::dmat4 parseMatrix16(const std::vector<double>& numbers, bool rowMajor,
-                         const std::string& what) {
-  if (numbers.size() != 16) {
-    throw InputError(what + ": expected 16 numbers, got " + std::to_string(numbers.size()));
-  }
-  glm::dmat4 m(0.0);
-  for (int i = 0; i < 16; ++i) {
-    if (!std::isfinite(numbers[i])) {
-      throw InputError(what + ": number " + std::to_string(i + 1) + " is " + number(numbers[i]) +
-                       "; expected finite numbers");
-    }
-    // Column-major: element i is (row i % 4, column i / 4); row-major: (row i / 4, column i % 4).
-    if (rowMajor) {
-      m[i % 4][i / 4] = numbers[i];
-    } else {
-      m[i / 4][i % 4] = numbers[i];
-    }
-  }
-  return m;
-}
-
 CheckReport checkConventions(const CheckInput& input) {
   if (input.projection) requireProjection(*input.projection, "--projection");
   if (input.view) {

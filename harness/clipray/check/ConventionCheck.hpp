@@ -14,6 +14,7 @@
 
 #include "clipray/Conventions.hpp"
 #include "clipray/check/MatrixReading.hpp"
+#include "clipray/util/OptionValues.hpp"  // parseMatrix16, for the readers of matrices
 
 namespace clipray {
 
@@ -102,13 +103,5 @@ CheckReport checkConventions(const CheckInput& input);
 
 nlohmann::json checkReportJson(const CheckReport& report, const CheckInput& input);
 std::string checkReportText(const CheckReport& report, const CheckInput& input);
-
-// Parses 16 numbers in memory order. Column-major: a GL mat4 as glm::value_ptr or
-// glUniformMatrix4fv(..., GL_FALSE, ...) reads it; a DirectXMath XMMATRIX in memory is this order
-// too (it stores the transpose, row vectors times the matrix, row by row). Row-major: the matrix
-// written out row by row, as in a maths text or a C array m[row][col] of a column-vector matrix.
-// `what` names the option or field in messages.
-glm::dmat4 parseMatrix16(const std::vector<double>& numbers, bool rowMajor,
-                         const std::string& what);
 
 }  // namespace clipray

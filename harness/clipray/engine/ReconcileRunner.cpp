@@ -20,7 +20,7 @@
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/report/ImageEncoder.hpp"
 #include "clipray/report/JUnit.hpp"
-#include "clipray/report/OutputFolder.hpp"
+#include "clipray/io/OutputFolder.hpp"
 
 namespace clipray::engine {
 

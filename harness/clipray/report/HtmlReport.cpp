@@ -13,7 +13,7 @@
 #include <utility>
 
 #include "clipray/report/RunImages.hpp"
-#include "clipray/report/XmlText.hpp"
+#include "clipray/io/XmlText.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {

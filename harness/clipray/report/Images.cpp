@@ -50,7 +50,7 @@
 #include <string>
 #include <vector>
 
-#include "clipray/report/FastDeflate.hpp"
+#include "clipray/io/FastDeflate.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/report/RunImages.hpp"
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <string>
 
-#include "clipray/report/XmlText.hpp"
+#include "clipray/io/XmlText.hpp"
 
 namespace clipray {
 

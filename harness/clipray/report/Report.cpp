@@ -20,7 +20,7 @@
 
 #include "clipray/InputError.hpp"
 #include "clipray/report/HtmlReport.hpp"
-#include "clipray/report/StagedWrite.hpp"
+#include "clipray/io/StagedWrite.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {

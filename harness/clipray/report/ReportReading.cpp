@@ -8,8 +8,8 @@
 #include <utility>
 
 #include "clipray/InputError.hpp"
-#include "clipray/scene/InputFile.hpp"
-#include "clipray/scene/SceneJson.hpp"
+#include "clipray/io/InputFile.hpp"
+#include "clipray/io/LocatedJson.hpp"
 
 namespace clipray {
 

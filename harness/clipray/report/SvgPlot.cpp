@@ -5,7 +5,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "clipray/report/XmlText.hpp"
+#include "clipray/io/XmlText.hpp"
 
 namespace clipray {
 

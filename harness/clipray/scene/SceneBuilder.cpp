@@ -6,7 +6,7 @@
 #include <utility>
 
 #include "clipray/scene/Scene.hpp"
-#include "clipray/scene/SceneJson.hpp"
+#include "clipray/io/LocatedJson.hpp"
 #include "clipray/scene/SceneReader.hpp"
 
 namespace clipray {

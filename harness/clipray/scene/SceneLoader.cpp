@@ -16,7 +16,7 @@
 
 #include "clipray/InputError.hpp"
 #include "clipray/scene/AutoCameras.hpp"
-#include "clipray/scene/InputFile.hpp"
+#include "clipray/io/InputFile.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "clipray/scene/SceneReader.hpp"

@@ -14,7 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "clipray/Conventions.hpp"
-#include "clipray/scene/SceneJson.hpp"
+#include "clipray/io/LocatedJson.hpp"
 
 namespace clipray::detail {
 

@@ -1,13 +1,25 @@
 #include "clipray/util/OptionValues.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <sstream>
 
 #include "clipray/InputError.hpp"
-#include "clipray/check/ConventionCheck.hpp"
 
 namespace clipray {
+
+namespace {
+
+// As `clipray check` writes numbers: six significant digits, "nan", "inf".
+std::string finiteOrNot(double value) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", value + 0.0);
+  return buffer;
+}
+
+}  // namespace
 
 std::vector<std::string> splitCommaList(const std::string& text) {
   std::vector<std::string> items;
@@ -83,6 +95,27 @@ std::vector<double> parseNumberList(const std::string& text, const std::string& 
     numbers.push_back(value);
   }
   return numbers;
+}
+
+glm::dmat4 parseMatrix16(const std::vector<double>& numbers, bool rowMajor,
+                         const std::string& what) {
+  if (numbers.size() != 16) {
+    throw InputError(what + ": expected 16 numbers, got " + std::to_string(numbers.size()));
+  }
+  glm::dmat4 m(0.0);
+  for (int i = 0; i < 16; ++i) {
+    if (!std::isfinite(numbers[i])) {
+      throw InputError(what + ": number " + std::to_string(i + 1) + " is " +
+                       finiteOrNot(numbers[i]) + "; expected finite numbers");
+    }
+    // Column-major: element i is (row i % 4, column i / 4); row-major: (row i / 4, column i % 4).
+    if (rowMajor) {
+      m[i % 4][i / 4] = numbers[i];
+    } else {
+      m[i / 4][i % 4] = numbers[i];
+    }
+  }
+  return m;
 }
 
 glm::dmat4 parseMatrixOption(const std::string& text, bool rowMajor, const std::string& option) {

@@ -24,6 +24,13 @@ Viewport parseViewportOption(const std::string& text, const std::string& option,
 std::string closestName(const std::string& word, const std::vector<std::string>& names);
 // Numbers separated by spaces and/or commas.
 std::vector<double> parseNumberList(const std::string& text, const std::string& option);
+// Parses 16 numbers in memory order. Column-major: a GL mat4 as glm::value_ptr or
+// glUniformMatrix4fv(..., GL_FALSE, ...) reads it; a DirectXMath XMMATRIX in memory is this order
+// too (it stores the transpose, row vectors times the matrix, row by row). Row-major: the matrix
+// written out row by row, as in a maths text or a C array m[row][col] of a column-vector matrix.
+// `what` names the option or field in messages.
+glm::dmat4 parseMatrix16(const std::vector<double>& numbers, bool rowMajor,
+                         const std::string& what);
 // Sixteen numbers, column-major (GL) or row-major (D3D), all finite.
 glm::dmat4 parseMatrixOption(const std::string& text, bool rowMajor, const std::string& option);
 

@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "clipray/scene/InputFile.hpp"
+#include "clipray/io/InputFile.hpp"
 #include "clipray/scene/loaders/MeshFileCommon.hpp"
 
 namespace clipray::meshfiles {

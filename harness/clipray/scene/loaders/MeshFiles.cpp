@@ -18,7 +18,7 @@
 #include <vector>
 
 #include "clipray/InputError.hpp"
-#include "clipray/scene/InputFile.hpp"
+#include "clipray/io/InputFile.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/loaders/MeshFileCommon.hpp"
 

@@ -22,7 +22,7 @@
 #include <utility>
 #include <vector>
 
-#include "clipray/scene/InputFile.hpp"
+#include "clipray/io/InputFile.hpp"
 #include "clipray/scene/loaders/MeshFileCommon.hpp"
 #include "clipray/scene/loaders/PolygonTriangulation.hpp"
 

@@ -1,6 +1,6 @@
 // zlibCompressForPng: libdeflate behind stb_image_write's STBIW_ZLIB_COMPRESS hook.
 
-#include "clipray/report/FastDeflate.hpp"
+#include "clipray/io/FastDeflate.hpp"
 
 #include <libdeflate.h>
 

@@ -1,6 +1,6 @@
 // xmlEscaped (see XmlText.hpp).
 
-#include "clipray/report/XmlText.hpp"
+#include "clipray/io/XmlText.hpp"
 
 namespace clipray {
 

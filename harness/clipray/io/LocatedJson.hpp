@@ -1,7 +1,7 @@
 #pragma once
-// Internal to scene/ and the `check` file reader: JSON read with locations (line and column of
-// malformed text, the JSON pointer of an overflowing number or a duplicate key) and the pieces of
-// the loader's messages that quote locations and values.
+// JSON read with locations (line and column of malformed text, the JSON pointer of an overflowing
+// number or a duplicate key), and the pieces of the readers' messages that quote locations and
+// values: for the scene loader, the `check` file reader and the report reader.
 
 #include <string>
 #include <string_view>

@@ -1,4 +1,4 @@
-#include "clipray/scene/InputFile.hpp"
+#include "clipray/io/InputFile.hpp"
 
 #include <filesystem>
 #include <fstream>

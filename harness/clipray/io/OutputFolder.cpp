@@ -1,4 +1,4 @@
-#include "clipray/report/OutputFolder.hpp"
+#include "clipray/io/OutputFolder.hpp"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -10,7 +10,7 @@
 #include <system_error>
 
 #include "clipray/InputError.hpp"
-#include "clipray/report/StagedWrite.hpp"
+#include "clipray/io/StagedWrite.hpp"
 
 namespace clipray {
 

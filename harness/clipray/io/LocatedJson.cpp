@@ -1,8 +1,8 @@
-// Scene files as JSON: a SAX parser that knows where it is (nlohmann's DOM parser would keep a
+// JSON with locations: a SAX parser that knows where it is (nlohmann's DOM parser would keep a
 // duplicate key silently and report an overflowing number without its pointer), and the message
 // helpers that quote locations and values.
 
-#include "clipray/scene/SceneJson.hpp"
+#include "clipray/io/LocatedJson.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -10,7 +10,7 @@
 #include <utility>
 
 #include "clipray/InputError.hpp"
-#include "clipray/scene/InputFile.hpp"
+#include "clipray/io/InputFile.hpp"
 
 namespace clipray::detail {
 

@@ -1,4 +1,4 @@
-#include "Picking.hpp"
+#include "ThreeWayPick.hpp"
 
 #include <cmath>
 #include <cstdio>

@@ -1,4 +1,4 @@
-#include "clipray/report/StagedWrite.hpp"
+#include "clipray/io/StagedWrite.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
