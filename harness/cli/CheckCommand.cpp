@@ -8,13 +8,13 @@
 #include <sstream>
 
 #include "Commands.hpp"
-#include "TraceCheckRun.hpp"
 #include "clipray/InputError.hpp"
 #include "clipray/check/CheckFields.hpp"
 #include "clipray/check/ConventionCheck.hpp"
-#include "clipray/gl/GlContext.hpp"
 #include "clipray/engine/VerifyCheck.hpp"
+#include "clipray/gl/GlContext.hpp"
 #include "clipray/io/InputFile.hpp"
+#include "clipray/trace/TraceFileCheck.hpp"
 #include "clipray/util/OptionValues.hpp"
 
 namespace clipray::cli {
@@ -40,8 +40,8 @@ int runTraceCheck(const CheckOptions& options) {
         "--trace: the depth state and matrices come from the trace; give no check "
         "file or field options with it");
   }
-  trace::TraceCheckResult result = checkTrace(options.trace, options.frames);
-  if (options.verify) verifyTrace(options.trace, result);
+  trace::TraceCheckResult result = trace::checkTrace(options.trace, options.frames);
+  if (options.verify) trace::verifyTrace(options.trace, result);
   if (options.json) {
     // The trace's path is the user's bytes: not necessarily UTF-8.
     std::cout << trace::traceCheckJson(result).dump(2, ' ', false,

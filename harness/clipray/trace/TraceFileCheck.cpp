@@ -10,7 +10,7 @@
 //
 // CLIPRAY_APITRACE overrides the apitrace executable (default: "apitrace" on PATH).
 
-#include "TraceCheckRun.hpp"
+#include "clipray/trace/TraceFileCheck.hpp"
 
 #include <fcntl.h>
 #include <signal.h>
@@ -31,7 +31,7 @@
 #include "clipray/trace/ReplayDepth.hpp"
 #include "clipray/trace/TraceCheck.hpp"
 
-namespace clipray::cli {
+namespace clipray::trace {
 
 namespace {
 
@@ -152,7 +152,7 @@ class PrivateFolder {
 
 }  // namespace
 
-trace::TraceCheckResult checkTrace(const std::string& tracePath, const std::string& frames) {
+TraceCheckResult checkTrace(const std::string& tracePath, const std::string& frames) {
   requireTraceFile(tracePath);
   const trace::FrameRange range =
       frames.empty() ? trace::FrameRange{} : trace::parseFrameRange(frames);
@@ -213,7 +213,7 @@ trace::TraceCheckResult checkTrace(const std::string& tracePath, const std::stri
     throw InputError(apitrace + ": cannot run apitrace in the temporary folder " +
                      blobs.path().string());
   }
-  trace::TraceCheckResult result = collector.finish();
+  TraceCheckResult result = collector.finish();
   if (status != 0) {
     throw InputError(tracePath + ": apitrace dump failed (exit status " + std::to_string(status) +
                      ")");
@@ -221,7 +221,7 @@ trace::TraceCheckResult checkTrace(const std::string& tracePath, const std::stri
   return result;
 }
 
-void verifyTrace(const std::string& tracePath, trace::TraceCheckResult& result) {
+void verifyTrace(const std::string& tracePath, TraceCheckResult& result) {
   const char* overridden = std::getenv("CLIPRAY_EGLRETRACE");
   const std::string retrace = overridden && *overridden ? overridden : "eglretrace";
   std::size_t replayed = 0;
@@ -278,4 +278,4 @@ void verifyTrace(const std::string& tracePath, trace::TraceCheckResult& result) 
   }
 }
 
-}  // namespace clipray::cli
+}  // namespace clipray::trace
