@@ -8,9 +8,7 @@
 #include <vector>
 
 #include "Commands.hpp"
-#include "clipray/InputError.hpp"
-#include "clipray/gl/GlContext.hpp"
-#include "clipray/gl/Renderer.hpp"
+#include "clipray/util/ExitStatus.hpp"
 #include "clipray/util/OptionValues.hpp"
 #include "clipray/util/Version.hpp"
 
@@ -107,20 +105,14 @@ int main(int argc, char** argv) {
     for (const auto& [sub, run] : commands) {
       if (sub->parsed()) return run();
     }
-  } catch (const clipray::InputError& error) {
-    std::cerr << "clipray: " << error.what() << "\n";
-    return 2;
   } catch (const std::bad_alloc&) {
     std::cerr << "clipray: out of memory: the runs need more memory than this machine has free; "
                  "try a smaller --size, fewer scenes or fewer --threads\n";
-    return 2;
-  } catch (const clipray::gl::BackendError& error) {
-    std::cerr << "clipray: " << error.what() << "\n";
-    return 2;
+    return clipray::kExitUnusableInput;
   } catch (const std::exception& error) {
-    // GL errors and anything unforeseen: a message and status 2, never a crash.
-    std::cerr << "clipray: " << error.what() << "\n";
-    return 2;
+    // Bad input, a backend, GL, I/O: a message and status 2; a broken invariant (a bug): "internal
+    // error, please report" and status 3. Never a crash.
+    return clipray::reportFailure(error, std::cerr, "clipray");
   }
   return 2;
 }

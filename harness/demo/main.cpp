@@ -12,6 +12,7 @@
 #include "clipray/InputError.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/scene/Scene.hpp"
+#include "clipray/util/ExitStatus.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace {
@@ -135,8 +136,8 @@ int main(int argc, char** argv) {
     if (!screenshotPath.empty()) pickDemo.saveScreenshot(screenshotPath);
     return 0;
   } catch (const std::exception& error) {
-    // Bad input, no display, no GL 4.5: a message and status 2, never a crash.
-    std::cerr << "clipray-pick: " << error.what() << "\n";
-    return 2;
+    // Bad input, no display, no GL 4.5: a message and status 2; a broken invariant (a bug):
+    // "internal error, please report" and status 3. Never a crash.
+    return clipray::reportFailure(error, std::cerr, "clipray-pick");
   }
 }

@@ -8,12 +8,12 @@
 #include <cmath>
 #include <cstring>
 #include <memory>
-#include <stdexcept>
 #include <vector>
 
 #include "clipray/compare/Reconcile.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/scene/Terrain.hpp"
+#include "clipray/util/Check.hpp"
 #include "support/TestScenes.hpp"
 
 namespace clipray {
@@ -440,7 +440,7 @@ TEST(Compare, RaysComputedPerRowGiveTheStoredRaysFigures) {
   AnalyticFrame none;
   none.viewport = f.camera.viewport;
   none.hits = computed.hits;
-  EXPECT_THROW(compareFrames(f.raster, none, *f.intersector, f.setup, 1), std::invalid_argument);
+  EXPECT_THROW(compareFrames(f.raster, none, *f.intersector, f.setup, 1), InternalError);
 }
 
 TEST(Compare, ToleranceRatiosAreTheToleranceModelsOwn) {
@@ -530,8 +530,7 @@ TEST(Compare, AModelBuiltForOneDepthFormatAnswersForAnotherRasterAsItsOwnWould) 
   RasterSetup setup16 = f.setup;
   setup16.depthFormat = DepthFormat::Unorm16;
   // Until it is told the other format, it answers for another setup and is refused.
-  EXPECT_THROW(compareFrames(both, f.analytic, *f.intersector, setup16, *model, 2),
-               std::invalid_argument);
+  EXPECT_THROW(compareFrames(both, f.analytic, *f.intersector, setup16, *model, 2), InternalError);
   model->useDepthFormat(DepthFormat::Unorm16);
   const ComparisonResult shared =
       compareFrames(both, f.analytic, *f.intersector, setup16, *model, 2);

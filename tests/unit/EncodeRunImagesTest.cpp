@@ -15,6 +15,7 @@
 #include "support/DecodedPng.hpp"
 
 #include "clipray/report/Report.hpp"
+#include "clipray/util/Check.hpp"
 #include "support/ReportSamples.hpp"
 
 namespace clipray {
@@ -247,9 +248,9 @@ TEST(EncodeRunImages, RejectsInconsistentSizes) {
   PixelComparison p = tinyComparison();
   p.classes.pop_back();
   RunRecord run = sampleRun();
-  EXPECT_THROW(encodeRunImages(run, p), std::invalid_argument);
+  EXPECT_THROW(encodeRunImages(run, p), InternalError);
   PixelComparison empty;
-  EXPECT_THROW(encodeRunImages(run, empty), std::invalid_argument);
+  EXPECT_THROW(encodeRunImages(run, empty), InternalError);
 }
 
 }  // namespace

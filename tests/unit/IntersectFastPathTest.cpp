@@ -7,7 +7,6 @@
 #include <cmath>
 #include <limits>
 #include <random>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -16,6 +15,7 @@
 #include "clipray/intersect/SceneIntersector.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/RobustRays.hpp"
+#include "clipray/util/Check.hpp"
 #include "support/TestScenes.hpp"
 
 namespace clipray {
@@ -452,19 +452,19 @@ TEST(FastPathBinned, AFrameWithoutRaysIsRefused) {
   const SceneIntersector intersector = intersectorSeenFrom(scene, c.camera);
   AnalyticFrame frame;
   frame.viewport = c.camera.viewport;  // no rays stored, none computed
-  EXPECT_THROW(intersectFrame(frame, intersector, c.camera, 1), std::invalid_argument);
-  EXPECT_THROW(intersectFrame(frame, intersector, 1), std::invalid_argument);
+  EXPECT_THROW(intersectFrame(frame, intersector, c.camera, 1), InternalError);
+  EXPECT_THROW(intersectFrame(frame, intersector, 1), InternalError);
   frame.rays.resize(frame.pixelCount() - 1);  // one short
-  EXPECT_THROW(intersectFrame(frame, intersector, 1), std::invalid_argument);
+  EXPECT_THROW(intersectFrame(frame, intersector, 1), InternalError);
   // Computed rays for another viewport, or stored and computed rays both: refused too.
   PickingCamera wider = c.camera;
   wider.viewport.width += 8;
   AnalyticFrame otherSize = robustRayFrame(wider);
   otherSize.viewport = c.camera.viewport;
-  EXPECT_THROW(intersectFrame(otherSize, intersector, c.camera, 1), std::invalid_argument);
+  EXPECT_THROW(intersectFrame(otherSize, intersector, c.camera, 1), InternalError);
   AnalyticFrame both = generateRobustRays(c.camera, 1);
   both.pixelCentreRays = robustRayFrame(c.camera).pixelCentreRays;
-  EXPECT_THROW(intersectFrame(both, intersector, c.camera, 1), std::invalid_argument);
+  EXPECT_THROW(intersectFrame(both, intersector, c.camera, 1), InternalError);
   both.rays.clear();  // computed only: taken
   EXPECT_EQ(intersectFrame(both, intersector, c.camera, 1), tileCount(c.camera.viewport));
 }

@@ -2,10 +2,10 @@
 
 #include <gtest/gtest.h>
 
-#include <stdexcept>
 #include <string>
 
 #include "clipray/compare/MismatchClusters.hpp"
+#include "clipray/util/Check.hpp"
 
 namespace clipray {
 namespace {
@@ -123,7 +123,7 @@ TEST(MismatchClusters, AWrongSizedMaskIsRefused) {
   Viewport viewport;
   auto classes = mask({"C.", ".C"}, viewport);
   classes.pop_back();
-  EXPECT_THROW(findMismatchClusters(classes, viewport, 5), std::invalid_argument);
+  EXPECT_THROW(findMismatchClusters(classes, viewport, 5), InternalError);
 }
 
 TEST(MismatchClusters, TheUnexplainedClasses) {

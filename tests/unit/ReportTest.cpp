@@ -17,6 +17,7 @@
 #include <unistd.h>
 
 #include "clipray/report/Report.hpp"
+#include "clipray/util/Check.hpp"
 #include "clipray/util/Version.hpp"
 #include "support/ReportSamples.hpp"
 
@@ -300,10 +301,9 @@ TEST(MergeRounds, ATimingThatIsNaNInARoundMakesItsMedianNaN) {
 }
 
 TEST(MergeRounds, RoundsOfDifferentRunsAreRefused) {
-  EXPECT_THROW(mergeRounds({}), std::invalid_argument);
-  EXPECT_THROW(mergeRounds({{roundRun(0, {})}, {roundRun(1, {})}}), std::invalid_argument);
-  EXPECT_THROW(mergeRounds({{roundRun(0, {})}, {roundRun(0, {}), roundRun(1, {})}}),
-               std::invalid_argument);
+  EXPECT_THROW(mergeRounds({}), InternalError);
+  EXPECT_THROW(mergeRounds({{roundRun(0, {})}, {roundRun(1, {})}}), InternalError);
+  EXPECT_THROW(mergeRounds({{roundRun(0, {})}, {roundRun(0, {}), roundRun(1, {})}}), InternalError);
 }
 
 TEST(ReportJson, ConsistentRunsAndAnEmptyReport) {

@@ -7,12 +7,12 @@
 #include <exception>
 #include <memory>
 #include <mutex>
-#include <stdexcept>
 #include <system_error>
 #include <thread>
 
 #include "clipray/intersect/FrameBins.hpp"
 #include "clipray/rays/RobustRays.hpp"
+#include "clipray/util/Check.hpp"
 #include "clipray/util/HugePages.hpp"
 
 namespace clipray {
@@ -217,10 +217,8 @@ std::size_t forEachTile(AnalyticFrame& frame, int kTile, unsigned threadCount,
 }
 
 void requireRays(const AnalyticFrame& frame) {
-  if (!frame.hasRays()) {
-    throw std::invalid_argument(
-        "intersectFrame: the frame needs one ray per pixel, stored or computed (not both)");
-  }
+  CLIPRAY_CHECK(frame.hasRays(),
+                "intersectFrame: the frame needs one ray per pixel, stored or computed (not both)");
 }
 
 }  // namespace

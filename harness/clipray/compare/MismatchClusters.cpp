@@ -4,8 +4,9 @@
 
 #include <algorithm>
 #include <limits>
-#include <stdexcept>
 #include <string>
+
+#include "clipray/util/Check.hpp"
 
 namespace clipray {
 
@@ -17,12 +18,11 @@ bool isUnexplained(PixelClass value) {
 MismatchClusters findMismatchClusters(const FrameVector<PixelClass>& classes, Viewport viewport,
                                       std::size_t keep) {
   const int width = viewport.width, height = viewport.height;
-  if (width < 0 || height < 0 ||
-      classes.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height)) {
-    throw std::invalid_argument("findMismatchClusters: " + std::to_string(classes.size()) +
-                                " pixel classes for a " + std::to_string(width) + "x" +
-                                std::to_string(height) + " frame");
-  }
+  CLIPRAY_CHECK(
+      width >= 0 && height >= 0 &&
+          classes.size() == static_cast<std::size_t>(width) * static_cast<std::size_t>(height),
+      "findMismatchClusters: " + std::to_string(classes.size()) + " pixel classes for a " +
+          std::to_string(width) + "x" + std::to_string(height) + " frame");
   MismatchClusters result;
   std::vector<MismatchCluster> all;
   std::vector<bool> seen(classes.size(), false);

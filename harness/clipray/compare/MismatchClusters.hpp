@@ -44,7 +44,7 @@ struct MismatchClusters {
 bool isUnexplained(PixelClass value);
 
 // The components of classes (width x height, row 0 at the bottom), the largest `keep` of them.
-// Throws std::invalid_argument when classes does not hold width x height values.
+// classes must hold width x height values (InternalError otherwise).
 MismatchClusters findMismatchClusters(const FrameVector<PixelClass>& classes, Viewport viewport,
                                       std::size_t keep);
 

@@ -9,12 +9,12 @@
 #include <atomic>
 #include <cstdint>
 #include <mutex>
-#include <stdexcept>
 #include <utility>
 #include <vector>
 
 #include "clipray/compare/Distributions.hpp"
 #include "clipray/compare/PixelClassification.hpp"
+#include "clipray/util/Check.hpp"
 
 namespace clipray {
 
@@ -75,14 +75,12 @@ std::vector<std::uint32_t> idsInRaster(const RasterFrame& raster, std::uint32_t 
 void requireComparableFrames(const RasterFrame& raster, const AnalyticFrame& analytic) {
   const Viewport viewport = raster.viewport;
   const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;
-  if (analytic.viewport != viewport || raster.depth.size() != count || raster.ids.size() != count ||
-      analytic.hits.size() != count) {
-    throw std::invalid_argument("compareFrames: raster and analytic frames differ in size");
-  }
-  if (!analytic.hasRays()) {
-    throw std::invalid_argument(
-        "compareFrames: the analytic frame needs one ray per pixel, stored or computed (not both)");
-  }
+  CLIPRAY_CHECK(analytic.viewport == viewport && raster.depth.size() == count &&
+                    raster.ids.size() == count && analytic.hits.size() == count,
+                "compareFrames: raster and analytic frames differ in size");
+  CLIPRAY_CHECK(
+      analytic.hasRays(),
+      "compareFrames: the analytic frame needs one ray per pixel, stored or computed (not both)");
 }
 
 }  // namespace
@@ -94,9 +92,8 @@ std::unique_ptr<ToleranceModel> toleranceModelOfRaster(const RasterFrame& raster
   // Screen polygons only for the primitives the frame shows (a big scene's other triangles are
   // never asked about), clipped across the threads.
   const Viewport viewport = raster.viewport;
-  if (raster.ids.size() != static_cast<std::size_t>(viewport.width) * viewport.height) {
-    throw std::invalid_argument("toleranceModelOfRaster: the raster's ids differ from its size");
-  }
+  CLIPRAY_CHECK(raster.ids.size() == static_cast<std::size_t>(viewport.width) * viewport.height,
+                "toleranceModelOfRaster: the raster's ids differ from its size");
   return std::make_unique<ToleranceModel>(
       intersector, setup, raster.viewport,
       idsInRaster(raster, intersector.primitiveIdCount(), threadCount), threadCount);
@@ -115,12 +112,13 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                                const SceneIntersector& intersector, const RasterSetup& setup,
                                const ToleranceModel& model, unsigned threadCount) {
   const RasterSetup& modelSetup = model.setup();
-  if (modelSetup.clipFromWorld != setup.clipFromWorld || modelSetup.mode != setup.mode ||
-      modelSetup.depthFormat != setup.depthFormat || modelSetup.vertexMode != setup.vertexMode ||
-      modelSetup.vertexReference != setup.vertexReference ||
-      modelSetup.subpixelBits != setup.subpixelBits || model.viewport() != raster.viewport) {
-    throw std::invalid_argument("compareFrames: the tolerance model answers for another setup");
-  }
+  CLIPRAY_CHECK(modelSetup.clipFromWorld == setup.clipFromWorld && modelSetup.mode == setup.mode &&
+                    modelSetup.depthFormat == setup.depthFormat &&
+                    modelSetup.vertexMode == setup.vertexMode &&
+                    modelSetup.vertexReference == setup.vertexReference &&
+                    modelSetup.subpixelBits == setup.subpixelBits &&
+                    model.viewport() == raster.viewport,
+                "compareFrames: the tolerance model answers for another setup");
   requireComparableFrames(raster, analytic);
   const Viewport viewport = raster.viewport;
   const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;

@@ -103,7 +103,7 @@ std::unique_ptr<ToleranceModel> toleranceModelOfRaster(const RasterFrame& raster
                                                        unsigned threadCount = 0);
 // The same comparison with a model built before, for this setup (another raster of the same
 // camera, convention and vertex mode, told this depth format: ToleranceModel::useDepthFormat).
-// Throws std::invalid_argument when the model answers for another setup.
+// A model for another setup is a bug (InternalError).
 ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& analytic,
                                const SceneIntersector& intersector, const RasterSetup& setup,
                                const ToleranceModel& model, unsigned threadCount = 0);

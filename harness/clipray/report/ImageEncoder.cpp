@@ -2,8 +2,9 @@
 
 #include "clipray/report/ImageEncoder.hpp"
 
-#include <stdexcept>
 #include <string>
+
+#include "clipray/util/Check.hpp"
 
 namespace clipray {
 
@@ -45,10 +46,8 @@ void ImageEncoder::finishOldest() {
 void ImageEncoder::collect(std::vector<RunRecord>& runs) {
   while (!pending_.empty()) finishOldest();
   for (auto& [key, images] : done_) {
-    if (key >= runs.size()) {
-      throw std::out_of_range("ImageEncoder::collect: run " + std::to_string(key) + " of " +
-                              std::to_string(runs.size()));
-    }
+    CLIPRAY_CHECK(key < runs.size(), "ImageEncoder::collect: run " + std::to_string(key) + " of " +
+                                         std::to_string(runs.size()));
     runs[key].images = std::move(images);
   }
   done_.clear();

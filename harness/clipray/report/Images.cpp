@@ -53,6 +53,7 @@
 #include "clipray/io/FastDeflate.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/report/RunImages.hpp"
+#include "clipray/util/Check.hpp"
 
 // stb_image_write writes the PNGs, libdeflate compresses them (FastDeflate.hpp).
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -220,19 +221,18 @@ void drawScale(Image& image, int x0) {
 
 template <typename Values>
 void checkSize(const Values& values, std::size_t expected, const char* name) {
-  if (values.size() != expected)
-    throw std::invalid_argument(std::string("encodeRunImages: ") + name + " has " +
-                                std::to_string(values.size()) + " values, the viewport " +
-                                std::to_string(expected));
+  CLIPRAY_CHECK(values.size() == expected, std::string("encodeRunImages: ") + name + " has " +
+                                               std::to_string(values.size()) +
+                                               " values, the viewport " + std::to_string(expected));
 }
 
 // The number of pixels, after checking that every per-pixel image of the comparison has them.
 std::size_t checkedPixelCount(const PixelComparison& pixels) {
   const int width = pixels.viewport.width, height = pixels.viewport.height;
   constexpr int kMaxSide = 1 << 15;
-  if (width <= 0 || height <= 0 || width > kMaxSide || height > kMaxSide)
-    throw std::invalid_argument("encodeRunImages: unusable viewport " + std::to_string(width) +
-                                "x" + std::to_string(height));
+  CLIPRAY_CHECK(
+      width > 0 && height > 0 && width <= kMaxSide && height <= kMaxSide,
+      "encodeRunImages: unusable viewport " + std::to_string(width) + "x" + std::to_string(height));
   const std::size_t count = static_cast<std::size_t>(width) * height;
   checkSize(pixels.rasterDepth, count, "rasterDepth");
   checkSize(pixels.analyticDepth, count, "analyticDepth");

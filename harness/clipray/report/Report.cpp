@@ -21,6 +21,7 @@
 #include "clipray/InputError.hpp"
 #include "clipray/report/HtmlReport.hpp"
 #include "clipray/io/StagedWrite.hpp"
+#include "clipray/util/Check.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {
@@ -352,13 +353,13 @@ nlohmann::json measuredJson(const RunRecord& run) {
 }  // namespace
 
 std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds) {
-  if (rounds.empty()) throw std::invalid_argument("mergeRounds: no rounds");
+  CLIPRAY_CHECK(!rounds.empty(), "mergeRounds: no rounds");
   for (const std::vector<RunRecord>& round : rounds) {
     bool same = round.size() == rounds.front().size();
     for (std::size_t i = 0; same && i < round.size(); ++i) {
       same = runFolderName(round[i]) == runFolderName(rounds.front()[i]);
     }
-    if (!same) throw std::invalid_argument("mergeRounds: the rounds made different runs");
+    CLIPRAY_CHECK(same, "mergeRounds: the rounds made different runs");
   }
   std::vector<RunRecord> runs = std::move(rounds.back());
   if (rounds.size() == 1) return runs;

@@ -70,9 +70,9 @@ inline constexpr std::size_t kReportedClusters = 5;
 // --rounds) as one record per run: the last round's (with its images), whose timings and CPU times
 // are each one's median over rounds 2.. (the first round pays for cold caches, page faults and the
 // GL driver's first draws), whose analyticOverRaster is the median of those rounds' own ratios,
-// and whose firstRound and firstRoundCpu keep round 1's. One round is returned as it is. Throws
-// std::invalid_argument for no rounds or rounds of different runs, and std::runtime_error naming
-// the run when a round measured it differently from the last (anything but timings and images).
+// and whose firstRound and firstRoundCpu keep round 1's. One round is returned as it is. No rounds
+// or rounds of different runs are a bug (InternalError); a round that measured a run differently
+// from the last (anything but timings and images) throws std::runtime_error naming the run.
 std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds);
 
 // "<scene>/<camera>-<convention>-<format>-<vertex mode>": the run's folder under the output folder.

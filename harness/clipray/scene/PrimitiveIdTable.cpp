@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cstdint>
 #include <iterator>
-#include <stdexcept>
 
 #include "clipray/scene/Scene.hpp"
+#include "clipray/util/Check.hpp"
 
 namespace clipray {
 
@@ -16,9 +16,9 @@ PrimitiveIdTable::PrimitiveIdTable(const Scene& scene) {
     firstIdOfObject.push_back(static_cast<std::uint32_t>(next));
     next += object.triangles.size();
   }
-  if (next - 1 + scene.primitives.size() > PrimitiveIdTable::kMaxPrimitives) {
-    throw std::length_error("scene has too many primitives for 32-bit primitive ids");
-  }
+  // The scene reader refuses such a scene (InputError naming /objects) before any table is made.
+  CLIPRAY_CHECK(next - 1 + scene.primitives.size() <= PrimitiveIdTable::kMaxPrimitives,
+                "scene has too many primitives for 32-bit primitive ids");
   firstAnalyticId = static_cast<std::uint32_t>(next);
   analyticCount = static_cast<std::uint32_t>(scene.primitives.size());
 }

@@ -2,11 +2,11 @@
 // and viewport it is drawn under, and the scene's counts and names.
 
 #include <cstddef>
-#include <stdexcept>
 #include <variant>
 
 #include "clipray/math/Projections.hpp"
 #include "clipray/scene/Scene.hpp"
+#include "clipray/util/Check.hpp"
 
 namespace clipray {
 
@@ -20,12 +20,12 @@ glm::dmat4 Camera::clipFromWorld(DepthMode drawnUnder, Viewport drawnAt) const {
                                    p->farDistance, mode) *
            viewFromWorld;
   }
-  if (const auto* o = std::get_if<OrthographicProjection>(&projection)) {
-    return orthographicClipFromView(o->left, o->right, o->bottom, o->top, o->nearDistance,
-                                    o->farDistance, mode) *
-           viewFromWorld;
-  }
-  throw std::logic_error("camera \"" + name + "\" has neither a projection nor a clipFromWorld");
+  const auto* o = std::get_if<OrthographicProjection>(&projection);
+  CLIPRAY_CHECK(o != nullptr,
+                "camera \"" + name + "\" has neither a projection nor a clipFromWorld");
+  return orthographicClipFromView(o->left, o->right, o->bottom, o->top, o->nearDistance,
+                                  o->farDistance, mode) *
+         viewFromWorld;
 }
 
 std::size_t Scene::triangleCount() const {
