@@ -10,7 +10,6 @@
 #include "PickDemo.hpp"
 #include "PickScript.hpp"
 #include "clipray/InputError.hpp"
-#include "clipray/gl/GlContext.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "clipray/util/ExitStatus.hpp"
 #include "clipray/util/Version.hpp"

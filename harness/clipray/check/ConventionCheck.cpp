@@ -266,14 +266,15 @@ std::vector<MethodPrediction> predictMethodErrors(const CheckInput& input, Depth
   return predictions;
 }
 
-}  // namespace
-
-bool CheckReport::hasErrors() const {
-  return std::any_of(findings.begin(), findings.end(),
-                     [](const Finding& f) { return f.severity == "error"; });
+// The convention the app draws under: --declared-depth, else GL's default NEGATIVE_ONE_TO_ONE.
+DepthConvention declaredConvention(const CheckInput& input) {
+  return input.declaredDepth.value_or(DepthConvention::NegativeOneToOne);
 }
 
-CheckReport checkConventions(const CheckInput& input) {
+// Refuses what no reading can come from (InputError naming the option): non-finite or
+// non-projective matrices, a view that is not affine, an empty depth range, a matrix whose inverse
+// overflows.
+void requireUsableInput(const CheckInput& input) {
   if (input.projection) requireProjection(*input.projection, "--projection");
   if (input.view) {
     requireFinite(*input.view, "--view");
@@ -289,16 +290,14 @@ CheckReport checkConventions(const CheckInput& input) {
     throw InputError("--depth-range: near and far are both " + number(input.depthRange.x) +
                      "; every depth would be equal");
   }
-
-  CheckReport report;
-  MatrixProperties& p = report.properties;
-  std::vector<Finding>& findings = report.findings;
-  const DepthConvention declared = input.declaredDepth.value_or(DepthConvention::NegativeOneToOne);
-  const glm::dmat4 worldFromClip = glm::inverse(m);
-  requireFinite(worldFromClip,
+  requireFinite(glm::inverse(m),
                 std::string(input.projection ? "--projection * --view" : "--clip-from-world") +
                     " (its inverse)");
+}
 
+// The precision the entries carry (p.precision), and whether the matrix reads as listed transposed.
+EntryPrecision readPrecision(const CheckInput& input, MatrixProperties& p) {
+  const glm::dmat4& m = input.clipFromWorld;
   // The precision the entries carry, and the uncertainty of every figure read from them.
   std::vector<glm::dmat4> listed = {m};
   if (input.projection) listed = {*input.projection, input.view.value_or(glm::dmat4(1.0))};
@@ -311,6 +310,133 @@ CheckReport checkConventions(const CheckInput& input) {
       std::max(1e-6, 16.0 * (8.0 * precision.unitRoundoff() + precision.decimalRelative()));
   p.likelyTransposed = projectionStructureScore(glm::transpose(m), structureTolerance) == 5 &&
                        projectionStructureScore(m, structureTolerance) <= 3;
+  return precision;
+}
+
+// A perspective matrix: its eye, whether it is oblique, off-axis or reversed, its near and far
+// planes, and which convention it was built for.
+void readPerspective(const MatrixReading& reading, const CheckInput& input, MatrixProperties& p) {
+  const DepthConvention declared = declaredConvention(input);
+  const auto distance = [](const Uncertain& u) -> std::optional<Uncertain> {
+    return std::isfinite(u.value) ? std::optional<Uncertain>(u) : std::nullopt;
+  };
+  p.eye = reading.eye;
+  p.eyeError = reading.eyeError;
+  // The near plane is oblique when the depth row's xyz leaves the w row's line (any convention:
+  // every near plane z = z_n w is then tilted with it).
+  p.oblique = reading.obliqueAngleZo.clearlyPositive();
+  // z_ndc = b + a / s along the view: a > 0 means depth falls with distance. Where the
+  // translation cancels a (an eye far from the origin), b still tells for a near plane facing
+  // the view: z_ndc tends to b far away, 1 or more for classic depth and 0 or less reversed.
+  // An oblique plane's b says nothing: then reversal stays undecided.
+  if (!reading.a.withinErrorOfZero()) {
+    p.reversed = reading.a.clearlyPositive();
+  } else if (!p.oblique &&
+             (reading.b.value >= 1.0 - reading.b.error || reading.b.value <= reading.b.error)) {
+    p.reversed = reading.b.value < 0.5;
+  } else {
+    p.reversedDecided = false;
+  }
+  if (p.reversed) {
+    // Reversed: near at z_ndc = 1; far at 0 under ZO, at -1 under NO (Godot's GL renderer).
+    p.builtFor = "zo-reversed";
+    p.near = distance(reading.nearIfReversed);
+    const bool underNo = declared == DepthConvention::NegativeOneToOne && input.declaredDepth;
+    const Uncertain farZ{reading.b.value + (underNo ? 1.0 : 0.0), reading.b.error};
+    // No distance reaching the far depth (a ZO-reversed matrix under NO) clips nothing either;
+    // but where the translation cancels a, no distance is known at all.
+    p.far = distance(underNo ? reading.nearIfNo : reading.farIfReversed);
+    p.infiniteFar = farZ.withinErrorOfZero() || (!p.far && !reading.a.withinErrorOfZero());
+    if (p.infiniteFar) p.far.reset();
+  } else {
+    p.nearIfBuiltForNo = distance(reading.nearIfNo);
+    p.nearIfBuiltForZo = distance(reading.nearIfZo);
+    p.infiniteFar = !(std::abs(1.0 - reading.b.value) > reading.b.error);
+    if (!p.infiniteFar) p.far = distance(reading.far);
+    BuildReading build =
+        readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear, "near plane");
+    if (p.oblique && !input.statedNear) {
+      // A tilted near plane's distance along the view is no value the app typed.
+      build = {"ambiguous",
+               "the near plane is oblique: its distance along the view is not a typed value",
+               {}};
+    }
+    p.builtFor = build.builtFor;
+    p.builtForReason = build.reason;
+    p.statedNearMatches = build.statedMatches;
+    p.near = declared == DepthConvention::ZeroToOne ? p.nearIfBuiltForZo : p.nearIfBuiltForNo;
+  }
+  p.offAxis = reading.offAxisAngle.clearlyPositive();
+  p.fovYDegrees = reading.fovYDegrees;
+  p.fovXDegrees = reading.fovXDegrees;
+}
+
+// An orthographic matrix: its extent, its near and far plane offsets and which convention it was
+// built for.
+void readOrthographic(const MatrixReading& reading, const CheckInput& input,
+                      const std::optional<glm::dvec3>& viewOrigin, MatrixProperties& p) {
+  const DepthConvention declared = declaredConvention(input);
+  // Orthographic: near and far are offsets along the view direction from the camera position
+  // (--view), else from the world origin (the camera position when the matrix is a projection
+  // alone). Reversal does not show in a parallel projection's matrix: it is what is declared.
+  p.reversed = input.declaredReversed;
+  p.orthographicAnchor = viewOrigin ? "view" : "world-origin";
+  p.extentX = reading.extentX;
+  p.extentY = reading.extentY;
+  p.oblique = reading.obliqueAngleZo.clearlyPositive();
+  if (p.reversed) {
+    p.builtFor = "zo-reversed";
+    p.near = reading.nearIfReversed;
+    p.far = reading.farIfReversed;
+  } else {
+    p.nearIfBuiltForNo = reading.nearIfNo;
+    p.nearIfBuiltForZo = reading.nearIfZo;
+    p.far = reading.far;
+    // Offsets from the world origin are no values an app typed: only a camera position (the
+    // view, or a projection given alone) makes the readings comparable with typed planes.
+    const BuildReading build =
+        viewOrigin ? readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear,
+                               "near plane", true, p.far)
+                   : BuildReading{"ambiguous",
+                                  "an orthographic matrix alone does not fix the camera "
+                                  "position its near plane is measured from (give --projection "
+                                  "and --view)",
+                                  {}};
+    p.builtFor = build.builtFor;
+    p.builtForReason = build.reason;
+    p.statedNearMatches = build.statedMatches;
+    p.near = declared == DepthConvention::ZeroToOne ? p.nearIfBuiltForZo : p.nearIfBuiltForNo;
+  }
+  if (p.near && p.far) p.depthExtent = std::abs(p.far->value - p.near->value);
+}
+
+// Whether the stated far plane (--far) is the matrix's.
+void readStatedFar(const MatrixReading& reading, const CheckInput& input, MatrixProperties& p) {
+  if (input.statedFar && !p.infiniteFar && p.far &&
+      std::abs(p.far->value - *input.statedFar) >
+          p.far->error + kStatedPlaneTolerance * std::abs(*input.statedFar)) {
+    p.statedFarMatches = false;
+  } else if (input.statedFar && p.infiniteFar && std::isfinite(*input.statedFar)) {
+    // An infinite reading covers any far plane beyond what the precision can tell apart.
+    p.statedFarMatches = *input.statedFar * (1.0 - reading.b.value) >= 0.0;
+  }
+}
+
+// Handedness, and a Vulkan-style y flip: negating the clip y row also flips the frame, so a
+// left-handed frame whose screen up points down a Y-up world reads as that flip, not a mirror.
+void readHandedness(const MatrixReading& reading, const CheckInput& input, MatrixProperties& p) {
+  const bool frameLeftHanded = reading.handedness.value > 0.0;
+  p.yFlipped = input.projection ? (*input.projection)[1][1] < 0.0
+                                : frameLeftHanded && reading.screenUpY.clearlyNegative();
+  p.leftHanded = frameLeftHanded != p.yFlipped;
+}
+
+// What the matrix is, read from the matrix alone (and the stated planes): the properties the
+// findings are made from.
+MatrixProperties readProperties(const CheckInput& input) {
+  MatrixProperties p;
+  const glm::dmat4& m = input.clipFromWorld;
+  const EntryPrecision precision = readPrecision(input, p);
   const std::optional<glm::dvec3> viewOrigin =
       input.view ? std::optional<glm::dvec3>(glm::dvec3(glm::inverse(*input.view)[3]))
                  : std::nullopt;
@@ -321,129 +447,32 @@ CheckReport checkConventions(const CheckInput& input) {
   p.viewDirection = reading.viewDirection;
   p.viewDirectionErrorDegrees = reading.viewDirectionAngle.error * 180.0 / kPi;
 
-  const auto distance = [](const Uncertain& u) -> std::optional<Uncertain> {
-    return std::isfinite(u.value) ? std::optional<Uncertain>(u) : std::nullopt;
-  };
-  const DepthMode drawn{declared, false};
   if (p.perspective) {
-    p.eye = reading.eye;
-    p.eyeError = reading.eyeError;
-    // The near plane is oblique when the depth row's xyz leaves the w row's line (any convention:
-    // every near plane z = z_n w is then tilted with it).
-    p.oblique = reading.obliqueAngleZo.clearlyPositive();
-    // z_ndc = b + a / s along the view: a > 0 means depth falls with distance. Where the
-    // translation cancels a (an eye far from the origin), b still tells for a near plane facing
-    // the view: z_ndc tends to b far away, 1 or more for classic depth and 0 or less reversed.
-    // An oblique plane's b says nothing: then reversal stays undecided.
-    if (!reading.a.withinErrorOfZero()) {
-      p.reversed = reading.a.clearlyPositive();
-    } else if (!p.oblique &&
-               (reading.b.value >= 1.0 - reading.b.error || reading.b.value <= reading.b.error)) {
-      p.reversed = reading.b.value < 0.5;
-    } else {
-      p.reversedDecided = false;
-    }
-    if (p.reversed) {
-      // Reversed: near at z_ndc = 1; far at 0 under ZO, at -1 under NO (Godot's GL renderer).
-      p.builtFor = "zo-reversed";
-      p.near = distance(reading.nearIfReversed);
-      const bool underNo = declared == DepthConvention::NegativeOneToOne && input.declaredDepth;
-      const Uncertain farZ{reading.b.value + (underNo ? 1.0 : 0.0), reading.b.error};
-      // No distance reaching the far depth (a ZO-reversed matrix under NO) clips nothing either;
-      // but where the translation cancels a, no distance is known at all.
-      p.far = distance(underNo ? reading.nearIfNo : reading.farIfReversed);
-      p.infiniteFar = farZ.withinErrorOfZero() || (!p.far && !reading.a.withinErrorOfZero());
-      if (p.infiniteFar) p.far.reset();
-    } else {
-      p.nearIfBuiltForNo = distance(reading.nearIfNo);
-      p.nearIfBuiltForZo = distance(reading.nearIfZo);
-      p.infiniteFar = !(std::abs(1.0 - reading.b.value) > reading.b.error);
-      if (!p.infiniteFar) p.far = distance(reading.far);
-      BuildReading build =
-          readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear, "near plane");
-      if (p.oblique && !input.statedNear) {
-        // A tilted near plane's distance along the view is no value the app typed.
-        build = {"ambiguous",
-                 "the near plane is oblique: its distance along the view is not a typed value",
-                 {}};
-      }
-      p.builtFor = build.builtFor;
-      p.builtForReason = build.reason;
-      p.statedNearMatches = build.statedMatches;
-      p.near = declared == DepthConvention::ZeroToOne ? p.nearIfBuiltForZo : p.nearIfBuiltForNo;
-    }
-    p.offAxis = reading.offAxisAngle.clearlyPositive();
-    p.fovYDegrees = reading.fovYDegrees;
-    p.fovXDegrees = reading.fovXDegrees;
+    readPerspective(reading, input, p);
   } else {
-    // Orthographic: near and far are offsets along the view direction from the camera position
-    // (--view), else from the world origin (the camera position when the matrix is a projection
-    // alone). Reversal does not show in a parallel projection's matrix: it is what is declared.
-    p.reversed = input.declaredReversed;
-    p.orthographicAnchor = viewOrigin ? "view" : "world-origin";
-    p.extentX = reading.extentX;
-    p.extentY = reading.extentY;
-    p.oblique = reading.obliqueAngleZo.clearlyPositive();
-    if (p.reversed) {
-      p.builtFor = "zo-reversed";
-      p.near = reading.nearIfReversed;
-      p.far = reading.farIfReversed;
-    } else {
-      p.nearIfBuiltForNo = reading.nearIfNo;
-      p.nearIfBuiltForZo = reading.nearIfZo;
-      p.far = reading.far;
-      // Offsets from the world origin are no values an app typed: only a camera position (the
-      // view, or a projection given alone) makes the readings comparable with typed planes.
-      const BuildReading build =
-          viewOrigin ? readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear,
-                                 "near plane", true, p.far)
-                     : BuildReading{"ambiguous",
-                                    "an orthographic matrix alone does not fix the camera "
-                                    "position its near plane is measured from (give --projection "
-                                    "and --view)",
-                                    {}};
-      p.builtFor = build.builtFor;
-      p.builtForReason = build.reason;
-      p.statedNearMatches = build.statedMatches;
-      p.near = declared == DepthConvention::ZeroToOne ? p.nearIfBuiltForZo : p.nearIfBuiltForNo;
-    }
-    if (p.near && p.far) p.depthExtent = std::abs(p.far->value - p.near->value);
+    readOrthographic(reading, input, viewOrigin, p);
   }
-  if (input.statedFar && !p.infiniteFar && p.far &&
-      std::abs(p.far->value - *input.statedFar) >
-          p.far->error + kStatedPlaneTolerance * std::abs(*input.statedFar)) {
-    p.statedFarMatches = false;
-  } else if (input.statedFar && p.infiniteFar && std::isfinite(*input.statedFar)) {
-    // An infinite reading covers any far plane beyond what the precision can tell apart.
-    p.statedFarMatches = *input.statedFar * (1.0 - reading.b.value) >= 0.0;
-  }
+  readStatedFar(reading, input, p);
+  readHandedness(reading, input, p);
+  return p;
+}
 
-  // Handedness, and a Vulkan-style y flip: negating the clip y row also flips the frame, so a
-  // left-handed frame whose screen up points down a Y-up world reads as that flip, not a mirror.
-  const bool frameLeftHanded = reading.handedness.value > 0.0;
-  p.yFlipped = input.projection ? (*input.projection)[1][1] < 0.0
-                                : frameLeftHanded && reading.screenUpY.clearlyNegative();
-  p.leftHanded = frameLeftHanded != p.yFlipped;
+// Ray geometry for the method predictions, under the conventions the app draws with (reversed as
+// the matrix says, or as declared for orthographic matrices).
+DepthMode predictionMode(const CheckInput& input, const MatrixProperties& p) {
+  const DepthConvention declared = declaredConvention(input);
+  const DepthMode drawn{declared, false};
+  return p.perspective ? (p.reversed ? kZeroToOneReversed : drawn)
+                       : DepthMode{declared, input.declaredReversed};
+}
 
-  // Ray geometry for the method predictions, under the conventions the app draws with (reversed as
-  // the matrix says, or as declared for orthographic matrices).
-  const DepthMode mode = p.perspective ? (p.reversed ? kZeroToOneReversed : drawn)
-                                       : DepthMode{declared, input.declaredReversed};
-
-  // ---- Findings ----
+// The matrix against the declared convention and the stated planes: built for the other
+// convention, readable as built for either, a stated near or far plane that is not the matrix's.
+void conventionFindings(const CheckInput& input, const MatrixProperties& p,
+                        std::vector<Finding>& findings) {
+  const DepthConvention declared = declaredConvention(input);
   const std::string declaredName =
       input.declaredDepth ? (declared == DepthConvention::ZeroToOne ? "zo" : "no") : "";
-  if (p.likelyTransposed) {
-    findings.push_back(
-        {"error", "likely-transposed",
-         "the matrix does not have a projection's structure but its transpose does: it was "
-         "probably "
-         "listed row-major (D3D, a C array m[row][col]) and uploaded as column-major",
-         "upload with glUniformMatrix4fv(..., GL_TRUE, ...) or transpose it; clipray check "
-         "--layout row-major reads such a listing"});
-    // Everything else would describe the scrambled matrix: say only what matters.
-    return report;
-  }
   const std::string nearWord = p.perspective ? "near" : "near plane offset";
   if (input.declaredDepth && (p.builtFor == "no" || p.builtFor == "zo") &&
       p.builtFor != declaredName) {
@@ -503,6 +532,12 @@ CheckReport checkConventions(const CheckInput& input) {
                             (p.infiniteFar ? std::string("infinite") : number(p.far->value)) + ")",
                         "check which matrix the app uploads, and the far value it builds it with"});
   }
+}
+
+// Reversed-Z: under a convention that wastes it, or against the depth test the app declares.
+void depthTestFindings(const CheckInput& input, const MatrixProperties& p,
+                       std::vector<Finding>& findings) {
+  const DepthConvention declared = declaredConvention(input);
   const bool reversedRange = input.depthRange.x > input.depthRange.y;
   if ((p.reversed || input.declaredReversed || reversedRange) &&
       declared == DepthConvention::NegativeOneToOne) {
@@ -530,6 +565,12 @@ CheckReport checkConventions(const CheckInput& input) {
              ? "draw with glDepthFunc(GL_GREATER) and glClearDepth(0), or pass --reversed if you do"
              : "build the projection reversed (near -> 1, far -> 0) or use GL_LESS and clear 1"});
   }
+}
+
+// The camera frame: a y flip, the window origin, a mirror, an oblique near plane, a far plane at
+// infinity.
+void frameFindings(const CheckInput& input, const MatrixProperties& p,
+                   std::vector<Finding>& findings) {
   if (p.yFlipped) {
     if (input.origin != WindowOrigin::UpperLeft) {
       findings.push_back(
@@ -575,47 +616,53 @@ CheckReport checkConventions(const CheckInput& input) {
          "build picking rays from the plane cross product with the sign fixed by the near plane "
          "(clipray's robust method); t_max = +inf"});
   }
-  // Float precision: what each ray method errs by at this camera, from the ray library.
-  if (input.predictMethods) report.methods = predictMethodErrors(input, mode);
-  {
-    double worstClassic = 0.0;
-    std::string table;
-    for (const MethodPrediction& prediction : report.methods) {
-      if (!prediction.unavailable.empty()) continue;
-      // Float precision risk: the classic methods err in float where they would not in double
-      // (non-finite rays and structural failures belong to other findings).
-      if ((prediction.method == "two_point" || prediction.method == "unproject_glm") &&
-          prediction.nonfinite == 0 && prediction.angleErrorPxDouble < 0.01) {
-        worstClassic = std::max(worstClassic, prediction.angleErrorPx);
-      }
-      table += (table.empty() ? "" : "; ") + prediction.method + " " +
-               (prediction.nonfinite ? std::string("non-finite")
-                                     : number(prediction.angleErrorPx) + " / " +
-                                           number(prediction.originLateralErrorPx)) +
-               (prediction.backward ? " (backward)" : "");
-    }
-    if (worstClassic > 0.5) {
-      const std::string where = p.perspective && p.eye && p.near
-                                    ? "the eye is " + number(glm::length(*p.eye)) +
-                                          " units from the origin with near " +
-                                          number(p.near->value) + " (ratio " +
-                                          number(glm::length(*p.eye) / p.near->value) + ")"
-                                    : "at this camera";
-      findings.push_back(
-          {"warning", "float-precision-risk",
-           where +
-               "; float picking rays from this matrix err by up to (direction / origin, in "
-               "pixels): " +
-               table,
-           "build rays with plane-cross directions and near-plane origins (clipray's robust "
-           "method), "
-           "and make the matrix camera-relative (remove the eye's translation in double before "
-           "rounding to float)"});
-    }
-  }
+}
 
-  // Depth precision over the scene: two surfaces 1% apart are separable while the depth they map
-  // to differs by more than one stored quantum; dz ~ z^2 (1/n - 1/f) dd for perspective.
+// The finding on the method predictions: float picking rays that err where double ones would not.
+void floatPrecisionFinding(const MatrixProperties& p, const std::vector<MethodPrediction>& methods,
+                           std::vector<Finding>& findings) {
+  double worstClassic = 0.0;
+  std::string table;
+  for (const MethodPrediction& prediction : methods) {
+    if (!prediction.unavailable.empty()) continue;
+    // Float precision risk: the classic methods err in float where they would not in double
+    // (non-finite rays and structural failures belong to other findings).
+    if ((prediction.method == "two_point" || prediction.method == "unproject_glm") &&
+        prediction.nonfinite == 0 && prediction.angleErrorPxDouble < 0.01) {
+      worstClassic = std::max(worstClassic, prediction.angleErrorPx);
+    }
+    table += (table.empty() ? "" : "; ") + prediction.method + " " +
+             (prediction.nonfinite ? std::string("non-finite")
+                                   : number(prediction.angleErrorPx) + " / " +
+                                         number(prediction.originLateralErrorPx)) +
+             (prediction.backward ? " (backward)" : "");
+  }
+  if (worstClassic > 0.5) {
+    const std::string where = p.perspective && p.eye && p.near
+                                  ? "the eye is " + number(glm::length(*p.eye)) +
+                                        " units from the origin with near " +
+                                        number(p.near->value) + " (ratio " +
+                                        number(glm::length(*p.eye) / p.near->value) + ")"
+                                  : "at this camera";
+    findings.push_back(
+        {"warning", "float-precision-risk",
+         where +
+             "; float picking rays from this matrix err by up to (direction / origin, in "
+             "pixels): " +
+             table,
+         "build rays with plane-cross directions and near-plane origins (clipray's robust "
+         "method), "
+         "and make the matrix camera-relative (remove the eye's translation in double before "
+         "rounding to float)"});
+  }
+}
+
+// Depth precision over the scene: two surfaces 1% apart are separable while the depth they map
+// to differs by more than one stored quantum; dz ~ z^2 (1/n - 1/f) dd for perspective.
+void depthPrecisionFinding(const CheckInput& input, const MatrixProperties& p,
+                           std::vector<Finding>& findings) {
+  const glm::dmat4& m = input.clipFromWorld;
+  const DepthConvention declared = declaredConvention(input);
   if (input.sceneExtent && p.perspective && p.near) {
     const auto [lo, hi] = *input.sceneExtent;
     double farthest = 0.0;
@@ -656,6 +703,38 @@ CheckReport checkConventions(const CheckInput& input) {
            "(relative depth precision then stays ~2^-24 at every distance)"});
     }
   }
+}
+
+}  // namespace
+
+bool CheckReport::hasErrors() const {
+  return std::any_of(findings.begin(), findings.end(),
+                     [](const Finding& f) { return f.severity == "error"; });
+}
+
+CheckReport checkConventions(const CheckInput& input) {
+  requireUsableInput(input);
+  CheckReport report;
+  report.properties = readProperties(input);
+  const MatrixProperties& p = report.properties;
+  if (p.likelyTransposed) {
+    report.findings.push_back(
+        {"error", "likely-transposed",
+         "the matrix does not have a projection's structure but its transpose does: it was "
+         "probably "
+         "listed row-major (D3D, a C array m[row][col]) and uploaded as column-major",
+         "upload with glUniformMatrix4fv(..., GL_TRUE, ...) or transpose it; clipray check "
+         "--layout row-major reads such a listing"});
+    // Everything else would describe the scrambled matrix: say only what matters.
+    return report;
+  }
+  conventionFindings(input, p, report.findings);
+  depthTestFindings(input, p, report.findings);
+  frameFindings(input, p, report.findings);
+  // Float precision: what each ray method errs by at this camera, from the ray library.
+  if (input.predictMethods) report.methods = predictMethodErrors(input, predictionMode(input, p));
+  floatPrecisionFinding(p, report.methods, report.findings);
+  depthPrecisionFinding(input, p, report.findings);
   return report;
 }
 

@@ -123,6 +123,125 @@ std::string glString(GLenum name) {
   return text ? reinterpret_cast<const char*>(text) : "";
 }
 
+// One mesh object's draw: its first primitive id, and where its indices and vertices start.
+struct MeshDraw {
+  std::uint32_t firstId;
+  GLsizei indexCount;
+  std::size_t indexOffset;
+  GLint baseVertex;
+};
+
+// One analytic primitive's draw: its id and kind, clipFromLocal for the shader's rays, and where
+// its proxy's indices and vertices start (a full-screen proxy is a clip-space triangle).
+struct PrimitiveDraw {
+  std::uint32_t id;
+  int kind;
+  glm::dmat4 clipFromLocal;
+  bool fullScreen;
+  std::size_t indexOffset;
+  GLint baseVertex;
+};
+
+// What a frame uploads and draws: positions (x, y, z, w as float, in the vertex mode's input
+// space) and triangle indices, the mesh objects' draws and the analytic primitives' proxies'.
+struct RasterGeometry {
+  std::vector<float> vertices;
+  std::vector<std::uint32_t> indices;
+  std::vector<MeshDraw> draws;
+  std::vector<PrimitiveDraw> primitiveDraws;
+};
+
+// Vertex data as the vertex mode prescribes (the matrix row comments are in raster.vert): the
+// matrix the vertex shader applies to the uploaded positions.
+glm::dmat4 clipFromInputOf(const RenderRequest& request) {
+  const glm::dmat4& clipFromWorld = request.clipFromWorld;
+  glm::dmat4 clipFromInput(1.0);
+  if (request.vertexMode == VertexMode::World) clipFromInput = clipFromWorld;
+  if (request.vertexMode == VertexMode::CameraRelative) {
+    glm::dmat4 worldFromRelative(1.0);
+    worldFromRelative[3] = glm::dvec4(request.vertexReference, 1.0);
+    clipFromInput = clipFromWorld * worldFromRelative;
+  }
+  return clipFromInput;
+}
+
+// The mesh objects' positions in the vertex mode's input space, their triangles and draws.
+void appendMeshes(const RenderRequest& request, const PrimitiveIdTable& ids,
+                  RasterGeometry& geometry) {
+  const Scene& scene = *request.scene;
+  const glm::dmat4& clipFromWorld = request.clipFromWorld;
+  std::vector<float>& vertices = geometry.vertices;
+  std::vector<std::uint32_t>& indices = geometry.indices;
+  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+    const MeshObject& object = scene.objects[k];
+    const GLint baseVertex = static_cast<GLint>(vertices.size() / 4);
+    for (const glm::dvec3& p : object.worldPositions) {
+      glm::dvec4 input(p, 1.0);
+      if (request.vertexMode == VertexMode::CameraRelative)
+        input = glm::dvec4(p - request.vertexReference, 1.0);
+      if (request.vertexMode == VertexMode::Pretransformed)
+        input = clipFromWorld * glm::dvec4(p, 1.0);
+      for (int c = 0; c < 4; ++c) vertices.push_back(static_cast<float>(input[c]));
+    }
+    geometry.draws.push_back({ids.firstIdOfObject[k],
+                              static_cast<GLsizei>(object.triangles.size() * 3),
+                              indices.size() * sizeof(std::uint32_t), baseVertex});
+    for (const glm::u32vec3& t : object.triangles) {
+      indices.insert(indices.end(), {t.x, t.y, t.z});
+    }
+  }
+}
+
+// Analytic primitives: a proxy that covers each one, in its local frame. Bounded shapes get a
+// box 1/16 larger than their canonical extent (flat ones a slab 1/16 thick), so the proxy's
+// outline lies strictly outside the shape's and float vertex error cannot uncover a pixel the
+// shape covers. The infinite plane gets a full-screen triangle in clip space instead: w = 0
+// vertices would need the rasterizer's clipping to reach the horizon exactly, while the
+// full-screen proxy simply asks every pixel's ray (the shader discards misses).
+void appendPrimitiveProxies(const RenderRequest& request, const PrimitiveIdTable& ids,
+                            RasterGeometry& geometry) {
+  const Scene& scene = *request.scene;
+  const glm::dmat4& clipFromWorld = request.clipFromWorld;
+  std::vector<float>& vertices = geometry.vertices;
+  std::vector<std::uint32_t>& indices = geometry.indices;
+  constexpr std::uint32_t kBoxTriangles[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5},
+                                                  {0, 4, 5}, {0, 5, 1}, {2, 3, 7}, {2, 7, 6},
+                                                  {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+  for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
+    const AnalyticPrimitive& primitive = scene.primitives[p];
+    const GLint baseVertex = static_cast<GLint>(vertices.size() / 4);
+    const bool fullScreen = primitive.kind == PrimitiveKind::Plane;
+    geometry.primitiveDraws.push_back({ids.firstAnalyticId + static_cast<std::uint32_t>(p),
+                                       static_cast<int>(primitive.kind),
+                                       clipFromWorld * primitive.worldFromLocal, fullScreen,
+                                       indices.size() * sizeof(std::uint32_t), baseVertex});
+    if (fullScreen) {
+      vertices.insert(vertices.end(), {-1, -1, 0, 1, 3, -1, 0, 1, -1, 3, 0, 1});
+      indices.insert(indices.end(), {0, 1, 2});
+      continue;
+    }
+    const bool flat =
+        primitive.kind == PrimitiveKind::Disk || primitive.kind == PrimitiveKind::Quad;
+    const float extent = 1.0625f, thickness = flat ? 0.0625f : extent;
+    for (int corner = 0; corner < 8; ++corner) {
+      vertices.insert(vertices.end(), {corner & 1 ? extent : -extent, corner & 2 ? extent : -extent,
+                                       corner & 4 ? thickness : -thickness, 1.0f});
+    }
+    for (const auto& triangle : kBoxTriangles) {
+      indices.insert(indices.end(), {triangle[0], triangle[1], triangle[2]});
+    }
+  }
+}
+
+// The frame's geometry: the mesh objects first, then the primitives' proxies.
+RasterGeometry rasterGeometry(const RenderRequest& request) {
+  const PrimitiveIdTable ids(*request.scene);
+  RasterGeometry geometry;
+  appendMeshes(request, ids, geometry);
+  appendPrimitiveProxies(request, ids, geometry);
+  return geometry;
+}
+
 }  // namespace
 
 std::string nameShaderSources(const std::string& log, const std::vector<std::string>& files) {
@@ -170,6 +289,18 @@ struct Renderer::State {
     GLint clipFromInput = -1, clipFromLocal = -1, viewportSize = -1, nearNdcZ = -1, facingSign = -1,
           parallel = -1, clipMinZ = -1, kind = -1, primitiveId = -1;
   } primitiveUniforms;
+
+  // The steps of a frame, in the order render takes them.
+  void upload(const RasterGeometry& geometry);
+  // A fresh FBO of the viewport's size with the depth format's attachment; GlError if incomplete.
+  void createTarget(Viewport viewport, DepthFormat depthFormat);
+  // Binds the FBO and sets the fixed state the run draws under: the convention's clip control and
+  // depth test, no culling, blending or multisampling; clears ids to 0 and depth to the far value.
+  void beginFrame(const RenderRequest& request);
+  void drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput);
+  void drawPrimitives(const RenderRequest& request, const std::vector<PrimitiveDraw>& draws);
+  // Depth (GL_FLOAT) and ids of the viewport, then the default framebuffer bound again.
+  RasterFrame readBack(Viewport viewport);
 };
 
 Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
@@ -243,119 +374,41 @@ Renderer::~Renderer() {
   glDeleteProgram(state_->primitiveProgram);
 }
 
-RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timings) {
-  const Scene& scene = *request.scene;
-  const Viewport viewport = request.viewport;
-  const PhaseClock rasterClock;
-
-  // Vertex data as the vertex mode prescribes; the matrix row comments are in raster.vert.
-  const glm::dmat4& clipFromWorld = request.clipFromWorld;
-  glm::dmat4 clipFromInput(1.0);
-  if (request.vertexMode == VertexMode::World) clipFromInput = clipFromWorld;
-  if (request.vertexMode == VertexMode::CameraRelative) {
-    glm::dmat4 worldFromRelative(1.0);
-    worldFromRelative[3] = glm::dvec4(request.vertexReference, 1.0);
-    clipFromInput = clipFromWorld * worldFromRelative;
-  }
-  std::vector<float> vertices;
-  std::vector<std::uint32_t> indices;
-  struct Draw {
-    std::uint32_t firstId;
-    GLsizei indexCount;
-    std::size_t indexOffset;
-    GLint baseVertex;
-  };
-  std::vector<Draw> draws;
-  const PrimitiveIdTable ids(scene);
-  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
-    const MeshObject& object = scene.objects[k];
-    const GLint baseVertex = static_cast<GLint>(vertices.size() / 4);
-    for (const glm::dvec3& p : object.worldPositions) {
-      glm::dvec4 input(p, 1.0);
-      if (request.vertexMode == VertexMode::CameraRelative)
-        input = glm::dvec4(p - request.vertexReference, 1.0);
-      if (request.vertexMode == VertexMode::Pretransformed)
-        input = clipFromWorld * glm::dvec4(p, 1.0);
-      for (int c = 0; c < 4; ++c) vertices.push_back(static_cast<float>(input[c]));
-    }
-    draws.push_back({ids.firstIdOfObject[k], static_cast<GLsizei>(object.triangles.size() * 3),
-                     indices.size() * sizeof(std::uint32_t), baseVertex});
-    for (const glm::u32vec3& t : object.triangles) {
-      indices.insert(indices.end(), {t.x, t.y, t.z});
-    }
-  }
-  // Analytic primitives: a proxy that covers each one, in its local frame. Bounded shapes get a
-  // box 1/16 larger than their canonical extent (flat ones a slab 1/16 thick), so the proxy's
-  // outline lies strictly outside the shape's and float vertex error cannot uncover a pixel the
-  // shape covers. The infinite plane gets a full-screen triangle in clip space instead: w = 0
-  // vertices would need the rasterizer's clipping to reach the horizon exactly, while the
-  // full-screen proxy simply asks every pixel's ray (the shader discards misses).
-  struct PrimitiveDraw {
-    std::uint32_t id;
-    int kind;
-    glm::dmat4 clipFromLocal;
-    bool fullScreen;
-    std::size_t indexOffset;
-    GLint baseVertex;
-  };
-  std::vector<PrimitiveDraw> primitiveDraws;
-  constexpr std::uint32_t kBoxTriangles[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5},
-                                                  {0, 4, 5}, {0, 5, 1}, {2, 3, 7}, {2, 7, 6},
-                                                  {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
-  for (std::size_t p = 0; p < scene.primitives.size(); ++p) {
-    const AnalyticPrimitive& primitive = scene.primitives[p];
-    const GLint baseVertex = static_cast<GLint>(vertices.size() / 4);
-    const bool fullScreen = primitive.kind == PrimitiveKind::Plane;
-    primitiveDraws.push_back({ids.firstAnalyticId + static_cast<std::uint32_t>(p),
-                              static_cast<int>(primitive.kind),
-                              clipFromWorld * primitive.worldFromLocal, fullScreen,
-                              indices.size() * sizeof(std::uint32_t), baseVertex});
-    if (fullScreen) {
-      vertices.insert(vertices.end(), {-1, -1, 0, 1, 3, -1, 0, 1, -1, 3, 0, 1});
-      indices.insert(indices.end(), {0, 1, 2});
-      continue;
-    }
-    const bool flat =
-        primitive.kind == PrimitiveKind::Disk || primitive.kind == PrimitiveKind::Quad;
-    const float extent = 1.0625f, thickness = flat ? 0.0625f : extent;
-    for (int corner = 0; corner < 8; ++corner) {
-      vertices.insert(vertices.end(), {corner & 1 ? extent : -extent, corner & 2 ? extent : -extent,
-                                       corner & 4 ? thickness : -thickness, 1.0f});
-    }
-    for (const auto& triangle : kBoxTriangles) {
-      indices.insert(indices.end(), {triangle[0], triangle[1], triangle[2]});
-    }
-  }
-  glNamedBufferData(state_->vertexBuffer, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
+void Renderer::State::upload(const RasterGeometry& geometry) {
+  const std::vector<float>& vertices = geometry.vertices;
+  const std::vector<std::uint32_t>& indices = geometry.indices;
+  glNamedBufferData(vertexBuffer, static_cast<GLsizeiptr>(vertices.size() * sizeof(float)),
                     vertices.data(), GL_STREAM_DRAW);
-  glNamedBufferData(state_->indexBuffer,
-                    static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)), indices.data(),
-                    GL_STREAM_DRAW);
+  glNamedBufferData(indexBuffer, static_cast<GLsizeiptr>(indices.size() * sizeof(std::uint32_t)),
+                    indices.data(), GL_STREAM_DRAW);
+}
 
+void Renderer::State::createTarget(Viewport viewport, DepthFormat depthFormat) {
   // A fresh FBO per frame: the depth format and the size change between runs.
-  glDeleteFramebuffers(1, &state_->framebuffer);
-  glDeleteRenderbuffers(1, &state_->colorBuffer);
-  glDeleteRenderbuffers(1, &state_->depthBuffer);
-  glCreateFramebuffers(1, &state_->framebuffer);
-  glCreateRenderbuffers(1, &state_->colorBuffer);
-  glCreateRenderbuffers(1, &state_->depthBuffer);
-  glNamedRenderbufferStorage(state_->colorBuffer, GL_R32UI, viewport.width, viewport.height);
-  glNamedRenderbufferStorage(state_->depthBuffer, depthInternalFormat(request.depthFormat),
-                             viewport.width, viewport.height);
-  glNamedFramebufferRenderbuffer(state_->framebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER,
-                                 state_->colorBuffer);
-  glNamedFramebufferRenderbuffer(state_->framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER,
-                                 state_->depthBuffer);
-  const GLenum status = glCheckNamedFramebufferStatus(state_->framebuffer, GL_FRAMEBUFFER);
+  glDeleteFramebuffers(1, &framebuffer);
+  glDeleteRenderbuffers(1, &colorBuffer);
+  glDeleteRenderbuffers(1, &depthBuffer);
+  glCreateFramebuffers(1, &framebuffer);
+  glCreateRenderbuffers(1, &colorBuffer);
+  glCreateRenderbuffers(1, &depthBuffer);
+  glNamedRenderbufferStorage(colorBuffer, GL_R32UI, viewport.width, viewport.height);
+  glNamedRenderbufferStorage(depthBuffer, depthInternalFormat(depthFormat), viewport.width,
+                             viewport.height);
+  glNamedFramebufferRenderbuffer(framebuffer, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, colorBuffer);
+  glNamedFramebufferRenderbuffer(framebuffer, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, depthBuffer);
+  const GLenum status = glCheckNamedFramebufferStatus(framebuffer, GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
     char hex[16];
     std::snprintf(hex, sizeof hex, "0x%04X", status);
     throw GlError(std::string("GL: framebuffer incomplete (status ") + hex + ") for depth format " +
-                  depthFormatName(request.depthFormat));
+                  depthFormatName(depthFormat));
   }
   checkGl("framebuffer set-up");
+}
 
-  glBindFramebuffer(GL_FRAMEBUFFER, state_->framebuffer);
+void Renderer::State::beginFrame(const RenderRequest& request) {
+  const Viewport viewport = request.viewport;
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, viewport.width, viewport.height);
   glDepthRange(0.0, 1.0);
   // glClipControl: which NDC z the near clip plane sits at (z_n = -1 or 0).
@@ -371,45 +424,78 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
   glDisable(GL_MULTISAMPLE);
   const GLuint clearId[4] = {0, 0, 0, 0};
   const GLfloat clearDepth = request.mode.reversed ? 0.0f : 1.0f;
-  glClearNamedFramebufferuiv(state_->framebuffer, GL_COLOR, 0, clearId);
-  glClearNamedFramebufferfv(state_->framebuffer, GL_DEPTH, 0, &clearDepth);
+  glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 0, clearId);
+  glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &clearDepth);
+}
 
-  glUseProgram(state_->program);
+void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput) {
+  glUseProgram(program);
   const glm::mat4 uniformMatrix(clipFromInput);  // rounded to float, as an app's uniform is
-  glUniformMatrix4fv(state_->clipFromInputLocation, 1, GL_FALSE, &uniformMatrix[0][0]);
-  glBindVertexArray(state_->vertexArray);
-  for (const Draw& draw : draws) {
+  glUniformMatrix4fv(clipFromInputLocation, 1, GL_FALSE, &uniformMatrix[0][0]);
+  glBindVertexArray(vertexArray);
+  for (const MeshDraw& draw : geometry.draws) {
     if (draw.indexCount == 0) continue;
-    glUniform1ui(state_->firstIdLocation, draw.firstId);
+    glUniform1ui(firstIdLocation, draw.firstId);
     glDrawElementsBaseVertex(GL_TRIANGLES, draw.indexCount, GL_UNSIGNED_INT,
                              reinterpret_cast<const void*>(draw.indexOffset), draw.baseVertex);
   }
-  if (!primitiveDraws.empty()) {
-    const auto& uniforms = state_->primitiveUniforms;
-    glUseProgram(state_->primitiveProgram);
-    glUniform2f(uniforms.viewportSize, static_cast<float>(viewport.width),
-                static_cast<float>(viewport.height));
-    glUniform1f(uniforms.nearNdcZ, static_cast<float>(request.mode.nearNdcZ()));
-    // The CPU rays' orientation, so that both sides agree on which pixels have a ray.
-    const RobustRayGenerator rays(request.clipFromWorld, request.mode);
-    glUniform1f(uniforms.facingSign, static_cast<float>(rays.facingSign()));
-    glUniform1i(uniforms.parallel, rays.isParallel() ? 1 : 0);
-    glUniform1f(uniforms.clipMinZ, static_cast<float>(request.mode.clipVolumeMinZ()));
-    // The proxy must not be cut by the near or far plane where the surface inside it is not:
-    // depth clamping turns that clipping off; the shader decides depth range itself.
-    glEnable(GL_DEPTH_CLAMP);
-    for (const PrimitiveDraw& draw : primitiveDraws) {
-      const glm::mat4 clipFromLocal(draw.clipFromLocal);  // rounded to float once
-      const glm::mat4 clipFromProxy = draw.fullScreen ? glm::mat4(1.0f) : clipFromLocal;
-      glUniformMatrix4fv(uniforms.clipFromLocal, 1, GL_FALSE, &clipFromLocal[0][0]);
-      glUniformMatrix4fv(uniforms.clipFromInput, 1, GL_FALSE, &clipFromProxy[0][0]);
-      glUniform1i(uniforms.kind, draw.kind);
-      glUniform1ui(uniforms.primitiveId, draw.id);
-      glDrawElementsBaseVertex(GL_TRIANGLES, draw.fullScreen ? 3 : 36, GL_UNSIGNED_INT,
-                               reinterpret_cast<const void*>(draw.indexOffset), draw.baseVertex);
-    }
-    glDisable(GL_DEPTH_CLAMP);
+}
+
+void Renderer::State::drawPrimitives(const RenderRequest& request,
+                                     const std::vector<PrimitiveDraw>& draws) {
+  const Viewport viewport = request.viewport;
+  const auto& uniforms = primitiveUniforms;
+  glUseProgram(primitiveProgram);
+  glUniform2f(uniforms.viewportSize, static_cast<float>(viewport.width),
+              static_cast<float>(viewport.height));
+  glUniform1f(uniforms.nearNdcZ, static_cast<float>(request.mode.nearNdcZ()));
+  // The CPU rays' orientation, so that both sides agree on which pixels have a ray.
+  const RobustRayGenerator rays(request.clipFromWorld, request.mode);
+  glUniform1f(uniforms.facingSign, static_cast<float>(rays.facingSign()));
+  glUniform1i(uniforms.parallel, rays.isParallel() ? 1 : 0);
+  glUniform1f(uniforms.clipMinZ, static_cast<float>(request.mode.clipVolumeMinZ()));
+  // The proxy must not be cut by the near or far plane where the surface inside it is not:
+  // depth clamping turns that clipping off; the shader decides depth range itself.
+  glEnable(GL_DEPTH_CLAMP);
+  for (const PrimitiveDraw& draw : draws) {
+    const glm::mat4 clipFromLocal(draw.clipFromLocal);  // rounded to float once
+    const glm::mat4 clipFromProxy = draw.fullScreen ? glm::mat4(1.0f) : clipFromLocal;
+    glUniformMatrix4fv(uniforms.clipFromLocal, 1, GL_FALSE, &clipFromLocal[0][0]);
+    glUniformMatrix4fv(uniforms.clipFromInput, 1, GL_FALSE, &clipFromProxy[0][0]);
+    glUniform1i(uniforms.kind, draw.kind);
+    glUniform1ui(uniforms.primitiveId, draw.id);
+    glDrawElementsBaseVertex(GL_TRIANGLES, draw.fullScreen ? 3 : 36, GL_UNSIGNED_INT,
+                             reinterpret_cast<const void*>(draw.indexOffset), draw.baseVertex);
   }
+  glDisable(GL_DEPTH_CLAMP);
+}
+
+RasterFrame Renderer::State::readBack(Viewport viewport) {
+  RasterFrame frame;
+  frame.viewport = viewport;
+  const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;
+  frame.depth.resize(count);
+  frame.ids.resize(count);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glNamedFramebufferReadBuffer(framebuffer, GL_COLOR_ATTACHMENT0);
+  glReadPixels(0, 0, viewport.width, viewport.height, GL_DEPTH_COMPONENT, GL_FLOAT,
+               frame.depth.data());
+  glReadPixels(0, 0, viewport.width, viewport.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
+               frame.ids.data());
+  checkGl("readback");
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return frame;
+}
+
+RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timings) {
+  const Viewport viewport = request.viewport;
+  const PhaseClock rasterClock;
+  const RasterGeometry geometry = rasterGeometry(request);
+  state_->upload(geometry);
+  state_->createTarget(viewport, request.depthFormat);
+  state_->beginFrame(request);
+  state_->drawMeshes(geometry, clipFromInputOf(request));
+  if (!geometry.primitiveDraws.empty()) state_->drawPrimitives(request, geometry.primitiveDraws);
   glFinish();
   checkGl("drawing");
   if (timings) {
@@ -418,19 +504,7 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
   }
 
   const PhaseClock readbackClock;
-  RasterFrame frame;
-  frame.viewport = viewport;
-  const std::size_t count = static_cast<std::size_t>(viewport.width) * viewport.height;
-  frame.depth.resize(count);
-  frame.ids.resize(count);
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glNamedFramebufferReadBuffer(state_->framebuffer, GL_COLOR_ATTACHMENT0);
-  glReadPixels(0, 0, viewport.width, viewport.height, GL_DEPTH_COMPONENT, GL_FLOAT,
-               frame.depth.data());
-  glReadPixels(0, 0, viewport.width, viewport.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
-               frame.ids.data());
-  checkGl("readback");
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  RasterFrame frame = state_->readBack(viewport);
   if (timings) {
     timings->readback = readbackClock.wallMilliseconds();
     timings->readbackCpu = readbackClock.cpuMilliseconds();

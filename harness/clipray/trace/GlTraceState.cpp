@@ -497,30 +497,8 @@ void GlTraceState::emitDraw(const DumpCall& call,
   onDraw(draw);
 }
 
-bool GlTraceState::apply(const DumpCall& call,
-                         const std::function<void(const TraceDraw&)>& onDraw) {
+bool GlTraceState::applyDepthState(const DumpCall& call) {
   const std::string_view name = call.name;
-  if (endsFrame(name)) {
-    ++frame_;
-    return true;
-  }
-  if (UniformBuffers::needs(name)) {
-    uniformBuffers_.apply(call);
-    if (name != "glLinkProgram") return false;  // which resets the program's uniforms below too
-  }
-  if (name == "glNewList") {
-    // GL_COMPILE (0x1300) records without drawing; GL_COMPILE_AND_EXECUTE draws as well.
-    compilingList_ = enumArgument(call, "mode") == kGlCompile;
-    return false;
-  }
-  if (name == "glEndList") {
-    compilingList_ = false;
-    return false;
-  }
-  if (isDraw(name)) {
-    if (!compilingList_) emitDraw(call, onDraw);
-    return false;
-  }
   if (name == "glClipControl") {
     depth_.clipUpperLeft = enumArgument(call, "origin") == kGlUpperLeft;
     depth_.clipZeroToOne = enumArgument(call, "depth") == kGlZeroToOne;
@@ -560,7 +538,15 @@ bool GlTraceState::apply(const DumpCall& call,
   } else if (name == "glViewport") {
     depth_.viewport = {static_cast<int>(integerArgument(call, "width", 0.0, 2147483647.0)),
                        static_cast<int>(integerArgument(call, "height", 0.0, 2147483647.0))};
-  } else if (name == "glUseProgram" || name == "glUseProgramObjectARB") {
+  } else {
+    return false;
+  }
+  return true;
+}
+
+bool GlTraceState::applyProgramState(const DumpCall& call) {
+  const std::string_view name = call.name;
+  if (name == "glUseProgram" || name == "glUseProgramObjectARB") {
     currentProgram_ = objectArgument(call, name == "glUseProgram" ? "program" : "programObj");
   } else if (name == "glBindProgramPipeline") {
     boundPipeline_ = objectArgument(call, "pipeline");
@@ -600,7 +586,15 @@ bool GlTraceState::apply(const DumpCall& call,
     if (program != 0) setUniformMatrices(program, call);
   } else if (name.starts_with("glProgramUniformMatrix4")) {
     setUniformMatrices(objectArgument(call, "program"), call);
-  } else if (name == "glBindFramebuffer" || name == "glBindFramebufferEXT") {
+  } else {
+    return false;
+  }
+  return true;
+}
+
+bool GlTraceState::applyAttachmentState(const DumpCall& call) {
+  const std::string_view name = call.name;
+  if (name == "glBindFramebuffer" || name == "glBindFramebufferEXT") {
     const std::uint32_t target = enumArgument(call, "target");
     if (target == kGlFramebuffer || target == kGlDrawFramebuffer) {
       drawFramebuffer_ = objectArgument(call, "framebuffer");
@@ -622,7 +616,7 @@ bool GlTraceState::apply(const DumpCall& call,
     // The format of level 0 (glTexImage's other levels do not change what is attached).
     if (name.starts_with("glTexImage") && !name.ends_with("Multisample") &&
         numberArgument(call, "level") != 0.0) {
-      return false;
+      return true;
     }
     const auto bound =
         boundTextures_.find({activeTextureUnit_, textureTarget(argument(call, "target").text)});
@@ -635,11 +629,11 @@ bool GlTraceState::apply(const DumpCall& call,
              name == "glNamedFramebufferRenderbuffer" || name.starts_with("glFramebufferTexture") ||
              name.starts_with("glNamedFramebufferTexture")) {
     const std::uint32_t attachment = enumArgument(call, "attachment");
-    if (attachment != kGlDepthAttachment && attachment != kGlDepthStencilAttachment) return false;
+    if (attachment != kGlDepthAttachment && attachment != kGlDepthStencilAttachment) return true;
     const bool named = name.starts_with("glNamed");
     std::uint32_t framebuffer = drawFramebuffer_;
     if (named) framebuffer = objectArgument(call, "framebuffer");
-    if (!named && enumArgument(call, "target") == kGlReadFramebuffer) return false;
+    if (!named && enumArgument(call, "target") == kGlReadFramebuffer) return true;
     std::uint32_t format = 0;
     if (name.find("Renderbuffer") != std::string_view::npos) {
       const auto found = renderbufferFormats_.find(objectArgument(call, "renderbuffer"));
@@ -651,6 +645,36 @@ bool GlTraceState::apply(const DumpCall& call,
     framebufferDepth_[framebuffer] = format;
     updateDepthFormat();
   } else {
+    return false;
+  }
+  return true;
+}
+
+bool GlTraceState::apply(const DumpCall& call,
+                         const std::function<void(const TraceDraw&)>& onDraw) {
+  const std::string_view name = call.name;
+  if (endsFrame(name)) {
+    ++frame_;
+    return true;
+  }
+  if (UniformBuffers::needs(name)) {
+    uniformBuffers_.apply(call);
+    if (name != "glLinkProgram") return false;  // which resets the program's uniforms below too
+  }
+  if (name == "glNewList") {
+    // GL_COMPILE (0x1300) records without drawing; GL_COMPILE_AND_EXECUTE draws as well.
+    compilingList_ = enumArgument(call, "mode") == kGlCompile;
+    return false;
+  }
+  if (name == "glEndList") {
+    compilingList_ = false;
+    return false;
+  }
+  if (isDraw(name)) {
+    if (!compilingList_) emitDraw(call, onDraw);
+    return false;
+  }
+  if (!applyDepthState(call) && !applyProgramState(call) && !applyAttachmentState(call)) {
     applyMatrixStack(call);
   }
   return false;

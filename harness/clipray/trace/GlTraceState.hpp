@@ -131,6 +131,15 @@ class GlTraceState {
   }
 
  private:
+  // One part of the state each: it takes the calls of its functions (true) and leaves every other
+  // call alone (false). apply tries them in this order, then the matrix stacks.
+  // glClipControl, the depth test, depth range and clears, the viewport.
+  bool applyDepthState(const DumpCall& call);
+  // Programs, program pipelines, uniform names and matrices.
+  bool applyProgramState(const DumpCall& call);
+  // Framebuffers, renderbuffers and textures: what the draw framebuffer's depth is stored in.
+  bool applyAttachmentState(const DumpCall& call);
+  // Fixed function: glMatrixMode, glLoadMatrix*, glFrustum, glPushMatrix, ...
   void applyMatrixStack(const DumpCall& call);
   void emitDraw(const DumpCall& call, const std::function<void(const TraceDraw&)>& onDraw);
   void setUniformMatrices(std::uint32_t program, const DumpCall& call);
