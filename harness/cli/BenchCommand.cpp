@@ -326,7 +326,8 @@ int runBench(const BenchOptions& options) {
           "drawn under)");
     }
     const std::optional<DepthMode> mode = DepthMode::parse(options.convention);
-    if (!mode) {
+    // The ray methods it compares work in a lower-left origin's clip space.
+    if (!mode || mode->origin != ClipOrigin::LowerLeft) {
       throw InputError("--convention: expected no, zo or zo-reversed, got \"" + options.convention +
                        "\"");
     }

@@ -124,8 +124,9 @@ engine::ReconcilePlan planOf(const ReconcileArguments& arguments) {
   }
   plan.kernels = arguments.kernels == "simd" ? KernelChoice::Simd : KernelChoice::Portable;
   if (!arguments.conventions.empty()) {
-    plan.conventions = parseList<DepthMode>("--conventions", arguments.conventions,
-                                            DepthMode::parse, "no, zo, zo-reversed");
+    plan.conventions =
+        parseList<DepthMode>("--conventions", arguments.conventions, DepthMode::parse,
+                             "no, zo, zo-reversed (each also with -upper-left)");
   }
   plan.defaultConventions = {kNegativeOneToOne, kZeroToOne};
   plan.provenance = {commandLine(), utcNow()};
@@ -178,7 +179,8 @@ CommandRunner addReconcileOptions(CLI::App& app) {
                  "own cameras, else from automatic ones (default: every scenes/*.json)");
   app.add_option("--backend", arguments->backend, "GL backend: osmesa, egl")->capture_default_str();
   app.add_option("--conventions", arguments->conventions,
-                 "Comma-separated: no, zo, zo-reversed (default: the scene's list, else no,zo)");
+                 "Comma-separated: no, zo, zo-reversed, each also with -upper-left for "
+                 "glClipControl(GL_UPPER_LEFT, ...) (default: the scene's list, else no,zo)");
   app.add_option("--depth-formats", arguments->depthFormats, "Comma-separated: 16, 24, 32f")
       ->capture_default_str();
   app.add_option("--vertex-modes", arguments->vertexModes,

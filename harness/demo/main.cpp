@@ -79,7 +79,8 @@ int main(int argc, char** argv) {
     // Everything the user handed us is checked before any window opens.
     demo::DemoSettings settings;
     const auto mode = DepthMode::parse(convention);
-    if (!mode) {
+    // The demo's ray methods and its window work in a lower-left origin's clip space.
+    if (!mode || mode->origin != ClipOrigin::LowerLeft) {
       throw InputError("--convention: unknown value \"" + convention +
                        "\"; expected one of: no, zo, zo-reversed");
     }

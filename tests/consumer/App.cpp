@@ -29,7 +29,7 @@ Mesh boxMesh(glm::vec3 min, glm::vec3 max) {
 
 }  // namespace
 
-App::App() {
+App::App(Style appStyle) : style(appStyle) {
   floor.positions = {-4, 0, -4, 4, 0, -4, 4, 0, 4, -4, 0, 4};
   floor.indices = {0, 2, 1, 0, 3, 2};
   box = boxMesh({-0.7f, 0.0f, -0.7f}, {0.7f, 1.4f, 0.7f});
@@ -40,12 +40,18 @@ App::App() {
                                        glm::dvec3(0.0, 1.0, 0.0));
   camera.clipFromView = glm::perspectiveRH_ZO(
       glm::radians(50.0), double(camera.viewport.z) / camera.viewport.w, 0.1, 50.0);
+  // Direct3D and Vulkan count clip-space y downwards: the projection's y row negated.
+  if (style == Style::Direct3D) {
+    camera.clipFromView =
+        glm::scale(glm::dmat4(1.0), glm::dvec3(1.0, -1.0, 1.0)) * camera.clipFromView;
+  }
 }
 
 std::optional<PickRay> App::pick(glm::dvec2 mouse, PickingBug bug) const {
-  // Window units, upper-left origin, to framebuffer pixels, lower-left origin (glViewport's).
+  // Window units, upper-left origin, to framebuffer pixels, lower-left origin (glViewport's); the
+  // Direct3D-style app keeps the upper-left origin (its viewport starts at the top, as D3D's).
   const double x = mouse.x * window.pixelRatio;
-  const double y = bug == PickingBug::MouseYNotFlipped
+  const double y = bug == PickingBug::MouseYNotFlipped || style == Style::Direct3D
                        ? mouse.y * window.pixelRatio
                        : window.framebufferHeight() - mouse.y * window.pixelRatio;
   const glm::dvec4 viewport(camera.viewport);
@@ -192,8 +198,12 @@ void render(const App& app, GetProcAddress getProcAddress,
   gl.DeleteShader(vertex);
   gl.DeleteShader(fragment);
 
-  // The projection is built for [0, 1] depth: tell GL so (the bug: forget to).
-  if (bug != RenderBug::NoClipControl) gl.ClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  // The projection is built for [0, 1] depth: tell GL so (the bug: forget to). The Direct3D-style
+  // projection has y down: the origin goes to the upper left (the bug: leave it lower left).
+  const bool upperLeft = app.style == Style::Direct3D && bug != RenderBug::LowerLeftOrigin;
+  if (bug != RenderBug::NoClipControl) {
+    gl.ClipControl(upperLeft ? GL_UPPER_LEFT : GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+  }
   gl.Viewport(app.camera.viewport.x, app.camera.viewport.y, app.camera.viewport.z,
               app.camera.viewport.w);
   gl.Enable(GL_DEPTH_TEST);

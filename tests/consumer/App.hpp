@@ -3,7 +3,10 @@
 // would write it, with nothing from clipray. A box on a floor, a camera built with glm for
 // glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE), mouse picking with glm::unProjectZO from window
 // coordinates with an upper-left origin on a HiDPI window, and a renderer with its own shaders.
-// Each has a knob for a classic bug, so the tests can show that clipray catches it.
+// The Direct3D-style app (Style::Direct3D) builds its projection with y down and draws under
+// glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE), as an engine ported from Direct3D or Vulkan does,
+// and its picking takes the mouse's y as it comes. Each has a knob for a classic bug, so the tests
+// can show that clipray catches it.
 
 #include <cstdint>
 #include <optional>
@@ -25,9 +28,11 @@ struct Window {
   int framebufferHeight() const { return static_cast<int>(height * pixelRatio); }
 };
 
+enum class Style { OpenGl, Direct3D };
+
 struct Camera {
   glm::dmat4 viewFromWorld{1.0};
-  glm::dmat4 clipFromView{1.0};  // built for ZERO_TO_ONE depth
+  glm::dmat4 clipFromView{1.0};  // built for ZERO_TO_ONE depth (y down for Direct3D)
   glm::ivec4 viewport{0};        // glViewport(x, y, width, height), framebuffer pixels
 };
 
@@ -36,14 +41,17 @@ struct PickRay {
 };
 
 enum class PickingBug { None, MouseYNotFlipped, UnprojectsNegativeOneToOne };
-enum class RenderBug { None, NoClipControl, DepthFuncGreater };
+// NoClipControl: no glClipControl at all. LowerLeftOrigin (Direct3D style): GL_ZERO_TO_ONE set
+// but the origin left at GL_LOWER_LEFT, so the y-down projection draws the picture upside down.
+enum class RenderBug { None, NoClipControl, DepthFuncGreater, LowerLeftOrigin };
 
 struct App {
+  Style style = Style::OpenGl;
   Window window;
   Camera camera;
   Mesh floor, box;
 
-  App();
+  explicit App(Style style = Style::OpenGl);
   // The ray under the mouse at (x, y) window units, origin upper left.
   std::optional<PickRay> pick(glm::dvec2 mouse, PickingBug bug = PickingBug::None) const;
 };

@@ -30,16 +30,22 @@ static_assert(
 namespace {
 
 const app::App theApp;
+const app::App theDirect3dApp(app::Style::Direct3D);
 
-clipray::TestScene appScene() {
-  const clipray::Viewport viewport{theApp.camera.viewport.z, theApp.camera.viewport.w};
-  return clipray::SceneBuilder("app")
-      .mesh("floor", std::span<const float>(theApp.floor.positions),
-            std::span<const std::uint32_t>(theApp.floor.indices))
-      .mesh("box", std::span<const float>(theApp.box.positions),
-            std::span<const std::uint32_t>(theApp.box.indices))
-      .camera("main", theApp.camera.viewFromWorld, theApp.camera.clipFromView, viewport)
-      .conventions({clipray::kZeroToOne})
+// What the Direct3D-style app draws under: glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE).
+constexpr clipray::DepthMode kZeroToOneUpperLeft{clipray::DepthConvention::ZeroToOne, false,
+                                                 clipray::ClipOrigin::UpperLeft};
+
+clipray::TestScene appScene(const app::App& app = theApp) {
+  const clipray::Viewport viewport{app.camera.viewport.z, app.camera.viewport.w};
+  const bool direct3d = app.style == app::Style::Direct3D;
+  return clipray::SceneBuilder(direct3d ? "direct3d-app" : "app")
+      .mesh("floor", std::span<const float>(app.floor.positions),
+            std::span<const std::uint32_t>(app.floor.indices))
+      .mesh("box", std::span<const float>(app.box.positions),
+            std::span<const std::uint32_t>(app.box.indices))
+      .camera("main", app.camera.viewFromWorld, app.camera.clipFromView, viewport)
+      .conventions({direct3d ? kZeroToOneUpperLeft : clipray::kZeroToOne})
       .build();
 }
 
@@ -54,11 +60,12 @@ clipray::AppWindow appWindow() {
   return window;
 }
 
-clipray::PickRayFunction appPicking(app::PickingBug bug = app::PickingBug::None) {
+clipray::PickRayFunction appPicking(app::PickingBug bug = app::PickingBug::None,
+                                    const app::App& app = theApp) {
   return clipray::pickingInWindow(
       appWindow(),
-      [bug](glm::dvec2 mouse, const clipray::PickingCamera&) -> std::optional<clipray::Ray> {
-        const std::optional<app::PickRay> ray = theApp.pick(mouse, bug);
+      [bug, &app](glm::dvec2 mouse, const clipray::PickingCamera&) -> std::optional<clipray::Ray> {
+        const std::optional<app::PickRay> ray = app.pick(mouse, bug);
         if (!ray) return std::nullopt;
         clipray::Ray result;
         result.origin = ray->origin;
@@ -69,18 +76,23 @@ clipray::PickRayFunction appPicking(app::PickingBug bug = app::PickingBug::None)
 
 clipray::ReconcileOptions options(app::RenderBug renderBug = app::RenderBug::None,
                                   bool appRender = false,
-                                  clipray::AppIds ids = clipray::AppIds::Written) {
+                                  clipray::AppIds ids = clipray::AppIds::Written,
+                                  const app::App& app = theApp) {
   clipray::ReconcileOptions options;
   options.window = appWindow();
   options.reportDirectory = ::testing::TempDir() + "clipray-consumer";
   options.appIds = ids;
   if (appRender) {
-    options.render = [renderBug, ids](const clipray::AppFrame& frame) {
-      app::render(theApp, frame.getProcAddress, frame.firstIds, renderBug,
+    options.render = [renderBug, ids, &app](const clipray::AppFrame& frame) {
+      app::render(app, frame.getProcAddress, frame.firstIds, renderBug,
                   ids == clipray::AppIds::Written);
     };
   }
   return options;
+}
+
+clipray::ReconcileOptions direct3dOptions(app::RenderBug renderBug = app::RenderBug::None) {
+  return options(renderBug, true, clipray::AppIds::Written, theDirect3dApp);
 }
 
 TEST(AppPicking, AgreesWithTheRaster) {
@@ -100,6 +112,35 @@ TEST(AppRendering, WithoutIdsInItsShadersAgreesDrawCallByDrawCall) {
   const clipray::ReconcileOptions perDrawCall =
       options(app::RenderBug::None, true, clipray::AppIds::PerDrawCall);
   EXPECT_PICKING_CONSISTENT(appScene(), appPicking(), perDrawCall);
+}
+
+// An engine ported from Direct3D: y-down projection, glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE),
+// the mouse's y taken as it comes. Correct, so consistent.
+TEST(Direct3dStyleApp, RenderingAndPickingAgree) {
+  const clipray::PickRayFunction picking = appPicking(app::PickingBug::None, theDirect3dApp);
+  const clipray::ReconcileResult result =
+      clipray::reconcile(appScene(theDirect3dApp), picking, direct3dOptions());
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_EQ(result.runs[0].convention, "zo-upper-left");
+  EXPECT_TRUE(result.runs[0].consistent) << result.text();
+  // The whole box and floor are in view: most of the viewport is hit on both sides.
+  EXPECT_GT(result.runs[0].rasterHits, result.runs[0].pixels / 2) << result.text();
+  EXPECT_PICKING_CONSISTENT(appScene(theDirect3dApp), clipray::robustPickRays(), direct3dOptions());
+  EXPECT_PICKING_CONSISTENT(
+      appScene(theDirect3dApp), picking,
+      options(app::RenderBug::None, false, clipray::AppIds::Written, theDirect3dApp));
+}
+
+// Its buggy twin: the origin left at GL_LOWER_LEFT, so the y-down projection draws the picture
+// upside down while the mouse's y goes in as it comes.
+TEST(TestOfTheTest, Direct3dStyleWithoutTheUpperLeftOriginFails) {
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(theDirect3dApp), appPicking(app::PickingBug::None, theDirect3dApp),
+      direct3dOptions(app::RenderBug::LowerLeftOrigin));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_FALSE(result.runs[0].consistent) << result.text();
+  EXPECT_GT(result.runs[0].coverageUnexplained + result.runs[0].idUnexplained, 10000)
+      << result.text();
 }
 
 // The tests of the tests: a classic bug in the app fails them, with the worst pixels named.

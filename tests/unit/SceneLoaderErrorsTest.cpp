@@ -108,7 +108,8 @@ TEST(SceneLoaderErrors, Conventions) {
   EXPECT_EQ(errorOf(R"({"version": 1, "conventions": "no", "cameras": [], "objects": []})"),
             "scenes/a.json: /conventions: expected an array of convention names, got \"no\"");
   EXPECT_EQ(errorOf(R"({"version": 1, "conventions": ["zo", "no-reversed"], "cameras": []})"),
-            "scenes/a.json: /conventions/1: expected one of \"no\", \"zo\", \"zo-reversed\", got "
+            "scenes/a.json: /conventions/1: expected one of \"no\", \"zo\", \"zo-reversed\", "
+            "\"no-upper-left\", \"zo-upper-left\", \"zo-reversed-upper-left\", got "
             "\"no-reversed\"");
   EXPECT_EQ(errorOf(R"({"version": 1, "conventions": ["zo", "zo"], "cameras": []})"),
             "scenes/a.json: /conventions/1: duplicate convention \"zo\"");
@@ -284,7 +285,7 @@ TEST(SceneLoaderErrors, ViewFromWorld) {
   EXPECT_EQ(errorOf(withView(R"("viewFromWorld": [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, -5, 1],
     "builtFor": "zo-rev")")),
             "scenes/a.json: /cameras/0/builtFor: expected one of \"no\", \"zo\", \"zo-reversed\", "
-            "got \"zo-rev\"");
+            "\"no-upper-left\", \"zo-upper-left\", \"zo-reversed-upper-left\", got \"zo-rev\"");
 }
 
 TEST(SceneLoaderErrors, LookAt) {

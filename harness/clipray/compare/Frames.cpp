@@ -76,12 +76,14 @@ PickRayFunction robustPickRays() {
   // One generator per camera: precompute once, reuse for every pixel of that camera.
   struct Cache {
     std::optional<RobustRayGenerator> generator;
+    PickingCamera camera;  // as drawn: the generator keeps it as a lower-left origin sees it
   };
   auto cache = std::make_shared<Cache>();
   return [cache](int x, int y, const PickingCamera& camera) -> std::optional<Ray> {
-    if (!cache->generator || cache->generator->clipFromWorld() != camera.clipFromWorld ||
-        cache->generator->mode() != camera.mode) {
+    if (!cache->generator || cache->camera.clipFromWorld != camera.clipFromWorld ||
+        cache->camera.mode != camera.mode) {
       cache->generator.emplace(camera.clipFromWorld, camera.mode);
+      cache->camera = camera;
     }
     return cache->generator->generateForPixel(x, y, camera.viewport);
   };

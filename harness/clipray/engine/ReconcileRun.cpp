@@ -27,16 +27,19 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
   AnalyticPass pass;
   pass.scene = &scene;
   pass.cameraName = camera.name;
-  pass.camera.clipFromWorld = camera.clipFromWorld(mode, viewport);
-  pass.camera.mode = mode;
+  pass.drawnCamera.clipFromWorld = camera.clipFromWorld(mode, viewport);
+  pass.drawnCamera.mode = mode;
+  pass.drawnCamera.viewport = viewport;
+  pass.camera.clipFromWorld = lowerLeftClipFromWorld(pass.drawnCamera.clipFromWorld, mode.origin);
+  pass.camera.mode = mode.lowerLeft();
   pass.camera.viewport = viewport;
-  pass.reference = nearPlaneCentre(pass.camera.clipFromWorld, mode);
+  pass.reference = nearPlaneCentre(pass.camera.clipFromWorld, pass.camera.mode);
 
   const PhaseClock raysClock;
   // An app's ray function is asked once per pixel and its rays stored; clipray's own rays are
   // computed where the intersection and the compare use them (their cost lands in those two
   // timings; rays then only times setting up the generator).
-  pass.frame = rayFunction ? generateRays(pass.camera, *rayFunction, threadCount)
+  pass.frame = rayFunction ? generateRays(pass.drawnCamera, *rayFunction, threadCount)
                            : robustRayFrame(pass.camera);
   pass.raysMilliseconds = raysClock.wallMilliseconds();
   pass.raysCpuMilliseconds = raysClock.cpuMilliseconds();
@@ -78,8 +81,8 @@ ComparedRun rasterAndComparePixels(gl::Renderer& renderer, const AnalyticPass& p
                                    unsigned threadCount) {
   gl::RenderRequest request;
   request.scene = pass.scene;
-  request.clipFromWorld = pass.camera.clipFromWorld;
-  request.mode = pass.camera.mode;
+  request.clipFromWorld = pass.drawnCamera.clipFromWorld;
+  request.mode = pass.drawnCamera.mode;
   request.depthFormat = depthFormat;
   request.vertexMode = vertexMode;
   request.vertexReference = pass.reference;
@@ -124,7 +127,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   RunRecord run;
   run.scene = pass.scene->name;
   run.camera = pass.cameraName;
-  run.convention = pass.camera.mode;
+  run.convention = pass.drawnCamera.mode;
   run.depthFormat = depthFormat;
   run.vertexMode = vertexMode;
   run.size = pass.camera.viewport;

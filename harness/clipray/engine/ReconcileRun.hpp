@@ -27,6 +27,12 @@ namespace clipray::engine {
 struct AnalyticPass {
   const Scene* scene = nullptr;
   std::string cameraName;
+  // The camera as the frame is drawn: the matrix the raster side uploads and the clip control it
+  // draws under. The app's picking function is asked with it.
+  PickingCamera drawnCamera;
+  // The same camera as a lower-left clip origin sees the framebuffer (lowerLeftClipFromWorld):
+  // what the rays, the screen bins and the tolerance model work with. The same as drawnCamera for
+  // a lower-left origin.
   PickingCamera camera;
   glm::dvec3 reference{0.0};  // centre of the near plane: camera-relative origin for both sides
   // Behind a pointer: the tolerance model below refers to it, and the pass may move.

@@ -18,9 +18,9 @@
 #include "clipray/gl/AppRender.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/Renderer.hpp"
+#include "clipray/io/OutputFolder.hpp"
 #include "clipray/report/ImageEncoder.hpp"
 #include "clipray/report/JUnit.hpp"
-#include "clipray/io/OutputFolder.hpp"
 
 namespace clipray::engine {
 
@@ -218,7 +218,7 @@ RasterFrame Runner::drawWithApp(gl::GlContext& context, const Scene& scene, cons
                        std::to_string(frame.viewport.y) + ")");
     }
   }
-  frame.camera = pass.camera;
+  frame.camera = pass.drawnCamera;
   frame.depthFormat = format;
   frame.firstIds = PrimitiveIdTable(scene).firstIdOfObject;
   gl::AppRaster drawn =
@@ -260,7 +260,7 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
         } else {
           gl::RenderRequest request;
           request.scene = &scene;
-          request.clipFromWorld = pass.camera.clipFromWorld;
+          request.clipFromWorld = pass.drawnCamera.clipFromWorld;
           request.mode = mode;
           request.depthFormat = format;
           request.vertexMode = vertexMode;

@@ -411,10 +411,11 @@ void Renderer::State::beginFrame(const RenderRequest& request) {
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, viewport.width, viewport.height);
   glDepthRange(0.0, 1.0);
-  // glClipControl: which NDC z the near clip plane sits at (z_n = -1 or 0).
-  glClipControl(GL_LOWER_LEFT, request.mode.convention == DepthConvention::ZeroToOne
-                                   ? GL_ZERO_TO_ONE
-                                   : GL_NEGATIVE_ONE_TO_ONE);
+  // glClipControl: where NDC y = -1 lands and which NDC z the near clip plane sits at (z_n = -1
+  // or 0).
+  glClipControl(request.mode.origin == ClipOrigin::UpperLeft ? GL_UPPER_LEFT : GL_LOWER_LEFT,
+                request.mode.convention == DepthConvention::ZeroToOne ? GL_ZERO_TO_ONE
+                                                                      : GL_NEGATIVE_ONE_TO_ONE);
   glEnable(GL_DEPTH_TEST);
   glDepthMask(GL_TRUE);
   // Reversed-Z: near -> 1, far -> 0, so the nearer surface has the greater depth.
@@ -460,7 +461,12 @@ void Renderer::State::drawPrimitives(const RenderRequest& request,
   for (const PrimitiveDraw& draw : draws) {
     const glm::mat4 clipFromLocal(draw.clipFromLocal);  // rounded to float once
     const glm::mat4 clipFromProxy = draw.fullScreen ? glm::mat4(1.0f) : clipFromLocal;
-    glUniformMatrix4fv(uniforms.clipFromLocal, 1, GL_FALSE, &clipFromLocal[0][0]);
+    // The proxy is drawn under the run's clip origin; the rays start from gl_FragCoord, whose
+    // rows count from the lower left: the shader traces the lower-left view of the same matrix
+    // (its y row negated for an upper-left origin, exactly as in double).
+    const glm::mat4 rayClipFromLocal(
+        lowerLeftClipFromWorld(glm::dmat4(clipFromLocal), request.mode.origin));
+    glUniformMatrix4fv(uniforms.clipFromLocal, 1, GL_FALSE, &rayClipFromLocal[0][0]);
     glUniformMatrix4fv(uniforms.clipFromInput, 1, GL_FALSE, &clipFromProxy[0][0]);
     glUniform1i(uniforms.kind, draw.kind);
     glUniform1ui(uniforms.primitiveId, draw.id);

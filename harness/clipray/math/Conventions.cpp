@@ -5,16 +5,41 @@
 
 namespace clipray {
 
+namespace {
+
+constexpr std::string_view kUpperLeftSuffix = "-upper-left";
+
+}  // namespace
+
 std::string DepthMode::name() const {
-  if (convention == DepthConvention::NegativeOneToOne) return reversed ? "no-reversed" : "no";
-  return reversed ? "zo-reversed" : "zo";
+  std::string base;
+  if (convention == DepthConvention::NegativeOneToOne) {
+    base = reversed ? "no-reversed" : "no";
+  } else {
+    base = reversed ? "zo-reversed" : "zo";
+  }
+  return origin == ClipOrigin::UpperLeft ? base + std::string(kUpperLeftSuffix) : base;
 }
 
 std::optional<DepthMode> DepthMode::parse(std::string_view text) {
-  if (text == "no") return kNegativeOneToOne;
-  if (text == "zo") return kZeroToOne;
-  if (text == "zo-reversed") return kZeroToOneReversed;
-  return std::nullopt;
+  ClipOrigin origin = ClipOrigin::LowerLeft;
+  if (text.size() > kUpperLeftSuffix.size() && text.ends_with(kUpperLeftSuffix)) {
+    text.remove_suffix(kUpperLeftSuffix.size());
+    origin = ClipOrigin::UpperLeft;
+  }
+  std::optional<DepthMode> mode;
+  if (text == "no") mode = kNegativeOneToOne;
+  if (text == "zo") mode = kZeroToOne;
+  if (text == "zo-reversed") mode = kZeroToOneReversed;
+  if (mode) mode->origin = origin;
+  return mode;
+}
+
+glm::dmat4 lowerLeftClipFromWorld(glm::dmat4 clipFromWorld, ClipOrigin origin) {
+  if (origin == ClipOrigin::UpperLeft) {
+    for (int column = 0; column < 4; ++column) clipFromWorld[column][1] = -clipFromWorld[column][1];
+  }
+  return clipFromWorld;
 }
 
 glm::dvec2 clipXYOfPixelCentre(int i, int j, Viewport viewport) {

@@ -13,7 +13,9 @@ glm::dmat4 perspectiveClipFromView(double fovYRadians, double aspect, double nea
   const double n = nearDistance;
   glm::dmat4 m(0.0);
   m[0][0] = focal / aspect;
-  m[1][1] = focal;
+  // Built for an upper-left clip origin, y points down in clip space (as Direct3D's and
+  // Vulkan's projections do): the picture comes out upright.
+  m[1][1] = builtFor.origin == ClipOrigin::UpperLeft ? -focal : focal;
   m[2][3] = -1.0;  // row 3 (w_clip) = -z_view: the perspective divide by view distance
   // Row 2 (z_clip) = m[2][2] * z_view + m[3][2]; closed forms avoid the cancellation of deriving
   // one convention from another.
@@ -53,6 +55,10 @@ glm::dmat4 orthographicClipFromView(double left, double right, double bottom, do
   m[1][1] = 2.0 / (top - bottom);
   m[3][0] = -(right + left) / (right - left);
   m[3][1] = -(top + bottom) / (top - bottom);
+  if (builtFor.origin == ClipOrigin::UpperLeft) {  // y down in clip space, as for perspective
+    m[1][1] = -m[1][1];
+    m[3][1] = -m[3][1];
+  }
   if (builtFor.reversed) {  // z_ndc: 1 at z_view = -n, 0 at z_view = -f
     m[2][2] = 1.0 / (f - n);
     m[3][2] = f / (f - n);

@@ -12,11 +12,13 @@
 namespace clipray {
 
 // Perspective projection built so that the near plane lands on mode.nearNdcZ() and the far plane
-// on mode.farNdcZ(). farDistance == nullopt builds an infinite far plane.
+// on mode.farNdcZ(). farDistance == nullopt builds an infinite far plane. For an upper-left clip
+// origin, clip y is negated (y down, as Direct3D and Vulkan build it), so the picture is upright.
 glm::dmat4 perspectiveClipFromView(double fovYRadians, double aspect, double nearDistance,
                                    std::optional<double> farDistance, DepthMode builtFor);
 
-// Orthographic projection of the box [left,right] x [bottom,top] x [-near,-far] (view space).
+// Orthographic projection of the box [left,right] x [bottom,top] x [-near,-far] (view space);
+// clip y negated for an upper-left clip origin, as for perspective.
 glm::dmat4 orthographicClipFromView(double left, double right, double bottom, double top,
                                     double nearDistance, double farDistance, DepthMode builtFor);
 

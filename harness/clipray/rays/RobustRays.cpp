@@ -19,8 +19,12 @@
 
 namespace clipray {
 
-RobustRayGenerator::RobustRayGenerator(const glm::dmat4& clipFromWorld, DepthMode mode)
-    : clipFromWorld_(clipFromWorld), worldFromClip_(glm::inverse(clipFromWorld)), mode_(mode) {
+RobustRayGenerator::RobustRayGenerator(const glm::dmat4& drawnClipFromWorld, DepthMode drawnMode)
+    : clipFromWorld_(lowerLeftClipFromWorld(drawnClipFromWorld, drawnMode.origin)),
+      worldFromClip_(glm::inverse(clipFromWorld_)),
+      mode_(drawnMode.lowerLeft()) {
+  const glm::dmat4& clipFromWorld = clipFromWorld_;
+  const DepthMode mode = mode_;
   const glm::dvec4 rowX = matrixRow(clipFromWorld, 0);
   const glm::dvec4 rowY = matrixRow(clipFromWorld, 1);
   const glm::dvec4 rowZ = matrixRow(clipFromWorld, 2);

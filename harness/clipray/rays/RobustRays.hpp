@@ -21,8 +21,10 @@ namespace clipray {
 
 class RobustRayGenerator {
  public:
-  // Precomputes per camera. clipFromWorld must be invertible (the scene loader checks).
-  RobustRayGenerator(const glm::dmat4& clipFromWorld, DepthMode mode);
+  // Precomputes per camera. The matrix and mode as the frame is drawn, under either clip origin;
+  // pixels and clip xy are a lower-left origin's (clipFromWorld() and mode() give the camera in
+  // those terms: lowerLeftClipFromWorld). The matrix must be invertible (the scene loader checks).
+  RobustRayGenerator(const glm::dmat4& drawnClipFromWorld, DepthMode drawnMode);
 
   // Ray through clip-space xy (x', y' in [-1, 1]). Never throws.
   Ray generate(glm::dvec2 clipXY) const noexcept;

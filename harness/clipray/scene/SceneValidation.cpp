@@ -143,8 +143,10 @@ DepthMode SceneValidator::depthMode(const json& value, const Pointer& at) const 
   std::optional<DepthMode> mode;
   if (value.is_string()) mode = DepthMode::parse(value.get<std::string>());
   if (!mode) {
-    fail(at,
-         "expected one of " + quotedList({"no", "zo", "zo-reversed"}) + ", got " + describe(value));
+    fail(at, "expected one of " +
+                 quotedList({"no", "zo", "zo-reversed", "no-upper-left", "zo-upper-left",
+                             "zo-reversed-upper-left"}) +
+                 ", got " + describe(value));
   }
   return *mode;
 }

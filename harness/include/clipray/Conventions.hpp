@@ -14,11 +14,18 @@ namespace clipray {
 // Where the near clip plane sits in NDC z: -1 for classic GL, 0 for glClipControl(GL_ZERO_TO_ONE).
 enum class DepthConvention { NegativeOneToOne, ZeroToOne };
 
-// The conventions a frame is drawn under: the clip-control depth mode plus reversed-Z
+// Where glClipControl puts NDC y = -1: on the framebuffer's bottom row (LowerLeft, GL's default)
+// or its top row (UpperLeft, Direct3D's and Vulkan's, GL 4.6 13.8.1: y_w = -(p_y / 2) y_d + o_y).
+// An app that draws D3D-style flips y in its projection and draws under UpperLeft: the picture
+// is upright either way, only clip space is upside down.
+enum class ClipOrigin { LowerLeft, UpperLeft };
+
+// The conventions a frame is drawn under: glClipControl's depth mode and origin, plus reversed-Z
 // (near -> 1, far -> 0, depth test GREATER, clear 0). Reversed-Z is only meaningful with ZeroToOne.
 struct DepthMode {
   DepthConvention convention = DepthConvention::NegativeOneToOne;
   bool reversed = false;
+  ClipOrigin origin = ClipOrigin::LowerLeft;
 
   // z_n: the clip volume is z_n * w <= z <= w.
   double clipVolumeMinZ() const { return convention == DepthConvention::ZeroToOne ? 0.0 : -1.0; }
@@ -26,14 +33,23 @@ struct DepthMode {
   double nearNdcZ() const { return reversed ? 1.0 : clipVolumeMinZ(); }
   // NDC z of the far clip plane (0 for reversed-Z; the plane may lie at infinity).
   double farNdcZ() const { return reversed ? clipVolumeMinZ() : 1.0; }
+  // The same depth conventions with a lower-left origin.
+  DepthMode lowerLeft() const { return {convention, reversed, ClipOrigin::LowerLeft}; }
 
-  // "no", "zo", "zo-reversed" (the names used on the command line and in reports).
+  // "no", "zo", "zo-reversed", each with "-upper-left" for that origin (the names used on the
+  // command line and in reports).
   std::string name() const;
   // Parses those names; nullopt for anything else (including the meaningless "no-reversed").
   static std::optional<DepthMode> parse(std::string_view text);
 
   friend bool operator==(const DepthMode&, const DepthMode&) = default;
 };
+
+// A clipFromWorld as a lower-left origin sees the framebuffer rows `origin` draws: its y row
+// negated for UpperLeft (exact, in float too), unchanged for LowerLeft. A frame drawn with M under
+// UpperLeft shows exactly what lowerLeftClipFromWorld(M, UpperLeft) shows under LowerLeft: the
+// matrix the analytic side traces.
+glm::dmat4 lowerLeftClipFromWorld(glm::dmat4 clipFromWorld, ClipOrigin origin);
 
 inline constexpr DepthMode kNegativeOneToOne{DepthConvention::NegativeOneToOne, false};
 inline constexpr DepthMode kZeroToOne{DepthConvention::ZeroToOne, false};
