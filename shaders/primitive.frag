@@ -8,6 +8,8 @@ uniform float uNearNdcZ;  // -1 (NO), 0 (ZO) or 1 (reversed-Z)
 uniform float uFacingSign;  // RobustRayGenerator::facingSign() of the camera (camera_rays.glsl)
 uniform bool uParallel;     // the camera's w row has no xyz part
 uniform float uClipMinZ;  // z_n of the clip volume: window depth = (z_ndc - z_n) / (1 - z_n)
+uniform vec2 uDepthRange;  // glDepthRange(n, f): gl_FragDepth is stored as written, so mapped here
+uniform bool uDefaultDepthRange;  // (0, 1): the depth as it is
 uniform int uKind;
 uniform uint uPrimitiveId;
 layout(location = 0) out uint outPrimitiveId;
@@ -24,6 +26,6 @@ void main() {
   float depth = (clipZ / clipW - uClipMinZ) / (1.0 - uClipMinZ);
   // Beyond the far plane (or behind the eye): the CPU ray's t_max cuts it off too.
   if (!(clipW > 0.0) || !(depth >= 0.0 && depth <= 1.0)) discard;
-  gl_FragDepth = depth;
+  gl_FragDepth = uDefaultDepthRange ? depth : uDepthRange.x + (uDepthRange.y - uDepthRange.x) * depth;
   outPrimitiveId = uPrimitiveId;
 }

@@ -40,6 +40,10 @@ App::App(Style appStyle) : style(appStyle) {
                                        glm::dvec3(0.0, 1.0, 0.0));
   camera.clipFromView = glm::perspectiveRH_ZO(
       glm::radians(50.0), double(camera.viewport.z) / camera.viewport.w, 0.1, 50.0);
+  if (style == Style::ReversedDepthRange) {
+    camera.clipFromView = glm::perspectiveRH_NO(
+        glm::radians(50.0), double(camera.viewport.z) / camera.viewport.w, 0.1, 50.0);
+  }
   // Direct3D and Vulkan count clip-space y downwards: the projection's y row negated.
   if (style == Style::Direct3D) {
     camera.clipFromView =
@@ -56,9 +60,10 @@ std::optional<PickRay> App::pick(glm::dvec2 mouse, PickingBug bug) const {
                        : window.framebufferHeight() - mouse.y * window.pixelRatio;
   const glm::dvec4 viewport(camera.viewport);
   glm::dvec3 nearPoint, farPoint;
-  if (bug == PickingBug::UnprojectsNegativeOneToOne) {
+  if (bug == PickingBug::UnprojectsNegativeOneToOne || style == Style::ReversedDepthRange) {
     // glm::unProject is unProjectNO by default: window z 0 is NDC z -1, in front of the near
-    // plane of a ZERO_TO_ONE projection.
+    // plane of a ZERO_TO_ONE projection (and the near plane of the reversed depth range's NO
+    // projection, whose window depths unProject never sees).
     nearPoint = glm::unProjectNO(glm::dvec3(x, y, 0.0), camera.viewFromWorld, camera.clipFromView,
                                  viewport);
     farPoint = glm::unProjectNO(glm::dvec3(x, y, 1.0), camera.viewFromWorld, camera.clipFromView,
@@ -78,6 +83,7 @@ struct Gl {
   PFNGLCLIPCONTROLPROC ClipControl;
   PFNGLENABLEPROC Enable;
   PFNGLDEPTHFUNCPROC DepthFunc;
+  PFNGLDEPTHRANGEPROC DepthRange;
   PFNGLCLEARDEPTHPROC ClearDepth;
   PFNGLCLEARPROC Clear;
   PFNGLVIEWPORTPROC Viewport;
@@ -115,6 +121,7 @@ struct Gl {
     get(ClipControl, "glClipControl");
     get(Enable, "glEnable");
     get(DepthFunc, "glDepthFunc");
+    get(DepthRange, "glDepthRange");
     get(ClearDepth, "glClearDepth");
     get(Clear, "glClear");
     get(Viewport, "glViewport");
@@ -201,14 +208,22 @@ void render(const App& app, GetProcAddress getProcAddress,
   // The projection is built for [0, 1] depth: tell GL so (the bug: forget to). The Direct3D-style
   // projection has y down: the origin goes to the upper left (the bug: leave it lower left).
   const bool upperLeft = app.style == Style::Direct3D && bug != RenderBug::LowerLeftOrigin;
-  if (bug != RenderBug::NoClipControl) {
+  if (app.style == Style::ReversedDepthRange) {
+    // Reversed-Z without clip control: near at window depth 1, the nearer surface the greater.
+    gl.DepthRange(1.0, 0.0);
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(bug == RenderBug::DepthFuncLess ? GL_LESS : GL_GREATER);
+    gl.ClearDepth(0.0);
+  } else if (bug != RenderBug::NoClipControl) {
     gl.ClipControl(upperLeft ? GL_UPPER_LEFT : GL_LOWER_LEFT, GL_ZERO_TO_ONE);
   }
   gl.Viewport(app.camera.viewport.x, app.camera.viewport.y, app.camera.viewport.z,
               app.camera.viewport.w);
-  gl.Enable(GL_DEPTH_TEST);
-  gl.DepthFunc(bug == RenderBug::DepthFuncGreater ? GL_GREATER : GL_LESS);
-  gl.ClearDepth(1.0);
+  if (app.style != Style::ReversedDepthRange) {
+    gl.Enable(GL_DEPTH_TEST);
+    gl.DepthFunc(bug == RenderBug::DepthFuncGreater ? GL_GREATER : GL_LESS);
+    gl.ClearDepth(1.0);
+  }
   gl.Clear(GL_DEPTH_BUFFER_BIT);
 
   gl.UseProgram(program);

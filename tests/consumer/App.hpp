@@ -5,8 +5,10 @@
 // coordinates with an upper-left origin on a HiDPI window, and a renderer with its own shaders.
 // The Direct3D-style app (Style::Direct3D) builds its projection with y down and draws under
 // glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE), as an engine ported from Direct3D or Vulkan does,
-// and its picking takes the mouse's y as it comes. Each has a knob for a classic bug, so the tests
-// can show that clipray catches it.
+// and its picking takes the mouse's y as it comes. The reversed-depth-range app
+// (Style::ReversedDepthRange) does reversed-Z as it was done before clip control: a NO projection,
+// glDepthRange(1, 0), GL_GREATER, depth cleared to 0. Each has a knob for a classic bug, so the
+// tests can show that clipray catches it.
 
 #include <cstdint>
 #include <optional>
@@ -28,12 +30,14 @@ struct Window {
   int framebufferHeight() const { return static_cast<int>(height * pixelRatio); }
 };
 
-enum class Style { OpenGl, Direct3D };
+enum class Style { OpenGl, Direct3D, ReversedDepthRange };
 
 struct Camera {
   glm::dmat4 viewFromWorld{1.0};
-  glm::dmat4 clipFromView{1.0};  // built for ZERO_TO_ONE depth (y down for Direct3D)
-  glm::ivec4 viewport{0};        // glViewport(x, y, width, height), framebuffer pixels
+  // Built for ZERO_TO_ONE depth (y down for Direct3D); NEGATIVE_ONE_TO_ONE for the reversed depth
+  // range.
+  glm::dmat4 clipFromView{1.0};
+  glm::ivec4 viewport{0};  // glViewport(x, y, width, height), framebuffer pixels
 };
 
 struct PickRay {
@@ -43,7 +47,8 @@ struct PickRay {
 enum class PickingBug { None, MouseYNotFlipped, UnprojectsNegativeOneToOne };
 // NoClipControl: no glClipControl at all. LowerLeftOrigin (Direct3D style): GL_ZERO_TO_ONE set
 // but the origin left at GL_LOWER_LEFT, so the y-down projection draws the picture upside down.
-enum class RenderBug { None, NoClipControl, DepthFuncGreater, LowerLeftOrigin };
+// DepthFuncLess (reversed depth range): glDepthRange(1, 0) with the depth test left at GL_LESS.
+enum class RenderBug { None, NoClipControl, DepthFuncGreater, LowerLeftOrigin, DepthFuncLess };
 
 struct App {
   Style style = Style::OpenGl;

@@ -31,6 +31,7 @@ namespace {
 
 const app::App theApp;
 const app::App theDirect3dApp(app::Style::Direct3D);
+const app::App theReversedRangeApp(app::Style::ReversedDepthRange);
 
 // What the Direct3D-style app draws under: glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE).
 constexpr clipray::DepthMode kZeroToOneUpperLeft{clipray::DepthConvention::ZeroToOne, false,
@@ -39,14 +40,25 @@ constexpr clipray::DepthMode kZeroToOneUpperLeft{clipray::DepthConvention::ZeroT
 clipray::TestScene appScene(const app::App& app = theApp) {
   const clipray::Viewport viewport{app.camera.viewport.z, app.camera.viewport.w};
   const bool direct3d = app.style == app::Style::Direct3D;
-  return clipray::SceneBuilder(direct3d ? "direct3d-app" : "app")
+  const bool reversedRange = app.style == app::Style::ReversedDepthRange;
+  clipray::SceneBuilder builder(direct3d        ? "direct3d-app"
+                                : reversedRange ? "reversed-range-app"
+                                                : "app");
+  builder
       .mesh("floor", std::span<const float>(app.floor.positions),
             std::span<const std::uint32_t>(app.floor.indices))
       .mesh("box", std::span<const float>(app.box.positions),
             std::span<const std::uint32_t>(app.box.indices))
-      .camera("main", app.camera.viewFromWorld, app.camera.clipFromView, viewport)
-      .conventions({direct3d ? kZeroToOneUpperLeft : clipray::kZeroToOne})
-      .build();
+      .camera("main", app.camera.viewFromWorld, app.camera.clipFromView, viewport);
+  if (direct3d) {
+    builder.conventions({kZeroToOneUpperLeft});
+  } else if (reversedRange) {
+    // A NO projection drawn with glDepthRange(1, 0): no clip control at all.
+    builder.conventions({clipray::kNegativeOneToOne}).depthRange(1.0, 0.0);
+  } else {
+    builder.conventions({clipray::kZeroToOne});
+  }
+  return builder.build();
 }
 
 clipray::AppWindow appWindow() {
@@ -141,6 +153,30 @@ TEST(TestOfTheTest, Direct3dStyleWithoutTheUpperLeftOriginFails) {
   EXPECT_FALSE(result.runs[0].consistent) << result.text();
   EXPECT_GT(result.runs[0].coverageUnexplained + result.runs[0].idUnexplained, 10000)
       << result.text();
+}
+
+// Reversed-Z as it was done before clip control: a NO projection, glDepthRange(1, 0), GL_GREATER,
+// depth cleared to 0. Correct, so consistent.
+TEST(ReversedDepthRangeApp, RenderingAndPickingAgree) {
+  const clipray::ReconcileOptions drawn =
+      options(app::RenderBug::None, true, clipray::AppIds::Written, theReversedRangeApp);
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(theReversedRangeApp), appPicking(app::PickingBug::None, theReversedRangeApp), drawn);
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_EQ(result.runs[0].convention, "no");
+  EXPECT_TRUE(result.runs[0].consistent) << result.text();
+  EXPECT_GT(result.runs[0].depthCompared, result.runs[0].pixels / 2) << result.text();
+  EXPECT_PICKING_CONSISTENT(appScene(theReversedRangeApp), clipray::robustPickRays(), drawn);
+}
+
+// Its buggy twin: the range reversed but the depth test left at GL_LESS, so the farthest surface
+// wins everywhere.
+TEST(TestOfTheTest, ReversedDepthRangeWithTheDepthTestLeftAtLessFails) {
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(theReversedRangeApp), clipray::robustPickRays(),
+      options(app::RenderBug::DepthFuncLess, true, clipray::AppIds::Written, theReversedRangeApp));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_FALSE(result.runs[0].consistent) << result.text();
 }
 
 // The tests of the tests: a classic bug in the app fails them, with the worst pixels named.

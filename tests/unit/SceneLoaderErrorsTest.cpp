@@ -73,7 +73,7 @@ TEST(SceneLoaderErrors, RootAndVersion) {
 TEST(SceneLoaderErrors, UnknownKeys) {
   EXPECT_EQ(errorOf(R"({"version": 1, "camera": [], "objects": []})"),
             "scenes/a.json: /camera: unknown key \"camera\"; valid keys are \"version\", "
-            "\"comment\", \"conventions\", \"cameras\", \"objects\"");
+            "\"comment\", \"conventions\", \"depthRange\", \"cameras\", \"objects\"");
   // A misspelt key is reported as unknown, not as a missing required field.
   EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "veiwport": [640, 480]})")),
             "scenes/a.json: /cameras/0/veiwport: unknown key \"veiwport\"; valid keys are "
@@ -286,6 +286,25 @@ TEST(SceneLoaderErrors, ViewFromWorld) {
     "builtFor": "zo-rev")")),
             "scenes/a.json: /cameras/0/builtFor: expected one of \"no\", \"zo\", \"zo-reversed\", "
             "\"no-upper-left\", \"zo-upper-left\", \"zo-reversed-upper-left\", got \"zo-rev\"");
+}
+
+TEST(SceneLoaderErrors, DepthRange) {
+  const auto withRange = [](const std::string& range) {
+    return errorOf(R"({"version": 1, "depthRange": )" + range + R"(, "cameras": []})");
+  };
+  EXPECT_EQ(withRange("0.5"),
+            "scenes/a.json: /depthRange: expected [near, far] of glDepthRange, got 0.5");
+  EXPECT_EQ(withRange("[0, 0.5, 1]"),
+            "scenes/a.json: /depthRange: expected [near, far] of glDepthRange, got [0,0.5,1]");
+  EXPECT_EQ(withRange("[0, 1.5]"),
+            "scenes/a.json: /depthRange/1: expected a number in [0, 1] (GL clamps glDepthRange to "
+            "it), got 1.5");
+  EXPECT_EQ(withRange("[-0.1, 1]"),
+            "scenes/a.json: /depthRange/0: expected a number in [0, 1] (GL clamps glDepthRange to "
+            "it), got -0.1");
+  EXPECT_EQ(withRange("[\"0\", 1]"), "scenes/a.json: /depthRange/0: expected a number, got \"0\"");
+  EXPECT_EQ(withRange("[0.3, 0.3]"),
+            "scenes/a.json: /depthRange: near and far are both 0.3; every depth would be equal");
 }
 
 TEST(SceneLoaderErrors, LookAt) {

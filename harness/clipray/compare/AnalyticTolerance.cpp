@@ -55,8 +55,8 @@ double ToleranceModel::analyticDepthTolerance(std::uint32_t primitiveId, const R
   const glm::dvec3 hitWorld = ray.origin + t * ray.direction;
   const glm::dvec4 c = m * glm::dvec4(hitWorld, 1.0);
   const double zNdc = c.z / c.w;
-  const double depth = windowDepthFromNdc(zNdc, setup_.mode.convention);
-  const double toWindow = 1.0 / (1.0 - setup_.mode.clipVolumeMinZ());
+  const double depth = setup_.windowDepth(zNdc);
+  const double toWindow = setup_.windowFromNdcScale();
 
   // The shader works in the local frame with clipFromLocal rounded to float.
   const AnalyticTransform& transform =

@@ -330,7 +330,8 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
   eye_ = glm::dvec3(eyeHomogeneous) / eyeHomogeneous.w;
 #if CLIPRAY_COMPARE_AVX2
   const DepthConvention convention = setup.mode.convention;
-  fourAtOnce_ = cpuHasAvx2() && simdKernelsChosen();
+  // The four-pixel kernels map NDC z to window depth for the default depth range only.
+  fourAtOnce_ = cpuHasAvx2() && simdKernelsChosen() && setup.defaultDepthRange();
   fourInput_ = {
       setup.clipFromWorld,
       rowZ_,
@@ -389,7 +390,7 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
     const glm::dvec3 hitPoint = ray.origin + hit.t * ray.direction;
     hitClip = setup_.clipFromWorld * glm::dvec4(hitPoint, 1.0);
     zNdc = hitClip.z / hitClip.w;
-    rayDepth = windowDepthFromNdc(zNdc, setup_.mode.convention);
+    rayDepth = setup_.windowDepth(zNdc);
     pixels_.analyticDepth[i] = rayDepth;
   }
   PixelClass& cls = pixels_.classes[i];
@@ -429,7 +430,7 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
     }
     const auto [ratio, quanta] = divideTwo(error, tolerance, error, quantum);
     // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1 t).
-    const double zRaster = ndcFromWindowDepth(rasterDepth, setup_.mode.convention);
+    const double zRaster = setup_.ndcOfWindowDepth(rasterDepth);
     const double z0 = glm::dot(rowZ_, glm::dvec4(ray.origin, 1.0));
     const double z1 = glm::dot(glm::dvec3(rowZ_), ray.direction);
     const double w0 = glm::dot(rowW_, glm::dvec4(ray.origin, 1.0));

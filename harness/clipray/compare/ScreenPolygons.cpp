@@ -120,8 +120,7 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
     const glm::dvec4 c = current[k];
     const double w = c.w;
     polygon.vertices[k] = {(c.x / w + 1.0) * 0.5 * viewport_.width,
-                           (c.y / w + 1.0) * 0.5 * viewport_.height,
-                           windowDepthFromNdc(c.z / w, setup_.mode.convention)};
+                           (c.y / w + 1.0) * 0.5 * viewport_.height, setup_.windowDepth(c.z / w)};
     polygon.maxDepth = std::max(polygon.maxDepth, std::abs(polygon.vertices[k].z));
     // Vertex xy error in pixels: (dx + |x_ndc| dw) / w, scaled to the viewport.
     const double ex = (error.x + std::abs(c.x / w) * error.w) / w * 0.5 * viewport_.width;

@@ -45,7 +45,7 @@ ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const Raster
                                        glm::dvec4(setup.vertexReference, 1.0))),
       slotOfId_(std::size_t{intersector.primitiveIdCount()} + 1, kNoSlot),
       serial_(nextSerial.fetch_add(1, std::memory_order_relaxed)),
-      windowFromNdcScale_(1.0 / (1.0 - setup.mode.clipVolumeMinZ())),
+      windowFromNdcScale_(setup.windowFromNdcScale()),
       subpixelStep_(std::ldexp(1.0, -setup.subpixelBits)) {
   // A robust ray starts on the near plane (RobustRays.hpp). Perspective: the origin o lies between
   // the eye and the hit p on the line of sight, so |o_i| <= |eye_i| + |p_i - eye_i| and
@@ -166,9 +166,9 @@ double ToleranceModel::surfaceToleranceAt(std::uint32_t primitiveId, glm::dvec2 
     const Hit hit = intersector_.intersectOne(primitiveId, ray);
     return hit.hit() ? analyticDepthTolerance(primitiveId, ray, hit.t) : 0.0;
   }
-  const glm::dvec4 pointClip(
-      2.0 * pixel.x / viewport_.width - 1.0, 2.0 * pixel.y / viewport_.height - 1.0,
-      ndcFromWindowDepth(planeDepthAt(primitiveId, pixel), setup_.mode.convention), 1.0);
+  const glm::dvec4 pointClip(2.0 * pixel.x / viewport_.width - 1.0,
+                             2.0 * pixel.y / viewport_.height - 1.0,
+                             setup_.ndcOfWindowDepth(planeDepthAt(primitiveId, pixel)), 1.0);
   const glm::dvec4 pointWorld = rays_.worldFromClip() * pointClip;
   return depthTolerance(primitiveId, glm::dvec3(pointWorld) / pointWorld.w);
 }
@@ -185,7 +185,7 @@ double ToleranceModel::surfaceDepthAt(std::uint32_t primitiveId, glm::dvec2 pixe
   const Hit hit = intersector_.intersectOne(primitiveId, ray);
   if (!hit.hit()) return kNaN;
   const glm::dvec4 c = setup_.clipFromWorld * glm::dvec4(ray.origin + hit.t * ray.direction, 1.0);
-  return windowDepthFromNdc(c.z / c.w, setup_.mode.convention);
+  return setup_.windowDepth(c.z / c.w);
 }
 
 double ToleranceModel::depthTolerance(std::uint32_t primitiveId, const glm::dvec3& hitWorld) const {
@@ -195,7 +195,7 @@ double ToleranceModel::depthTolerance(std::uint32_t primitiveId, const glm::dvec
 double ToleranceModel::depthToleranceAtClip(std::uint32_t primitiveId,
                                             const glm::dvec4& hitClip) const {
   const double zNdc = hitClip.z / hitClip.w;
-  const double depth = windowDepthFromNdc(zNdc, setup_.mode.convention);
+  const double depth = setup_.windowDepth(zNdc);
   return triangleDepthTolerance(pixelTerms(primitiveId), hitClip, zNdc, depth,
                                 quantumAt(setup_.depthFormat, depth), windowFromNdcScale_,
                                 subpixelStep_, viewport_);

@@ -32,7 +32,35 @@ struct RasterSetup {
   VertexMode vertexMode = VertexMode::World;
   glm::dvec3 vertexReference{0.0};  // the point removed on the CPU in CameraRelative mode
   int subpixelBits = 4;             // GL_SUBPIXEL_BITS of the rasterizer
+  // glDepthRange(n, f) (Scene::depthRange): window depth n + (f - n) d, d what (0, 1) gives.
+  glm::dvec2 depthRange{0.0, 1.0};
+
+  bool defaultDepthRange() const { return depthRange == glm::dvec2(0.0, 1.0); }
+  // The window depth the raster stores for NDC z (windowDepthFromNdc, then the depth range; the
+  // default range maps nothing, so its bits are windowDepthFromNdc's).
+  double windowDepth(double zNdc) const {
+    const double d = windowDepthFromNdc(zNdc, mode.convention);
+    return defaultDepthRange() ? d : depthRange.x + (depthRange.y - depthRange.x) * d;
+  }
+  // Its inverse.
+  double ndcOfWindowDepth(double windowDepth) const {
+    const double d = defaultDepthRange()
+                         ? windowDepth
+                         : (windowDepth - depthRange.x) / (depthRange.y - depthRange.x);
+    return ndcFromWindowDepth(d, mode.convention);
+  }
+  // d(window depth) / d(NDC z): 1 / (1 - z_n) scaled by |f - n|.
+  double windowFromNdcScale() const {
+    const double scale = 1.0 / (1.0 - mode.clipVolumeMinZ());
+    return defaultDepthRange() ? scale : scale * std::abs(depthRange.y - depthRange.x);
+  }
 };
+
+// Whether the depth test keeps the greater window depth (GL_GREATER, clear 0): reversed-Z maps the
+// near plane to 1, and a reversed depth range (n > f) turns window depth around once more.
+inline bool nearerIsGreater(DepthMode mode, glm::dvec2 depthRange) {
+  return mode.reversed != (depthRange.x > depthRange.y);
+}
 
 // The predicted tolerance model, exposed for tests: window-depth tolerance at a pixel whose
 // analytic hit lies on primitive `primitiveId` at window depth `windowDepth`.

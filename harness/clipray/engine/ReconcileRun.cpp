@@ -87,6 +87,7 @@ ComparedRun rasterAndComparePixels(gl::Renderer& renderer, const AnalyticPass& p
   request.vertexMode = vertexMode;
   request.vertexReference = pass.reference;
   request.viewport = pass.camera.viewport;
+  request.depthRange = pass.scene->depthRange;
   gl::RenderTimings renderTimings;
   const RasterFrame raster = renderer.render(request, &renderTimings);
   return compareRasterFrame(pass, raster, depthFormat, vertexMode, renderer.info().subpixelBits,
@@ -103,6 +104,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   setup.vertexMode = vertexMode;
   setup.vertexReference = pass.reference;
   setup.subpixelBits = subpixelBits;
+  setup.depthRange = pass.scene->depthRange;
   const PhaseClock compareClock;
   // The last run's model where only the depth format differs (its polygons serve every format),
   // else one built for this raster (the old one released first).
@@ -131,6 +133,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   run.depthFormat = depthFormat;
   run.vertexMode = vertexMode;
   run.size = pass.camera.viewport;
+  run.depthRange = pass.scene->depthRange;
   run.metrics = comparison.metrics;
   run.clusters = std::move(clusters);
   run.timings = {renderTimings.raster, renderTimings.readback, pass.raysMilliseconds,

@@ -266,6 +266,7 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
           request.vertexMode = vertexMode;
           request.vertexReference = pass.reference;
           request.viewport = viewport;
+          request.depthRange = scene.depthRange;
           raster = renderer.render(request, &timings);
         }
         engine::ComparedRun compared = engine::compareRasterFrame(

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "clipray/compare/ToleranceModel.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/util/PhaseClock.hpp"
@@ -287,7 +288,8 @@ struct Renderer::State {
   GLuint primitiveProgram = 0;
   struct {
     GLint clipFromInput = -1, clipFromLocal = -1, viewportSize = -1, nearNdcZ = -1, facingSign = -1,
-          parallel = -1, clipMinZ = -1, kind = -1, primitiveId = -1;
+          parallel = -1, clipMinZ = -1, kind = -1, primitiveId = -1, depthRange = -1,
+          defaultDepthRange = -1;
   } primitiveUniforms;
 
   // The steps of a frame, in the order render takes them.
@@ -349,6 +351,8 @@ Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
   uniforms.facingSign = glGetUniformLocation(primitiveProgram, "uFacingSign");
   uniforms.parallel = glGetUniformLocation(primitiveProgram, "uParallel");
   uniforms.clipMinZ = glGetUniformLocation(primitiveProgram, "uClipMinZ");
+  uniforms.depthRange = glGetUniformLocation(primitiveProgram, "uDepthRange");
+  uniforms.defaultDepthRange = glGetUniformLocation(primitiveProgram, "uDefaultDepthRange");
   uniforms.kind = glGetUniformLocation(primitiveProgram, "uKind");
   uniforms.primitiveId = glGetUniformLocation(primitiveProgram, "uPrimitiveId");
 
@@ -410,7 +414,7 @@ void Renderer::State::beginFrame(const RenderRequest& request) {
   const Viewport viewport = request.viewport;
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
   glViewport(0, 0, viewport.width, viewport.height);
-  glDepthRange(0.0, 1.0);
+  glDepthRange(request.depthRange.x, request.depthRange.y);
   // glClipControl: where NDC y = -1 lands and which NDC z the near clip plane sits at (z_n = -1
   // or 0).
   glClipControl(request.mode.origin == ClipOrigin::UpperLeft ? GL_UPPER_LEFT : GL_LOWER_LEFT,
@@ -418,13 +422,15 @@ void Renderer::State::beginFrame(const RenderRequest& request) {
                                                                       : GL_NEGATIVE_ONE_TO_ONE);
   glEnable(GL_DEPTH_TEST);
   glDepthMask(GL_TRUE);
-  // Reversed-Z: near -> 1, far -> 0, so the nearer surface has the greater depth.
-  glDepthFunc(request.mode.reversed ? GL_GREATER : GL_LESS);
+  // Reversed-Z (near -> 1, far -> 0) or a reversed depth range: the nearer surface has the
+  // greater depth.
+  const bool greater = nearerIsGreater(request.mode, request.depthRange);
+  glDepthFunc(greater ? GL_GREATER : GL_LESS);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
   glDisable(GL_MULTISAMPLE);
   const GLuint clearId[4] = {0, 0, 0, 0};
-  const GLfloat clearDepth = request.mode.reversed ? 0.0f : 1.0f;
+  const GLfloat clearDepth = greater ? 0.0f : 1.0f;
   glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 0, clearId);
   glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &clearDepth);
 }
@@ -455,6 +461,10 @@ void Renderer::State::drawPrimitives(const RenderRequest& request,
   glUniform1f(uniforms.facingSign, static_cast<float>(rays.facingSign()));
   glUniform1i(uniforms.parallel, rays.isParallel() ? 1 : 0);
   glUniform1f(uniforms.clipMinZ, static_cast<float>(request.mode.clipVolumeMinZ()));
+  // gl_FragDepth is stored as written: the shader applies glDepthRange itself.
+  glUniform2f(uniforms.depthRange, static_cast<float>(request.depthRange.x),
+              static_cast<float>(request.depthRange.y));
+  glUniform1i(uniforms.defaultDepthRange, request.depthRange == glm::dvec2(0.0, 1.0) ? 1 : 0);
   // The proxy must not be cut by the near or far plane where the surface inside it is not:
   // depth clamping turns that clipping off; the shader decides depth range itself.
   glEnable(GL_DEPTH_CLAMP);

@@ -35,6 +35,7 @@ struct RenderRequest {
   VertexMode vertexMode = VertexMode::World;
   glm::dvec3 vertexReference{0.0};  // removed on the CPU in camera-relative mode
   Viewport viewport;
+  glm::dvec2 depthRange{0.0, 1.0};  // glDepthRange(n, f) (Scene::depthRange)
 };
 
 struct RenderTimings {  // milliseconds

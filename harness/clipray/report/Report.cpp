@@ -19,8 +19,8 @@
 #include <unistd.h>
 
 #include "clipray/InputError.hpp"
-#include "clipray/report/HtmlReport.hpp"
 #include "clipray/io/StagedWrite.hpp"
+#include "clipray/report/HtmlReport.hpp"
 #include "clipray/util/Check.hpp"
 #include "clipray/util/Version.hpp"
 
@@ -157,6 +157,10 @@ nlohmann::json runJson(const RunRecord& run) {
     json["rounds"] = run.rounds;
     json["first_round_timings_ms"] = timingsJson(run.firstRound);
     json["first_round_cpu_ms"] = timingsJson(run.firstRoundCpu);
+  }
+  // Only where a scene sets it: reports of the default range read as before.
+  if (run.depthRange != glm::dvec2(0.0, 1.0)) {
+    json["depth_range"] = {run.depthRange.x, run.depthRange.y};
   }
   return json;
 }

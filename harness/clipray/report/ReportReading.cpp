@@ -103,7 +103,10 @@ class ReportReader {
   DepthMode convention(const json& object, const Pointer& at) const {
     const std::string name = text(object, at, "convention");
     const std::optional<DepthMode> mode = DepthMode::parse(name);
-    if (!mode) fail(at / "convention", "expected no, zo or zo-reversed, got \"" + name + "\"");
+    if (!mode) {
+      fail(at / "convention",
+           "expected no, zo or zo-reversed (each also with -upper-left), got \"" + name + "\"");
+    }
     return *mode;
   }
 
@@ -120,6 +123,14 @@ class ReportReader {
     const std::optional<VertexMode> vertexMode = parseVertexMode(vertex);
     if (!vertexMode) fail(at / "vertex_mode", "expected a vertex mode, got \"" + vertex + "\"");
     run.vertexMode = *vertexMode;
+    if (value.contains("depth_range")) {
+      const json& range = value["depth_range"];
+      if (!range.is_array() || range.size() != 2 || !range[0].is_number() ||
+          !range[1].is_number()) {
+        fail(at / "depth_range", "expected [near, far], got " + range.dump());
+      }
+      run.depthRange = {range[0].get<double>(), range[1].get<double>()};
+    }
     const json& size = field(value, at, "size");
     run.size = {static_cast<int>(integer(size, at / "size", "width")),
                 static_cast<int>(integer(size, at / "size", "height"))};

@@ -85,6 +85,10 @@ struct Scene {
   std::vector<std::string> warnings;
   // Conventions this scene is reconciled under when the command line does not name any.
   std::vector<DepthMode> conventions;
+  // glDepthRange(n, f) every object is drawn with: window depth n + (f - n) d, d the depth
+  // glDepthRange(0, 1) would give. Reversed (n > f) is the reversed-Z of apps without clip
+  // control (a NO projection, glDepthRange(1, 0), GL_GREATER, clear 0).
+  glm::dvec2 depthRange{0.0, 1.0};
 
   std::size_t triangleCount() const;
 };

@@ -5,8 +5,8 @@
 
 #include <utility>
 
-#include "clipray/scene/Scene.hpp"
 #include "clipray/io/LocatedJson.hpp"
+#include "clipray/scene/Scene.hpp"
 #include "clipray/scene/SceneReader.hpp"
 
 namespace clipray {
@@ -69,6 +69,11 @@ SceneBuilder& SceneBuilder::operator=(SceneBuilder&&) noexcept = default;
 
 SceneBuilder& SceneBuilder::comment(std::string text) {
   document_->root["comment"] = std::move(text);
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::depthRange(double nearDepth, double farDepth) {
+  document_->root["depthRange"] = Json::array({nearDepth, farDepth});
   return *this;
 }
 

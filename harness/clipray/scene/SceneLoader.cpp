@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "clipray/InputError.hpp"
-#include "clipray/scene/AutoCameras.hpp"
 #include "clipray/io/InputFile.hpp"
+#include "clipray/scene/AutoCameras.hpp"
 #include "clipray/scene/MeshFiles.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "clipray/scene/SceneReader.hpp"
@@ -98,7 +98,8 @@ Scene SceneReader::read(const json& root) {
     fail(top / "version", "unsupported version " + describe(version) +
                               "; this clipray reads version " + std::to_string(kFormatVersion));
   }
-  expectKnownKeys(root, top, {"version", "comment", "conventions", "cameras", "objects"});
+  expectKnownKeys(root, top,
+                  {"version", "comment", "conventions", "depthRange", "cameras", "objects"});
 
   Scene scene;
   scene.version = kFormatVersion;
@@ -107,6 +108,9 @@ Scene SceneReader::read(const json& root) {
   }
   if (const json* modes = optional(root, "conventions")) {
     scene.conventions = conventions(*modes, top / "conventions");
+  }
+  if (const json* range = optional(root, "depthRange")) {
+    scene.depthRange = depthRange(*range, top / "depthRange");
   }
 
   const json& cameras = required(root, top, "cameras");

@@ -66,6 +66,25 @@ double SceneValidator::number(const json& value, const Pointer& at) const {
   return x;
 }
 
+glm::dvec2 SceneValidator::depthRange(const json& value, const Pointer& at) const {
+  if (!value.is_array() || value.size() != 2) {
+    fail(at, "expected [near, far] of glDepthRange, got " + describe(value));
+  }
+  glm::dvec2 range;
+  for (int k = 0; k < 2; ++k) {
+    range[k] = number(value[static_cast<std::size_t>(k)], at / k);
+    // GL clamps both to [0, 1] (without NV_depth_buffer_float's unclamped glDepthRangedNV).
+    if (!(range[k] >= 0.0 && range[k] <= 1.0)) {
+      fail(at / k, "expected a number in [0, 1] (GL clamps glDepthRange to it), got " +
+                       describe(value[static_cast<std::size_t>(k)]));
+    }
+  }
+  if (range.x == range.y) {
+    fail(at, "near and far are both " + describe(value[0]) + "; every depth would be equal");
+  }
+  return range;
+}
+
 double SceneValidator::positiveNumber(const json& value, const Pointer& at) const {
   const double x = number(value, at);
   if (!(x > 0.0)) fail(at, "expected a positive number, got " + describe(value));

@@ -50,6 +50,8 @@ class SceneValidator {
   std::string string(const json& value, const Pointer& at) const;
   static std::optional<std::uint64_t> unsignedInteger(const json& value);  // nullopt: not one
   glm::dvec3 vector3(const json& value, const Pointer& at) const;
+  // [n, f] of glDepthRange: each in [0, 1] (GL clamps them there), n != f.
+  glm::dvec2 depthRange(const json& value, const Pointer& at) const;
   // 16 numbers, column-major: element 4 * column + row.
   glm::dmat4 matrix(const json& value, const Pointer& at) const;
   // Row 3 of a 16-number matrix array, for messages.

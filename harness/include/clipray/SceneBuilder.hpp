@@ -60,6 +60,9 @@ class SceneBuilder {
   SceneBuilder& comment(std::string text);
   // The conventions a reconcile runs when its options name none (default: zo).
   SceneBuilder& conventions(std::vector<DepthMode> modes);
+  // glDepthRange(nearDepth, farDepth) the scene is drawn with (default 0, 1); (1, 0) is the
+  // reversed-Z of apps without clip control: a NO projection, GL_GREATER, clear 0.
+  SceneBuilder& depthRange(double nearDepth, double farDepth);
 
   // A triangle mesh from the app's arrays: x, y, z per vertex and 3 indices per triangle, in the
   // order the app draws them (triangle k gets id firstId + k, as gl_PrimitiveID counts).
