@@ -31,16 +31,6 @@ std::string runName(const RunRecord& run) {
          depthFormatName(run.depthFormat);
 }
 
-RasterFrame drawn(gl::Renderer& renderer, const engine::AnalyticPass& pass, DepthFormat format) {
-  gl::RenderRequest request;
-  request.scene = pass.scene;
-  request.clipFromWorld = pass.drawnCamera.clipFromWorld;
-  request.mode = pass.drawnCamera.mode;
-  request.depthFormat = format;
-  request.viewport = pass.drawnCamera.viewport;
-  return renderer.render(request);
-}
-
 class ClipOriginRuns : public GlTest {};
 
 TEST(ClipOriginNames, ParseAndPrintWithTheUpperLeftSuffix) {
@@ -80,8 +70,10 @@ TEST_F(ClipOriginRuns, ABuiltProjectionDrawsTheSamePixelsUnderEitherOrigin) {
           engine::runAnalyticPass(scene, camera, upperLeft(mode), camera.viewport);
       EXPECT_EQ(upper.camera.clipFromWorld, lower.camera.clipFromWorld);
       for (const DepthFormat format : kFormats) {
-        const RasterFrame a = drawn(renderer(), lower, format);
-        const RasterFrame b = drawn(renderer(), upper, format);
+        const RasterFrame a =
+            renderer().render(engine::renderRequest(lower, format, VertexMode::World));
+        const RasterFrame b =
+            renderer().render(engine::renderRequest(upper, format, VertexMode::World));
         EXPECT_TRUE(a.ids == b.ids) << file << " " << mode.name();
         EXPECT_TRUE(a.depth == b.depth) << file << " " << mode.name();
         const RunRecord runA =

@@ -22,23 +22,18 @@ class DepthRange : public GlTest {};
 const std::vector<DepthMode> kModes = {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed};
 const std::vector<DepthFormat> kFormats = {DepthFormat::Unorm16, DepthFormat::Unorm24,
                                            DepthFormat::Float32};
+RasterFrame drawn(gl::Renderer& renderer, const engine::AnalyticPass& pass, DepthFormat format,
+                  glm::dvec2 range) {
+  gl::RenderRequest request = engine::renderRequest(pass, format, VertexMode::World);
+  request.depthRange = range;
+  return renderer.render(request);
+}
+
 const std::vector<glm::dvec2> kRanges = {{1.0, 0.0}, {0.2, 0.7}, {0.0, 0.1}, {0.9, 0.3}};
 
 std::string runName(const RunRecord& run, glm::dvec2 range) {
   return run.scene + " " + run.convention.name() + " " + depthFormatName(run.depthFormat) +
          " range (" + std::to_string(range.x) + ", " + std::to_string(range.y) + ")";
-}
-
-RasterFrame drawn(gl::Renderer& renderer, const engine::AnalyticPass& pass, DepthFormat format,
-                  glm::dvec2 range) {
-  gl::RenderRequest request;
-  request.scene = pass.scene;
-  request.clipFromWorld = pass.drawnCamera.clipFromWorld;
-  request.mode = pass.drawnCamera.mode;
-  request.depthFormat = format;
-  request.viewport = pass.drawnCamera.viewport;
-  request.depthRange = range;
-  return renderer.render(request);
 }
 
 TEST_F(DepthRange, EveryRangeAgreesWithTheRaysAndShowsTheSameSurfaces) {

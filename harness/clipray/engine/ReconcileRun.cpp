@@ -76,9 +76,8 @@ RunRecord rasterAndCompare(gl::Renderer& renderer, const AnalyticPass& pass,
   return std::move(compared.run);
 }
 
-ComparedRun rasterAndComparePixels(gl::Renderer& renderer, const AnalyticPass& pass,
-                                   DepthFormat depthFormat, VertexMode vertexMode,
-                                   unsigned threadCount) {
+gl::RenderRequest renderRequest(const AnalyticPass& pass, DepthFormat depthFormat,
+                                VertexMode vertexMode) {
   gl::RenderRequest request;
   request.scene = pass.scene;
   request.clipFromWorld = pass.drawnCamera.clipFromWorld;
@@ -86,10 +85,17 @@ ComparedRun rasterAndComparePixels(gl::Renderer& renderer, const AnalyticPass& p
   request.depthFormat = depthFormat;
   request.vertexMode = vertexMode;
   request.vertexReference = pass.reference;
-  request.viewport = pass.camera.viewport;
+  request.viewport = pass.drawnCamera.viewport;
   request.depthRange = pass.scene->depthRange;
+  return request;
+}
+
+ComparedRun rasterAndComparePixels(gl::Renderer& renderer, const AnalyticPass& pass,
+                                   DepthFormat depthFormat, VertexMode vertexMode,
+                                   unsigned threadCount) {
   gl::RenderTimings renderTimings;
-  const RasterFrame raster = renderer.render(request, &renderTimings);
+  const RasterFrame raster =
+      renderer.render(renderRequest(pass, depthFormat, vertexMode), &renderTimings);
   return compareRasterFrame(pass, raster, depthFormat, vertexMode, renderer.info().subpixelBits,
                             renderTimings, threadCount);
 }

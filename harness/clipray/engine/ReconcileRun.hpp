@@ -57,6 +57,11 @@ AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode
                              Viewport viewport, const PickRayFunction& rayFunction,
                              unsigned threadCount = 0);
 
+// What clipray's renderer draws for the pass in that depth format and vertex mode: the drawn
+// camera, the scene's depth range.
+gl::RenderRequest renderRequest(const AnalyticPass& pass, DepthFormat depthFormat,
+                                VertexMode vertexMode);
+
 // Renders the same camera with the renderer and compares. If images is true, the run's PNGs are
 // encoded into the record.
 RunRecord rasterAndCompare(gl::Renderer& renderer, const AnalyticPass& pass,

@@ -258,16 +258,7 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
         if (plan_.appRender) {
           raster = drawWithApp(context, scene, camera, pass, format, timings);
         } else {
-          gl::RenderRequest request;
-          request.scene = &scene;
-          request.clipFromWorld = pass.drawnCamera.clipFromWorld;
-          request.mode = mode;
-          request.depthFormat = format;
-          request.vertexMode = vertexMode;
-          request.vertexReference = pass.reference;
-          request.viewport = viewport;
-          request.depthRange = scene.depthRange;
-          raster = renderer.render(request, &timings);
+          raster = renderer.render(renderRequest(pass, format, vertexMode), &timings);
         }
         engine::ComparedRun compared = engine::compareRasterFrame(
             pass, raster, format, vertexMode, renderer.info().subpixelBits, timings, plan_.threads);
