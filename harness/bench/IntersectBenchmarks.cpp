@@ -253,103 +253,156 @@ struct Row {
   std::vector<double> ms;
 };
 
-void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
-  const Terrain terrain = makeTerrain(triangleTarget);
+Scene sceneOf(const Terrain& terrain) {
   Scene scene;
   scene.objects.push_back(terrain.mesh);
-  const Terrain smallTerrain = makeTerrain(1000);
-  Scene smallScene;
-  smallScene.objects.push_back(smallTerrain.mesh);
-  const PickingCamera camera = terrainCamera(viewport);
-  const glm::dvec3 reference = nearCentre(camera);
+  return scene;
+}
+
+SceneIntersector timedIntersector(const Scene& scene, const glm::dvec3& reference, double& ms) {
+  const auto start = Clock::now();
+  SceneIntersector intersector(scene, reference);
+  ms = msSince(start);
+  return intersector;
+}
+
+// What the side-by-side rows run on: the terrain at the frame size asked for, and a small one for
+// brute force; their intersectors; their frames of rays, and a copy of a frame for each row that
+// writes hits of its own (compared after the timings). Rows refer to these members: it stays put.
+struct SideBySideCase {
+  SideBySideCase(std::size_t triangleTarget, Viewport frameSize)
+      : viewport(frameSize),
+        terrain(makeTerrain(triangleTarget)),
+        scene(sceneOf(terrain)),
+        smallTerrain(makeTerrain(1000)),
+        smallScene(sceneOf(smallTerrain)),
+        camera(terrainCamera(viewport)),
+        reference(nearCentre(camera)),
+        smallCamera(terrainCamera(smallViewport)),
+        intersector(timedIntersector(scene, reference, buildMs)),
+        smallIntersector(smallScene, nearCentre(smallCamera)),
+        frame(generateRobustRays(camera, 2)),
+        smallFrame(generateRobustRays(smallCamera, 2)),
+        binnedFrame(frame),
+        computedFrame(robustRayFrame(camera)),
+        single(frame),
+        smallFast(smallFrame)
+#if CLIPRAY_HAVE_EMBREE
+        ,
+        embree(terrain.mesh, reference, 2),
+        embreeIds1(frame.rays.size()),
+        embreeIds16(frame.rays.size())
+#endif
+  {
+  }
+  SideBySideCase(const SideBySideCase&) = delete;
+  SideBySideCase& operator=(const SideBySideCase&) = delete;
+
+  const Viewport viewport;
+  const Terrain terrain;
+  const Scene scene;
+  const Terrain smallTerrain;
+  const Scene smallScene;
+  const PickingCamera camera;
+  const glm::dvec3 reference;
   const Viewport smallViewport{480, 270};
-  const PickingCamera smallCamera = terrainCamera(smallViewport);
+  const PickingCamera smallCamera;
+  double buildMs = 0.0;  // the intersector's build
+  const SceneIntersector intersector;
+  const SceneIntersector smallIntersector;
+  AnalyticFrame frame;          // the rays row's; the BVH packets' and Embree's rays
+  AnalyticFrame smallFrame;     // brute force's hits
+  AnalyticFrame binnedFrame;    // the fast path's hits
+  std::size_t binnedTiles = 0;  // traced from the bins in the fast path's last run
+  AnalyticFrame computedFrame;  // no ray stored: the fast path computes each tile's
+  AnalyticFrame single;         // closestHit's hits
+  AnalyticFrame smallFast;      // the fast path's hits on the small scene
+#if CLIPRAY_HAVE_EMBREE
+  const EmbreeScene embree;
+  std::vector<std::uint32_t> embreeIds1, embreeIds16;
+#endif
+};
 
-  auto start = Clock::now();
-  const SceneIntersector intersector(scene, reference);
-  const double buildMs = msSince(start);
-  const SceneIntersector smallIntersector(smallScene, nearCentre(smallCamera));
-  AnalyticFrame frame = generateRobustRays(camera, 2);
-  AnalyticFrame smallFrame = generateRobustRays(smallCamera, 2);
-  const double pixels = static_cast<double>(viewport.width) * viewport.height;
-  const double smallPixels = static_cast<double>(smallViewport.width) * smallViewport.height;
-
-  std::vector<Row> rows;
+void addCliprayRows(SideBySideCase& c, std::vector<Row>& rows) {
   auto add = [&](std::string name, std::size_t tris, Viewport size, unsigned threads,
                  std::function<void()> run) {
     rows.push_back({std::move(name), tris, size, threads, std::move(run), {}});
   };
-  const std::size_t tris = intersector.triangleCount();
+  const std::size_t tris = c.intersector.triangleCount();
+  const Viewport viewport = c.viewport;
   // The previous frame is released first, as a reconcile does between cameras: its buffers are
   // then reused (FrameBuffers.hpp). Allocating the new frame while the old one is alive would
   // find no kept block to fit and release every kept block, the other rows' bins included, so
   // every row after this one would pay fresh pages.
-  add("rays: generateRobustRays", tris, viewport, 2, [&] {
-    frame = AnalyticFrame{};
-    frame = generateRobustRays(camera, 2);
+  add("rays: generateRobustRays", tris, viewport, 2, [&c] {
+    c.frame = AnalyticFrame{};
+    c.frame = generateRobustRays(c.camera, 2);
   });
-  AnalyticFrame binnedFrame = frame;
-  std::size_t binnedTiles = 0;
   add("clipray fast path (screen bins + 8x8 packets)", tris, viewport, 2,
-      [&] { binnedTiles = intersectFrame(binnedFrame, intersector, camera, 2); });
+      [&c] { c.binnedTiles = intersectFrame(c.binnedFrame, c.intersector, c.camera, 2); });
   add("clipray fast path (screen bins + 8x8 packets)", tris, viewport, 1,
-      [&] { binnedTiles = intersectFrame(binnedFrame, intersector, camera, 1); });
+      [&c] { c.binnedTiles = intersectFrame(c.binnedFrame, c.intersector, c.camera, 1); });
   // What a reconcile runs: no ray stored, each tile's rays computed where it is traced (the
   // rays row's work and the fast path's in one, without the stored rays' 116 MB).
-  AnalyticFrame computedFrame = robustRayFrame(camera);
   add("clipray fast path, rays computed per tile", tris, viewport, 2,
-      [&] { intersectFrame(computedFrame, intersector, camera, 2); });
+      [&c] { intersectFrame(c.computedFrame, c.intersector, c.camera, 2); });
   add("clipray fast path, rays computed per tile", tris, viewport, 1,
-      [&] { intersectFrame(computedFrame, intersector, camera, 1); });
+      [&c] { intersectFrame(c.computedFrame, c.intersector, c.camera, 1); });
   add("clipray BVH packets (8x8 packets, AVX2)", tris, viewport, 2,
-      [&] { intersectFrame(frame, intersector, 2); });
+      [&c] { intersectFrame(c.frame, c.intersector, 2); });
   add("clipray BVH packets (8x8 packets, AVX2)", tris, viewport, 1,
-      [&] { intersectFrame(frame, intersector, 1); });
-  AnalyticFrame single = frame;
-  add("clipray closestHit (one ray at a time)", tris, viewport, 2, [&] {
-    single.hits.resize(single.rays.size());
-    parallelForRows(viewport.height, 2, [&](int y0, int y1) {
-      for (std::size_t i = static_cast<std::size_t>(y0) * viewport.width;
-           i < static_cast<std::size_t>(y1) * viewport.width; ++i) {
-        single.hits[i] = intersector.closestHit(single.rays[i]);
+      [&c] { intersectFrame(c.frame, c.intersector, 1); });
+  add("clipray closestHit (one ray at a time)", tris, viewport, 2, [&c] {
+    c.single.hits.resize(c.single.rays.size());
+    parallelForRows(c.viewport.height, 2, [&c](int y0, int y1) {
+      for (std::size_t i = static_cast<std::size_t>(y0) * c.viewport.width;
+           i < static_cast<std::size_t>(y1) * c.viewport.width; ++i) {
+        c.single.hits[i] = c.intersector.closestHit(c.single.rays[i]);
       }
     });
   });
-  add("clipray closestHit (one ray at a time)", tris, viewport, 1, [&] {
-    single.hits.resize(single.rays.size());
-    for (std::size_t i = 0; i < single.rays.size(); ++i) {
-      single.hits[i] = intersector.closestHit(single.rays[i]);
+  add("clipray closestHit (one ray at a time)", tris, viewport, 1, [&c] {
+    c.single.hits.resize(c.single.rays.size());
+    for (std::size_t i = 0; i < c.single.rays.size(); ++i) {
+      c.single.hits[i] = c.intersector.closestHit(c.single.rays[i]);
     }
   });
-  add("clipray brute force (closestHitLinear), small", smallIntersector.triangleCount(),
-      smallViewport, 2, [&] {
-        smallFrame.hits.resize(smallFrame.rays.size());
-        parallelForRows(smallViewport.height, 2, [&](int y0, int y1) {
-          for (std::size_t i = static_cast<std::size_t>(y0) * smallViewport.width;
-               i < static_cast<std::size_t>(y1) * smallViewport.width; ++i) {
-            smallFrame.hits[i] = smallIntersector.closestHitLinear(smallFrame.rays[i]);
+  add("clipray brute force (closestHitLinear), small", c.smallIntersector.triangleCount(),
+      c.smallViewport, 2, [&c] {
+        c.smallFrame.hits.resize(c.smallFrame.rays.size());
+        parallelForRows(c.smallViewport.height, 2, [&c](int y0, int y1) {
+          for (std::size_t i = static_cast<std::size_t>(y0) * c.smallViewport.width;
+               i < static_cast<std::size_t>(y1) * c.smallViewport.width; ++i) {
+            c.smallFrame.hits[i] = c.smallIntersector.closestHitLinear(c.smallFrame.rays[i]);
           }
         });
       });
-  AnalyticFrame smallFast = smallFrame;
-  add("clipray fast path, small", smallIntersector.triangleCount(), smallViewport, 2,
-      [&] { intersectFrame(smallFast, smallIntersector, smallCamera, 2); });
+  add("clipray fast path, small", c.smallIntersector.triangleCount(), c.smallViewport, 2,
+      [&c] { intersectFrame(c.smallFast, c.smallIntersector, c.smallCamera, 2); });
+}
+
 #if CLIPRAY_HAVE_EMBREE
-  const EmbreeScene embree(terrain.mesh, reference, 2);
-  std::vector<std::uint32_t> embreeIds1(frame.rays.size()), embreeIds16(frame.rays.size());
-  add("Embree 3 rtcIntersect1 (float)", tris, viewport, 2,
-      [&] { embreeSingle(embree, frame, reference, embreeIds1, 2); });
-  add("Embree 3 rtcIntersect1 (float)", tris, viewport, 1,
-      [&] { embreeSingle(embree, frame, reference, embreeIds1, 1); });
-  add("Embree 3 rtcIntersect16 (float, 4x4)", tris, viewport, 2,
-      [&] { embreePackets(embree, frame, reference, embreeIds16, 2); });
-  add("Embree 3 rtcIntersect16 (float, 4x4)", tris, viewport, 1,
-      [&] { embreePackets(embree, frame, reference, embreeIds16, 1); });
+void addEmbreeRows(SideBySideCase& c, std::vector<Row>& rows) {
+  auto add = [&](std::string name, unsigned threads, std::function<void()> run) {
+    rows.push_back(
+        {std::move(name), c.intersector.triangleCount(), c.viewport, threads, std::move(run), {}});
+  };
+  add("Embree 3 rtcIntersect1 (float)", 2,
+      [&c] { embreeSingle(c.embree, c.frame, c.reference, c.embreeIds1, 2); });
+  add("Embree 3 rtcIntersect1 (float)", 1,
+      [&c] { embreeSingle(c.embree, c.frame, c.reference, c.embreeIds1, 1); });
+  add("Embree 3 rtcIntersect16 (float, 4x4)", 2,
+      [&c] { embreePackets(c.embree, c.frame, c.reference, c.embreeIds16, 2); });
+  add("Embree 3 rtcIntersect16 (float, 4x4)", 1,
+      [&c] { embreePackets(c.embree, c.frame, c.reference, c.embreeIds16, 1); });
+}
 #endif
-  for (Row& row : rows) row.run();  // warm-up
-  // Each run visits the rows in a new order (a fixed seed: the same orders every time): a row
-  // that always followed the same one paid for what that one left behind (the rays row leaves
-  // the last-level cache full of its frame's dirty lines, which the next row writes back).
+
+// A warm-up, then runs: each visits the rows in a new order (a fixed seed: the same orders every
+// time). A row that always followed the same one paid for what that one left behind (the rays row
+// leaves the last-level cache full of its frame's dirty lines, which the next row writes back).
+void timeRows(std::vector<Row>& rows, int runs) {
+  for (Row& row : rows) row.run();
   std::vector<std::size_t> order(rows.size());
   for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
   std::mt19937 shuffler(5);
@@ -361,7 +414,9 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
       rows[k].ms.push_back(msSince(t0));
     }
   }
+}
 
+void printTimings(const std::vector<Row>& rows, int runs, const SideBySideCase& c) {
   std::printf(
       "\nSide by side, one process, median of %d runs in shuffled order (2-core machine):\n", runs);
   std::printf("%-48s %9s %10s %7s %10s %9s\n", "method", "triangles", "frame", "threads",
@@ -375,43 +430,52 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
                 row.threads, m, m * 1e6 / n * row.threads);
   }
   std::printf("(ns/ray is CPU time per ray: ms x threads / rays)\n");
-  std::printf("clipray BVH build (binned SAH, double): %.2f ms, %zu nodes, %.1f MiB\n", buildMs,
-              intersector.nodeCount(), static_cast<double>(intersector.memoryBytes()) / 1048576.0);
+  std::printf("clipray BVH build (binned SAH, double): %.2f ms, %zu nodes, %.1f MiB\n", c.buildMs,
+              c.intersector.nodeCount(),
+              static_cast<double>(c.intersector.memoryBytes()) / 1048576.0);
 #if CLIPRAY_HAVE_EMBREE
-  std::printf("Embree build (2 threads): %.2f ms\n", embree.buildMs);
+  std::printf("Embree build (2 threads): %.2f ms\n", c.embree.buildMs);
 #endif
+}
 
-  // Agreement: the binned fast path vs the BVH packets and closestHit on every ray, vs
-  // closestHitLinear on a sample.
-  intersectFrame(frame, intersector, 2);
+// The binned fast path vs the BVH packets and closestHit on every ray, vs closestHitLinear on a
+// sample; the small scene's fast path vs brute force; Embree's primitive ids vs clipray's.
+void printAgreement(SideBySideCase& c) {
+  AnalyticFrame& frame = c.frame;
+  const AnalyticFrame& binnedFrame = c.binnedFrame;
+  const Viewport viewport = c.viewport;
+  const double pixels = static_cast<double>(viewport.width) * viewport.height;
+  const double smallPixels = static_cast<double>(c.smallViewport.width) * c.smallViewport.height;
+  intersectFrame(frame, c.intersector, 2);
   std::size_t packetDiffer = 0, computedDiffer = 0;
   for (std::size_t i = 0; i < frame.rays.size(); ++i) {
     packetDiffer += binnedFrame.hits[i].primitiveId != frame.hits[i].primitiveId ||
                     binnedFrame.hits[i].t != frame.hits[i].t;
-    computedDiffer += binnedFrame.hits[i].primitiveId != computedFrame.hits[i].primitiveId ||
-                      binnedFrame.hits[i].t != computedFrame.hits[i].t;
+    computedDiffer += binnedFrame.hits[i].primitiveId != c.computedFrame.hits[i].primitiveId ||
+                      binnedFrame.hits[i].t != c.computedFrame.hits[i].t;
   }
   frame.hits = binnedFrame.hits;
   std::size_t differ = 0, hits = 0;
   for (std::size_t i = 0; i < frame.rays.size(); ++i) {
-    const Hit h = intersector.closestHit(frame.rays[i]);
+    const Hit h = c.intersector.closestHit(frame.rays[i]);
     hits += h.hit();
     differ += h.primitiveId != frame.hits[i].primitiveId || h.t != frame.hits[i].t;
   }
   std::printf(
       "screen bins: %zu of %zu tiles traced from the bins; binned vs BVH packets: %zu "
       "differ; stored vs computed rays: %zu differ\n",
-      binnedTiles, static_cast<std::size_t>((viewport.width + 7) / 8) * ((viewport.height + 7) / 8),
+      c.binnedTiles,
+      static_cast<std::size_t>((viewport.width + 7) / 8) * ((viewport.height + 7) / 8),
       packetDiffer, computedDiffer);
   std::size_t linearDiffer = 0, sampled = 0;
   for (std::size_t i = 0; i < frame.rays.size(); i += frame.rays.size() / 1500 + 1, ++sampled) {
-    const Hit h = intersector.closestHitLinear(frame.rays[i]);
+    const Hit h = c.intersector.closestHitLinear(frame.rays[i]);
     linearDiffer += h.primitiveId != frame.hits[i].primitiveId || h.t != frame.hits[i].t;
   }
   std::size_t smallDiffer = 0;
-  for (std::size_t i = 0; i < smallFrame.rays.size(); ++i) {
-    smallDiffer += smallFrame.hits[i].primitiveId != smallFast.hits[i].primitiveId ||
-                   smallFrame.hits[i].t != smallFast.hits[i].t;
+  for (std::size_t i = 0; i < c.smallFrame.rays.size(); ++i) {
+    smallDiffer += c.smallFrame.hits[i].primitiveId != c.smallFast.hits[i].primitiveId ||
+                   c.smallFrame.hits[i].t != c.smallFast.hits[i].t;
   }
   std::printf(
       "hits: %zu of %.0f pixels; fast path vs closestHit: %zu differ; vs closestHitLinear"
@@ -421,8 +485,8 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
 #if CLIPRAY_HAVE_EMBREE
   std::size_t same1 = 0, same16 = 0;
   for (std::size_t i = 0; i < frame.rays.size(); ++i) {
-    same1 += embreeIds1[i] == frame.hits[i].primitiveId;
-    same16 += embreeIds16[i] == frame.hits[i].primitiveId;
+    same1 += c.embreeIds1[i] == frame.hits[i].primitiveId;
+    same16 += c.embreeIds16[i] == frame.hits[i].primitiveId;
   }
   std::printf(
       "Embree (float) primitive ids equal to clipray's: rtcIntersect1 %.4f%%, "
@@ -431,6 +495,18 @@ void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
 #else
   std::printf("Embree: not built (no embree 3 found at configure time)\n");
 #endif
+}
+
+void sideBySide(std::size_t triangleTarget, Viewport viewport, int runs) {
+  SideBySideCase c(triangleTarget, viewport);
+  std::vector<Row> rows;
+  addCliprayRows(c, rows);
+#if CLIPRAY_HAVE_EMBREE
+  addEmbreeRows(c, rows);
+#endif
+  timeRows(rows, runs);
+  printTimings(rows, runs, c);
+  printAgreement(c);
   std::printf("peak RSS of this process: %.0f MiB\n", peakRssMiB());
 }
 

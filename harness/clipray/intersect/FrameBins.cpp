@@ -3,7 +3,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <optional>
 #include <thread>
+#include <vector>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -265,6 +267,187 @@ void forEachTile(const PixelRect& r, Emit&& emit) {
   }
 }
 
+// The near plane's clip w: the world point unprojected from (x, y, z_near) has homogeneous
+// weight Pw = row 3 of worldFromClip . (x, y, z_near, 1), and clip w = 1 / Pw. Pw is affine in
+// (x, y), so across the viewport its extremes are at the corners. Rays that start on the near
+// plane have w >= wNear there. None when the near plane is not in front of the camera across the
+// viewport.
+std::optional<double> nearPlaneW(const glm::dmat4& clipFromWorld, DepthMode mode) {
+  const glm::dmat4 worldFromClip = glm::inverse(clipFromWorld);
+  const double zNear = mode.nearNdcZ();
+  double wNear = std::numeric_limits<double>::infinity();
+  for (const double x : {-1.0, 1.0}) {
+    for (const double y : {-1.0, 1.0}) {
+      const double pw = worldFromClip[0][3] * x + worldFromClip[1][3] * y +
+                        worldFromClip[2][3] * zNear + worldFromClip[3][3];
+      if (!(pw > 0.0) || !std::isfinite(pw)) return std::nullopt;
+      wNear = std::min(wNear, 1.0 / pw);
+    }
+  }
+  if (!(wNear > 0.0) || !std::isfinite(wNear)) return std::nullopt;
+  return wNear;
+}
+
+// The corners of an analytic primitive's local box (the square for a disk or quad) in clip space.
+std::array<glm::dvec4, 8> boxCorners(const AnalyticPrimitive& primitive,
+                                     const glm::dmat4& clipFromRelative,
+                                     const glm::dvec3& reference) {
+  const bool flat = primitive.kind == PrimitiveKind::Disk || primitive.kind == PrimitiveKind::Quad;
+  std::array<glm::dvec4, 8> corner;
+  for (int k = 0; k < 8; ++k) {
+    const glm::dvec4 local((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0,
+                           flat ? 0.0 : ((k & 4) ? 1.0 : -1.0), 1.0);
+    const glm::dvec4 world = primitive.worldFromLocal * local;
+    corner[k] = clipFromRelative * glm::dvec4(glm::dvec3(world) - reference, 1.0);
+  }
+  return corner;
+}
+
+// The box's corners with w >= wClip and the points where its edges cross w = wClip, into kept
+// (8 corners + 12 edge crossings at most); their count.
+int keptBoxPoints(const std::array<glm::dvec4, 8>& corner, double wClip,
+                  std::array<glm::dvec4, 20>& kept) {
+  int count = 0;
+  for (int k = 0; k < 8; ++k) {
+    if (corner[k].w >= wClip) kept[count++] = corner[k];
+    for (int axis = 0; axis < 3; ++axis) {
+      const int other = k | (1 << axis);  // each edge once, from its lower end
+      if (other == k) continue;
+      const glm::dvec4& a = corner[k];
+      const glm::dvec4& b = corner[other];
+      if ((a.w >= wClip) != (b.w >= wClip)) {
+        kept[count++] = a + (b - a) * ((wClip - a.w) / (b.w - a.w));
+      }
+    }
+  }
+  return count;
+}
+
+// The bounding rectangle of projected points in pixel coordinates; all NaN when a projection is.
+struct PixelBox {
+  double xMin, xMax, yMin, yMax;
+};
+
+PixelBox projectedBox(const std::array<glm::dvec4, 20>& kept, int count, double wClip,
+                      Viewport viewport) {
+  double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
+  for (int k = 0; k < count; ++k) {
+    const double w = std::max(kept[k].w, wClip);
+    const double x = pixelCoordinate(kept[k].x / w, viewport.width);
+    const double y = pixelCoordinate(kept[k].y / w, viewport.height);
+    xMin = std::min(xMin, x);
+    xMax = std::max(xMax, x);
+    yMin = std::min(yMin, y);
+    yMax = std::max(yMax, y);
+    if (std::isnan(x) || std::isnan(y)) xMin = xMax = yMin = yMax = std::nan("");
+  }
+  return {xMin, xMax, yMin, yMax};
+}
+
+// Chunk c of the triangle binning takes the blocks c, c + chunkCount, ... of kBlock triangles:
+// every chunk samples the whole mesh (a mesh's triangles near the camera cover many tiles and cost
+// more), and its slots still increase. A block's rects are made, counted against the budget, then
+// placed.
+constexpr std::size_t kBlock = 1024;
+
+// What every chunk's binning reads: the triangles, the frame's projection and tile grid, and how
+// the triangles are shared out and bounded.
+struct BinningInput {
+  const std::vector<detail::BvhTriangle>& triangles;
+  const glm::dmat4& clipFromRelative;
+  double wClip;
+  Viewport viewport;
+  int tilesAcross;
+  std::size_t tileCount;
+  unsigned chunkCount;
+  std::uint64_t entryBudget;
+};
+
+// A triangle's entry with the tile whose list it goes to, before the lists are gathered.
+struct PlacedEntry {
+  std::uint32_t tile;
+  BinnedTriangle entry;
+};
+
+// The rects of triangles [first, end) (rects[s - first]); adds the tile entries they ask for to
+// total.
+void measureBlock(const BinningInput& in, std::size_t first, std::size_t end,
+                  std::vector<PixelRect>& rects, std::uint64_t& total) {
+  constexpr int kTile = FrameBins::kTile;
+  for (std::size_t s = first; s < end; ++s) {
+    PixelRect& r = rects[s - first];
+    triangleRect(in.clipFromRelative, in.triangles[s], in.wClip, in.viewport, r);
+    if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+    total += std::uint64_t(r.x1 / kTile - r.x0 / kTile + 1) * (r.y1 / kTile - r.y0 / kTile + 1);
+  }
+}
+
+// The entries of triangles [first, end), with their tiles, appended to placed; each tile's count
+// added to offsets[tile + 1].
+void placeBlock(const BinningInput& in, std::size_t first, std::size_t end,
+                const std::vector<PixelRect>& rects, FrameVector<std::uint32_t>& offsets,
+                FrameVector<PlacedEntry>& placed) {
+  for (std::size_t s = first; s < end; ++s) {
+    const PixelRect& r = rects[s - first];
+    if (r.x0 > r.x1 || r.y0 > r.y1) continue;
+    forEachTile(r, [&](int tx, int ty, std::uint16_t mask) {
+      const auto tile = static_cast<std::uint32_t>(ty * in.tilesAcross + tx);
+      ++offsets[tile + 1];
+      placed.push_back({tile, {static_cast<std::uint32_t>(s), mask, r.nearestW}});
+    });
+  }
+}
+
+// The placed entries scattered into their tiles' lists: offsets, the counts until then, become
+// each tile's first entry.
+void gatherEntries(const FrameVector<PlacedEntry>& placed, std::size_t tileCount,
+                   FrameVector<std::uint32_t>& offsets, FrameVector<BinnedTriangle>& entries) {
+  for (std::size_t t = 0; t < tileCount; ++t) offsets[t + 1] += offsets[t];
+  entries.resize(offsets[tileCount]);
+  FrameVector<std::uint32_t> fill(offsets.begin(), offsets.end() - 1);
+  for (const PlacedEntry& p : placed) entries[fill[p.tile]++] = p.entry;
+}
+
+// Chunk c's tile lists: offsets (tile -> first entry; tileCount + 1 values) and entries. False,
+// with both released, when the chunk's entries would pass the budget.
+bool binChunk(const BinningInput& in, unsigned c, FrameVector<std::uint32_t>& offsets,
+              FrameVector<BinnedTriangle>& entries) {
+  const std::size_t triangleCount = in.triangles.size();
+  offsets.assign(in.tileCount + 1, 0);
+  // Every triangle's tiles and half rows, then scattered into the tiles' lists. Room for the
+  // whole budget up front (address space: only what is placed is touched), so it never grows.
+  FrameVector<PlacedEntry> placed;
+  placed.reserve(in.entryBudget);
+  std::vector<PixelRect> rects(std::min(kBlock, triangleCount));
+  std::uint64_t total = 0;
+  for (std::size_t first = c * kBlock; first < triangleCount; first += in.chunkCount * kBlock) {
+    const std::size_t end = std::min(triangleCount, first + kBlock);
+    measureBlock(in, first, end, rects, total);
+    if (total > in.entryBudget) {
+      offsets = FrameVector<std::uint32_t>{};
+      entries = FrameVector<BinnedTriangle>{};
+      return false;
+    }
+    placeBlock(in, first, end, rects, offsets, placed);
+  }
+  gatherEntries(placed, in.tileCount, offsets, entries);
+  return true;
+}
+
+// Runs work(c) for every c < count: 0 on this thread, the others on threads of their own, or
+// here as well once no more threads can be started.
+template <class Work>
+void runChunks(unsigned count, const Work& work) {
+  std::vector<std::thread> workers;
+  try {
+    for (unsigned c = 1; c < count; ++c) workers.emplace_back(work, c);
+  } catch (const std::system_error&) {
+    for (unsigned c = static_cast<unsigned>(workers.size()) + 1; c < count; ++c) work(c);
+  }
+  work(0);
+  for (std::thread& worker : workers) worker.join();
+}
+
 }  // namespace
 
 FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWorld, DepthMode mode,
@@ -276,81 +459,37 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
   // Triangles are stored relative to the reference point: fold it into the translation column.
   clipFromRelative_ = clipFromWorld;
   clipFromRelative_[3] = clipFromWorld * glm::dvec4(scene.reference(), 1.0);
+  const std::optional<double> wNear = nearPlaneW(clipFromWorld, mode);
+  if (!wNear) return;     // no near plane in front: no bins
+  wClip_ = 0.5 * *wNear;  // half the rays' smallest w: a factor 2 of margin
+  boundPrimitives(scene);
+  usable_ = binTriangles(scene, threadCount);
+}
 
-  // The near plane's clip w: the world point unprojected from (x, y, z_near) has homogeneous
-  // weight Pw = row 3 of worldFromClip . (x, y, z_near, 1), and clip w = 1 / Pw. Pw is affine in
-  // (x, y), so across the viewport its extremes are at the corners. Rays that start on the near
-  // plane have w >= wNear there; bins clip triangles at half of it (a factor 2 of margin).
-  const glm::dmat4 worldFromClip = glm::inverse(clipFromWorld);
-  const double zNear = mode.nearNdcZ();
-  double wNear = std::numeric_limits<double>::infinity();
-  for (const double x : {-1.0, 1.0}) {
-    for (const double y : {-1.0, 1.0}) {
-      const double pw = worldFromClip[0][3] * x + worldFromClip[1][3] * y +
-                        worldFromClip[2][3] * zNear + worldFromClip[3][3];
-      if (!(pw > 0.0) || !std::isfinite(pw)) return;  // no near plane in front: no bins
-      wNear = std::min(wNear, 1.0 / pw);
-    }
-  }
-  if (!(wNear > 0.0) || !std::isfinite(wNear)) return;
-  wClip_ = 0.5 * wNear;
-
-  // The analytic primitives' padded pixel bounds: the corners of the local box (the square for a
-  // disk or quad) in clip space, the points where the box's edges cross w = wClip, and the
-  // bounding rectangle of those with w >= wClip, projected. The shape lies in the box, so the
-  // part a binned ray can reach (w >= wClip) projects inside.
+void FrameBins::boundPrimitives(const SceneIntersector& scene) {
   for (const AnalyticPrimitive& primitive : scene.primitives_) {
     PixelBounds& bounds = primitiveBounds_.emplace_back();
     if (primitive.kind == PrimitiveKind::Plane) {
-      bounds = {0, viewport.width - 1, 0, viewport.height - 1};
+      bounds = {0, viewport_.width - 1, 0, viewport_.height - 1};
       continue;
     }
-    const bool flat =
-        primitive.kind == PrimitiveKind::Disk || primitive.kind == PrimitiveKind::Quad;
-    std::array<glm::dvec4, 8> corner;
-    for (int k = 0; k < 8; ++k) {
-      const glm::dvec4 local((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0,
-                             flat ? 0.0 : ((k & 4) ? 1.0 : -1.0), 1.0);
-      const glm::dvec4 world = primitive.worldFromLocal * local;
-      corner[k] = clipFromRelative_ * glm::dvec4(glm::dvec3(world) - scene.reference(), 1.0);
-    }
-    std::array<glm::dvec4, 20> kept;  // 8 corners + 12 edge crossings at most
-    int count = 0;
-    for (int k = 0; k < 8; ++k) {
-      if (corner[k].w >= wClip_) kept[count++] = corner[k];
-      for (int axis = 0; axis < 3; ++axis) {
-        const int other = k | (1 << axis);  // each edge once, from its lower end
-        if (other == k) continue;
-        const glm::dvec4& a = corner[k];
-        const glm::dvec4& b = corner[other];
-        if ((a.w >= wClip_) != (b.w >= wClip_)) {
-          kept[count++] = a + (b - a) * ((wClip_ - a.w) / (b.w - a.w));
-        }
-      }
-    }
-    double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin, yMin = xMin, yMax = -xMin;
-    for (int k = 0; k < count; ++k) {
-      const double w = std::max(kept[k].w, wClip_);
-      const double x = pixelCoordinate(kept[k].x / w, viewport.width);
-      const double y = pixelCoordinate(kept[k].y / w, viewport.height);
-      xMin = std::min(xMin, x);
-      xMax = std::max(xMax, x);
-      yMin = std::min(yMin, y);
-      yMax = std::max(yMax, y);
-      if (std::isnan(x) || std::isnan(y)) xMin = xMax = yMin = yMax = std::nan("");
-    }
+    std::array<glm::dvec4, 20> kept;
+    const int count =
+        keptBoxPoints(boxCorners(primitive, clipFromRelative_, scene.reference()), wClip_, kept);
     if (count == 0) continue;  // wholly where no binned ray goes: empty bounds
+    const PixelBox box = projectedBox(kept, count, wClip_, viewport_);
     const auto padded = [](double value) {
       return FrameBins::kPrimitivePaddingPx + 0x1p-30 * std::abs(value);
     };
-    pixelRange(xMin, xMax, std::max(padded(xMin), padded(xMax)), viewport.width, bounds.x0,
-               bounds.x1);
-    pixelRange(yMin, yMax, std::max(padded(yMin), padded(yMax)), viewport.height, bounds.y0,
-               bounds.y1);
+    pixelRange(box.xMin, box.xMax, std::max(padded(box.xMin), padded(box.xMax)), viewport_.width,
+               bounds.x0, bounds.x1);
+    pixelRange(box.yMin, box.yMax, std::max(padded(box.yMin), padded(box.yMax)), viewport_.height,
+               bounds.y0, bounds.y1);
   }
+}
 
-  const auto& triangles = scene.triangles_;
-  const std::size_t triangleCount = triangles.size();
+bool FrameBins::binTriangles(const SceneIntersector& scene, unsigned threadCount) {
+  const std::size_t triangleCount = scene.triangles_.size();
   const std::size_t tileCount = static_cast<std::size_t>(tilesAcross_) * tilesUp_;
   unsigned chunkCount = threadCount == 0 ? std::thread::hardware_concurrency() : threadCount;
   chunkCount = std::clamp<unsigned>(chunkCount, 1u, 64u);
@@ -360,77 +499,24 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
   // more entries than the bins pay for: past this many per chunk the frame walks the BVH instead.
   const std::uint64_t entryBudget = std::min<std::uint64_t>(
       std::uint64_t{1} << 27, 16 * (std::uint64_t{triangleCount} / chunkCount + tileCount));
+  const BinningInput input{scene.triangles_, clipFromRelative_, wClip_,     viewport_,
+                           tilesAcross_,     tileCount,         chunkCount, entryBudget};
   std::vector<char> overBudget(chunkCount, 0);
-  // Chunk c takes the blocks c, c + chunkCount, ... of kBlock triangles: every chunk samples the
-  // whole mesh (a mesh's triangles near the camera cover many tiles and cost more), and its slots
-  // still increase. A block's rects are made, counted against the budget, then placed.
-  constexpr std::size_t kBlock = 1024;
-  auto binChunk = [&](unsigned c) {
-    Chunk& chunk = chunks_[c];
-    chunk.offsets.assign(tileCount + 1, 0);
-    // Every triangle's tiles and half rows, then scattered into the tiles' lists. Room for the
-    // whole budget up front (address space: only what is placed is touched), so it never grows.
-    struct Placed {
-      std::uint32_t tile;
-      BinnedTriangle entry;
-    };
-    FrameVector<Placed> placed;
-    placed.reserve(entryBudget);
-    std::vector<PixelRect> rects(std::min(kBlock, triangleCount));
-    std::uint64_t total = 0;
-    for (std::size_t first = c * kBlock; first < triangleCount; first += chunkCount * kBlock) {
-      const std::size_t end = std::min(triangleCount, first + kBlock);
-      for (std::size_t s = first; s < end; ++s) {
-        PixelRect& r = rects[s - first];
-        triangleRect(clipFromRelative_, triangles[s], wClip_, viewport_, r);
-        if (r.x0 > r.x1 || r.y0 > r.y1) continue;
-        total += std::uint64_t(r.x1 / kTile - r.x0 / kTile + 1) * (r.y1 / kTile - r.y0 / kTile + 1);
-      }
-      if (total > entryBudget) {
-        overBudget[c] = 1;
-        chunk = Chunk{};
-        return;
-      }
-      for (std::size_t s = first; s < end; ++s) {
-        const PixelRect& r = rects[s - first];
-        if (r.x0 > r.x1 || r.y0 > r.y1) continue;
-        forEachTile(r, [&](int tx, int ty, std::uint16_t mask) {
-          const auto tile = static_cast<std::uint32_t>(ty * tilesAcross_ + tx);
-          ++chunk.offsets[tile + 1];
-          placed.push_back({tile, {static_cast<std::uint32_t>(s), mask, r.nearestW}});
-        });
-      }
-    }
-    for (std::size_t t = 0; t < tileCount; ++t) chunk.offsets[t + 1] += chunk.offsets[t];
-    chunk.entries.resize(chunk.offsets[tileCount]);
-    FrameVector<std::uint32_t> fill(chunk.offsets.begin(), chunk.offsets.end() - 1);
-    for (const Placed& p : placed) chunk.entries[fill[p.tile]++] = p.entry;
-  };
   // A chunk that cannot get its memory is treated as over budget (the frame walks the BVH).
-  const auto binChunkOrGiveUp = [&](unsigned c) {
+  runChunks(chunkCount, [&](unsigned c) {
+    Chunk& chunk = chunks_[c];
     try {
-      binChunk(c);
+      if (binChunk(input, c, chunk.offsets, chunk.entries)) return;
     } catch (const std::bad_alloc&) {
-      overBudget[c] = 1;
-      chunks_[c] = Chunk{};
+      chunk = Chunk{};
     }
-  };
-  std::vector<std::thread> workers;
-  try {
-    for (unsigned c = 1; c < chunkCount; ++c) workers.emplace_back(binChunkOrGiveUp, c);
-  } catch (const std::system_error&) {
-    // No more threads: the remaining chunks are binned here.
-    for (unsigned c = static_cast<unsigned>(workers.size()) + 1; c < chunkCount; ++c) {
-      binChunkOrGiveUp(c);
-    }
-  }
-  binChunkOrGiveUp(0);
-  for (std::thread& worker : workers) worker.join();
+    overBudget[c] = 1;
+  });
   if (std::find(overBudget.begin(), overBudget.end(), 1) != overBudget.end()) {
     chunks_.clear();
-    return;
+    return false;
   }
-  usable_ = true;
+  return true;
 }
 
 std::size_t FrameBins::entryCount() const {

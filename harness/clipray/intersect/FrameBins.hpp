@@ -104,6 +104,15 @@ class FrameBins {
     int x0 = 1, x1 = 0, y0 = 1, y1 = 0;  // inclusive; empty when x0 > x1
   };
   std::vector<PixelBounds> primitiveBounds_;
+
+  // The analytic primitives' padded pixel bounds: the corners of the local box (the square for a
+  // disk or quad) in clip space, the points where the box's edges cross w = wClip, and the
+  // bounding rectangle of those with w >= wClip, projected. The shape lies in the box, so the
+  // part a binned ray can reach (w >= wClip) projects inside.
+  void boundPrimitives(const SceneIntersector& scene);
+  // The triangles' tile lists, in chunks binned on threadCount threads; false (no chunks) when a
+  // chunk's entries would pass its budget or its memory cannot be had.
+  bool binTriangles(const SceneIntersector& scene, unsigned threadCount);
 };
 
 }  // namespace clipray

@@ -199,72 +199,190 @@ void UniformBuffers::link(std::uint32_t program) {
   }
 }
 
+void UniformBuffers::bindBuffer(const DumpCall& call) {
+  const std::uint32_t buffer = objectArgument(call, "buffer");
+  targets_[argument(call, "target").text] = buffer;
+  if (buffer != 0 && isUniformBufferTarget(argument(call, "target"))) {
+    followFromNowOn(buffer, call);
+  }
+}
+
+void UniformBuffers::bindBufferBaseOrRange(const DumpCall& call) {
+  const std::uint32_t buffer = objectArgument(call, "buffer");
+  targets_[argument(call, "target").text] = buffer;
+  if (!isUniformBufferTarget(argument(call, "target"))) return;
+  if (buffer != 0) followFromNowOn(buffer, call);
+  Range range{buffer, 0, std::nullopt};
+  if (call.name == "glBindBufferRange") {
+    range.offset = byteArgument(call, "offset");
+    range.size = byteArgument(call, "size");
+  }
+  uniformBindings_[objectArgument(call, "index")] = range;
+}
+
+void UniformBuffers::bindBuffersBaseOrRange(const DumpCall& call) {
+  // GL 4.4 multi-bind: bindings first .. first + count - 1; buffers = NULL unbinds them all.
+  if (!isUniformBufferTarget(argument(call, "target"))) return;
+  const std::uint32_t first = objectArgument(call, "first");
+  const std::uint32_t count = objectArgument(call, "count");
+  const bool ranged = call.name == "glBindBuffersRange";
+  const bool none = argument(call, "buffers").text == "NULL";
+  const std::vector<double> buffers = none ? std::vector<double>{} : numbers(call, "buffers");
+  const std::vector<double> offsets = ranged && !none ? numbers(call, "offsets") : buffers;
+  const std::vector<double> sizes = ranged && !none ? numbers(call, "sizes") : buffers;
+  if (!none && (buffers.size() != count || offsets.size() != count || sizes.size() != count)) {
+    throw std::invalid_argument(call.name + ": count = " + std::to_string(count) +
+                                " but the arrays hold other numbers of values");
+  }
+  const auto wholeNumber = [&](double value, std::string_view what, double most) {
+    if (!(value >= 0.0 && value <= most) || value != std::floor(value)) {
+      throw std::invalid_argument(call.name + ": " + std::string(what) +
+                                  " holds a value out of range");
+    }
+    return static_cast<std::uint64_t>(value);
+  };
+  for (std::uint32_t k = 0; k < count && k < kMaxMultiBindCount; ++k) {
+    const std::uint32_t buffer =
+        none ? 0u : static_cast<std::uint32_t>(wholeNumber(buffers[k], "buffers", 4294967295.0));
+    if (buffer != 0) followFromNowOn(buffer, call);
+    Range range{buffer, 0, std::nullopt};
+    if (ranged && !none) {
+      range.offset = wholeNumber(offsets[k], "offsets", 9007199254740992.0);
+      range.size = wholeNumber(sizes[k], "sizes", 9007199254740992.0);
+    }
+    uniformBindings_[first + k] = range;
+  }
+}
+
+void UniformBuffers::deleteBuffers(const DumpCall& call) {
+  for (const double deleted : numbers(call, "buffers")) {
+    if (!(deleted > 0.0 && deleted <= 4294967295.0)) continue;  // 0 and non-names: ignored
+    const auto buffer = static_cast<std::uint32_t>(deleted);
+    const auto found = buffers_.find(buffer);
+    if (found != buffers_.end()) {
+      if (found->second.followed) followedBytes_ -= found->second.bytes.size();
+      buffers_.erase(found);
+    }
+    // Deleting a bound buffer unbinds it (OpenGL 4.6, 6.1.1); its name may come back new.
+    std::erase_if(targets_, [&](const auto& entry) { return entry.second == buffer; });
+    std::erase_if(uniformBindings_,
+                  [&](const auto& entry) { return entry.second.buffer == buffer; });
+    std::erase_if(mappings_, [&](const auto& entry) { return entry.second.buffer == buffer; });
+  }
+}
+
+void UniformBuffers::copyBufferSubData(const DumpCall& call) {
+  const bool named = call.name == "glCopyNamedBufferSubData";
+  const std::uint32_t from =
+      named ? objectArgument(call, "readBuffer") : bufferAt(call, "readTarget");
+  const std::uint32_t to =
+      named ? objectArgument(call, "writeBuffer") : bufferAt(call, "writeTarget");
+  const std::uint64_t readOffset = byteArgument(call, "readOffset");
+  const std::uint64_t writeOffset = byteArgument(call, "writeOffset");
+  const std::uint64_t size = byteArgument(call, "size");
+  const auto source = buffers_.find(from), destination = buffers_.find(to);
+  if (destination == buffers_.end() || !destination->second.followed) return;
+  Buffer& target = destination->second;
+  if (writeOffset > target.size || size > target.size - writeOffset) return;
+  const auto begin = static_cast<std::ptrdiff_t>(writeOffset);
+  const auto end = static_cast<std::ptrdiff_t>(writeOffset + size);
+  if (source == buffers_.end() || !source->second.followed || readOffset > source->second.size ||
+      size > source->second.size - readOffset) {
+    std::fill(target.written.begin() + begin, target.written.begin() + end, false);
+    target.unwrittenWhy = call.name + " at call " + std::to_string(call.number) +
+                          " copied from a buffer whose bytes clipray does not hold";
+    return;
+  }
+  // Through a copy: source and destination may be the same buffer, overlapping.
+  const Buffer& origin = source->second;
+  const auto readBegin = static_cast<std::ptrdiff_t>(readOffset);
+  const std::vector<std::uint8_t> bytes(origin.bytes.begin() + readBegin,
+                                        origin.bytes.begin() + readBegin + (end - begin));
+  const std::vector<bool> written(origin.written.begin() + readBegin,
+                                  origin.written.begin() + readBegin + (end - begin));
+  std::copy(bytes.begin(), bytes.end(), target.bytes.begin() + begin);
+  std::copy(written.begin(), written.end(), target.written.begin() + begin);
+}
+
+void UniformBuffers::mapBuffer(const DumpCall& call) {
+  const std::string_view name = call.name;
+  const bool named = name.starts_with("glMapNamed");
+  const std::uint32_t buffer = named ? objectArgument(call, "buffer") : bufferAt(call, "target");
+  if (!call.result || call.result->text == "NULL") return;
+  const std::uint64_t address = byteValue(call, "the result", *call.result);
+  const bool ranged = name.ends_with("Range");
+  const auto found = buffers_.find(buffer);
+  const std::uint64_t size = found == buffers_.end() ? 0 : found->second.size;
+  const std::uint64_t offset = ranged ? byteArgument(call, "offset") : 0;
+  const std::uint64_t length = ranged ? byteArgument(call, "length") : size;
+  std::erase_if(mappings_, [&](const auto& entry) { return entry.second.buffer == buffer; });
+  mappings_[address] = {buffer, offset, length};
+}
+
+void UniformBuffers::unmapBuffer(const DumpCall& call) {
+  const std::uint32_t buffer =
+      call.name == "glUnmapNamedBuffer" ? objectArgument(call, "buffer") : bufferAt(call, "target");
+  std::erase_if(mappings_, [&](const auto& entry) { return entry.second.buffer == buffer; });
+}
+
+void UniformBuffers::writeMapped(const DumpCall& call) {
+  const std::uint64_t destination = byteArgument(call, "dest");
+  const std::uint64_t size = byteArgument(call, "n");
+  auto found = mappings_.upper_bound(destination);
+  if (found == mappings_.begin()) return;
+  --found;
+  const Mapping& mapping = found->second;
+  const std::uint64_t into = destination - found->first;
+  if (into > mapping.length || size > mapping.length - into) return;
+  write(mapping.buffer, mapping.offset + into, size, call, argument(call, "src"));
+}
+
+void UniformBuffers::createShaderProgram(const DumpCall& call) {
+  const auto program = call.result ? call.result->number() : std::nullopt;
+  if (!program || *program <= 0.0 || *program > 4294967295.0) return;
+  const auto id = static_cast<std::uint32_t>(*program);
+  // A separable program of one shader: keyed apart from glCreateShader's names.
+  const std::uint32_t shader = 0xFFFFFFFFu - id;
+  shaderSources_[shader] = joinedStrings(argument(call, "strings"));
+  attachedShaders_[id] = {shader};
+  link(id);
+}
+
+void UniformBuffers::nameBlockIndex(const DumpCall& call) {
+  const auto index = call.result ? call.result->number() : std::nullopt;
+  if (!index || *index < 0.0 || *index >= 4294967295.0) return;  // GL_INVALID_INDEX
+  blockIndexNames_[{objectArgument(call, "program"), static_cast<std::uint32_t>(*index)}] =
+      argument(call, "uniformBlockName").text;
+}
+
+void UniformBuffers::bindUniformBlock(const DumpCall& call) {
+  const std::uint32_t program = objectArgument(call, "program");
+  const std::uint32_t index = objectArgument(call, "uniformBlockIndex");
+  const std::uint32_t binding = objectArgument(call, "uniformBlockBinding");
+  const auto named = blockIndexNames_.find({program, index});
+  if (named == blockIndexNames_.end()) {
+    note("unknown-block-index-" + std::to_string(program),
+         "glUniformBlockBinding at call " + std::to_string(call.number) + ": block index " +
+             std::to_string(index) + " of program " + std::to_string(program) +
+             " was not queried with glGetUniformBlockIndex in the trace: that block's binding "
+             "is unknown");
+    return;
+  }
+  for (LinkedBlock& block : programBlocks_[program]) {
+    if (block.declaration.blockName == named->second) block.binding = binding;
+  }
+}
+
 void UniformBuffers::apply(const DumpCall& call) {
   const std::string_view name = call.name;
   if (name == "glBindBuffer") {
-    const std::uint32_t buffer = objectArgument(call, "buffer");
-    targets_[argument(call, "target").text] = buffer;
-    if (buffer != 0 && isUniformBufferTarget(argument(call, "target"))) {
-      followFromNowOn(buffer, call);
-    }
+    bindBuffer(call);
   } else if (name == "glBindBufferBase" || name == "glBindBufferRange") {
-    const std::uint32_t buffer = objectArgument(call, "buffer");
-    targets_[argument(call, "target").text] = buffer;
-    if (!isUniformBufferTarget(argument(call, "target"))) return;
-    if (buffer != 0) followFromNowOn(buffer, call);
-    Range range{buffer, 0, std::nullopt};
-    if (name == "glBindBufferRange") {
-      range.offset = byteArgument(call, "offset");
-      range.size = byteArgument(call, "size");
-    }
-    uniformBindings_[objectArgument(call, "index")] = range;
+    bindBufferBaseOrRange(call);
   } else if (name == "glBindBuffersBase" || name == "glBindBuffersRange") {
-    // GL 4.4 multi-bind: bindings first .. first + count - 1; buffers = NULL unbinds them all.
-    if (!isUniformBufferTarget(argument(call, "target"))) return;
-    const std::uint32_t first = objectArgument(call, "first");
-    const std::uint32_t count = objectArgument(call, "count");
-    const bool ranged = name == "glBindBuffersRange";
-    const bool none = argument(call, "buffers").text == "NULL";
-    const std::vector<double> buffers = none ? std::vector<double>{} : numbers(call, "buffers");
-    const std::vector<double> offsets = ranged && !none ? numbers(call, "offsets") : buffers;
-    const std::vector<double> sizes = ranged && !none ? numbers(call, "sizes") : buffers;
-    if (!none && (buffers.size() != count || offsets.size() != count || sizes.size() != count)) {
-      throw std::invalid_argument(call.name + ": count = " + std::to_string(count) +
-                                  " but the arrays hold other numbers of values");
-    }
-    const auto wholeNumber = [&](double value, std::string_view what, double most) {
-      if (!(value >= 0.0 && value <= most) || value != std::floor(value)) {
-        throw std::invalid_argument(call.name + ": " + std::string(what) +
-                                    " holds a value out of range");
-      }
-      return static_cast<std::uint64_t>(value);
-    };
-    for (std::uint32_t k = 0; k < count && k < kMaxMultiBindCount; ++k) {
-      const std::uint32_t buffer =
-          none ? 0u : static_cast<std::uint32_t>(wholeNumber(buffers[k], "buffers", 4294967295.0));
-      if (buffer != 0) followFromNowOn(buffer, call);
-      Range range{buffer, 0, std::nullopt};
-      if (ranged && !none) {
-        range.offset = wholeNumber(offsets[k], "offsets", 9007199254740992.0);
-        range.size = wholeNumber(sizes[k], "sizes", 9007199254740992.0);
-      }
-      uniformBindings_[first + k] = range;
-    }
+    bindBuffersBaseOrRange(call);
   } else if (name == "glDeleteBuffers") {
-    for (const double deleted : numbers(call, "buffers")) {
-      if (!(deleted > 0.0 && deleted <= 4294967295.0)) continue;  // 0 and non-names: ignored
-      const auto buffer = static_cast<std::uint32_t>(deleted);
-      const auto found = buffers_.find(buffer);
-      if (found != buffers_.end()) {
-        if (found->second.followed) followedBytes_ -= found->second.bytes.size();
-        buffers_.erase(found);
-      }
-      // Deleting a bound buffer unbinds it (OpenGL 4.6, 6.1.1); its name may come back new.
-      std::erase_if(targets_, [&](const auto& entry) { return entry.second == buffer; });
-      std::erase_if(uniformBindings_,
-                    [&](const auto& entry) { return entry.second.buffer == buffer; });
-      std::erase_if(mappings_, [&](const auto& entry) { return entry.second.buffer == buffer; });
-    }
+    deleteBuffers(call);
   } else if (name == "glBufferData" || name == "glBufferStorage") {
     allocate(bufferAt(call, "target"), byteArgument(call, "size"),
              isUniformBufferTarget(argument(call, "target")), call, argument(call, "data"));
@@ -278,74 +396,17 @@ void UniformBuffers::apply(const DumpCall& call) {
     write(objectArgument(call, "buffer"), byteArgument(call, "offset"), byteArgument(call, "size"),
           call, argument(call, "data"));
   } else if (name == "glCopyBufferSubData" || name == "glCopyNamedBufferSubData") {
-    const bool named = name == "glCopyNamedBufferSubData";
-    const std::uint32_t from =
-        named ? objectArgument(call, "readBuffer") : bufferAt(call, "readTarget");
-    const std::uint32_t to =
-        named ? objectArgument(call, "writeBuffer") : bufferAt(call, "writeTarget");
-    const std::uint64_t readOffset = byteArgument(call, "readOffset");
-    const std::uint64_t writeOffset = byteArgument(call, "writeOffset");
-    const std::uint64_t size = byteArgument(call, "size");
-    const auto source = buffers_.find(from), destination = buffers_.find(to);
-    if (destination == buffers_.end() || !destination->second.followed) return;
-    Buffer& target = destination->second;
-    if (writeOffset > target.size || size > target.size - writeOffset) return;
-    const auto begin = static_cast<std::ptrdiff_t>(writeOffset);
-    const auto end = static_cast<std::ptrdiff_t>(writeOffset + size);
-    if (source == buffers_.end() || !source->second.followed || readOffset > source->second.size ||
-        size > source->second.size - readOffset) {
-      std::fill(target.written.begin() + begin, target.written.begin() + end, false);
-      target.unwrittenWhy = call.name + " at call " + std::to_string(call.number) +
-                            " copied from a buffer whose bytes clipray does not hold";
-      return;
-    }
-    // Through a copy: source and destination may be the same buffer, overlapping.
-    const Buffer& origin = source->second;
-    const auto readBegin = static_cast<std::ptrdiff_t>(readOffset);
-    const std::vector<std::uint8_t> bytes(origin.bytes.begin() + readBegin,
-                                          origin.bytes.begin() + readBegin + (end - begin));
-    const std::vector<bool> written(origin.written.begin() + readBegin,
-                                    origin.written.begin() + readBegin + (end - begin));
-    std::copy(bytes.begin(), bytes.end(), target.bytes.begin() + begin);
-    std::copy(written.begin(), written.end(), target.written.begin() + begin);
+    copyBufferSubData(call);
   } else if (name.starts_with("glMap")) {
-    const bool named = name.starts_with("glMapNamed");
-    const std::uint32_t buffer = named ? objectArgument(call, "buffer") : bufferAt(call, "target");
-    if (!call.result || call.result->text == "NULL") return;
-    const std::uint64_t address = byteValue(call, "the result", *call.result);
-    const bool ranged = name.ends_with("Range");
-    const auto found = buffers_.find(buffer);
-    const std::uint64_t size = found == buffers_.end() ? 0 : found->second.size;
-    const std::uint64_t offset = ranged ? byteArgument(call, "offset") : 0;
-    const std::uint64_t length = ranged ? byteArgument(call, "length") : size;
-    std::erase_if(mappings_, [&](const auto& entry) { return entry.second.buffer == buffer; });
-    mappings_[address] = {buffer, offset, length};
+    mapBuffer(call);
   } else if (name == "glUnmapBuffer" || name == "glUnmapNamedBuffer") {
-    const std::uint32_t buffer =
-        name == "glUnmapNamedBuffer" ? objectArgument(call, "buffer") : bufferAt(call, "target");
-    std::erase_if(mappings_, [&](const auto& entry) { return entry.second.buffer == buffer; });
+    unmapBuffer(call);
   } else if (name == "memcpy") {
-    // apitrace's record of the bytes an app wrote into a mapping (its fake memcpy call).
-    const std::uint64_t destination = byteArgument(call, "dest");
-    const std::uint64_t size = byteArgument(call, "n");
-    auto found = mappings_.upper_bound(destination);
-    if (found == mappings_.begin()) return;
-    --found;
-    const Mapping& mapping = found->second;
-    const std::uint64_t into = destination - found->first;
-    if (into > mapping.length || size > mapping.length - into) return;
-    write(mapping.buffer, mapping.offset + into, size, call, argument(call, "src"));
+    writeMapped(call);
   } else if (name == "glShaderSource") {
     shaderSources_[objectArgument(call, "shader")] = joinedStrings(argument(call, "string"));
   } else if (name == "glCreateShaderProgramv") {
-    const auto program = call.result ? call.result->number() : std::nullopt;
-    if (!program || *program <= 0.0 || *program > 4294967295.0) return;
-    const auto id = static_cast<std::uint32_t>(*program);
-    // A separable program of one shader: keyed apart from glCreateShader's names.
-    const std::uint32_t shader = 0xFFFFFFFFu - id;
-    shaderSources_[shader] = joinedStrings(argument(call, "strings"));
-    attachedShaders_[id] = {shader};
-    link(id);
+    createShaderProgram(call);
   } else if (name == "glAttachShader") {
     attachedShaders_[objectArgument(call, "program")].push_back(objectArgument(call, "shader"));
   } else if (name == "glDetachShader") {
@@ -353,26 +414,9 @@ void UniformBuffers::apply(const DumpCall& call) {
   } else if (name == "glLinkProgram") {
     link(objectArgument(call, "program"));
   } else if (name == "glGetUniformBlockIndex") {
-    const auto index = call.result ? call.result->number() : std::nullopt;
-    if (!index || *index < 0.0 || *index >= 4294967295.0) return;  // GL_INVALID_INDEX
-    blockIndexNames_[{objectArgument(call, "program"), static_cast<std::uint32_t>(*index)}] =
-        argument(call, "uniformBlockName").text;
+    nameBlockIndex(call);
   } else if (name == "glUniformBlockBinding") {
-    const std::uint32_t program = objectArgument(call, "program");
-    const std::uint32_t index = objectArgument(call, "uniformBlockIndex");
-    const std::uint32_t binding = objectArgument(call, "uniformBlockBinding");
-    const auto named = blockIndexNames_.find({program, index});
-    if (named == blockIndexNames_.end()) {
-      note("unknown-block-index-" + std::to_string(program),
-           "glUniformBlockBinding at call " + std::to_string(call.number) + ": block index " +
-               std::to_string(index) + " of program " + std::to_string(program) +
-               " was not queried with glGetUniformBlockIndex in the trace: that block's binding "
-               "is unknown");
-      return;
-    }
-    for (LinkedBlock& block : programBlocks_[program]) {
-      if (block.declaration.blockName == named->second) block.binding = binding;
-    }
+    bindUniformBlock(call);
   }
 }
 

@@ -115,6 +115,31 @@ class UniformBuffers {
   std::optional<std::vector<std::uint8_t>> blobBytes(const DumpCall& call, const DumpValue& data,
                                                      std::uint64_t size, std::string& why) const;
   void link(std::uint32_t program);
+
+  // apply's steps: one per GL function it follows, with that function's Base/Range or glNamed*
+  // forms.
+  // glBindBuffer: the buffer bound to a target, for the calls that name the target.
+  void bindBuffer(const DumpCall& call);
+  // glBindBufferBase, glBindBufferRange: one indexed uniform buffer binding.
+  void bindBufferBaseOrRange(const DumpCall& call);
+  // glBindBuffersBase, glBindBuffersRange: consecutive indexed uniform buffer bindings.
+  void bindBuffersBaseOrRange(const DumpCall& call);
+  void deleteBuffers(const DumpCall& call);
+  // glCopyBufferSubData, glCopyNamedBufferSubData.
+  void copyBufferSubData(const DumpCall& call);
+  // glMapBuffer*, glMapNamedBuffer*: where the mapping is, for the memcpy calls that write it.
+  void mapBuffer(const DumpCall& call);
+  // glUnmapBuffer, glUnmapNamedBuffer.
+  void unmapBuffer(const DumpCall& call);
+  // memcpy: apitrace's record of the bytes an app wrote into a mapping (its fake memcpy call).
+  void writeMapped(const DumpCall& call);
+  // glCreateShaderProgramv: a program linked from one shader's source.
+  void createShaderProgram(const DumpCall& call);
+  // glGetUniformBlockIndex: the block name behind an index, for glUniformBlockBinding.
+  void nameBlockIndex(const DumpCall& call);
+  // glUniformBlockBinding.
+  void bindUniformBlock(const DumpCall& call);
+
   // The buffer bound to a call's target argument (argument name given); 0 for none.
   std::uint32_t bufferAt(const DumpCall& call, std::string_view targetArgument) const;
   void note(const std::string& key, const std::string& message);
