@@ -9,8 +9,8 @@
 
 #include "Commands.hpp"
 #include "clipray/InputError.hpp"
-#include "clipray/report/JUnit.hpp"
 #include "clipray/io/OutputFolder.hpp"
+#include "clipray/report/JUnit.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/report/ReportReading.hpp"
 

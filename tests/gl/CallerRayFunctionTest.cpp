@@ -55,7 +55,8 @@ class CallerRayFunction : public GlTest {
     const Scene& scene = this->scene();
     const engine::AnalyticPass pass = engine::runAnalyticPass(
         scene, scene.cameras[0], mode, scene.cameras[0].viewport, pickingFunction(bugs));
-    return engine::rasterAndCompare(renderer(), pass, DepthFormat::Float32, VertexMode::World, false);
+    return engine::rasterAndCompare(renderer(), pass, DepthFormat::Float32, VertexMode::World,
+                                    false);
   }
   static const Scene& scene() {
     // Geometry crosses the near plane and sits between the eye and the near plane.

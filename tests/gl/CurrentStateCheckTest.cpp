@@ -117,12 +117,14 @@ TEST(CurrentStateCheck, ReversedZNeedsGreaterAndClearZero) {
   gl.enable(trace::kGlDepthTest);
   gl.depthFunc(trace::kGlGreater);
   gl.clearDepth(0.0);
-  const engine::CurrentStateCheck right = engine::checkCurrentState(kReversedMatrix, context->loader());
+  const engine::CurrentStateCheck right =
+      engine::checkCurrentState(kReversedMatrix, context->loader());
   EXPECT_EQ(right.state.depthFormatName, "32f");
   EXPECT_EQ(right.report.properties.builtFor, "zo-reversed");
   EXPECT_EQ(codes(right.report), std::vector<std::string>{"warning:infinite-far-plane"});
   gl.clearDepth(1.0);
-  const engine::CurrentStateCheck wrong = engine::checkCurrentState(kReversedMatrix, context->loader());
+  const engine::CurrentStateCheck wrong =
+      engine::checkCurrentState(kReversedMatrix, context->loader());
   EXPECT_EQ(codes(wrong.report),
             (std::vector<std::string>{"warning:infinite-far-plane", "error:clear-depth-mismatch"}));
 }

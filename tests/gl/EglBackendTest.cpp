@@ -13,8 +13,8 @@
 #include <string>
 #include <vector>
 
-#include "clipray/gl/GlContext.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
+#include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "support/GlFixture.hpp"
@@ -161,9 +161,9 @@ TEST(EglBackend, ReconcilesTheStandardSceneConsistently) {
   const Scene scene = loadScene(sourcePath("scenes/standard.json"));
   const Camera& camera = scene.cameras[0];
   for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed}) {
-    const RunRecord run =
-        engine::rasterAndCompare(renderer, engine::runAnalyticPass(scene, camera, mode, camera.viewport),
-                             DepthFormat::Float32, VertexMode::World, false);
+    const RunRecord run = engine::rasterAndCompare(
+        renderer, engine::runAnalyticPass(scene, camera, mode, camera.viewport),
+        DepthFormat::Float32, VertexMode::World, false);
     EXPECT_TRUE(run.metrics.consistent()) << mode.name();
     EXPECT_GT(run.metrics.rasterHits, 0) << mode.name();
   }

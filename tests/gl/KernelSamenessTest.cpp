@@ -214,7 +214,8 @@ TEST_F(KernelSameness, RandomScenesThroughTheHardCaseCamerasGiveTheSameHitsRepor
       camera.projection = std::monostate{};
       camera.rawClipFromWorld = hardCase.inputs.clipFromWorld;
       const DepthMode mode = hardCase.inputs.mode;
-      const engine::AnalyticPass simd = engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
+      const engine::AnalyticPass simd =
+          engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
       const engine::AnalyticPass portable = [&] {
         const KernelsFor kernels(KernelChoice::Portable);
         return engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
@@ -234,23 +235,16 @@ TEST_F(KernelSameness, RandomScenesThroughTheHardCaseCamerasGiveTheSameHitsRepor
            {DepthFormat::Unorm16, DepthFormat::Unorm24, DepthFormat::Float32}) {
         const VertexMode vertexMode =
             runs % 2 == 0 ? VertexMode::World : VertexMode::Pretransformed;
-        gl::RenderRequest request;
-        request.scene = &scene;
-        request.clipFromWorld = simd.camera.clipFromWorld;
-        request.mode = mode;
-        request.depthFormat = format;
-        request.vertexMode = vertexMode;
-        request.vertexReference = simd.reference;
-        request.viewport = camera.viewport;
         gl::RenderTimings timings;
-        const RasterFrame raster = renderer().render(request, &timings);
+        const RasterFrame raster =
+            renderer().render(engine::renderRequest(simd, format, vertexMode), &timings);
         const int subpixelBits = renderer().info().subpixelBits;
         engine::ComparedRun withSimd =
             engine::compareRasterFrame(simd, raster, format, vertexMode, subpixelBits, timings, 2);
         engine::ComparedRun withPortable = [&] {
           const KernelsFor kernels(KernelChoice::Portable);
-          return engine::compareRasterFrame(portable, raster, format, vertexMode, subpixelBits, timings,
-                                        2);
+          return engine::compareRasterFrame(portable, raster, format, vertexMode, subpixelBits,
+                                            timings, 2);
         }();
         const std::string run = what + " " + depthFormatName(format);
         const nlohmann::json patch =

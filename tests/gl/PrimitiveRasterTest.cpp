@@ -105,8 +105,9 @@ class PrimitiveRasterCases : public GlTest {};
 
 RunRecord reconcile(gl::Renderer& renderer, const Scene& scene, DepthMode mode) {
   const Camera& camera = scene.cameras[0];
-  return engine::rasterAndCompare(renderer, engine::runAnalyticPass(scene, camera, mode, camera.viewport),
-                              DepthFormat::Float32, VertexMode::World, false);
+  return engine::rasterAndCompare(renderer,
+                                  engine::runAnalyticPass(scene, camera, mode, camera.viewport),
+                                  DepthFormat::Float32, VertexMode::World, false);
 }
 
 TEST_F(PrimitiveRasterCases, CameraInsideASphereOrBoxSeesItsFarSideEverywhere) {
@@ -146,7 +147,8 @@ TEST_F(PrimitiveRasterCases, NestedSphereNeverShows) {
   const Scene scene = sceneWith(R"({"name": "outer", "type": "sphere", "centre": [0, 0, 0],
       "radius": 1}, {"name": "inner", "type": "sphere", "centre": [0.2, 0, 0], "radius": 0.5})");
   const Camera& camera = scene.cameras[0];
-  const engine::AnalyticPass pass = engine::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport);
+  const engine::AnalyticPass pass =
+      engine::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport);
   const RasterFrame raster =
       renderer().render({&scene, pass.camera.clipFromWorld, kZeroToOne, DepthFormat::Float32,
                          VertexMode::World, pass.reference, camera.viewport});

@@ -41,11 +41,13 @@ TEST_F(ShippedScenes, EveryShippedSceneIsConsistent) {
     const Scene scene = loadScene(entry.path().string());
     for (const Camera& camera : scene.cameras) {
       for (const DepthMode mode : conventionsOf(scene)) {
-        const engine::AnalyticPass pass = engine::runAnalyticPass(scene, camera, mode, camera.viewport);
+        const engine::AnalyticPass pass =
+            engine::runAnalyticPass(scene, camera, mode, camera.viewport);
         for (const DepthFormat format : {DepthFormat::Float32, DepthFormat::Unorm24}) {
           for (const VertexMode vertexMode :
                {VertexMode::World, VertexMode::CameraRelative, VertexMode::Pretransformed}) {
-            const RunRecord run = engine::rasterAndCompare(renderer(), pass, format, vertexMode, false);
+            const RunRecord run =
+                engine::rasterAndCompare(renderer(), pass, format, vertexMode, false);
             ++runs;
             EXPECT_TRUE(run.metrics.consistent()) << describe(run);
             EXPECT_GT(run.metrics.rasterHits, 0) << describe(run);
@@ -77,7 +79,8 @@ TEST_F(ShippedScenes, ClipControlMovesTheNearPlaneOfANoMatrix) {
   EXPECT_TRUE(underZo.metrics.consistent()) << describe(underZo);
   const engine::AnalyticPass no =
       engine::runAnalyticPass(scene, camera, kNegativeOneToOne, camera.viewport);
-  const engine::AnalyticPass zo = engine::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport);
+  const engine::AnalyticPass zo =
+      engine::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport);
   const PrimitiveIdTable ids(scene);
   auto slantedPixels = [&](const engine::AnalyticPass& pass) {
     int count = 0;
@@ -103,7 +106,8 @@ TEST_F(ShippedScenes, AWaterReflectionShowsNothingBelowTheHorizonOrTheWater) {
   for (const Camera& camera : scene.cameras) {
     for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne}) {
       SCOPED_TRACE(camera.name + " under " + mode.name());
-      const engine::AnalyticPass pass = engine::runAnalyticPass(scene, camera, mode, camera.viewport);
+      const engine::AnalyticPass pass =
+          engine::runAnalyticPass(scene, camera, mode, camera.viewport);
       const RobustRayGenerator rays(pass.camera.clipFromWorld, mode);
       const bool ownConvention = camera.name == "reflection_" + mode.name();
       int noRay = 0;
@@ -142,7 +146,8 @@ TEST_F(ShippedScenes, AWaterReflectionShowsNothingBelowTheHorizonOrTheWater) {
         // window depth is ~1e-17 and finer than the double hit point (its error term in the
         // tolerance model, ScreenPolygons.cpp).
         for (const DepthFormat format : {DepthFormat::Unorm24, DepthFormat::Float32}) {
-          const RunRecord run = engine::rasterAndCompare(renderer(), pass, format, vertexMode, false);
+          const RunRecord run =
+              engine::rasterAndCompare(renderer(), pass, format, vertexMode, false);
           EXPECT_TRUE(run.metrics.consistent()) << describe(run);
           EXPECT_GT(run.metrics.rasterHits, 0);
         }

@@ -9,8 +9,8 @@
 #include <memory>
 #include <string>
 
-#include "clipray/gl/GlContext.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
+#include "clipray/gl/GlContext.hpp"
 #include "clipray/gl/Renderer.hpp"
 
 namespace clipray::testing {

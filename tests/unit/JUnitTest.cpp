@@ -2,8 +2,8 @@
 
 #include <gtest/gtest.h>
 
-#include "clipray/report/JUnit.hpp"
 #include "clipray/io/XmlText.hpp"
+#include "clipray/report/JUnit.hpp"
 
 namespace clipray {
 namespace {

@@ -7,12 +7,12 @@
 
 #include <glm/glm.hpp>
 
+#include "clipray/util/OptionValues.hpp"
+
 namespace clipray::detail {
 
 inline std::string checkNumber(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value + 0.0);  // + 0.0: no "-0"
-  return buffer;
+  return sixDigits(value);
 }
 
 inline std::string checkVector(const glm::dvec3& v) {

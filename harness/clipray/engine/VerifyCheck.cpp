@@ -6,15 +6,14 @@
 
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/rays/RobustRays.hpp"
+#include "clipray/util/OptionValues.hpp"
 
 namespace clipray::engine {
 
 namespace {
 
 std::string number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value + 0.0);
-  return buffer;
+  return sixDigits(value);
 }
 
 }  // namespace

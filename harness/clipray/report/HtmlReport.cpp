@@ -12,8 +12,8 @@
 #include <cstdio>
 #include <utility>
 
-#include "clipray/report/RunImages.hpp"
 #include "clipray/io/XmlText.hpp"
+#include "clipray/report/RunImages.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {

@@ -10,16 +10,11 @@
 
 namespace clipray {
 
-namespace {
-
-// As `clipray check` writes numbers: six significant digits, "nan", "inf".
-std::string finiteOrNot(double value) {
+std::string sixDigits(double value) {
   char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value + 0.0);
+  std::snprintf(buffer, sizeof buffer, "%.6g", value + 0.0);  // + 0.0: no "-0"
   return buffer;
 }
-
-}  // namespace
 
 std::vector<std::string> splitCommaList(const std::string& text) {
   std::vector<std::string> items;
@@ -105,8 +100,8 @@ glm::dmat4 parseMatrix16(const std::vector<double>& numbers, bool rowMajor,
   glm::dmat4 m(0.0);
   for (int i = 0; i < 16; ++i) {
     if (!std::isfinite(numbers[i])) {
-      throw InputError(what + ": number " + std::to_string(i + 1) + " is " +
-                       finiteOrNot(numbers[i]) + "; expected finite numbers");
+      throw InputError(what + ": number " + std::to_string(i + 1) + " is " + sixDigits(numbers[i]) +
+                       "; expected finite numbers");
     }
     // Column-major: element i is (row i % 4, column i / 4); row-major: (row i / 4, column i % 4).
     if (rowMajor) {

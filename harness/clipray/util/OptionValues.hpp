@@ -11,6 +11,8 @@
 
 namespace clipray {
 
+// A number as messages and check reports write it: six significant digits, no "-0", "nan", "inf".
+std::string sixDigits(double value);
 // "a, b,c" -> {"a", "b", "c"} (spaces around items trimmed, empty items dropped).
 std::vector<std::string> splitCommaList(const std::string& text);
 // {"a", "b"} -> "a, b"
