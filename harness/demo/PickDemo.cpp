@@ -225,14 +225,18 @@ void PickDemo::updateRaster() {
   request.vertexMode = settings_.vertexMode;
   request.vertexReference = reference;
   request.viewport = viewport;
+  request.depthRange = shownScene_.depthRange;
   raster_ = renderer_->render(request);
-  intersector_.emplace(shownScene_, reference);
+  // The picks cull what the picture culls (the demo draws lower-left: the matrix is as drawn).
+  intersector_.emplace(shownScene_, reference, SceneIntersector::BvhBuild::Now,
+                       rasterCamera_.clipFromWorld);
   rasterSetup_.clipFromWorld = rasterCamera_.clipFromWorld;
   rasterSetup_.mode = settings_.mode;
   rasterSetup_.depthFormat = settings_.depthFormat;
   rasterSetup_.vertexMode = settings_.vertexMode;
   rasterSetup_.vertexReference = reference;
   rasterSetup_.subpixelBits = renderer_->info().subpixelBits;
+  rasterSetup_.depthRange = shownScene_.depthRange;
 
   if (gpu_->idTextureSize != glm::ivec2(viewport.width, viewport.height)) {
     glDeleteTextures(1, &gpu_->idTexture);

@@ -81,6 +81,37 @@ TEST(SceneBuilder, BuildsTheSceneItsFileLoads) {
   EXPECT_FALSE(std::get<PerspectiveProjection>(scene.cameras[1].projection).farDistance);
 }
 
+TEST(SceneBuilder, FaceCullingAppliesToTheMeshAddedLast) {
+  SceneBuilder builder("culled");
+  builder.mesh("open", kQuadPositions, kQuadIndices)
+      .mesh("culled", kQuadPositions, kQuadIndices)
+      .faceCulling(CullFace::Back, FrontFace::Cw);
+  const Scene& scene = builder.build().model();
+  ASSERT_EQ(scene.objects.size(), 2u);
+  EXPECT_EQ(scene.objects[0].cull, CullFace::None);
+  EXPECT_EQ(scene.objects[0].frontFace, FrontFace::Ccw);
+  EXPECT_EQ(scene.objects[1].cull, CullFace::Back);
+  EXPECT_EQ(scene.objects[1].frontFace, FrontFace::Cw);
+  const Scene file = parseScene(builder.json(), "culled.json");
+  EXPECT_EQ(file.objects[1].cull, CullFace::Back);
+  EXPECT_EQ(file.objects[1].frontFace, FrontFace::Cw);
+
+  SceneBuilder empty("t");
+  try {
+    empty.faceCulling(CullFace::Front);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "SceneBuilder \"t\": faceCulling() applies to the mesh added last, and no object "
+              "was added yet");
+  }
+  SceneBuilder sphere("t");
+  sphere.sphere("ball", {0.0, 0.0, 0.0}, 1.0).faceCulling(CullFace::Back);
+  EXPECT_EQ(messageOf(sphere),
+            "SceneBuilder \"t\": /objects/0/cull: face culling applies to triangle meshes (mesh, "
+            "meshFile, terrain); a sphere is ray-traced by its fragment shader and has no winding");
+}
+
 TEST(SceneBuilder, WithoutCamerasUsesTheAutomaticOnes) {
   const TestScene scene = SceneBuilder("auto").mesh("quad", kQuadPositions, kQuadIndices).build();
   EXPECT_EQ(scene.cameraNames().size(), 4u);

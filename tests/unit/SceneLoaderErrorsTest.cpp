@@ -87,7 +87,8 @@ TEST(SceneLoaderErrors, UnknownKeys) {
             "\"translate\", \"rotateDegrees\", \"scale\"");
   EXPECT_EQ(errorOf(withPlacement(R"("color": [1, 0, 0])")),
             "scenes/a.json: /objects/0/color: unknown key \"color\"; valid keys are \"name\", "
-            "\"type\", \"transform\", \"worldFromObject\", \"positions\", \"indices\"");
+            "\"type\", \"transform\", \"worldFromObject\", \"positions\", \"indices\", "
+            "\"cull\", \"frontFace\"");
 }
 
 TEST(SceneLoaderErrors, WrongTypes) {
@@ -305,6 +306,36 @@ TEST(SceneLoaderErrors, DepthRange) {
   EXPECT_EQ(withRange("[\"0\", 1]"), "scenes/a.json: /depthRange/0: expected a number, got \"0\"");
   EXPECT_EQ(withRange("[0.3, 0.3]"),
             "scenes/a.json: /depthRange: near and far are both 0.3; every depth would be equal");
+}
+
+TEST(SceneLoaderErrors, FaceCulling) {
+  const auto mesh = [](const std::string& keys) {
+    return errorOf(withObject(R"({"name": "tri", "type": "mesh",
+      "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], )" +
+                              keys + "}"));
+  };
+  EXPECT_EQ(mesh(R"("cull": "both")"),
+            "scenes/a.json: /objects/0/cull: expected one of \"none\", \"back\", \"front\" "
+            "(glCullFace), got \"both\"");
+  EXPECT_EQ(mesh(R"("cull": "BACK")"),
+            "scenes/a.json: /objects/0/cull: expected one of \"none\", \"back\", \"front\" "
+            "(glCullFace), got \"BACK\"");
+  EXPECT_EQ(mesh(R"("cull": true)"),
+            "scenes/a.json: /objects/0/cull: expected one of \"none\", \"back\", \"front\" "
+            "(glCullFace), got true");
+  EXPECT_EQ(mesh(R"("cull": "back", "frontFace": "clockwise")"),
+            "scenes/a.json: /objects/0/frontFace: expected one of \"ccw\", \"cw\" (glFrontFace), "
+            "got \"clockwise\"");
+  EXPECT_EQ(errorOf(withObject(
+                R"({"name": "ball", "type": "sphere", "centre": [0, 0, 0], "radius": 1,
+                    "cull": "back"})")),
+            "scenes/a.json: /objects/0/cull: face culling applies to triangle meshes (mesh, "
+            "meshFile, terrain); a sphere is ray-traced by its fragment shader and has no winding");
+  EXPECT_EQ(errorOf(withObject(
+                R"({"name": "lid", "type": "quad", "centre": [0, 0, 0],
+                    "halfEdges": [[1, 0, 0], [0, 1, 0]], "frontFace": "cw"})")),
+            "scenes/a.json: /objects/0/frontFace: face culling applies to triangle meshes (mesh, "
+            "meshFile, terrain); a quad is ray-traced by its fragment shader and has no winding");
 }
 
 TEST(SceneLoaderErrors, LookAt) {

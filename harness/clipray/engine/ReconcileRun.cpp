@@ -46,8 +46,10 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
 
   const PhaseClock intersectClock;
   // The BVH only when a tile of rays needs it: camera rays traced from screen-space bins never do.
-  pass.intersector = std::make_unique<SceneIntersector>(
-      scene, pass.reference, SceneIntersector::BvhBuild::WhenFirstNeeded);
+  // Face culling is decided by the matrix as drawn (its clip origin does not change facing).
+  pass.intersector = std::make_unique<SceneIntersector>(scene, pass.reference,
+                                                        SceneIntersector::BvhBuild::WhenFirstNeeded,
+                                                        pass.drawnCamera.clipFromWorld);
   intersectFrame(pass.frame, *pass.intersector, pass.camera, threadCount);
   pass.intersectMilliseconds = intersectClock.wallMilliseconds();
   pass.intersectCpuMilliseconds = intersectClock.cpuMilliseconds();

@@ -130,6 +130,8 @@ struct MeshDraw {
   GLsizei indexCount;
   std::size_t indexOffset;
   GLint baseVertex;
+  CullFace cull;
+  FrontFace frontFace;
 };
 
 // One analytic primitive's draw: its id and kind, clipFromLocal for the shader's rays, and where
@@ -184,9 +186,9 @@ void appendMeshes(const RenderRequest& request, const PrimitiveIdTable& ids,
         input = clipFromWorld * glm::dvec4(p, 1.0);
       for (int c = 0; c < 4; ++c) vertices.push_back(static_cast<float>(input[c]));
     }
-    geometry.draws.push_back({ids.firstIdOfObject[k],
-                              static_cast<GLsizei>(object.triangles.size() * 3),
-                              indices.size() * sizeof(std::uint32_t), baseVertex});
+    geometry.draws.push_back(
+        {ids.firstIdOfObject[k], static_cast<GLsizei>(object.triangles.size() * 3),
+         indices.size() * sizeof(std::uint32_t), baseVertex, object.cull, object.frontFace});
     for (const glm::u32vec3& t : object.triangles) {
       indices.insert(indices.end(), {t.x, t.y, t.z});
     }
@@ -443,9 +445,17 @@ void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat
   for (const MeshDraw& draw : geometry.draws) {
     if (draw.indexCount == 0) continue;
     glUniform1ui(firstIdLocation, draw.firstId);
+    if (draw.cull == CullFace::None) {
+      glDisable(GL_CULL_FACE);
+    } else {
+      glEnable(GL_CULL_FACE);
+      glCullFace(draw.cull == CullFace::Back ? GL_BACK : GL_FRONT);
+      glFrontFace(draw.frontFace == FrontFace::Ccw ? GL_CCW : GL_CW);
+    }
     glDrawElementsBaseVertex(GL_TRIANGLES, draw.indexCount, GL_UNSIGNED_INT,
                              reinterpret_cast<const void*>(draw.indexOffset), draw.baseVertex);
   }
+  glDisable(GL_CULL_FACE);  // the primitives' proxies are drawn whole
 }
 
 void Renderer::State::drawPrimitives(const RenderRequest& request,

@@ -16,6 +16,7 @@
 #include "clipray/intersect/PrimitiveKernels.hpp"
 #include "clipray/intersect/Primitives.hpp"
 #include "clipray/intersect/Watertight.hpp"
+#include "clipray/math/Facing.hpp"
 #include "clipray/util/HugePages.hpp"
 
 namespace clipray {
@@ -37,7 +38,8 @@ bool finiteRay(const Ray& ray) {
 }  // namespace
 
 SceneIntersector::SceneIntersector(const Scene& scene, const glm::dvec3& reference,
-                                   BvhBuild bvhBuild)
+                                   BvhBuild bvhBuild,
+                                   const std::optional<glm::dmat4>& drawnClipFromWorld)
     : reference_(reference), primitives_(scene.primitives) {
   const PrimitiveIdTable ids(scene);
   firstAnalyticId_ = ids.firstAnalyticId;
@@ -59,20 +61,52 @@ SceneIntersector::SceneIntersector(const Scene& scene, const glm::dvec3& referen
   // Boxes are padded by far more than the rounding of the slab test and of the watertight test
   // (both are relative to the coordinates' size, at most `extent`): rounding never culls a box
   // holding a triangle that the linear scan would report.
+  triangleIdCount_ = triangles_.size();
+  if (drawnClipFromWorld) cullTriangles(scene, *drawnClipFromWorld);
   boxPad_ = extent * 0x1p-30 + std::numeric_limits<double>::min();
   if (!std::isfinite(boxPad_)) boxPad_ = kInf;
   wantsBvh_ = triangles_.size() > kBvhThreshold;
   if (wantsBvh_ && bvhBuild == BvhBuild::Now) ensureBvh();
 }
 
+void SceneIntersector::cullTriangles(const Scene& scene, const glm::dmat4& drawnClipFromWorld) {
+  const bool anyCulling = std::any_of(scene.objects.begin(), scene.objects.end(),
+                                      [](const MeshObject& o) { return o.cull != CullFace::None; });
+  if (!anyCulling) return;
+  culled_.assign(triangles_.size(), 0);
+  std::size_t slot = 0;
+  for (const MeshObject& object : scene.objects) {
+    for (const glm::u32vec3& tri : object.triangles) {
+      // Facing from the world positions in double, as the matrix draws them (GL rounds them to
+      // float first: a triangle seen within rounding of edge-on covers almost no pixel).
+      const auto clip = [&](std::uint32_t v) {
+        return drawnClipFromWorld * glm::dvec4(object.worldPositions[v], 1.0);
+      };
+      const double orientation = clipOrientation(clip(tri.x), clip(tri.y), clip(tri.z));
+      if (!drawnUnderCulling(orientation, object.cull, object.frontFace)) culled_[slot] = 1;
+      ++slot;
+    }
+  }
+  if (std::find(culled_.begin(), culled_.end(), 1) == culled_.end()) {
+    culled_.clear();
+    return;
+  }
+  allTriangles_ = std::move(triangles_);
+  triangles_ = {};
+  reserveOnHugePages(triangles_, allTriangles_.size());
+  for (std::size_t i = 0; i < allTriangles_.size(); ++i) {
+    if (!culled_[i]) triangles_.push_back(allTriangles_[i]);
+  }
+}
+
 std::array<glm::dvec3, 3> SceneIntersector::worldTriangle(std::uint32_t primitiveId) const {
-  const Triangle& tri = triangles_[primitiveId - 1];
+  const Triangle& tri = triangleOfId(primitiveId);
   return {tri.a + reference_, tri.b + reference_, tri.c + reference_};
 }
 
 std::size_t SceneIntersector::memoryBytes() const {
-  std::size_t bytes =
-      triangles_.capacity() * sizeof(Triangle) + primitives_.capacity() * sizeof(AnalyticPrimitive);
+  std::size_t bytes = (triangles_.capacity() + allTriangles_.capacity()) * sizeof(Triangle) +
+                      culled_.capacity() + primitives_.capacity() * sizeof(AnalyticPrimitive);
   if (bvhBuilt()) {
     bytes += bvh_->nodes.capacity() * sizeof(Node) + bvh_->triangles.capacity() * sizeof(Triangle);
   }
@@ -446,9 +480,10 @@ Hit SceneIntersector::intersectOne(std::uint32_t primitiveId, const Ray& worldRa
   if (primitiveId == 0 || !finiteRay(worldRay)) return Hit{};
   Hit best;
   best.t = worldRay.tMax;
-  if (primitiveId <= triangles_.size()) {
+  if (primitiveId <= triangleIdCount_) {
+    if (culled(primitiveId)) return Hit{};
     const WatertightRay ray(worldRay.origin - reference_, worldRay.direction);
-    testTriangle(ray, triangles_[primitiveId - 1], best);
+    testTriangle(ray, triangleOfId(primitiveId), best);
   } else if (isAnalytic(primitiveId)) {
     const double t = intersectPrimitive(analyticPrimitive(primitiveId), worldRay);
     if (t < kInf) best = Hit{t, primitiveId};

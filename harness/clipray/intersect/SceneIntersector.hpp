@@ -8,6 +8,8 @@
 // closestHitLinear answers: the smallest (t, primitive id) over all primitives, with each
 // primitive's t computed by the same arithmetic (watertight for triangles); BVH culling is
 // conservative (padded boxes, widened ranges), never decisive.
+// With the matrix a frame is drawn with, the triangles its objects' face culling removes
+// (math/Facing.hpp) are left out of every query, as the rasterizer leaves them out of the picture.
 
 #include <array>
 #include <atomic>
@@ -16,6 +18,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -62,8 +65,12 @@ class SceneIntersector {
   // camera rays traced from screen-space bins never does; the build is thread-safe).
   enum class BvhBuild { Now, WhenFirstNeeded };
 
+  // drawnClipFromWorld: the matrix the frame is drawn with (column-major, p_clip = M * p_world, as
+  // GL gets it, any clip origin), which decides the facing of each triangle of a culling object;
+  // nullopt: no triangle is culled.
   SceneIntersector(const Scene& scene, const glm::dvec3& reference,
-                   BvhBuild bvhBuild = BvhBuild::Now);
+                   BvhBuild bvhBuild = BvhBuild::Now,
+                   const std::optional<glm::dmat4>& drawnClipFromWorld = std::nullopt);
 
   // Closest hit with t in (0, ray.tMax]; ties go to the smaller primitive id. Never throws.
   Hit closestHit(const Ray& worldRay) const noexcept;
@@ -87,17 +94,26 @@ class SceneIntersector {
 
   // Closest hit of the ray with the one primitive `primitiveId` (a triangle or an analytic
   // primitive), t in (0, ray.tMax]: the t that closestHit would see for that primitive, bit for
-  // bit. Hit{} when it misses or the id is not a valid primitive id. Never throws.
+  // bit. Hit{} when it misses, the triangle is culled or the id is not a valid primitive id.
+  // Never throws.
   Hit intersectOne(std::uint32_t primitiveId, const Ray& worldRay) const noexcept;
 
   // World-space vertices of a triangle (id from PrimitiveIdTable); id must be a triangle's.
   std::array<glm::dvec3, 3> worldTriangle(std::uint32_t primitiveId) const;
-  // Triangles only (analytic primitives are counted by analyticCount).
-  std::size_t triangleCount() const { return triangles_.size(); }
+  // The scene's triangles, culled ones included (analytic primitives are counted by
+  // analyticCount).
+  std::size_t triangleCount() const { return triangleIdCount_; }
+  // Triangles that face culling leaves out of every query.
+  std::size_t culledCount() const { return triangleIdCount_ - triangles_.size(); }
+  // Whether the triangle with that id is culled; false for any other id.
+  bool culled(std::uint32_t primitiveId) const {
+    return !culled_.empty() && primitiveId >= 1 && primitiveId <= triangleIdCount_ &&
+           culled_[primitiveId - 1] != 0;
+  }
   std::size_t analyticCount() const { return primitives_.size(); }
   // Valid primitive ids are 1..primitiveIdCount(): triangles first, then analytic primitives.
   std::uint32_t primitiveIdCount() const {
-    return static_cast<std::uint32_t>(triangles_.size() + primitives_.size());
+    return static_cast<std::uint32_t>(triangleIdCount_ + primitives_.size());
   }
   bool isAnalytic(std::uint32_t primitiveId) const {
     return primitiveId >= firstAnalyticId_ && primitiveId - firstAnalyticId_ < primitives_.size();
@@ -123,6 +139,8 @@ class SceneIntersector {
   using Triangle = detail::BvhTriangle;
   using Node = detail::BvhNode;
   void buildBvh() const;
+  // Moves the triangles the drawn matrix culls out of triangles_ (constructor).
+  void cullTriangles(const Scene& scene, const glm::dmat4& drawnClipFromWorld);
   // Builds the BVH once (thread-safe); there must be triangles. Queries one ray at a time walk it
   // only when usesBvh(); the packets of a binned frame whose rays stray build it for any count.
   void ensureBvh() const {
@@ -146,7 +164,16 @@ class SceneIntersector {
 
   glm::dvec3 reference_;
   double boxPad_ = 0.0;
-  std::vector<Triangle> triangles_;  // in primitive id order: triangles_[id - 1]
+  // The triangles queries test, in primitive id order: every triangle (triangles_[id - 1]) unless
+  // face culling left some out; then allTriangles_[id - 1] holds every one and culled_[id - 1]
+  // says which are left out.
+  std::vector<Triangle> triangles_;
+  std::vector<Triangle> allTriangles_;
+  std::vector<std::uint8_t> culled_;
+  std::size_t triangleIdCount_ = 0;
+  const Triangle& triangleOfId(std::uint32_t primitiveId) const {
+    return allTriangles_.empty() ? triangles_[primitiveId - 1] : allTriangles_[primitiveId - 1];
+  }
   bool wantsBvh_ = false;
   // Built once (ensureBvh): the nodes, depth-first (the first child follows its parent), and a
   // copy of the triangles in leaf order, so that triangles_ keeps its order for the bins. Behind

@@ -101,4 +101,33 @@ std::optional<VertexMode> parseVertexMode(std::string_view text) {
   return std::nullopt;
 }
 
+std::string cullFaceName(CullFace cull) {
+  switch (cull) {
+    case CullFace::None:
+      return "none";
+    case CullFace::Back:
+      return "back";
+    case CullFace::Front:
+      return "front";
+  }
+  return "?";
+}
+
+std::optional<CullFace> parseCullFace(std::string_view text) {
+  if (text == "none") return CullFace::None;
+  if (text == "back") return CullFace::Back;
+  if (text == "front") return CullFace::Front;
+  return std::nullopt;
+}
+
+std::string frontFaceName(FrontFace front) {
+  return front == FrontFace::Ccw ? "ccw" : "cw";
+}
+
+std::optional<FrontFace> parseFrontFace(std::string_view text) {
+  if (text == "ccw") return FrontFace::Ccw;
+  if (text == "cw") return FrontFace::Cw;
+  return std::nullopt;
+}
+
 }  // namespace clipray

@@ -51,6 +51,10 @@ struct MeshObject {
   std::string name;
   std::vector<glm::dvec3> worldPositions;
   std::vector<glm::u32vec3> triangles;  // indices into worldPositions
+  // Face culling the object is drawn with; the winding is the triangles' index order as seen
+  // through the drawn clipFromWorld (math/Facing.hpp), so mirrored transforms already count.
+  CullFace cull = CullFace::None;
+  FrontFace frontFace = FrontFace::Ccw;
 };
 
 // An analytic surface: a canonical shape in its own local frame, placed by an affine

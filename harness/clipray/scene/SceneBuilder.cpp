@@ -77,6 +77,17 @@ SceneBuilder& SceneBuilder::depthRange(double nearDepth, double farDepth) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::faceCulling(CullFace cull, FrontFace frontFace) {
+  if (document_->objects().empty()) {
+    throw InputError("SceneBuilder " + detail::jsonString(name_) +
+                     ": faceCulling() applies to the mesh added last, and no object was added yet");
+  }
+  Json& object = document_->objects().back();
+  object["cull"] = cullFaceName(cull);
+  object["frontFace"] = frontFaceName(frontFace);
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::conventions(std::vector<DepthMode> modes) {
   Json names = Json::array();
   for (const DepthMode& mode : modes) names.push_back(mode.name());

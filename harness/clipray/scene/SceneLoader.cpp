@@ -64,6 +64,7 @@ glm::dmat4 rotationDegrees(const glm::dvec3& unitAxis, double degrees) {
 struct ObjectType {
   std::string_view name;
   std::vector<std::string_view> keys;  // besides the keys every object has
+  bool triangles;                      // drawn as triangles: "cull" and "frontFace" apply
   void (SceneReader::*read)(const json&, const Pointer&, const glm::dmat4&, std::string,
                             Scene&) const;
 };
@@ -76,14 +77,14 @@ const std::vector<std::string_view>& commonObjectKeys() {
 
 const std::vector<ObjectType>& objectTypes() {
   static const std::vector<ObjectType> types = {
-      {"mesh", {"positions", "indices"}, &SceneReader::readMesh},
-      {"meshFile", {"path", "useCameras"}, &SceneReader::readMeshFile},
-      {"terrain", {"triangles", "seed"}, &SceneReader::readTerrain},
-      {"sphere", {"centre", "radius"}, &SceneReader::readSphere},
-      {"disk", {"centre", "normal", "radius"}, &SceneReader::readDisk},
-      {"quad", {"centre", "halfEdges"}, &SceneReader::readQuad},
-      {"box", {"min", "max", "centre", "halfExtents"}, &SceneReader::readBox},
-      {"plane", {"point", "normal"}, &SceneReader::readPlane},
+      {"mesh", {"positions", "indices"}, true, &SceneReader::readMesh},
+      {"meshFile", {"path", "useCameras"}, true, &SceneReader::readMeshFile},
+      {"terrain", {"triangles", "seed"}, true, &SceneReader::readTerrain},
+      {"sphere", {"centre", "radius"}, false, &SceneReader::readSphere},
+      {"disk", {"centre", "normal", "radius"}, false, &SceneReader::readDisk},
+      {"quad", {"centre", "halfEdges"}, false, &SceneReader::readQuad},
+      {"box", {"min", "max", "centre", "halfExtents"}, false, &SceneReader::readBox},
+      {"plane", {"point", "normal"}, false, &SceneReader::readPlane},
   };
   return types;
 }
@@ -170,9 +171,51 @@ void SceneReader::object(const json& value, const Pointer& at,
   }
   std::vector<std::string_view> keys = commonObjectKeys();
   keys.insert(keys.end(), kind->keys.begin(), kind->keys.end());
+  for (const std::string_view key : {"cull", "frontFace"}) {
+    if (kind->triangles) {
+      keys.push_back(key);
+    } else if (optional(value, key)) {
+      fail(at / std::string(key),
+           "face culling applies to triangle meshes (mesh, meshFile, "
+           "terrain); a " +
+               std::string(kind->name) +
+               " is ray-traced by its fragment shader and has no winding");
+    }
+  }
   expectKnownKeys(value, at, keys);
   std::string objectName = name(value, at, "object", names);
+  const std::size_t firstObject = scene.objects.size();
   (this->*kind->read)(value, at, placement(value, at), std::move(objectName), scene);
+  if (kind->triangles) {
+    const FaceCulling culling = faceCulling(value, at);
+    for (std::size_t k = firstObject; k < scene.objects.size(); ++k) {
+      scene.objects[k].cull = culling.cull;
+      scene.objects[k].frontFace = culling.frontFace;
+    }
+  }
+}
+
+SceneReader::FaceCulling SceneReader::faceCulling(const json& object, const Pointer& at) const {
+  FaceCulling culling;
+  if (const json* cull = optional(object, "cull")) {
+    const std::optional<CullFace> parsed =
+        cull->is_string() ? parseCullFace(cull->get<std::string>()) : std::nullopt;
+    if (!parsed) {
+      fail(at / "cull",
+           "expected one of \"none\", \"back\", \"front\" (glCullFace), got " + describe(*cull));
+    }
+    culling.cull = *parsed;
+  }
+  if (const json* front = optional(object, "frontFace")) {
+    const std::optional<FrontFace> parsed =
+        front->is_string() ? parseFrontFace(front->get<std::string>()) : std::nullopt;
+    if (!parsed) {
+      fail(at / "frontFace",
+           "expected one of \"ccw\", \"cw\" (glFrontFace), got " + describe(*front));
+    }
+    culling.frontFace = *parsed;
+  }
+  return culling;
 }
 
 glm::dmat4 SceneReader::placement(const json& object, const Pointer& at) const {

@@ -53,6 +53,12 @@ class SceneReader : public SceneValidator {
   void object(const json& value, const Pointer& at, std::map<std::string, Pointer>& names,
               Scene& scene) const;
   glm::dmat4 placement(const json& object, const Pointer& at) const;
+  // A triangle object's "cull" and "frontFace" (default none, ccw).
+  struct FaceCulling {
+    CullFace cull = CullFace::None;
+    FrontFace frontFace = FrontFace::Ccw;
+  };
+  FaceCulling faceCulling(const json& object, const Pointer& at) const;
   glm::dmat4 transform(const json& value, const Pointer& at) const;  // world = T * R * S * p
   // A unit direction from a non-zero vector3.
   glm::dvec3 direction(const json& value, const Pointer& at) const;

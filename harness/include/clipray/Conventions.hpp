@@ -87,6 +87,16 @@ std::optional<DepthFormat> parseDepthFormat(std::string_view text);
 // One quantum of the stored depth at window depth d: 2^-bits for UNORM, the float ulp at d for 32F.
 double depthQuantum(DepthFormat format, double windowDepth);
 
+// Face culling, per object: glEnable(GL_CULL_FACE) with glCullFace(GL_BACK or GL_FRONT), or
+// disabled (None). GL_FRONT_AND_BACK draws no triangle at all and is not modelled.
+enum class CullFace { None, Back, Front };
+std::string cullFaceName(CullFace cull);  // "none", "back", "front"
+std::optional<CullFace> parseCullFace(std::string_view text);
+// glFrontFace: the winding in window coordinates that faces front (GL 4.6 14.6.1).
+enum class FrontFace { Ccw, Cw };
+std::string frontFaceName(FrontFace front);  // "ccw", "cw"
+std::optional<FrontFace> parseFrontFace(std::string_view text);
+
 // How vertex positions reach the GPU (the rounding differs, so the tolerances differ):
 // World: float clipFromWorld uniform, float world positions (what most apps do).
 // CameraRelative: translation to a reference point removed in double on the CPU.

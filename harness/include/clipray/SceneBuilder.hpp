@@ -76,6 +76,12 @@ class SceneBuilder {
                      std::span<const std::uint32_t> indices,
                      const glm::dmat4& worldFromObject = glm::dmat4(1.0));
 
+  // Face culling for the mesh added last, as the app draws it: glEnable(GL_CULL_FACE),
+  // glCullFace(cull), glFrontFace(frontFace); CullFace::None disables it (the default). The
+  // winding is the triangles' index order seen through the matrix each run draws with
+  // (docs/reconcile.md, Face culling). Analytic surfaces have no winding: build() refuses it there.
+  SceneBuilder& faceCulling(CullFace cull, FrontFace frontFace = FrontFace::Ccw);
+
   // Analytic surfaces, rasterized exactly (docs/scene-format.md): placed by worldFromObject.
   SceneBuilder& sphere(std::string name, glm::dvec3 centre, double radius,
                        const glm::dmat4& worldFromObject = glm::dmat4(1.0));
