@@ -250,6 +250,24 @@ def main():
           [perspective("main", (0, 0, 3), (0, 0, 0), 45, 0.1, 100)],
           [icosphere("sphere", (0, 0, 0), 1, 3)])
 
+    culled_box = box("box", (-1.2, 0.5, 0), (1, 1, 1), ((0, 1, 0), 30))
+    culled_box["cull"] = "back"
+    mirrored_box = box("mirrored_box", (1.2, 0.5, 0), (1, 1, 1), ((0, 1, 0), 30))
+    mirrored_box["transform"]["scale"] = [-1, 1, 1]
+    mirrored_box["cull"] = "back"
+    card = quad("card", (-0.8, 0.2, 1.6), (0.8, 0.2, 1.6), (0.8, 1.4, 1.6), (-0.8, 1.4, 1.6))
+    card["indices"] = [0, 2, 1, 0, 3, 2]  # wound clockwise seen from the camera: its back
+    card["cull"] = "back"
+    write("face_culling",
+          "Back-face culling (glCullFace(GL_BACK), glFrontFace(GL_CCW)) as GL decides it, by the winding on "
+          "screen: a closed box shows its outside; its mirror image (scale -1 in x keeps the index order, so "
+          "its faces wind clockwise) shows its inside; a card seen from behind is not drawn and the ground shows "
+          "through it. Under zo-upper-left the projection clipray builds flips y, which reverses every winding "
+          "on screen: the box shows its inside and the mirrored one its outside, as in a Direct3D-style app that "
+          "keeps GL_CCW. The rays cull what the picture culls under both.",
+          [perspective("main", (0.5, 2.5, 5), (0, 0.5, 0), 55, 0.1, 100)],
+          [ground, culled_box, mirrored_box, card], conventions=["zo", "zo-upper-left"])
+
     write("no_matrix_under_zo",
           "A projection built for NO (z_n = -1, near 1, far 100) drawn under both conventions. Under ZO the "
           "rasterizer clips at z_ndc = 0, about 2 units away, so the effective near plane moves: the slanted quad "
