@@ -23,6 +23,7 @@ struct GlCalls {
             reinterpret_cast<void (*)(std::uint32_t, std::uint32_t)>(loader("glClipControl"))),
         depthFunc(reinterpret_cast<void (*)(std::uint32_t)>(loader("glDepthFunc"))),
         enable(reinterpret_cast<void (*)(std::uint32_t)>(loader("glEnable"))),
+        frontFace(reinterpret_cast<void (*)(std::uint32_t)>(loader("glFrontFace"))),
         clearDepth(reinterpret_cast<void (*)(double)>(loader("glClearDepth"))),
         viewport(reinterpret_cast<void (*)(int, int, int, int)>(loader("glViewport"))),
         genFramebuffers(
@@ -55,6 +56,7 @@ struct GlCalls {
   void (*clipControl)(std::uint32_t, std::uint32_t);
   void (*depthFunc)(std::uint32_t);
   void (*enable)(std::uint32_t);
+  void (*frontFace)(std::uint32_t);
   void (*clearDepth)(double);
   void (*viewport)(int, int, int, int);
   void (*genFramebuffers)(int, std::uint32_t*);
@@ -127,6 +129,33 @@ TEST(CurrentStateCheck, ReversedZNeedsGreaterAndClearZero) {
       engine::checkCurrentState(kReversedMatrix, context->loader());
   EXPECT_EQ(codes(wrong.report),
             (std::vector<std::string>{"warning:infinite-far-plane", "error:clear-depth-mismatch"}));
+}
+
+// A Direct3D-style app: the projection built y-down for GL_UPPER_LEFT, back faces culled. With
+// glFrontFace left at GL_CCW it keeps the insides of its meshes; GL_CW is right.
+TEST(CurrentStateCheck, FaceCullingUnderAnUpperLeftOrigin) {
+  const auto context = testing::createContextForTests();
+  const GlCalls gl(context->loader());
+  gl.bindDepthFramebuffer(trace::kGlDepthComponent24);
+  gl.clipControl(trace::kGlUpperLeft, trace::kGlNegativeOneToOne);
+  gl.enable(trace::kGlDepthTest);
+  gl.enable(trace::kGlCullFace);
+  glm::dmat4 yDown = kNoMatrix;
+  for (int column = 0; column < 4; ++column) yDown[column][1] = -yDown[column][1];
+  const engine::CurrentStateCheck wrong = engine::checkCurrentState(yDown, context->loader());
+  EXPECT_TRUE(wrong.state.cullFace);
+  EXPECT_EQ(wrong.state.cullFaceMode, trace::kGlBack);
+  EXPECT_EQ(wrong.state.frontFace, trace::kGlCcw);
+  EXPECT_EQ(codes(wrong.report),
+            (std::vector<std::string>{"info:y-flipped", "warning:face-culling-keeps-insides"}));
+  gl.frontFace(trace::kGlCw);
+  const engine::CurrentStateCheck right = engine::checkCurrentState(yDown, context->loader());
+  EXPECT_EQ(right.state.frontFace, trace::kGlCw);
+  EXPECT_EQ(codes(right.report), std::vector<std::string>{"info:y-flipped"});
+  // The same GL_CW with a projection that is not flipped keeps the insides too, but that is an
+  // app's choice for meshes wound clockwise: not a finding.
+  gl.clipControl(trace::kGlLowerLeft, trace::kGlNegativeOneToOne);
+  EXPECT_TRUE(codes(engine::checkCurrentState(kNoMatrix, context->loader()).report).empty());
 }
 
 TEST(CurrentStateCheck, ThePublicEntryPointGivesTheSameFindings) {

@@ -10,6 +10,7 @@
 
 #include "clipray/InputError.hpp"
 #include "clipray/trace/TraceCheck.hpp"
+#include "clipray/util/Check.hpp"
 
 namespace clipray::trace {
 namespace {
@@ -227,6 +228,66 @@ TEST(TraceCheck, ReversedDepthRangeWithClassicMatrix) {
             "glDepthRange(1, 0) (call 5) reverses window depth under a classic matrix: "
             "reversed-Z by depth range keeps float depth precise only under ZERO_TO_ONE, where "
             "the matrix itself can be reversed");
+}
+
+// kNoMatrix built y-down, as a Direct3D/Vulkan-style app builds it for GL_UPPER_LEFT.
+const std::string kYFlippedNoMatrix =
+    "{1.299038, -0, 0, 0, 0, -1.608169, -0.3721342, -0.3713907, 0, 0.6432676, -0.9303355, "
+    "-0.9284767, 0, -0, 5.195746, 5.385165}";
+
+TracePairGroup culledDraw(const std::string& setup, const std::string& matrix) {
+  const TraceCheckResult result = checkLines(
+      shaderApp(setup,
+                "glClear(mask = GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT)\n"
+                "glUniformMatrix4fv(location = 0, count = 1, transpose = GL_FALSE, value = " +
+                    matrix +
+                    ")\n"
+                    "glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)",
+                1));
+  CLIPRAY_CHECK(result.groups.size() == 1u, "one (matrix, state) pair");
+  return result.groups[0];
+}
+
+// The classic mistake: a y-flipped projection under GL_UPPER_LEFT with back-face culling and
+// glFrontFace left at GL_CCW keeps the insides; GL_CW (or a projection that is not flipped) does
+// not; GL_FRONT with GL_CW is the same mistake the other way round.
+TEST(TraceCheck, FaceCullingUnderAYFlipIsNamed) {
+  const std::string upperLeft =
+      "3 glClipControl(origin = GL_UPPER_LEFT, depth = GL_NEGATIVE_ONE_TO_ONE)\n";
+  const TracePairGroup flipped =
+      culledDraw(upperLeft + "4 glEnable(cap = GL_CULL_FACE)\n", kYFlippedNoMatrix);
+  ASSERT_EQ(codes(flipped),
+            (std::vector<std::string>{"info:y-flipped", "warning:face-culling-keeps-insides"}));
+  EXPECT_EQ(flipped.report.findings[1].message,
+            "face culling (glCullFace(GL_BACK) at call 4, glFrontFace(GL_CCW) at GL's default) "
+            "keeps the triangles that wind clockwise seen from the eye: the matrix flips y, as a "
+            "projection built for glClipControl(GL_UPPER_LEFT) does; the origin turns the picture "
+            "upright but GL keeps clip space's winding. Meshes wound counter-clockwise seen from "
+            "outside (glTF, OBJ, GL's default) show their insides");
+  EXPECT_EQ(flipped.report.findings[1].fix,
+            "glFrontFace(GL_CW) while this matrix is in force (nothing, if the meshes are wound "
+            "clockwise seen from outside)");
+  EXPECT_EQ(codes(culledDraw(upperLeft + "4 glEnable(cap = GL_CULL_FACE)\n"
+                                         "5 glFrontFace(mode = GL_CW)\n",
+                             kYFlippedNoMatrix)),
+            std::vector<std::string>{"info:y-flipped"});
+  EXPECT_TRUE(codes(culledDraw("4 glEnable(cap = GL_CULL_FACE)\n", kNoMatrix)).empty());
+  // Culling enabled and then disabled again: nothing is culled at the draw.
+  EXPECT_EQ(codes(culledDraw(upperLeft + "4 glEnable(cap = GL_CULL_FACE)\n"
+                                         "5 glDisable(cap = GL_CULL_FACE)\n",
+                             kYFlippedNoMatrix)),
+            std::vector<std::string>{"info:y-flipped"});
+  const TracePairGroup front = culledDraw(upperLeft +
+                                              "4 glEnable(cap = GL_CULL_FACE)\n"
+                                              "5 glCullFace(mode = GL_FRONT)\n"
+                                              "6 glFrontFace(mode = GL_CW)\n",
+                                          kYFlippedNoMatrix);
+  ASSERT_EQ(codes(front),
+            (std::vector<std::string>{"info:y-flipped", "warning:face-culling-keeps-insides"}));
+  EXPECT_EQ(front.report.findings[1].message.substr(0, 100),
+            "face culling (glCullFace(GL_FRONT) at call 5, glFrontFace(GL_CW) at call 6) keeps the "
+            "triangles that");
+  EXPECT_EQ(front.report.findings[1].fix.substr(0, 18), "glFrontFace(GL_CCW");
 }
 
 TEST(TraceCheck, ProjectionChangingWithinAFrameIsANote) {

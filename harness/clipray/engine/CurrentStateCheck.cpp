@@ -52,6 +52,11 @@ trace::TraceDepthState readCurrentDepthState(gl::GlLoader loader) {
   GLdouble clear = 1.0;
   glGetDoublev(GL_DEPTH_CLEAR_VALUE, &clear);
   state.clearedDepth = clear;  // the value the next depth clear writes
+  state.cullFace = glIsEnabled(GL_CULL_FACE) == GL_TRUE;
+  glGetIntegerv(GL_CULL_FACE_MODE, &value);
+  state.cullFaceMode = static_cast<std::uint32_t>(value);
+  glGetIntegerv(GL_FRONT_FACE, &value);
+  state.frontFace = static_cast<std::uint32_t>(value);
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);
   state.viewport = {viewport[2], viewport[3]};

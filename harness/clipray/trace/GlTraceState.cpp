@@ -36,6 +36,12 @@ const std::unordered_map<std::string_view, std::uint32_t>& enumNames() {
       {"GL_GEQUAL", kGlGequal},
       {"GL_ALWAYS", kGlAlways},
       {"GL_DEPTH_TEST", kGlDepthTest},
+      {"GL_CULL_FACE", kGlCullFace},
+      {"GL_FRONT", kGlFront},
+      {"GL_BACK", kGlBack},
+      {"GL_FRONT_AND_BACK", kGlFrontAndBack},
+      {"GL_CW", kGlCw},
+      {"GL_CCW", kGlCcw},
       {"GL_MODELVIEW", kGlModelview},
       {"GL_PROJECTION", kGlProjection},
       {"GL_TEXTURE", kGlTexture},
@@ -201,6 +207,8 @@ const std::unordered_set<std::string_view>& stateFunctions() {
                                   "glEnable",
                                   "glDisable",
                                   "glDepthFunc",
+                                  "glCullFace",
+                                  "glFrontFace",
                                   "glDepthRange",
                                   "glDepthRangef",
                                   "glDepthRangeIndexed",
@@ -323,10 +331,10 @@ std::string glEnumName(std::uint32_t value) {
 
 std::string TraceDepthState::key() const {
   char text[256];
-  std::snprintf(text, sizeof text, "%d%d%d %u %a %a %a %d %dx%d %s", clipZeroToOne, clipUpperLeft,
-                depthTest, depthFunc, depthRange.x, depthRange.y,
+  std::snprintf(text, sizeof text, "%d%d%d %u %a %a %a %d %dx%d %s %d %u %u", clipZeroToOne,
+                clipUpperLeft, depthTest, depthFunc, depthRange.x, depthRange.y,
                 clearedDepth ? *clearedDepth : -1.0, clearedDepth.has_value(), viewport.width,
-                viewport.height, depthFormatName.c_str());
+                viewport.height, depthFormatName.c_str(), cullFace, cullFaceMode, frontFace);
   return text;
 }
 
@@ -504,7 +512,18 @@ bool GlTraceState::applyDepthState(const DumpCall& call) {
     depth_.clipZeroToOne = enumArgument(call, "depth") == kGlZeroToOne;
     depth_.clipControlCall = call.number;
   } else if (name == "glEnable" || name == "glDisable") {
-    if (enumArgument(call, "cap") == kGlDepthTest) depth_.depthTest = name == "glEnable";
+    const std::uint32_t cap = enumArgument(call, "cap");
+    if (cap == kGlDepthTest) depth_.depthTest = name == "glEnable";
+    if (cap == kGlCullFace) {
+      depth_.cullFace = name == "glEnable";
+      depth_.cullFaceCall = call.number;
+    }
+  } else if (name == "glCullFace") {
+    depth_.cullFaceMode = enumArgument(call, "mode");
+    depth_.cullFaceModeCall = call.number;
+  } else if (name == "glFrontFace") {
+    depth_.frontFace = enumArgument(call, "mode");
+    depth_.frontFaceCall = call.number;
   } else if (name == "glDepthFunc") {
     depth_.depthFunc = enumArgument(call, "func");
     depth_.depthFuncCall = call.number;

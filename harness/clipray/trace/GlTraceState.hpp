@@ -37,6 +37,12 @@ inline constexpr std::uint32_t kGlNotequal = 0x0205;
 inline constexpr std::uint32_t kGlGequal = 0x0206;
 inline constexpr std::uint32_t kGlAlways = 0x0207;
 inline constexpr std::uint32_t kGlDepthTest = 0x0B71;
+inline constexpr std::uint32_t kGlCullFace = 0x0B44;
+inline constexpr std::uint32_t kGlFront = 0x0404;
+inline constexpr std::uint32_t kGlBack = 0x0405;
+inline constexpr std::uint32_t kGlFrontAndBack = 0x0408;
+inline constexpr std::uint32_t kGlCw = 0x0900;
+inline constexpr std::uint32_t kGlCcw = 0x0901;
 inline constexpr std::uint32_t kGlModelview = 0x1700;
 inline constexpr std::uint32_t kGlProjection = 0x1701;
 inline constexpr std::uint32_t kGlTexture = 0x1702;
@@ -81,7 +87,14 @@ struct TraceDepthState {
   std::optional<DepthFormat> depthFormat;   // of the draw framebuffer's depth attachment, if known
   std::string depthFormatName = "unknown";  // "32f", "24", "16", "32" (unorm), "unknown"
 
+  // Face culling: glEnable(GL_CULL_FACE), glCullFace's mode, glFrontFace's winding.
+  bool cullFace = false;
+  std::uint32_t cullFaceMode = kGlBack;
+  std::uint32_t frontFace = kGlCcw;
+
   std::uint64_t clipControlCall = 0, depthFuncCall = 0, depthRangeCall = 0, clearCall = 0;
+  // The last glEnable/glDisable(GL_CULL_FACE), glCullFace and glFrontFace.
+  std::uint64_t cullFaceCall = 0, cullFaceModeCall = 0, frontFaceCall = 0;
 
   // The same state, call numbers aside (the key of a distinct (matrix, state) pair).
   std::string key() const;

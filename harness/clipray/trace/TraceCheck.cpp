@@ -10,6 +10,7 @@
 
 #include "clipray/InputError.hpp"
 #include "clipray/check/CheckText.hpp"
+#include "clipray/check/FacingCheck.hpp"
 
 namespace clipray::trace {
 
@@ -107,6 +108,20 @@ void addTraceFindings(const TraceDepthState& depth, CheckReport& report) {
   }
 }
 
+// The culling state at the draw, as the facing check reads it; GL_FRONT_AND_BACK (nothing drawn)
+// and values clipray does not know leave culling out of it.
+CullingState cullingStateOf(const TraceDepthState& depth) {
+  CullingState state;
+  state.origin = depth.clipUpperLeft ? ClipOrigin::UpperLeft : ClipOrigin::LowerLeft;
+  if (depth.cullFace && depth.cullFaceMode == kGlBack) state.cull = CullFace::Back;
+  if (depth.cullFace && depth.cullFaceMode == kGlFront) state.cull = CullFace::Front;
+  if (depth.frontFace == kGlCw) state.frontFace = FrontFace::Cw;
+  if (depth.frontFace != kGlCw && depth.frontFace != kGlCcw) state.cull = CullFace::None;
+  state.cullSetAt = callNote(std::max(depth.cullFaceCall, depth.cullFaceModeCall));
+  state.frontFaceSetAt = callNote(depth.frontFaceCall);
+  return state;
+}
+
 // A shadow-map or projective-texture matrix: bias * projection * view, the bias (scale 0.5,
 // translate 0.5, as glmark2's scene-shadow.cpp builds its LightMatrix) taking NDC [-1, 1] to
 // texture coordinates [0, 1]. It feeds a texture look-up, not gl_Position, and reads as an
@@ -173,7 +188,15 @@ CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthSta
   const CheckInput input = checkInputOf(matrix, depth);
   if (inputUsed) *inputUsed = input;
   CheckReport report = checkConventions(input);
-  if (!readAsTextureSpace(input, report)) addTraceFindings(depth, report);
+  if (!readAsTextureSpace(input, report)) {
+    addTraceFindings(depth, report);
+    // A transposed upload's winding means nothing either.
+    if (!report.properties.likelyTransposed) {
+      if (auto finding = faceCullingFinding(input.clipFromWorld, cullingStateOf(depth))) {
+        report.findings.push_back(std::move(*finding));
+      }
+    }
+  }
   return report;
 }
 

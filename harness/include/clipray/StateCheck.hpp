@@ -1,7 +1,8 @@
 #pragma once
 // `clipray check` from inside a running app (a debug build, a test): the depth state of the GL
 // context current on the calling thread, read with glGet* (clip origin and depth mode, depth test
-// and function, depth range, clear depth, viewport, the draw framebuffer's depth format), checked
+// and function, depth range, clear depth, face culling and front face, viewport, the draw
+// framebuffer's depth format), checked
 // against the matrix the app is about to draw with: the analysis and findings `clipray check
 // --trace` gives a traced draw with this state (docs/check.md). Nothing is declared by hand.
 //
