@@ -195,6 +195,26 @@ TEST(TraceCli, VulkanFlipUnderLowerLeftOrigin) {
   EXPECT_EQ(codes(group), std::vector<std::string>{"warning:y-flipped"});
 }
 
+// A Direct3D-style app culling back faces: with glFrontFace(GL_CW) its y-down projection keeps
+// the outsides (only the y flip is noted); its twin with GL_CCW is warned.
+TEST(TraceCli, FaceCullingUnderAnUpperLeftOrigin) {
+  TempFolder folder;
+  const Checked right = checkTraced("d3d-style-culled", folder);
+  ASSERT_EQ(right.status, 0) << right.err;
+  const nlohmann::json& group = onlyGroup(right);
+  EXPECT_EQ(group["depth_state"]["clip_origin"], "upper-left");
+  EXPECT_EQ(group["depth_state"]["cull_face"], "GL_BACK");
+  EXPECT_EQ(group["depth_state"]["front_face"], "GL_CW");
+  EXPECT_EQ(codes(group), std::vector<std::string>{"info:y-flipped"});
+  const Checked wrong = checkTraced("d3d-style-culled-ccw", folder);
+  ASSERT_EQ(wrong.status, 0) << wrong.err;  // a warning: meshes wound clockwise are drawn right
+  const nlohmann::json& twin = onlyGroup(wrong);
+  EXPECT_EQ(twin["depth_state"]["front_face"], "GL_CCW");
+  EXPECT_EQ(twin["depth_state"]["calls"]["front_face"], 0);
+  EXPECT_EQ(codes(twin),
+            (std::vector<std::string>{"info:y-flipped", "warning:face-culling-keeps-insides"}));
+}
+
 TEST(TraceCli, FixedFunctionFrustumUnderZeroToOne) {
   TempFolder folder;
   const Checked checked = checkTraced("fixed-function-frustum-under-zo", folder);

@@ -11,7 +11,9 @@
 // identity (draws without a projection), clear-only (frames without draws); zo-ubo and
 // no-under-zo-ubo (the camera in a std140 uniform block instead of a uniform); zo-depth-texture
 // (zo into a GL_DEPTH_COMPONENT24 depth texture instead of a 32F renderbuffer);
-// no-under-zo-pipeline (separable programs in a program pipeline, no glUseProgram).
+// no-under-zo-pipeline (separable programs in a program pipeline, no glUseProgram);
+// d3d-style-culled (a y-down projection under GL_UPPER_LEFT, back faces culled, GL_CW) and its
+// twin d3d-style-culled-ccw (glFrontFace left at GL_CCW: the insides are kept).
 // Every matrix is a glm-style camera: perspective fov 60 deg, aspect 4/3, near 0.1, far 100,
 // looking from (0, 2, 5) at the origin, built in float as apps do.
 
@@ -429,6 +431,18 @@ int main(int argc, char** argv) {
     flipped[5] = -flipped[5];  // Vulkan's y points down: proj[1][1] *= -1
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LESS);
+    drawWithShaders(multiply(flipped, view), GL_FALSE, frames, context);
+  } else if (name == "d3d-style-culled" || name == "d3d-style-culled-ccw") {
+    // Direct3D-style: y down in the projection, glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE),
+    // back faces culled. The y flip reverses the winding on screen: GL_CW keeps the outsides of
+    // meshes wound counter-clockwise; the -ccw twin leaves glFrontFace at GL_CCW (the mistake).
+    Matrix flipped = perspective(true);
+    for (int column = 0; column < 4; ++column) flipped[column * 4 + 1] = -flipped[column * 4 + 1];
+    glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_CULL_FACE);
+    glCullFace(GL_BACK);
+    if (name == "d3d-style-culled") glFrontFace(GL_CW);
     drawWithShaders(multiply(flipped, view), GL_FALSE, frames, context);
   } else if (name == "zo-ubo") {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);

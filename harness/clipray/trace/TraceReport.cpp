@@ -22,6 +22,9 @@ std::string depthStateText(const TraceDepthState& d) {
       << number(d.depthRange.x) << ", " << number(d.depthRange.y) << "; cleared to "
       << (d.clearedDepth ? number(*d.clearedDepth) : std::string("-")) << "; viewport "
       << d.viewport.width << "x" << d.viewport.height << "; depth buffer " << d.depthFormatName;
+  if (d.cullFace) {
+    out << "; culls " << glEnumName(d.cullFaceMode) << ", front face " << glEnumName(d.frontFace);
+  }
   return out.str();
 }
 
@@ -34,11 +37,15 @@ nlohmann::json depthStateJson(const TraceDepthState& d) {
           {"cleared_depth", d.clearedDepth ? nlohmann::json(*d.clearedDepth) : nullptr},
           {"viewport", {d.viewport.width, d.viewport.height}},
           {"depth_format", d.depthFormatName},
+          {"cull_face", d.cullFace ? nlohmann::json(glEnumName(d.cullFaceMode)) : nullptr},
+          {"front_face", glEnumName(d.frontFace)},
           {"calls",
            {{"clip_control", d.clipControlCall},
             {"depth_func", d.depthFuncCall},
             {"depth_range", d.depthRangeCall},
-            {"clear", d.clearCall}}}};
+            {"clear", d.clearCall},
+            {"cull_face", std::max(d.cullFaceCall, d.cullFaceModeCall)},
+            {"front_face", d.frontFaceCall}}}};
 }
 
 std::string framesText(const TraceCheckResult& r) {
