@@ -29,7 +29,7 @@ Mesh boxMesh(glm::vec3 min, glm::vec3 max) {
 
 }  // namespace
 
-App::App(Style appStyle) : style(appStyle) {
+App::App(Style appStyle, bool culling) : style(appStyle), cullBackFaces(culling) {
   floor.positions = {-4, 0, -4, 4, 0, -4, 4, 0, 4, -4, 0, 4};
   floor.indices = {0, 2, 1, 0, 3, 2};
   box = boxMesh({-0.7f, 0.0f, -0.7f}, {0.7f, 1.4f, 0.7f});
@@ -82,6 +82,8 @@ namespace {
 struct Gl {
   PFNGLCLIPCONTROLPROC ClipControl;
   PFNGLENABLEPROC Enable;
+  PFNGLCULLFACEPROC CullFace;
+  PFNGLFRONTFACEPROC FrontFace;
   PFNGLDEPTHFUNCPROC DepthFunc;
   PFNGLDEPTHRANGEPROC DepthRange;
   PFNGLCLEARDEPTHPROC ClearDepth;
@@ -120,6 +122,8 @@ struct Gl {
     };
     get(ClipControl, "glClipControl");
     get(Enable, "glEnable");
+    get(CullFace, "glCullFace");
+    get(FrontFace, "glFrontFace");
     get(DepthFunc, "glDepthFunc");
     get(DepthRange, "glDepthRange");
     get(ClearDepth, "glClearDepth");
@@ -225,6 +229,14 @@ void render(const App& app, GetProcAddress getProcAddress,
     gl.ClearDepth(1.0);
   }
   gl.Clear(GL_DEPTH_BUFFER_BIT);
+  if (app.cullBackFaces) {
+    // The meshes wind counter-clockwise seen from outside; the y-down projection reverses every
+    // winding on screen, and GL decides facing there (the bug: forget that).
+    gl.Enable(GL_CULL_FACE);
+    gl.CullFace(GL_BACK);
+    gl.FrontFace(app.style == Style::Direct3D && bug != RenderBug::FrontFaceNotFlipped ? GL_CW
+                                                                                       : GL_CCW);
+  }
 
   gl.UseProgram(program);
   const glm::mat4 clipFromWorld(app.camera.clipFromView * app.camera.viewFromWorld);

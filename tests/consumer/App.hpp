@@ -7,8 +7,10 @@
 // glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE), as an engine ported from Direct3D or Vulkan does,
 // and its picking takes the mouse's y as it comes. The reversed-depth-range app
 // (Style::ReversedDepthRange) does reversed-Z as it was done before clip control: a NO projection,
-// glDepthRange(1, 0), GL_GREATER, depth cleared to 0. Each has a knob for a classic bug, so the
-// tests can show that clipray catches it.
+// glDepthRange(1, 0), GL_GREATER, depth cleared to 0. Any of them may cull back faces (its meshes
+// are wound counter-clockwise seen from outside; the Direct3D-style app's y-down projection
+// reverses that on screen, so it sets glFrontFace(GL_CW)). Each has a knob for a classic bug, so
+// the tests can show that clipray catches it.
 
 #include <cstdint>
 #include <optional>
@@ -48,15 +50,25 @@ enum class PickingBug { None, MouseYNotFlipped, UnprojectsNegativeOneToOne };
 // NoClipControl: no glClipControl at all. LowerLeftOrigin (Direct3D style): GL_ZERO_TO_ONE set
 // but the origin left at GL_LOWER_LEFT, so the y-down projection draws the picture upside down.
 // DepthFuncLess (reversed depth range): glDepthRange(1, 0) with the depth test left at GL_LESS.
-enum class RenderBug { None, NoClipControl, DepthFuncGreater, LowerLeftOrigin, DepthFuncLess };
+// FrontFaceNotFlipped (Direct3D style, culling back faces): glFrontFace left at GL_CCW, so the
+// y-down projection's reversed winding culls the outsides and keeps the insides.
+enum class RenderBug {
+  None,
+  NoClipControl,
+  DepthFuncGreater,
+  LowerLeftOrigin,
+  DepthFuncLess,
+  FrontFaceNotFlipped
+};
 
 struct App {
   Style style = Style::OpenGl;
+  bool cullBackFaces = false;  // glEnable(GL_CULL_FACE), glCullFace(GL_BACK)
   Window window;
   Camera camera;
   Mesh floor, box;
 
-  explicit App(Style style = Style::OpenGl);
+  explicit App(Style style = Style::OpenGl, bool cullBackFaces = false);
   // The ray under the mouse at (x, y) window units, origin upper left.
   std::optional<PickRay> pick(glm::dvec2 mouse, PickingBug bug = PickingBug::None) const;
 };

@@ -32,6 +32,7 @@ namespace {
 const app::App theApp;
 const app::App theDirect3dApp(app::Style::Direct3D);
 const app::App theReversedRangeApp(app::Style::ReversedDepthRange);
+const app::App theCulledDirect3dApp(app::Style::Direct3D, true);
 
 // What the Direct3D-style app draws under: glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE).
 constexpr clipray::DepthMode kZeroToOneUpperLeft{clipray::DepthConvention::ZeroToOne, false,
@@ -44,12 +45,20 @@ clipray::TestScene appScene(const app::App& app = theApp) {
   clipray::SceneBuilder builder(direct3d        ? "direct3d-app"
                                 : reversedRange ? "reversed-range-app"
                                                 : "app");
-  builder
-      .mesh("floor", std::span<const float>(app.floor.positions),
-            std::span<const std::uint32_t>(app.floor.indices))
-      .mesh("box", std::span<const float>(app.box.positions),
-            std::span<const std::uint32_t>(app.box.indices))
-      .camera("main", app.camera.viewFromWorld, app.camera.clipFromView, viewport);
+  // The face culling the app means to draw with: what it sets when it gets it right.
+  const auto culling = [&] {
+    if (app.cullBackFaces) {
+      builder.faceCulling(clipray::CullFace::Back,
+                          direct3d ? clipray::FrontFace::Cw : clipray::FrontFace::Ccw);
+    }
+  };
+  builder.mesh("floor", std::span<const float>(app.floor.positions),
+               std::span<const std::uint32_t>(app.floor.indices));
+  culling();
+  builder.mesh("box", std::span<const float>(app.box.positions),
+               std::span<const std::uint32_t>(app.box.indices));
+  culling();
+  builder.camera("main", app.camera.viewFromWorld, app.camera.clipFromView, viewport);
   if (direct3d) {
     builder.conventions({kZeroToOneUpperLeft});
   } else if (reversedRange) {
@@ -103,8 +112,9 @@ clipray::ReconcileOptions options(app::RenderBug renderBug = app::RenderBug::Non
   return options;
 }
 
-clipray::ReconcileOptions direct3dOptions(app::RenderBug renderBug = app::RenderBug::None) {
-  return options(renderBug, true, clipray::AppIds::Written, theDirect3dApp);
+clipray::ReconcileOptions direct3dOptions(app::RenderBug renderBug = app::RenderBug::None,
+                                          const app::App& app = theDirect3dApp) {
+  return options(renderBug, true, clipray::AppIds::Written, app);
 }
 
 TEST(AppPicking, AgreesWithTheRaster) {
@@ -153,6 +163,30 @@ TEST(TestOfTheTest, Direct3dStyleWithoutTheUpperLeftOriginFails) {
   EXPECT_FALSE(result.runs[0].consistent) << result.text();
   EXPECT_GT(result.runs[0].coverageUnexplained + result.runs[0].idUnexplained, 10000)
       << result.text();
+}
+
+// The Direct3D-style app culling back faces with glFrontFace(GL_CW): its y-down projection
+// reverses the winding on screen, and GL_CW accounts for it. The scene says the same
+// (SceneBuilder::faceCulling), so clipray's rays cull what the picture culls: consistent.
+TEST(Direct3dStyleApp, CullingBackFacesRenderingAndPickingAgree) {
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(theCulledDirect3dApp), appPicking(app::PickingBug::None, theCulledDirect3dApp),
+      direct3dOptions(app::RenderBug::None, theCulledDirect3dApp));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_TRUE(result.runs[0].consistent) << result.text();
+  EXPECT_GT(result.runs[0].rasterHits, result.runs[0].pixels / 2) << result.text();
+}
+
+// Its buggy twin leaves glFrontFace at GL_CCW: the floor (seen from above) is culled and the box
+// shows its inside, where the app meant its outside: the rays, culling as the scene says the app
+// means to, disagree with the picture.
+TEST(TestOfTheTest, Direct3dStyleCullingWithTheFrontFaceLeftAtCcwFails) {
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(theCulledDirect3dApp), appPicking(app::PickingBug::None, theCulledDirect3dApp),
+      direct3dOptions(app::RenderBug::FrontFaceNotFlipped, theCulledDirect3dApp));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_FALSE(result.runs[0].consistent) << result.text();
+  EXPECT_GT(result.runs[0].coverageUnexplained, 10000) << result.text();
 }
 
 // Reversed-Z as it was done before clip control: a NO projection, glDepthRange(1, 0), GL_GREATER,
@@ -244,18 +278,18 @@ TEST(TestOfTheTest, RenderingWithoutClipControlFailsDrawCallByDrawCall) {
 
 // The app's render function asks clipray about its own GL state as it draws (a debug build's
 // check): nothing declared by hand, the context says what the app set.
-std::vector<std::string> stateCheckCodes(app::RenderBug bug) {
+std::vector<std::string> stateCheckCodes(app::RenderBug bug, const app::App& app = theApp) {
   std::vector<std::string> codes;
-  clipray::ReconcileOptions checked = options(bug, true);
-  checked.render = [bug, &codes](const clipray::AppFrame& frame) {
-    app::render(theApp, frame.getProcAddress, frame.firstIds, bug);
+  clipray::ReconcileOptions checked = options(bug, true, clipray::AppIds::Written, app);
+  checked.render = [bug, &codes, &app](const clipray::AppFrame& frame) {
+    app::render(app, frame.getProcAddress, frame.firstIds, bug);
     const clipray::StateCheckResult check = clipray::checkCurrentState(
-        theApp.camera.clipFromView * theApp.camera.viewFromWorld, frame.getProcAddress);
+        app.camera.clipFromView * app.camera.viewFromWorld, frame.getProcAddress);
     for (const clipray::StateFinding& finding : check.findings) {
       codes.push_back(finding.severity + ":" + finding.code);
     }
   };
-  (void)clipray::reconcile(appScene(), clipray::robustPickRays(), checked);
+  (void)clipray::reconcile(appScene(app), clipray::robustPickRays(), checked);
   return codes;
 }
 
@@ -266,6 +300,17 @@ TEST(AppRendering, StateCheckFindsNothingWrong) {
 TEST(TestOfTheTest, StateCheckNamesTheMissingClipControl) {
   EXPECT_EQ(stateCheckCodes(app::RenderBug::NoClipControl),
             std::vector<std::string>{"error:depth-convention-mismatch"});
+}
+
+// The culling Direct3D-style app: the y flip is noted; its twin with GL_CCW is named.
+TEST(Direct3dStyleApp, StateCheckNotesTheYFlipOnly) {
+  EXPECT_EQ(stateCheckCodes(app::RenderBug::None, theCulledDirect3dApp),
+            std::vector<std::string>{"info:y-flipped"});
+}
+
+TEST(TestOfTheTest, StateCheckNamesTheFrontFaceTheYFlipReversed) {
+  EXPECT_EQ(stateCheckCodes(app::RenderBug::FrontFaceNotFlipped, theCulledDirect3dApp),
+            (std::vector<std::string>{"info:y-flipped", "warning:face-culling-keeps-insides"}));
 }
 
 TEST(TestOfTheTest, RenderingWithTheWrongDepthFunctionFails) {
