@@ -163,6 +163,14 @@ TEST(TestOfTheTest, Direct3dStyleWithoutTheUpperLeftOriginFails) {
   EXPECT_FALSE(result.runs[0].consistent) << result.text();
   EXPECT_GT(result.runs[0].coverageUnexplained + result.runs[0].idUnexplained, 10000)
       << result.text();
+  // What clipray read from the app's draws says why.
+  EXPECT_EQ(
+      result.runs[0].notes,
+      std::vector<std::string>{"draws 1, 2: glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE), "
+                               "but the run is zo-upper-left (GL_UPPER_LEFT, GL_ZERO_TO_ONE)"});
+  EXPECT_NE(result.text().find("the app's GL state\n  draws 1, 2: glClipControl"),
+            std::string::npos)
+      << result.text();
 }
 
 // The Direct3D-style app culling back faces with glFrontFace(GL_CW): its y-down projection
@@ -175,6 +183,7 @@ TEST(Direct3dStyleApp, CullingBackFacesRenderingAndPickingAgree) {
   ASSERT_EQ(result.runs.size(), 1u);
   EXPECT_TRUE(result.runs[0].consistent) << result.text();
   EXPECT_GT(result.runs[0].rasterHits, result.runs[0].pixels / 2) << result.text();
+  EXPECT_TRUE(result.runs[0].notes.empty()) << result.text();
 }
 
 // Its buggy twin leaves glFrontFace at GL_CCW: the floor (seen from above) is culled and the box
@@ -187,6 +196,14 @@ TEST(TestOfTheTest, Direct3dStyleCullingWithTheFrontFaceLeftAtCcwFails) {
   ASSERT_EQ(result.runs.size(), 1u);
   EXPECT_FALSE(result.runs[0].consistent) << result.text();
   EXPECT_GT(result.runs[0].coverageUnexplained, 10000) << result.text();
+  const std::string declared =
+      ", but the scene declares glCullFace(GL_BACK) with glFrontFace(GL_CW) for mesh ";
+  EXPECT_EQ(
+      result.runs[0].notes,
+      (std::vector<std::string>{"draw 1: glCullFace(GL_BACK) with glFrontFace(GL_CCW)" + declared +
+                                    "\"floor\" (cull and frontFace, SceneBuilder::faceCulling)",
+                                "draw 2: glCullFace(GL_BACK) with glFrontFace(GL_CCW)" + declared +
+                                    "\"box\" (cull and frontFace, SceneBuilder::faceCulling)"}));
 }
 
 // Reversed-Z as it was done before clip control: a NO projection, glDepthRange(1, 0), GL_GREATER,
@@ -201,6 +218,7 @@ TEST(ReversedDepthRangeApp, RenderingAndPickingAgree) {
   EXPECT_TRUE(result.runs[0].consistent) << result.text();
   EXPECT_GT(result.runs[0].depthCompared, result.runs[0].pixels / 2) << result.text();
   EXPECT_PICKING_CONSISTENT(appScene(theReversedRangeApp), clipray::robustPickRays(), drawn);
+  EXPECT_TRUE(result.runs[0].notes.empty()) << result.text();
 }
 
 // Its buggy twin: the range reversed but the depth test left at GL_LESS, so the farthest surface
@@ -211,6 +229,10 @@ TEST(TestOfTheTest, ReversedDepthRangeWithTheDepthTestLeftAtLessFails) {
       options(app::RenderBug::DepthFuncLess, true, clipray::AppIds::Written, theReversedRangeApp));
   ASSERT_EQ(result.runs.size(), 1u);
   EXPECT_FALSE(result.runs[0].consistent) << result.text();
+  EXPECT_EQ(result.runs[0].notes,
+            std::vector<std::string>{"draws 1, 2: glDepthFunc(GL_LESS), but under no with a "
+                                     "reversed depth range the nearer surface has the greater "
+                                     "depth: GL_GREATER"});
 }
 
 // The tests of the tests: a classic bug in the app fails them, with the worst pixels named.
@@ -274,6 +296,10 @@ TEST(TestOfTheTest, RenderingWithoutClipControlFailsDrawCallByDrawCall) {
   ASSERT_EQ(result.runs.size(), 1u);
   EXPECT_FALSE(result.runs[0].consistent) << result.text();
   EXPECT_GT(result.runs[0].depthBeyondTolerance, 10000) << result.text();
+  EXPECT_EQ(result.runs[0].notes,
+            std::vector<std::string>{"draws 1, 2: glClipControl(GL_LOWER_LEFT, "
+                                     "GL_NEGATIVE_ONE_TO_ONE), but the run is zo (GL_LOWER_LEFT, "
+                                     "GL_ZERO_TO_ONE)"});
 }
 
 // The app's render function asks clipray about its own GL state as it draws (a debug build's

@@ -100,6 +100,7 @@ RunResult runResult(const RunRecord& run, bool appRender) {
   result.worstToleranceRatio = m.toleranceRatio.max;
   result.maxDepthErrorQuanta = m.depthErrorQuanta.max;
   result.maxDistanceRelError = m.distanceRelError.max;
+  result.notes = run.notes;
   result.summaryLine = runSummaryLine(run) + (appRender ? "  (app render)" : "");
   return result;
 }
@@ -153,6 +154,12 @@ std::string ReconcileResult::text() const {
   for (const RunResult& run : runs) {
     out += run.summaryLine + "\n";
     inconsistent += run.consistent ? 0 : 1;
+  }
+  for (const RunResult& run : runs) {
+    if (run.notes.empty()) continue;
+    out += run.scene + "/" + run.camera + " " + run.convention + " " + run.depthFormat +
+           ": the app's GL state\n";
+    for (const std::string& note : run.notes) out += "  " + note + "\n";
   }
   for (const RunResult& run : runs) {
     if (run.consistent) continue;

@@ -13,6 +13,7 @@
 
 #include "clipray/InputError.hpp"
 #include "clipray/compare/DrawCallIds.hpp"
+#include "clipray/engine/AppStateNotes.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/engine/WorstPixels.hpp"
 #include "clipray/gl/AppRender.hpp"
@@ -76,9 +77,10 @@ class Runner {
   void checkViewports(const gl::Renderer& renderer) const;
   void runCamera(unsigned round, const Scene& scene, const Camera& camera, gl::GlContext& context,
                  gl::Renderer& renderer, std::vector<RunRecord>& runs);
+  // The app's frame, and the notes on the state its draws were made with (AppStateNotes.hpp).
   RasterFrame drawWithApp(gl::GlContext& context, const Scene& scene, const Camera& camera,
                           const engine::AnalyticPass& pass, DepthFormat format,
-                          gl::RenderTimings& timings) const;
+                          gl::RenderTimings& timings, std::vector<std::string>& notes) const;
   std::vector<DepthMode> conventionsOf(const Scene& scene) const;
   // The scene's cameras the plan runs: those it names, in its order, else all; within the shard.
   std::vector<const Camera*> camerasOf(const Scene& scene) const;
@@ -196,7 +198,7 @@ std::vector<const Camera*> Runner::camerasOf(const Scene& scene) const {
 // The raster side drawn by the app's render function into a framebuffer of its window's size.
 RasterFrame Runner::drawWithApp(gl::GlContext& context, const Scene& scene, const Camera& camera,
                                 const engine::AnalyticPass& pass, DepthFormat format,
-                                gl::RenderTimings& timings) const {
+                                gl::RenderTimings& timings, std::vector<std::string>& notes) const {
   const Viewport viewport = pass.camera.viewport;
   AppFrame frame;
   frame.size = viewport;
@@ -226,6 +228,7 @@ RasterFrame Runner::drawWithApp(gl::GlContext& context, const Scene& scene, cons
   if (plan_.appIds == AppIds::PerDrawCall) {
     drawn.frame.ids = idsFromDrawCalls(scene, pass.camera, drawn.meshOfPixel, pass.frame);
   }
+  notes = appStateNotes(drawn.draws, pass.drawnCamera.mode, scene, plan_.appIds);
   return std::move(drawn.frame);
 }
 
@@ -255,13 +258,15 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
                 depthFormatName(format) + " " + vertexModeName(vertexMode);
         gl::RenderTimings timings;
         RasterFrame raster;
+        std::vector<std::string> notes;
         if (plan_.appRender) {
-          raster = drawWithApp(context, scene, camera, pass, format, timings);
+          raster = drawWithApp(context, scene, camera, pass, format, timings, notes);
         } else {
           raster = renderer.render(renderRequest(pass, format, vertexMode), &timings);
         }
         engine::ComparedRun compared = engine::compareRasterFrame(
             pass, raster, format, vertexMode, renderer.info().subpixelBits, timings, plan_.threads);
+        compared.run.notes = std::move(notes);
         if (lastRound) {
           worstPixels_.push_back(
               worstPixels(pass, raster, compared.pixels, plan_.worstPixelsPerRun, plan_.window));

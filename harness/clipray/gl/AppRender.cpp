@@ -77,21 +77,51 @@ struct AppFramebuffer {
   AppFramebuffer& operator=(const AppFramebuffer&) = delete;
 };
 
-// One id per draw call: the draw functions the app loads through AppFrame::getProcAddress are
-// these, which number each call in the stencil buffer (the fragments that pass the depth test
-// write it) before making it. State for the one app render at a time (renderWithApp holds the
-// lock).
-struct DrawCallCounter {
+// The draw functions the app loads through AppFrame::getProcAddress are these: each reads the
+// state the call is made with, and with one id per draw call numbers the call in the stencil
+// buffer (the fragments that pass the depth test write it), before making it. State for the one
+// app render at a time (renderWithApp holds the lock).
+struct DrawCallRecorder {
   std::mutex lock;
   GlLoader loader = nullptr;  // the context's
-  unsigned calls = 0;
+  bool numberInStencil = false;
+  std::vector<AppDrawState> draws;
 };
-DrawCallCounter drawCalls;
+DrawCallRecorder drawCalls;
+
+AppDrawState currentDrawState() {
+  AppDrawState state;
+  GLint value = 0;
+  glGetIntegerv(GL_CLIP_ORIGIN, &value);
+  state.origin = value == GL_UPPER_LEFT ? ClipOrigin::UpperLeft : ClipOrigin::LowerLeft;
+  glGetIntegerv(GL_CLIP_DEPTH_MODE, &value);
+  state.convention =
+      value == GL_ZERO_TO_ONE ? DepthConvention::ZeroToOne : DepthConvention::NegativeOneToOne;
+  GLdouble range[2] = {0.0, 1.0};
+  glGetDoublev(GL_DEPTH_RANGE, range);
+  state.depthRange = {range[0], range[1]};
+  state.depthTest = glIsEnabled(GL_DEPTH_TEST) == GL_TRUE;
+  glGetIntegerv(GL_DEPTH_FUNC, &value);
+  state.depthFunc = static_cast<std::uint32_t>(value);
+  if (glIsEnabled(GL_CULL_FACE) == GL_TRUE) {
+    glGetIntegerv(GL_CULL_FACE_MODE, &value);
+    state.cull = value == GL_BACK    ? CullFace::Back
+                 : value == GL_FRONT ? CullFace::Front
+                                     : CullFace::None;
+    state.cullsEverything = value == GL_FRONT_AND_BACK;
+  }
+  glGetIntegerv(GL_FRONT_FACE, &value);
+  state.frontFace = value == GL_CW ? FrontFace::Cw : FrontFace::Ccw;
+  state.depthClamp = glIsEnabled(GL_DEPTH_CLAMP) == GL_TRUE;
+  return state;
+}
 
 void beforeDrawCall() {
-  ++drawCalls.calls;
+  drawCalls.draws.push_back(currentDrawState());
+  if (!drawCalls.numberInStencil) return;
+  const auto calls = static_cast<unsigned>(std::min<std::size_t>(drawCalls.draws.size(), 255));
   glEnable(GL_STENCIL_TEST);
-  glStencilFunc(GL_ALWAYS, static_cast<GLint>(std::min(drawCalls.calls, 255u)), 0xFF);
+  glStencilFunc(GL_ALWAYS, static_cast<GLint>(calls), 0xFF);
   glStencilOp(GL_KEEP, GL_KEEP, GL_REPLACE);
   glStencilMask(0xFF);
 }
@@ -193,7 +223,7 @@ GlProc asProc(auto function) {
   return reinterpret_cast<GlProc>(function);
 }
 
-GlProc countingLoader(const char* name) {
+GlProc recordingLoader(const char* name) {
   static const std::map<std::string_view, GlProc> wrapped = {
       {"glDrawArrays", asProc(&drawArrays)},
       {"glDrawArraysInstanced", asProc(&drawArraysInstanced)},
@@ -249,15 +279,11 @@ AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, App
   while (glGetError() != GL_NO_ERROR) {
   }
 
-  std::unique_lock<std::mutex> countingDraws(drawCalls.lock, std::defer_lock);
-  if (perDrawCall) {
-    countingDraws.lock();
-    drawCalls.loader = context.loader();
-    drawCalls.calls = 0;
-    frame.getProcAddress = &countingLoader;
-  } else {
-    frame.getProcAddress = context.loader();  // GlLoader and GlGetProcAddress are one type
-  }
+  const std::lock_guard<std::mutex> recordingDraws(drawCalls.lock);
+  drawCalls.loader = context.loader();
+  drawCalls.numberInStencil = perDrawCall;
+  drawCalls.draws.clear();
+  frame.getProcAddress = &recordingLoader;
   frame.framebuffer = target.framebuffer;
   const PhaseClock rasterClock;
   render(frame);
@@ -272,9 +298,9 @@ AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, App
                   " and left it bound; it must draw into AppFrame::framebuffer (" +
                   std::to_string(target.framebuffer) + ") and leave it bound");
   }
-  if (perDrawCall && drawCalls.calls > std::min<std::size_t>(scene.objects.size(), 255)) {
+  if (perDrawCall && drawCalls.draws.size() > std::min<std::size_t>(scene.objects.size(), 255)) {
     throw GlError(
-        "the app's render function made " + std::to_string(drawCalls.calls) +
+        "the app's render function made " + std::to_string(drawCalls.draws.size()) +
         " draw calls; with one id per draw call, call k draws mesh k, and the scene has " +
         std::to_string(scene.objects.size()) + " meshes (at most 255)");
   }
@@ -285,6 +311,8 @@ AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, App
 
   const PhaseClock readbackClock;
   AppRaster result;
+  result.draws = std::move(drawCalls.draws);
+  drawCalls.draws.clear();
   RasterFrame& raster = result.frame;
   raster.viewport = size;
   const std::size_t count = static_cast<std::size_t>(size.width) * size.height;

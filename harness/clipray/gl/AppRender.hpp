@@ -12,18 +12,36 @@
 
 namespace clipray::gl {
 
+// The state one of the app's draw calls was made with, read with glGet* just before the call:
+// what the app's frame was drawn under, to set beside what the run says it is drawn under.
+struct AppDrawState {
+  ClipOrigin origin = ClipOrigin::LowerLeft;
+  DepthConvention convention = DepthConvention::NegativeOneToOne;
+  glm::dvec2 depthRange{0.0, 1.0};
+  bool depthTest = false;
+  std::uint32_t depthFunc = 0x0201;  // GL_LESS
+  CullFace cull = CullFace::None;    // None also for GL_FRONT_AND_BACK (see cullsEverything)
+  bool cullsEverything = false;      // glCullFace(GL_FRONT_AND_BACK) with culling enabled
+  FrontFace frontFace = FrontFace::Ccw;
+  bool depthClamp = false;
+  friend bool operator==(const AppDrawState&, const AppDrawState&) = default;
+};
+
 struct AppRaster {
-  RasterFrame frame;  // depth; ids with AppIds::Written
+  RasterFrame frame;                // depth; ids with AppIds::Written
+  std::vector<AppDrawState> draws;  // one per draw call, in order
   // With AppIds::PerDrawCall: 0 background, else 1 + the mesh whose draw call shows at the pixel
   // (idsFromDrawCalls turns them into ids).
   std::vector<std::uint8_t> meshOfPixel;
 };
 
 // Calls `render` with `frame` (getProcAddress and framebuffer filled in here) and returns the
-// depth and ids (or meshes) it drew. Throws GlError when the app leaves a GL error or no usable
-// ids: every id 0 where it drew geometry, an id no primitive of `scene` has (a colour clear of
-// the integer attachment, or ids the app did not write as firstId + gl_PrimitiveID), or more draw
-// calls than the scene has meshes; InputError for one id per draw call without a stencil (16).
+// depth and ids (or meshes) it drew, and the state of each of its draw calls (the draw functions
+// it loads through getProcAddress are clipray's, which read the state and then draw). Throws
+// GlError when the app leaves a GL error or no usable ids: every id 0 where it drew geometry, an id
+// no primitive of `scene` has (a colour clear of the integer attachment, or ids the app did not
+// write as firstId + gl_PrimitiveID), or more draw calls than the scene has meshes; InputError for
+// one id per draw call without a stencil (16).
 AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, AppFrame frame,
                         AppIds ids, const Scene& scene, RenderTimings* timings = nullptr);
 

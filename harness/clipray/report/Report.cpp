@@ -162,6 +162,7 @@ nlohmann::json runJson(const RunRecord& run) {
   if (run.depthRange != glm::dvec2(0.0, 1.0)) {
     json["depth_range"] = {run.depthRange.x, run.depthRange.y};
   }
+  if (!run.notes.empty()) json["notes"] = run.notes;
   return json;
 }
 

@@ -60,6 +60,9 @@ struct RunRecord {
   // The largest connected components of the unexplained pixels (kReportedClusters of them; none
   // for a consistent run).
   MismatchClusters clusters;
+  // Where the app's render function drew with other state than the run says (its clip control,
+  // depth range, depth test, face culling, depth clamp): one line each (engine/AppStateNotes).
+  std::vector<std::string> notes;
   // Filled by encodeRunImages (the four full-size PNGs), encodeThumbnails and encodeClusterCrops.
   std::vector<EncodedImage> images;
 };

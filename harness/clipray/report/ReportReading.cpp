@@ -131,6 +131,17 @@ class ReportReader {
       }
       run.depthRange = {range[0].get<double>(), range[1].get<double>()};
     }
+    if (value.contains("notes")) {
+      const json& notes = value["notes"];
+      if (!notes.is_array())
+        fail(at / "notes", "expected an array of strings, got " + notes.dump());
+      for (std::size_t i = 0; i < notes.size(); ++i) {
+        if (!notes[i].is_string()) {
+          fail(at / "notes" / i, "expected a string, got " + notes[i].dump());
+        }
+        run.notes.push_back(notes[i].get<std::string>());
+      }
+    }
     const json& size = field(value, at, "size");
     run.size = {static_cast<int>(integer(size, at / "size", "width")),
                 static_cast<int>(integer(size, at / "size", "height"))};

@@ -104,6 +104,10 @@ struct RunResult {
   double maxDepthErrorQuanta = 0.0;      // in units of the depth format's quantum
   double maxDistanceRelError = 0.0;      // |t_raster - t_ray| / distance from the eye
   std::vector<PixelReport> worstPixels;  // unexplained first, then by tolerance ratio
+  // With the app's render function: where its draws were made with other state than the run says
+  // (clip control, depth range, depth test, face culling, depth clamp), one line each, naming the
+  // draw calls ("draw 1: glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE), but the run is ...").
+  std::vector<std::string> notes;
   // The run's full-size PNGs and cluster crops written under ReconcileOptions::reportDirectory.
   std::vector<std::string> images;
   std::string summaryLine;  // the line `clipray reconcile` prints for this run

@@ -1,0 +1,127 @@
+#include "clipray/engine/AppStateNotes.hpp"
+
+#include <cmath>
+#include <map>
+#include <optional>
+#include <utility>
+
+#include "clipray/compare/ToleranceModel.hpp"
+#include "clipray/util/OptionValues.hpp"
+
+namespace clipray::engine {
+
+namespace {
+
+constexpr std::uint32_t kGlLess = 0x0201, kGlLequal = 0x0203, kGlGreater = 0x0204,
+                        kGlGequal = 0x0206;
+
+std::string depthFuncName(std::uint32_t func) {
+  static const std::map<std::uint32_t, std::string> names = {
+      {0x0200, "GL_NEVER"},     {kGlLess, "GL_LESS"},       {0x0202, "GL_EQUAL"},
+      {kGlLequal, "GL_LEQUAL"}, {kGlGreater, "GL_GREATER"}, {0x0205, "GL_NOTEQUAL"},
+      {kGlGequal, "GL_GEQUAL"}, {0x0207, "GL_ALWAYS"}};
+  const auto found = names.find(func);
+  return found != names.end() ? found->second : "0x" + std::to_string(func);
+}
+
+std::string clipControlText(ClipOrigin origin, DepthConvention convention) {
+  return std::string(origin == ClipOrigin::UpperLeft ? "GL_UPPER_LEFT" : "GL_LOWER_LEFT") + ", " +
+         (convention == DepthConvention::ZeroToOne ? "GL_ZERO_TO_ONE" : "GL_NEGATIVE_ONE_TO_ONE");
+}
+
+std::string cullingText(CullFace cull, FrontFace frontFace) {
+  if (cull == CullFace::None) return "no face culling";
+  return std::string("glCullFace(") + (cull == CullFace::Back ? "GL_BACK" : "GL_FRONT") +
+         ") with glFrontFace(" + (frontFace == FrontFace::Ccw ? "GL_CCW" : "GL_CW") + ")";
+}
+
+bool sameCulling(CullFace cullA, FrontFace frontA, CullFace cullB, FrontFace frontB) {
+  return cullA == cullB && (cullA == CullFace::None || frontA == frontB);
+}
+
+// Draw numbers (from 1) as "draw 3" or "draws 1, 2".
+std::string drawList(const std::vector<std::size_t>& draws) {
+  std::string text = draws.size() == 1 ? "draw " : "draws ";
+  for (std::size_t k = 0; k < draws.size(); ++k) {
+    text += (k ? ", " : "") + std::to_string(draws[k] + 1);
+  }
+  return text;
+}
+
+}  // namespace
+
+std::vector<std::string> appStateNotes(const std::vector<gl::AppDrawState>& draws, DepthMode mode,
+                                       const Scene& scene, AppIds ids) {
+  // Each difference once, with the draws it concerns, in the order first seen.
+  std::vector<std::pair<std::string, std::vector<std::size_t>>> notes;
+  const auto note = [&](std::size_t draw, std::string text) {
+    for (auto& [known, drawsOfIt] : notes) {
+      if (known == text) {
+        drawsOfIt.push_back(draw);
+        return;
+      }
+    }
+    notes.push_back({std::move(text), {draw}});
+  };
+  const bool drawPerMesh = ids == AppIds::PerDrawCall || draws.size() == scene.objects.size();
+  std::optional<std::size_t> sharedCulling;  // a mesh whose culling every mesh has
+  if (!scene.objects.empty()) {
+    sharedCulling = 0;
+    for (const MeshObject& object : scene.objects) {
+      const MeshObject& first = scene.objects[0];
+      if (!sameCulling(object.cull, object.frontFace, first.cull, first.frontFace)) {
+        sharedCulling.reset();
+      }
+    }
+  }
+  const bool greater = nearerIsGreater(mode, scene.depthRange);
+  for (std::size_t k = 0; k < draws.size(); ++k) {
+    const gl::AppDrawState& d = draws[k];
+    if (d.origin != mode.origin || d.convention != mode.convention) {
+      note(k, "glClipControl(" + clipControlText(d.origin, d.convention) + "), but the run is " +
+                  mode.name() + " (" + clipControlText(mode.origin, mode.convention) + ")");
+    }
+    // glDepthRange is stored in float by some implementations: equal within float rounding.
+    const glm::dvec2 declared = scene.depthRange;
+    if (std::abs(d.depthRange.x - declared.x) > 1e-6 ||
+        std::abs(d.depthRange.y - declared.y) > 1e-6) {
+      note(k, "glDepthRange(" + sixDigits(d.depthRange.x) + ", " + sixDigits(d.depthRange.y) +
+                  "), but the scene declares (" + sixDigits(declared.x) + ", " +
+                  sixDigits(declared.y) + ") (depthRange, SceneBuilder::depthRange)");
+    }
+    if (!d.depthTest) {
+      note(k, std::string("the depth test is off; the run expects ") +
+                  (greater ? "GL_GREATER" : "GL_LESS") + " (the nearer surface has the " +
+                  (greater ? "greater" : "smaller") + " depth)");
+    } else if (greater ? d.depthFunc != kGlGreater && d.depthFunc != kGlGequal
+                       : d.depthFunc != kGlLess && d.depthFunc != kGlLequal) {
+      note(k, "glDepthFunc(" + depthFuncName(d.depthFunc) + "), but under " + mode.name() +
+                  (scene.depthRange.x > scene.depthRange.y ? " with a reversed depth range" : "") +
+                  " the nearer surface has the " + (greater ? "greater" : "smaller") +
+                  " depth: " + (greater ? "GL_GREATER" : "GL_LESS"));
+    }
+    if (d.cullsEverything) {
+      note(k, "glCullFace(GL_FRONT_AND_BACK) with culling enabled: the draw shows nothing");
+    }
+    const std::optional<std::size_t> mesh =
+        drawPerMesh && k < scene.objects.size() ? std::optional<std::size_t>(k) : sharedCulling;
+    if (mesh && !d.cullsEverything) {
+      const MeshObject& object = scene.objects[*mesh];
+      if (!sameCulling(d.cull, d.frontFace, object.cull, object.frontFace)) {
+        note(k, cullingText(d.cull, d.frontFace) + ", but the scene declares " +
+                    cullingText(object.cull, object.frontFace) + " for mesh \"" + object.name +
+                    "\" (cull and frontFace, SceneBuilder::faceCulling)");
+      }
+    }
+    if (d.depthClamp) {
+      note(k,
+           "GL_DEPTH_CLAMP is enabled, which clipray does not model yet: what the picture shows in "
+           "front of the near plane (or beyond the far plane) no ray from the near plane can hit");
+    }
+  }
+  std::vector<std::string> lines;
+  for (const auto& [text, drawsOfIt] : notes) lines.push_back(drawList(drawsOfIt) + ": " + text);
+  return lines;
+}
+
+}  // namespace clipray::engine
