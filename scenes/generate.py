@@ -311,6 +311,29 @@ def main():
            quad("sea_floor", (-30, -5, 15), (30, -5, 15), (30, -5, -30), (-30, -5, -30))],
           conventions=["no", "zo"])
 
+    # The same reflection clipped the other way: a plain projection (near 0.1) and a user clip plane
+    # at the water (gl_ClipDistance = y, world space) instead of the oblique near plane. Meshes only:
+    # the analytic primitives' shader does not apply clip planes.
+    clipped_cameras = []
+    for convention in ("no", "zo"):
+        projection = perspective_rh(60, 320 / 240, 0.1, 1000, convention)
+        clipped_cameras.append({"name": "clipped_" + convention, "viewport": [320, 240],
+                                "clipFromWorld": [float("%.17g" % x) for x in
+                                                  column_major(mat_mul(projection, reflected_view))],
+                                "clipPlanes": [[0.0, 1.0, 0.0, 0.0]]})
+    write("water_reflection_clipped",
+          "water_reflection's mirrored view clipped by a user clip plane at the water (clipPlanes [0, 1, 0, 0]: "
+          "gl_ClipDistance = y, kept where y >= 0) instead of Lengyel's oblique near plane; the near plane stays at "
+          "0.1 in front of the mirrored eye (camera clipped_no built for NO, clipped_zo for ZO). Geometry crossing "
+          "the water is cut at y = 0 by the plane, the submerged box and the sea floor are clipped entirely, and "
+          "every ray starts where its line of sight crosses the water.",
+          clipped_cameras,
+          [box("tower", (-3, 4, -4), (2, 8, 2), ((0, 1, 0), 20)), box("crate", (2.5, 0.75, 2), (1.5, 1.5, 1.5)),
+           icosphere("ball", (0.5, 2.2, -1), 1.2, 2), box("post", (-1, 0.5, 4), (0.4, 3, 0.4)),
+           tetrahedron("rock", (3.5, 0.1, -2), 1.0), box("submerged", (0, -1.5, 8), (3, 1, 1)),
+           quad("sea_floor", (-30, -5, 15), (30, -5, 15), (30, -5, -30), (-30, -5, -30))],
+          conventions=["no", "zo"])
+
     # ---- Analytic primitives (drawn exactly by a fragment shader on a proxy, see shaders/) ----
     write("primitives",
           "One of each analytic primitive: sphere, disk, quad, axis-aligned box, oriented box, and an infinite "

@@ -157,12 +157,15 @@ TEST(Compare, DepthErrorBeyondThePredictedToleranceIsReported) {
 
 TEST(Compare, CoarserDepthFormatsGetLargerTolerances) {
   const Fixture f({9, 9});
-  ToleranceModel model16(*f.intersector,
-                         RasterSetup{f.setup.clipFromWorld, f.setup.mode, DepthFormat::Unorm16},
-                         f.camera.viewport);
-  ToleranceModel model24(*f.intersector,
-                         RasterSetup{f.setup.clipFromWorld, f.setup.mode, DepthFormat::Unorm24},
-                         f.camera.viewport);
+  const auto setupWith = [&](DepthFormat format) {
+    RasterSetup setup;
+    setup.clipFromWorld = f.setup.clipFromWorld;
+    setup.mode = f.setup.mode;
+    setup.depthFormat = format;
+    return setup;
+  };
+  ToleranceModel model16(*f.intersector, setupWith(DepthFormat::Unorm16), f.camera.viewport);
+  ToleranceModel model24(*f.intersector, setupWith(DepthFormat::Unorm24), f.camera.viewport);
   const glm::dvec3 hit(1.0, 0.0, 0.0);
   // The difference between the two is exactly the difference of their storage quanta.
   EXPECT_DOUBLE_EQ(model16.depthTolerance(1, hit) - model24.depthTolerance(1, hit),

@@ -130,5 +130,60 @@ TEST(RobustRays, MirroredViewStillLooksForward) {
   EXPECT_LT(ray.direction.x, 0.0);
 }
 
+// User clip planes cut each ray to what every plane keeps: the same line of sight, the origin
+// moved forward to where it enters the kept side, tMax to where it leaves; a line of sight a plane
+// keeps nothing of gets tMax 0. generateRow (four pixels per instruction) gives generate's bits.
+TEST(RobustRays, ClipPlanesCutEachRayToTheKeptInterval) {
+  const glm::dmat4 view = viewFromWorldLookAt({3, 2.5, 5}, {0, 0.5, 0}, {0, 1, 0});
+  const std::vector<glm::dvec4> planes = {{0.0, -1.0, 0.0, 0.8}, {1.0, 0.0, 0.3, 0.5}};
+  for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed}) {
+    SCOPED_TRACE(mode.name());
+    const glm::dmat4 m = perspectiveClipFromView(1.0, 1.5, 0.1, 100.0, mode) * view;
+    const RobustRayGenerator open(m, mode);
+    const RobustRayGenerator clipped(m, mode, planes);
+    int cut = 0, emptied = 0;
+    for (double x = -0.95; x < 1.0; x += 0.1) {
+      for (double y = -0.95; y < 1.0; y += 0.1) {
+        const Ray a = open.generate({x, y});
+        const Ray b = clipped.generate({x, y});
+        EXPECT_EQ(a.direction, b.direction);
+        if (b.tMax == 0.0) {
+          ++emptied;  // every point of the open ray is outside some plane
+          for (const double s : {0.0, 0.25, 0.5, 0.75, 1.0}) {
+            const glm::dvec4 p(a.origin + s * a.tMax * a.direction, 1.0);
+            EXPECT_TRUE(glm::dot(planes[0], p) < 1e-12 || glm::dot(planes[1], p) < 1e-12);
+          }
+          continue;
+        }
+        // The cut ray lies on the open one, within it, and inside every plane.
+        const double start = glm::dot(b.origin - a.origin, a.direction);
+        EXPECT_GE(start, 0.0);
+        EXPECT_LE(start + b.tMax, a.tMax * (1.0 + 1e-12));
+        cut += start > 0.0 || b.tMax < a.tMax;
+        for (const glm::dvec4& plane : planes) {
+          for (const double s : {0.0, 0.5, 1.0}) {
+            const glm::dvec3 p = b.origin + s * b.tMax * b.direction;
+            EXPECT_GE(glm::dot(plane, glm::dvec4(p, 1.0)), -1e-12 * (1.0 + glm::length(p)));
+          }
+        }
+      }
+    }
+    EXPECT_GT(cut, 50);
+    EXPECT_GT(emptied, 5);
+    // The row kernels and the one-pixel generator agree bit for bit.
+    const Viewport viewport{37, 5};
+    const PixelCentreRays rows(m, mode, viewport, planes);
+    std::vector<Ray> row(37);
+    for (int j = 0; j < viewport.height; ++j) {
+      rows.row(j, 0, viewport.width, row.data());
+      for (int i = 0; i < viewport.width; ++i) {
+        const Ray single = clipped.generateForPixel(i, j, viewport);
+        EXPECT_EQ(row[i].origin, single.origin) << i << ", " << j;
+        EXPECT_EQ(row[i].tMax, single.tMax) << i << ", " << j;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace clipray

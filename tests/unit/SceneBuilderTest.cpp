@@ -86,7 +86,8 @@ TEST(SceneBuilder, FaceCullingAppliesToTheMeshAddedLast) {
   builder.mesh("open", kQuadPositions, kQuadIndices)
       .mesh("culled", kQuadPositions, kQuadIndices)
       .faceCulling(CullFace::Back, FrontFace::Cw);
-  const Scene& scene = builder.build().model();
+  const TestScene built = builder.build();
+  const Scene& scene = built.model();
   ASSERT_EQ(scene.objects.size(), 2u);
   EXPECT_EQ(scene.objects[0].cull, CullFace::None);
   EXPECT_EQ(scene.objects[0].frontFace, FrontFace::Ccw);
@@ -110,6 +111,38 @@ TEST(SceneBuilder, FaceCullingAppliesToTheMeshAddedLast) {
   EXPECT_EQ(messageOf(sphere),
             "SceneBuilder \"t\": /objects/0/cull: face culling applies to triangle meshes (mesh, "
             "meshFile, terrain); a sphere is ray-traced by its fragment shader and has no winding");
+}
+
+TEST(SceneBuilder, ClipPlanesApplyToTheCameraAddedLast) {
+  SceneBuilder builder("clipped");
+  builder.mesh("quad", kQuadPositions, kQuadIndices)
+      .camera("open", cameraMatrix(), {64, 48})
+      .camera("clipped", cameraMatrix(), {64, 48})
+      .clipPlanes({{0.0, 1.0, 0.0, -0.5}, {1.0, 0.0, 0.0, 0.25}});
+  const TestScene built = builder.build();
+  const Scene& scene = built.model();
+  ASSERT_EQ(scene.cameras.size(), 2u);
+  EXPECT_TRUE(scene.cameras[0].clipPlanes.empty());
+  EXPECT_EQ(scene.cameras[1].clipPlanes,
+            (std::vector<glm::dvec4>{{0.0, 1.0, 0.0, -0.5}, {1.0, 0.0, 0.0, 0.25}}));
+  EXPECT_EQ(parseScene(builder.json(), "clipped.json").cameras[1].clipPlanes,
+            scene.cameras[1].clipPlanes);
+  SceneBuilder none("t");
+  try {
+    none.clipPlanes({{0.0, 1.0, 0.0, 0.0}});
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "SceneBuilder \"t\": clipPlanes() applies to the camera added last, and no camera "
+              "was added yet");
+  }
+  SceneBuilder flat("t");
+  flat.mesh("quad", kQuadPositions, kQuadIndices)
+      .camera("main", cameraMatrix(), {64, 48})
+      .clipPlanes({{0.0, 0.0, 0.0, 1.0}});
+  EXPECT_EQ(messageOf(flat),
+            "SceneBuilder \"t\": /cameras/0/clipPlanes/0: expected a plane with a non-zero normal "
+            "[a, b, c], got [0.0,0.0,0.0,1.0]");
 }
 
 TEST(SceneBuilder, WithoutCamerasUsesTheAutomaticOnes) {

@@ -78,7 +78,7 @@ TEST(SceneLoaderErrors, UnknownKeys) {
   EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "veiwport": [640, 480]})")),
             "scenes/a.json: /cameras/0/veiwport: unknown key \"veiwport\"; valid keys are "
             "\"name\", \"viewport\", \"clipFromWorld\", \"view\", \"viewFromWorld\", "
-            "\"projection\", \"builtFor\"");
+            "\"projection\", \"builtFor\", \"clipPlanes\"");
   EXPECT_EQ(errorOf(withProjection(R"({"type": "perspective", "fovY": 60, "near": 0.1})")),
             "scenes/a.json: /cameras/0/projection/fovY: unknown key \"fovY\"; valid keys are "
             "\"type\", \"fovYDegrees\", \"aspect\", \"near\", \"far\"");
@@ -336,6 +336,45 @@ TEST(SceneLoaderErrors, FaceCulling) {
                     "halfEdges": [[1, 0, 0], [0, 1, 0]], "frontFace": "cw"})")),
             "scenes/a.json: /objects/0/frontFace: face culling applies to triangle meshes (mesh, "
             "meshFile, terrain); a quad is ray-traced by its fragment shader and has no winding");
+}
+
+TEST(SceneLoaderErrors, ClipPlanes) {
+  const auto withPlanes = [](const std::string& planes) {
+    return errorOf(withView(R"("view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]},
+      "clipPlanes": )" + planes));
+  };
+  EXPECT_EQ(withPlanes("[0, 1, 0, 0]"),
+            "scenes/a.json: /cameras/0/clipPlanes/0: expected a plane [a, b, c, d] (kept where a x "
+            "+ b y + c z + d >= 0), got 0");
+  EXPECT_EQ(withPlanes("{}"),
+            "scenes/a.json: /cameras/0/clipPlanes: expected an array of at most 8 planes [a, b, c, "
+            "d] (gl_ClipDistance; GL_MAX_CLIP_DISTANCES is at least 8), got {}");
+  std::string nine = "[";
+  for (int i = 0; i < 9; ++i)
+    nine += std::string(i ? ", " : "") + "[0, 1, 0, " + std::to_string(i) + "]";
+  EXPECT_EQ(withPlanes(nine + "]").substr(0, 88),
+            "scenes/a.json: /cameras/0/clipPlanes: expected an array of at most 8 planes [a, b, c, "
+            "d]");
+  EXPECT_EQ(withPlanes("[[0, 1, 0]]"),
+            "scenes/a.json: /cameras/0/clipPlanes/0: expected a plane [a, b, c, d] (kept where a x "
+            "+ b y + c z + d >= 0), got [0,1,0]");
+  EXPECT_EQ(
+      withPlanes("[[0, 1, 0, 0], [0, 0, 0, 1]]"),
+      "scenes/a.json: /cameras/0/clipPlanes/1: expected a plane with a non-zero normal [a, b, "
+      "c], got [0,0,0,1]");
+  EXPECT_EQ(withPlanes("[[0, 1e999, 0, 0]]"),
+            "scenes/a.json: /cameras/0/clipPlanes/0/1: expected a finite number, got 1e999");
+  EXPECT_EQ(withPlanes("[[0, \"1\", 0, 0]]"),
+            "scenes/a.json: /cameras/0/clipPlanes/0/1: expected a number, got \"1\"");
+  EXPECT_EQ(errorOf(sceneWith(R"({"name": "main", "viewport": [640, 480],
+      "view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]},
+      "projection": {"type": "perspective", "fovYDegrees": 60, "near": 0.1},
+      "clipPlanes": [[0, 1, 0, 0]]})",
+                              R"({"name": "ball", "type": "sphere", "centre": [0, 0, 0],
+      "radius": 1})")),
+            "scenes/a.json: /cameras/0/clipPlanes: clip planes with analytic primitives (\"ball\") "
+            "are not modelled: their fragment shader traces the ray from the near plane, not the "
+            "clipped interval; use triangle meshes");
 }
 
 TEST(SceneLoaderErrors, LookAt) {

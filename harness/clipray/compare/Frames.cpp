@@ -81,8 +81,8 @@ PickRayFunction robustPickRays() {
   auto cache = std::make_shared<Cache>();
   return [cache](int x, int y, const PickingCamera& camera) -> std::optional<Ray> {
     if (!cache->generator || cache->camera.clipFromWorld != camera.clipFromWorld ||
-        cache->camera.mode != camera.mode) {
-      cache->generator.emplace(camera.clipFromWorld, camera.mode);
+        cache->camera.mode != camera.mode || cache->camera.clipPlanes != camera.clipPlanes) {
+      cache->generator.emplace(camera.clipFromWorld, camera.mode, camera.clipPlanes);
       cache->camera = camera;
     }
     return cache->generator->generateForPixel(x, y, camera.viewport);
@@ -145,7 +145,8 @@ AnalyticFrame robustRayFrame(const PickingCamera& camera) {
   AnalyticFrame frame;
   frame.viewport = camera.viewport;
   frame.pixelCentreRays =
-      std::make_shared<const PixelCentreRays>(camera.clipFromWorld, camera.mode, camera.viewport);
+      std::make_shared<const PixelCentreRays>(camera.clipFromWorld, camera.mode, camera.viewport,
+                                              camera.clipPlanes);
   return frame;
 }
 

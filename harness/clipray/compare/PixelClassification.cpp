@@ -598,7 +598,8 @@ namespace clipray {
 PixelClass classifyMismatch(const ToleranceModel& model, std::uint32_t rayId, double rayDepth,
                             double rayTolerance, std::uint32_t rasterId, glm::dvec2 centre) {
   if (rasterId == 0 || rayId == 0) {
-    return model.edgeAmbiguous(rasterId != 0 ? rasterId : rayId, centre)
+    const std::uint32_t shown = rasterId != 0 ? rasterId : rayId;
+    return model.edgeAmbiguous(shown, centre) || model.onClipPlane(shown)
                ? PixelClass::CoverageEdgeAmbiguous
                : PixelClass::CoverageUnexplained;
   }
@@ -607,7 +608,8 @@ PixelClass classifyMismatch(const ToleranceModel& model, std::uint32_t rayId, do
   const double rasterSurfaceDepth = model.surfaceDepthAt(rasterId, centre);
   const double tolerance = rayTolerance + model.surfaceToleranceAt(rasterId, centre);
   if (std::abs(rasterSurfaceDepth - rayDepth) <= tolerance) return PixelClass::IdDepthAmbiguous;
-  if (model.edgeAmbiguous(rasterId, centre) || model.edgeAmbiguous(rayId, centre)) {
+  if (model.edgeAmbiguous(rasterId, centre) || model.edgeAmbiguous(rayId, centre) ||
+      model.onClipPlane(rasterId) || model.onClipPlane(rayId)) {
     return PixelClass::IdEdgeAmbiguous;
   }
   return PixelClass::IdUnexplained;

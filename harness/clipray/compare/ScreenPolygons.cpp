@@ -51,8 +51,20 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
   const glm::dmat4& m = setup_.clipFromWorld;
   const double zn = setup_.mode.clipVolumeMinZ();
   // The clip volume z_n w <= z <= w, -w <= x, y <= w as six planes (>= 0 inside).
-  const glm::dvec4 planes[6] = {{0, 0, 1, -zn}, {0, 0, -1, 1}, {1, 0, 0, 1},
-                                {-1, 0, 0, 1},  {0, 1, 0, 1},  {0, -1, 0, 1}};
+  // Then the camera's user clip planes in clip space: dot(P, p_world) = dot(W^T P, p_clip) with W
+  // = worldFromClip (gl_ClipDistance is interpolated linearly in clip space, so the cut is
+  // this plane there).
+  std::array<glm::dvec4, 6 + Camera::kMaxClipPlanes> planes = {glm::dvec4{0, 0, 1, -zn},
+                                                               {0, 0, -1, 1},
+                                                               {1, 0, 0, 1},
+                                                               {-1, 0, 0, 1},
+                                                               {0, 1, 0, 1},
+                                                               {0, -1, 0, 1}};
+  std::size_t planeCount = 6;
+  const glm::dmat4 clipToWorldTransposed = glm::transpose(rays_.worldFromClip());
+  for (const glm::dvec4& plane : setup_.clipPlanes) {
+    if (planeCount < planes.size()) planes[planeCount++] = clipToWorldTransposed * plane;
+  }
   const double u = kFloatUnitRoundoff;
   const double subpixel = std::ldexp(1.0, -setup_.subpixelBits);
   const std::array<glm::dvec3, 3> world = intersector_.worldTriangle(primitiveId);
@@ -97,7 +109,9 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
       rayBound * (16.0 * kDoubleUnitRoundoff);
   const glm::dvec4& error = polygon.clipErrorBound;
 
-  glm::dvec4 bufferA[kMaxPolygonVertices + 3], bufferB[kMaxPolygonVertices + 3];
+  // A convex polygon gains at most one vertex per plane: 3 + 6 + 8. A polygon of more than
+  // kMaxPolygonVertices (a triangle cut by more than six of the planes) keeps its first ones.
+  glm::dvec4 bufferA[3 + planes.size()], bufferB[3 + planes.size()];
   int count = 3;
   for (int k = 0; k < 3; ++k) bufferA[k] = m * glm::dvec4(world[k], 1.0);
   glm::dvec4* current = bufferA;
@@ -105,12 +119,12 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
   // Most triangles of a frame lie inside the clip volume, and clipping leaves those as they are
   // (the same test clipPolygon makes): skip the six passes for them.
   bool inside = true;
-  for (const glm::dvec4& plane : planes) {
-    for (int k = 0; k < 3; ++k) inside &= glm::dot(plane, bufferA[k]) >= 0.0;
+  for (std::size_t p = 0; p < planeCount; ++p) {
+    for (int k = 0; k < 3; ++k) inside &= glm::dot(planes[p], bufferA[k]) >= 0.0;
   }
-  for (const glm::dvec4& plane : planes) {
+  for (std::size_t p = 0; p < planeCount; ++p) {
     if (inside) break;
-    count = clipPolygon(current, count, plane, next);
+    count = clipPolygon(current, count, planes[p], next);
     std::swap(current, next);
     if (count == 0) break;
   }
@@ -185,4 +199,25 @@ double ToleranceModel::planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel)
   const glm::dvec3& plane = polygon(primitiveId).depthPlane;
   return plane.x * pixel.x + plane.y * pixel.y + plane.z;
 }
+bool ToleranceModel::onClipPlane(std::uint32_t primitiveId) const {
+  if (setup_.clipPlanes.empty() || primitiveId == 0 ||
+      primitiveId > intersector_.primitiveIdCount() || intersector_.isAnalytic(primitiveId)) {
+    return false;
+  }
+  const std::array<glm::dvec3, 3> world = intersector_.worldTriangle(primitiveId);
+  for (const glm::dvec4& plane : setup_.clipPlanes) {
+    bool inPlane = true;
+    for (const glm::dvec3& p : world) {
+      // gl_ClipDistance = dot(plane, (p, 1)) in float from float operands: a few roundings of the
+      // terms' magnitudes, bounded generously by 16 u times their sum.
+      const double magnitude = std::abs(plane.x * p.x) + std::abs(plane.y * p.y) +
+                               std::abs(plane.z * p.z) + std::abs(plane.w);
+      inPlane &=
+          std::abs(glm::dot(plane, glm::dvec4(p, 1.0))) <= 16.0 * kFloatUnitRoundoff * magnitude;
+    }
+    if (inPlane) return true;
+  }
+  return false;
+}
+
 }  // namespace clipray

@@ -38,7 +38,7 @@ ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const Raster
     : setup_(setup),
       viewport_(viewport),
       intersector_(intersector),
-      rays_(setup.clipFromWorld, setup.mode),
+      rays_(setup.clipFromWorld, setup.mode, setup.clipPlanes),
       cameraRelativeMatrix_(setup.clipFromWorld *
                             glm::dmat4(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 1, 0, 0),
                                        glm::dvec4(0, 0, 1, 0),

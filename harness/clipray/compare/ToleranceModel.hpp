@@ -36,6 +36,9 @@ struct RasterSetup {
   glm::dvec2 depthRange{0.0, 1.0};
 
   bool defaultDepthRange() const { return depthRange == glm::dvec2(0.0, 1.0); }
+  // The camera's user clip planes (world space, Camera::clipPlanes): the screen polygons are cut by
+  // them as the rasterizer cuts the triangles, the rays as the rays are cut.
+  std::vector<glm::dvec4> clipPlanes{};
   // The window depth the raster stores for NDC z (windowDepthFromNdc, then the depth range; the
   // default range maps nothing, so its bits are windowDepthFromNdc's).
   double windowDepth(double zNdc) const {
@@ -108,6 +111,10 @@ class ToleranceModel {
   double surfaceToleranceAt(std::uint32_t primitiveId, glm::dvec2 pixel) const;
   // Coverage of the primitive is ambiguous at this pixel position (any primitive kind).
   bool edgeAmbiguous(std::uint32_t primitiveId, glm::dvec2 pixel) const;
+  // The triangle lies in one of the camera's clip planes within the rounding of the float clip
+  // distance the vertex shader computes (a box resting on the water plane that clips it): GL keeps
+  // or clips its fragments as that rounding falls, so its coverage is ambiguous everywhere.
+  bool onClipPlane(std::uint32_t primitiveId) const;
   // The float rays of primitive.frag differ from the double robust rays by far less than this
   // (issue #3: robust float rays are within 0.01 px of the exact ray for fov >= 1 deg; the
   // shader's construction is the same, evaluated in the primitive's local frame).

@@ -30,9 +30,11 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
   pass.drawnCamera.clipFromWorld = camera.clipFromWorld(mode, viewport);
   pass.drawnCamera.mode = mode;
   pass.drawnCamera.viewport = viewport;
+  pass.drawnCamera.clipPlanes = camera.clipPlanes;
   pass.camera.clipFromWorld = lowerLeftClipFromWorld(pass.drawnCamera.clipFromWorld, mode.origin);
   pass.camera.mode = mode.lowerLeft();
   pass.camera.viewport = viewport;
+  pass.camera.clipPlanes = camera.clipPlanes;
   pass.reference = nearPlaneCentre(pass.camera.clipFromWorld, pass.camera.mode);
 
   const PhaseClock raysClock;
@@ -89,6 +91,7 @@ gl::RenderRequest renderRequest(const AnalyticPass& pass, DepthFormat depthForma
   request.vertexReference = pass.reference;
   request.viewport = pass.drawnCamera.viewport;
   request.depthRange = pass.scene->depthRange;
+  request.clipPlanes = pass.drawnCamera.clipPlanes;
   return request;
 }
 
@@ -113,6 +116,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   setup.vertexReference = pass.reference;
   setup.subpixelBits = subpixelBits;
   setup.depthRange = pass.scene->depthRange;
+  setup.clipPlanes = pass.camera.clipPlanes;
   const PhaseClock compareClock;
   // The last run's model where only the depth format differs (its polygons serve every format),
   // else one built for this raster (the old one released first).

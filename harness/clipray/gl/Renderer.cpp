@@ -168,6 +168,24 @@ glm::dmat4 clipFromInputOf(const RenderRequest& request) {
   return clipFromInput;
 }
 
+// The camera's clip planes in the vertex mode's input space: a world-space plane P keeps
+// dot(P, (p_world, 1)) >= 0, and p_world = worldFromInput * p_input, so the input-space plane is
+// worldFromInput^T P (in double; the shader gets it rounded to float).
+std::vector<glm::dvec4> inputClipPlanesOf(const RenderRequest& request) {
+  glm::dmat4 worldFromInput(1.0);
+  if (request.vertexMode == VertexMode::CameraRelative) {
+    worldFromInput[3] = glm::dvec4(request.vertexReference, 1.0);
+  }
+  if (request.vertexMode == VertexMode::Pretransformed) {
+    worldFromInput = glm::inverse(request.clipFromWorld);
+  }
+  std::vector<glm::dvec4> planes;
+  for (const glm::dvec4& plane : request.clipPlanes) {
+    planes.push_back(glm::transpose(worldFromInput) * plane);
+  }
+  return planes;
+}
+
 // The mesh objects' positions in the vertex mode's input space, their triangles and draws.
 void appendMeshes(const RenderRequest& request, const PrimitiveIdTable& ids,
                   RasterGeometry& geometry) {
@@ -280,6 +298,8 @@ struct Renderer::State {
   GLuint program = 0;
   GLint clipFromInputLocation = -1;
   GLint firstIdLocation = -1;
+  GLint clipPlanesLocation = -1;
+  GLint clipPlaneCountLocation = -1;
   GLuint vertexArray = 0;
   GLuint vertexBuffer = 0;
   GLuint indexBuffer = 0;
@@ -301,7 +321,8 @@ struct Renderer::State {
   // Binds the FBO and sets the fixed state the run draws under: the convention's clip control and
   // depth test, no culling, blending or multisampling; clears ids to 0 and depth to the far value.
   void beginFrame(const RenderRequest& request);
-  void drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput);
+  void drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput,
+                  const std::vector<glm::dvec4>& inputClipPlanes);
   void drawPrimitives(const RenderRequest& request, const std::vector<PrimitiveDraw>& draws);
   // Depth (GL_FLOAT) and ids of the viewport, then the default framebuffer bound again.
   RasterFrame readBack(Viewport viewport);
@@ -335,6 +356,8 @@ Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
   glDeleteShader(fragment);
   state_->clipFromInputLocation = glGetUniformLocation(state_->program, "uClipFromInput");
   state_->firstIdLocation = glGetUniformLocation(state_->program, "uFirstId");
+  state_->clipPlanesLocation = glGetUniformLocation(state_->program, "uClipPlanes");
+  state_->clipPlaneCountLocation = glGetUniformLocation(state_->program, "uClipPlaneCount");
 
   const GLuint proxyVertex =
       compileShader(GL_VERTEX_SHADER, shaders::raster_vert, shaders::raster_vert_file);
@@ -437,10 +460,19 @@ void Renderer::State::beginFrame(const RenderRequest& request) {
   glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &clearDepth);
 }
 
-void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput) {
+void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput,
+                                 const std::vector<glm::dvec4>& inputClipPlanes) {
   glUseProgram(program);
   const glm::mat4 uniformMatrix(clipFromInput);  // rounded to float, as an app's uniform is
   glUniformMatrix4fv(clipFromInputLocation, 1, GL_FALSE, &uniformMatrix[0][0]);
+  std::vector<glm::vec4> planes(inputClipPlanes.begin(), inputClipPlanes.end());
+  glUniform1i(clipPlaneCountLocation, static_cast<GLint>(planes.size()));
+  if (!planes.empty()) {
+    glUniform4fv(clipPlanesLocation, static_cast<GLsizei>(planes.size()), &planes[0][0]);
+  }
+  for (std::size_t i = 0; i < planes.size(); ++i) {
+    glEnable(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
+  }
   glBindVertexArray(vertexArray);
   for (const MeshDraw& draw : geometry.draws) {
     if (draw.indexCount == 0) continue;
@@ -456,6 +488,9 @@ void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat
                              reinterpret_cast<const void*>(draw.indexOffset), draw.baseVertex);
   }
   glDisable(GL_CULL_FACE);  // the primitives' proxies are drawn whole
+  for (std::size_t i = 0; i < inputClipPlanes.size(); ++i) {
+    glDisable(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
+  }
 }
 
 void Renderer::State::drawPrimitives(const RenderRequest& request,
@@ -520,7 +555,7 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
   state_->upload(geometry);
   state_->createTarget(viewport, request.depthFormat);
   state_->beginFrame(request);
-  state_->drawMeshes(geometry, clipFromInputOf(request));
+  state_->drawMeshes(geometry, clipFromInputOf(request), inputClipPlanesOf(request));
   if (!geometry.primitiveDraws.empty()) state_->drawPrimitives(request, geometry.primitiveDraws);
   glFinish();
   checkGl("drawing");

@@ -36,6 +36,8 @@ struct RenderRequest {
   glm::dvec3 vertexReference{0.0};  // removed on the CPU in camera-relative mode
   Viewport viewport;
   glm::dvec2 depthRange{0.0, 1.0};  // glDepthRange(n, f) (Scene::depthRange)
+  // The camera's user clip planes, world space (Camera::clipPlanes): gl_ClipDistance for meshes.
+  std::vector<glm::dvec4> clipPlanes{};
 };
 
 struct RenderTimings {  // milliseconds

@@ -19,8 +19,10 @@
 
 namespace clipray {
 
-RobustRayGenerator::RobustRayGenerator(const glm::dmat4& drawnClipFromWorld, DepthMode drawnMode)
-    : clipFromWorld_(lowerLeftClipFromWorld(drawnClipFromWorld, drawnMode.origin)),
+RobustRayGenerator::RobustRayGenerator(const glm::dmat4& drawnClipFromWorld, DepthMode drawnMode,
+                                       std::span<const glm::dvec4> clipPlanes)
+    : clipPlanes_(clipPlanes.begin(), clipPlanes.end()),
+      clipFromWorld_(lowerLeftClipFromWorld(drawnClipFromWorld, drawnMode.origin)),
       worldFromClip_(glm::inverse(clipFromWorld_)),
       mode_(drawnMode.lowerLeft()) {
   const glm::dmat4& clipFromWorld = clipFromWorld_;
@@ -229,6 +231,11 @@ void RobustRayGenerator::generateRow(const RowTerms& row, std::span<const double
       directionsOfRowSoA(clipX.data() + first, count, myCrossMw_, rowTerm, directions);
       const std::size_t count4 = count / 4 * 4;
       finishRowBlock(constants, clipX.data() + first, directions, count4, rays + first);
+      // The kernel finishes the rays as finishRay does up to the planes' cut (the tail's
+      // finishRay below cuts its own).
+      for (std::size_t k = 0; k < count4 && !clipPlanes_.empty(); ++k) {
+        clipToPlanes(rays[first + k]);
+      }
       for (std::size_t k = count4; k < count; ++k) {
         const glm::dvec4 nearPointWorld =
             (worldFromClip_[0] * clipX[first + k] + rowPart) + depthPart;
@@ -283,11 +290,38 @@ Ray RobustRayGenerator::finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld
   ray.tMax = (denominator != 0.0 && t > 0.0 && std::isfinite(t))
                  ? t
                  : std::numeric_limits<double>::infinity();
+  clipToPlanes(ray);
   return ray;
 }
 
-PixelCentreRays::PixelCentreRays(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport)
-    : generator_(clipFromWorld, mode), viewport_(viewport) {
+void RobustRayGenerator::clipToPlanes(Ray& ray) const noexcept {
+  if (clipPlanes_.empty() || ray.tMax < 0.0) return;
+  // Along the ray each plane's value is s0 + s1 t: it keeps t >= -s0 / s1 where s1 > 0, t <=
+  // -s0 / s1 where s1 < 0, and everything or nothing where s1 = 0 (a plane parallel to it).
+  double low = 0.0;
+  double high = ray.tMax;
+  for (const glm::dvec4& plane : clipPlanes_) {
+    const double s0 = glm::dot(glm::dvec3(plane), ray.origin) + plane.w;
+    const double s1 = glm::dot(glm::dvec3(plane), ray.direction);
+    if (s1 > 0.0) {
+      low = std::max(low, -s0 / s1);
+    } else if (s1 < 0.0) {
+      high = std::min(high, -s0 / s1);
+    } else if (s0 < 0.0) {
+      high = -1.0;
+    }
+  }
+  if (!(low < high)) {
+    ray.tMax = 0.0;  // the planes leave nothing of this line of sight
+    return;
+  }
+  if (low > 0.0) ray.origin += low * ray.direction;
+  ray.tMax = high - low;  // +inf stays +inf
+}
+
+PixelCentreRays::PixelCentreRays(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport,
+                                 std::span<const glm::dvec4> clipPlanes)
+    : generator_(clipFromWorld, mode, clipPlanes), viewport_(viewport) {
   clipXOfColumn_.resize(static_cast<std::size_t>(std::max(viewport.width, 0)));
   for (int x = 0; x < viewport.width; ++x) {
     clipXOfColumn_[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, viewport).x;

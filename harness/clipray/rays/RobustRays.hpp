@@ -24,7 +24,12 @@ class RobustRayGenerator {
   // Precomputes per camera. The matrix and mode as the frame is drawn, under either clip origin;
   // pixels and clip xy are a lower-left origin's (clipFromWorld() and mode() give the camera in
   // those terms: lowerLeftClipFromWorld). The matrix must be invertible (the scene loader checks).
-  RobustRayGenerator(const glm::dmat4& drawnClipFromWorld, DepthMode drawnMode);
+  // clipPlanes: the camera's user clip planes (world space, kept where dot(plane, (p, 1)) >= 0,
+  // Camera::clipPlanes): each ray is cut to the part of its interval that every plane keeps (its
+  // origin moved forward along the same line, tMax shortened), and a line of sight that no plane
+  // leaves anything of gets tMax 0 (a ray that hits nothing).
+  RobustRayGenerator(const glm::dmat4& drawnClipFromWorld, DepthMode drawnMode,
+                     std::span<const glm::dvec4> clipPlanes = {});
 
   // Ray through clip-space xy (x', y' in [-1, 1]). Never throws.
   Ray generate(glm::dvec2 clipXY) const noexcept;
@@ -60,6 +65,9 @@ class RobustRayGenerator {
   // The rest of generate() once the direction d and the near point in world space (homogeneous)
   // are known.
   Ray finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld) const noexcept;
+  // The clip planes' cut of a finished ray (see the constructor).
+  void clipToPlanes(Ray& ray) const noexcept;
+  std::vector<glm::dvec4> clipPlanes_;
   glm::dmat4 clipFromWorld_;
   glm::dmat4 worldFromClip_;
   DepthMode mode_;
@@ -85,7 +93,8 @@ class RobustRayGenerator {
 // ray twice does, and the first run of a process paid for every fresh page of it on top.
 class PixelCentreRays {
  public:
-  PixelCentreRays(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport);
+  PixelCentreRays(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport,
+                  std::span<const glm::dvec4> clipPlanes = {});
 
   // rays[k] = generator().generateForPixel(xBegin + k, y, viewport()), bit for bit, for
   // k < count (the pixels must lie in the viewport).

@@ -41,6 +41,11 @@ struct Camera {
   // the frame is drawn under (the app does the right thing). Set it to draw a matrix built for
   // one convention under another (e.g. built for "no", drawn under "zo").
   std::optional<DepthMode> builtFor;
+  // User clip planes the camera draws with (gl_ClipDistance[i] = dot(plane, (p_world, 1)), each
+  // enabled with GL_CLIP_DISTANCE0 + i): a point is kept where every plane's value is >= 0. At
+  // most kMaxClipPlanes; each normal (xyz) non-zero.
+  std::vector<glm::dvec4> clipPlanes;
+  static constexpr std::size_t kMaxClipPlanes = 8;  // GL's minimum GL_MAX_CLIP_DISTANCES
 
   // The matrix the app would hand GL when drawing under `drawnUnder` at `viewport`.
   glm::dmat4 clipFromWorld(DepthMode drawnUnder, Viewport viewport) const;

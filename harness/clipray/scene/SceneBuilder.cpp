@@ -88,6 +88,18 @@ SceneBuilder& SceneBuilder::faceCulling(CullFace cull, FrontFace frontFace) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::clipPlanes(std::vector<glm::dvec4> planes) {
+  if (document_->cameras().empty()) {
+    throw InputError(
+        "SceneBuilder " + detail::jsonString(name_) +
+        ": clipPlanes() applies to the camera added last, and no camera was added yet");
+  }
+  Json values = Json::array();
+  for (const glm::dvec4& plane : planes) values.push_back({plane.x, plane.y, plane.z, plane.w});
+  document_->cameras().back()["clipPlanes"] = std::move(values);
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::conventions(std::vector<DepthMode> modes) {
   Json names = Json::array();
   for (const DepthMode& mode : modes) names.push_back(mode.name());

@@ -14,12 +14,15 @@ namespace clipray::detail {
 Camera SceneReader::camera(const json& value, const Pointer& at,
                            std::map<std::string, Pointer>& names) const {
   expectObject(value, at);
-  expectKnownKeys(
-      value, at,
-      {"name", "viewport", "clipFromWorld", "view", "viewFromWorld", "projection", "builtFor"});
+  expectKnownKeys(value, at,
+                  {"name", "viewport", "clipFromWorld", "view", "viewFromWorld", "projection",
+                   "builtFor", "clipPlanes"});
   Camera camera;
   camera.name = name(value, at, "camera", names);
   camera.viewport = viewport(required(value, at, "viewport"), at / "viewport");
+  if (const json* planes = optional(value, "clipPlanes")) {
+    camera.clipPlanes = clipPlanes(*planes, at / "clipPlanes");
+  }
 
   const json* raw = optional(value, "clipFromWorld");
   const json* view = optional(value, "view");
@@ -135,6 +138,30 @@ std::variant<PerspectiveProjection, OrthographicProjection, std::monostate> Scen
   }
   fail(at / "type", "expected one of " + quotedList({"perspective", "orthographic"}) + ", got " +
                         describe(type));
+}
+
+std::vector<glm::dvec4> SceneReader::clipPlanes(const json& value, const Pointer& at) const {
+  if (!value.is_array() || value.size() > Camera::kMaxClipPlanes) {
+    fail(at, "expected an array of at most " + std::to_string(Camera::kMaxClipPlanes) +
+                 " planes [a, b, c, d] (gl_ClipDistance; GL_MAX_CLIP_DISTANCES is at least 8), "
+                 "got " +
+                 describe(value));
+  }
+  std::vector<glm::dvec4> planes;
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    const json& plane = value[i];
+    if (!plane.is_array() || plane.size() != 4) {
+      fail(at / i, "expected a plane [a, b, c, d] (kept where a x + b y + c z + d >= 0), got " +
+                       describe(plane));
+    }
+    glm::dvec4 p;
+    for (std::size_t k = 0; k < 4; ++k) p[static_cast<int>(k)] = number(plane[k], at / i / k);
+    if (p.x == 0.0 && p.y == 0.0 && p.z == 0.0) {
+      fail(at / i, "expected a plane with a non-zero normal [a, b, c], got " + describe(plane));
+    }
+    planes.push_back(p);
+  }
+  return planes;
 }
 
 }  // namespace clipray::detail

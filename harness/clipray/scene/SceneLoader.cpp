@@ -149,6 +149,13 @@ Scene SceneReader::read(const json& root) {
     fail(top / "cameras", "expected a non-empty array of cameras, got " + describe(cameras) +
                               " (and no meshFile object with \"useCameras\": true)");
   }
+  for (std::size_t i = 0; i < scene.cameras.size() && !scene.primitives.empty(); ++i) {
+    if (scene.cameras[i].clipPlanes.empty()) continue;
+    fail(top / "cameras" / i / "clipPlanes",
+         "clip planes with analytic primitives (\"" + scene.primitives[0].name +
+             "\") are not modelled: their fragment shader traces the ray from the near plane, "
+             "not the clipped interval; use triangle meshes");
+  }
   if (scene.triangleCount() + scene.primitives.size() > PrimitiveIdTable::kMaxPrimitives) {
     fail(top / "objects", "too many primitives for 32-bit primitive ids: " +
                               std::to_string(scene.triangleCount() + scene.primitives.size()));

@@ -8,6 +8,7 @@
 
 #include <functional>
 #include <optional>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -23,6 +24,9 @@ struct PickingCamera {
   glm::dmat4 clipFromWorld{1.0};
   DepthMode mode;
   Viewport viewport;
+  // The user clip planes it draws with (world space, gl_ClipDistance = dot(plane, (p, 1)), kept
+  // where >= 0); a ray function whose picking should not reach what they clip cuts its rays.
+  std::vector<glm::dvec4> clipPlanes{};
 };
 
 // A ray for pixel (x, y) (lower-left origin, integer pixel indices) or nullopt for "no ray": the

@@ -104,6 +104,10 @@ class SceneBuilder {
   SceneBuilder& perspectiveCamera(std::string name, const glm::dmat4& viewFromWorld,
                                   double fovYDegrees, double nearDistance,
                                   std::optional<double> farDistance, Viewport viewport);
+  // User clip planes for the camera added last, as the app draws with them: world-space planes
+  // (a, b, c, d), gl_ClipDistance[i] = a x + b y + c z + d, kept where >= 0 (at most 8). Meshes
+  // only: build() refuses them in a scene with analytic surfaces.
+  SceneBuilder& clipPlanes(std::vector<glm::dvec4> planes);
   // Without any camera, the scene is seen from four automatic ones framed on its geometry.
 
   // Validates and builds; throws InputError.
