@@ -144,9 +144,8 @@ AnalyticFrame generateRobustRays(const PickingCamera& camera, unsigned threadCou
 AnalyticFrame robustRayFrame(const PickingCamera& camera) {
   AnalyticFrame frame;
   frame.viewport = camera.viewport;
-  frame.pixelCentreRays =
-      std::make_shared<const PixelCentreRays>(camera.clipFromWorld, camera.mode, camera.viewport,
-                                              camera.clipPlanes);
+  frame.pixelCentreRays = std::make_shared<const PixelCentreRays>(
+      camera.clipFromWorld, camera.mode, camera.viewport, camera.clipPlanes);
   return frame;
 }
 
