@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 
 #include "clipray/math/Projections.hpp"
@@ -16,11 +17,14 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Error terms per rounded operation a matrix typically went through: building the projection and
-// the view (normalize, cross, dot: a few roundings each on unit-sized terms) and multiplying them
-// (a 4-term dot product). Generated cameras of every engine stay within 8 (tests/unit/
-// CheckPropertyTest.cpp).
-constexpr double kRoundingsPerEntry = 8.0;
+// The error model (docs/check.md, "Uncertainty"). An entry of P * V computed in arithmetic of unit
+// roundoff u carries a few roundings, each uniform within +-u |x| at the magnitude x of what was
+// rounded: standard deviation at most u |x| / sqrt(3) each. kRoundings is how many are counted
+// per entry (a product, a sum, and the projection's own coefficients rounded before them);
+// kCoverage is how many standard deviations of the propagated error a stated "+-" spans. Both are
+// checked against a Monte Carlo of float32 constructions in tests/unit/CheckUncertaintyTest.cpp.
+constexpr double kRoundings = 4.0;
+constexpr double kCoverage = 4.0;
 
 double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
   return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
@@ -171,6 +175,14 @@ int significantDigits(double v, double relativeTolerance) {
   return 18;
 }
 
+double nearestRoundNumber(double v) {
+  if (v == 0.0 || !std::isfinite(v)) return v;
+  // Two significant digits, rounded in decimal (0.0999 carries into 0.1).
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.1e", v);
+  return std::strtod(buffer, nullptr);
+}
+
 EntryPrecision detectEntryPrecision(const std::vector<glm::dmat4>& matrices) {
   bool allFloat = true, allNineDigitFloat = true;
   int mostDigits = 0;
@@ -209,68 +221,122 @@ glm::dvec3 translationAnchor(const glm::dmat4& clipFromWorld) {
   return glm::dvec3(centre) / centre.w;
 }
 
-glm::dmat4 entryErrorBounds(const glm::dmat4& m, const EntryPrecision& precision,
-                            const glm::dvec3& anchor) {
-  const double arithmetic = kRoundingsPerEntry * precision.unitRoundoff();
-  const double decimal = precision.decimalRelative();
-  const auto terms = [&](const glm::dvec4& row) {
-    return std::abs(row.w) + std::abs(row.x * anchor.x) + std::abs(row.y * anchor.y) +
-           std::abs(row.z * anchor.z);
-  };
+double decimalHalfUnit(double value, int digits) {
+  if (digits <= 0 || value == 0.0 || !std::isfinite(value)) return 0.0;
+  // Half a unit in the d-th significant digit of the value as printed (%.{d-1}e shows the decade
+  // the printed value has, also where rounding carried into the next one).
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.*e", digits - 1, value);
+  const char* exponent = std::strchr(buffer, 'e');
+  const int decade = exponent ? std::atoi(exponent + 1) : 0;
+  return 0.5 * std::pow(10.0, decade - digits + 1);
+}
+
+glm::dmat4 entryDeviations(const glm::dmat4& m, const EntryPrecision& precision,
+                           const glm::dvec3& anchor) {
+  // One rounding: uniform within +-u |x|, standard deviation u |x| / sqrt(3); kRoundings of them.
+  const double perMagnitude = precision.unitRoundoff() * std::sqrt(kRoundings / 3.0);
   const glm::dvec4 rowW = matrixRow(m, 3);
-  glm::dmat4 errors(0.0);
+  const glm::dvec3 wXyz = xyz(rowW);
+  // The axis the rows are split along: w's (perspective), else the direction depth runs along.
+  glm::dvec3 axis = wXyz;
+  if (!(glm::length(axis) > 0.0)) axis = glm::cross(xyz(matrixRow(m, 0)), xyz(matrixRow(m, 1)));
+  axis = glm::length(axis) > 0.0 ? glm::normalize(axis) : glm::dvec3(0.0, 0.0, 1.0);
+  const double eyeAlong = glm::dot(anchor, axis);
+  const double eyeAcross = glm::length(anchor - eyeAlong * axis);
+  // The terms a row's translation is summed from, as P * V forms it: the part of the row along
+  // the axis times the eye's distance along it, the rest times the eye's distance across it
+  // (bounded by Cauchy-Schwarz), and what is left at the eye (the projection's own translation:
+  // 0 for rows 0, 1, 3, a |w| for the depth row).
+  const auto terms = [&](const glm::dvec4& row) {
+    const double along = glm::dot(xyz(row), axis);
+    const double across = glm::length(xyz(row) - along * axis);
+    const double left = std::abs(glm::dot(row, glm::dvec4(anchor, 1.0)));
+    return std::max(std::abs(row.w), std::abs(along * eyeAlong) + across * eyeAcross) + left;
+  };
+  glm::dmat4 deviations(0.0);
   for (int r = 0; r < 4; ++r) {
     const glm::dvec4 row = matrixRow(m, r);
     // The depth row is often a difference of the w row and a multiple of it (reversed-Z and
     // depth-remapping matrices: Godot's depth correction, Filament's): its entries then carry
     // the rounding of terms as large as the w row's, whatever their own size.
     const double rowLength =
-        r == 2 ? std::max(glm::length(xyz(row)), glm::length(xyz(rowW))) : glm::length(xyz(row));
+        r == 2 ? std::max(glm::length(xyz(row)), glm::length(wXyz)) : glm::length(xyz(row));
     const double rowTerms = r == 2 ? std::max(terms(row), terms(rowW)) : terms(row);
-    for (int c = 0; c < 3; ++c) errors[c][r] = arithmetic * rowLength + decimal * std::abs(row[c]);
-    errors[3][r] = arithmetic * rowTerms + decimal * std::abs(row.w);
+    for (int c = 0; c < 4; ++c) {
+      const double arithmetic = perMagnitude * (c < 3 ? rowLength : rowTerms);
+      // A decimal listing's rounding: uniform within half a unit in the last printed digit.
+      const double decimal = decimalHalfUnit(row[c], precision.decimalDigits) / std::sqrt(3.0);
+      deviations[c][r] = std::sqrt(arithmetic * arithmetic + decimal * decimal);
+    }
   }
-  return errors;
+  return deviations;
 }
 
-MatrixReading readMatrix(const glm::dmat4& m, const glm::dmat4& errors,
+double coverageFactor() {
+  return kCoverage;
+}
+
+MatrixReading readMatrix(const glm::dmat4& m, const glm::dmat4& deviations,
                          const glm::dvec3& orthographicAnchor) {
   MatrixReading reading;
   const glm::dvec3 wXyz = xyz(matrixRow(m, 3));
-  const glm::dvec3 wErrors(errors[0][3], errors[1][3], errors[2][3]);
+  const glm::dvec3 wErrors = kCoverage * glm::dvec3(deviations[0][3], deviations[1][3],
+                                                    deviations[2][3]);
   reading.perspective = glm::length(wXyz) > glm::length(wErrors) && glm::length(wXyz) > 0.0;
   reading.anchor = orthographicAnchor;
   const Figures base = figuresOf(m, reading.perspective, orthographicAnchor);
 
-  Figures spread;  // summed changes under each entry's error
+  // First-order propagation: each figure's variance is the sum over the entries of (its
+  // derivative along the entry x the entry's standard deviation)^2. The derivatives are taken
+  // through the whole reading (the eye, the view direction, the planes), so entries that enter a
+  // figure along several paths (the translation through the eye and through the depth row) are
+  // counted once, with their paths' effects added before squaring: that is the correlation.
+  Figures spread;  // summed squared changes, then their root
   spread.a = spread.b = spread.nearNo = spread.nearZo = spread.atOne = 0.0;
   glm::dvec3 eyeSpread(0.0);
   double forwardSpread = 0.0;
+  const auto add = [](double& sum, double changed, double scale) {
+    const double c = changed * scale;
+    sum += c * c;
+  };
   for (int c = 0; c < 4; ++c) {
     for (int r = 0; r < 4; ++r) {
-      if (!(errors[c][r] > 0.0)) continue;
+      const double deviation = deviations[c][r];
+      if (!(deviation > 0.0)) continue;
+      // A step of one standard deviation, but never below double's resolution of the entry
+      // (double listings), scaled back to one deviation.
+      const double step = std::max(deviation, 1e-9 * std::abs(m[c][r]));
+      const double scale = deviation / step;
       glm::dmat4 moved = m;
-      moved[c][r] += errors[c][r];
+      moved[c][r] += step;
       const Figures f = figuresOf(moved, reading.perspective, orthographicAnchor);
-      spread.a += change(f.a, base.a);
-      spread.b += change(f.b, base.b);
-      for (int k = 0; k < 3; ++k) eyeSpread[k] += change(f.eye[k], base.eye[k]);
-      forwardSpread += angleBetween(f.forward, base.forward);
-      spread.nearNo += change(f.nearNo, base.nearNo);
-      spread.nearZo += change(f.nearZo, base.nearZo);
-      spread.atOne += change(f.atOne, base.atOne);
-      spread.obliqueNo += change(f.obliqueNo, base.obliqueNo);
-      spread.obliqueZo += change(f.obliqueZo, base.obliqueZo);
-      spread.obliqueReversed += change(f.obliqueReversed, base.obliqueReversed);
-      spread.offAxis += change(f.offAxis, base.offAxis);
-      spread.handedness += change(f.handedness, base.handedness);
-      spread.upY += change(f.upY, base.upY);
-      spread.fovY += change(f.fovY, base.fovY);
-      spread.fovX += change(f.fovX, base.fovX);
-      spread.extentX += change(f.extentX, base.extentX);
-      spread.extentY += change(f.extentY, base.extentY);
+      add(spread.a, change(f.a, base.a), scale);
+      add(spread.b, change(f.b, base.b), scale);
+      for (int k = 0; k < 3; ++k) add(eyeSpread[k], change(f.eye[k], base.eye[k]), scale);
+      add(forwardSpread, angleBetween(f.forward, base.forward), scale);
+      add(spread.nearNo, change(f.nearNo, base.nearNo), scale);
+      add(spread.nearZo, change(f.nearZo, base.nearZo), scale);
+      add(spread.atOne, change(f.atOne, base.atOne), scale);
+      add(spread.obliqueNo, change(f.obliqueNo, base.obliqueNo), scale);
+      add(spread.obliqueZo, change(f.obliqueZo, base.obliqueZo), scale);
+      add(spread.obliqueReversed, change(f.obliqueReversed, base.obliqueReversed), scale);
+      add(spread.offAxis, change(f.offAxis, base.offAxis), scale);
+      add(spread.handedness, change(f.handedness, base.handedness), scale);
+      add(spread.upY, change(f.upY, base.upY), scale);
+      add(spread.fovY, change(f.fovY, base.fovY), scale);
+      add(spread.fovX, change(f.fovX, base.fovX), scale);
+      add(spread.extentX, change(f.extentX, base.extentX), scale);
+      add(spread.extentY, change(f.extentY, base.extentY), scale);
     }
   }
+  const auto bound = [](double& sumOfSquares) { sumOfSquares = kCoverage * std::sqrt(sumOfSquares); };
+  for (double* figure :
+       {&spread.a, &spread.b, &spread.nearNo, &spread.nearZo, &spread.atOne, &spread.obliqueNo,
+        &spread.obliqueZo, &spread.obliqueReversed, &spread.offAxis, &spread.handedness,
+        &spread.upY, &spread.fovY, &spread.fovX, &spread.extentX, &spread.extentY, &forwardSpread,
+        &eyeSpread.x, &eyeSpread.y, &eyeSpread.z})
+    bound(*figure);
   // Each figure is itself computed in double from the entries: a few dozen roundings, relative
   // to its size (angles and unit-vector components: to 1).
   const double own = 32.0 * std::ldexp(1.0, -53);

@@ -35,8 +35,9 @@ struct EntryPrecision {
 // digits (printed with %g, %.4f...: treated as float32 arithmetic, the common case), or double.
 EntryPrecision detectEntryPrecision(const std::vector<glm::dmat4>& matrices);
 
-// A figure and the bound on its error from the entries' precision (first order, worst case over
-// the entries' errors taken one at a time and summed).
+// A figure and the bound on its error from the entries' precision: coverageFactor() standard
+// deviations of the error that the entries' rounding propagates to it (first order, the entries'
+// roundings independent, each entry's effect followed through every path it takes).
 struct Uncertain {
   double value = 0.0;
   double error = 0.0;
@@ -46,13 +47,26 @@ struct Uncertain {
   bool withinErrorOfZero() const { return !(std::abs(value) > error); }
 };
 
-// The per-entry error bounds of clipFromWorld under a precision: for a row's xyz entries k u times
-// the row's xyz length (a rotation's entries are accurate relative to its rows, not to each
-// entry), for its translation entry k u times the terms it sums (|m_i3| + sum_k |m_ik anchor_k|,
-// anchor the eye or the view volume's centre: the translation of a camera far from the origin
-// cancels), plus the decimal rounding of each entry.
-glm::dmat4 entryErrorBounds(const glm::dmat4& clipFromWorld, const EntryPrecision& precision,
-                            const glm::dvec3& anchor);
+// The standard deviation of each entry's rounding error under a precision. A matrix computed as
+// P * V carries, per entry, a few roundings at the magnitude of the terms it was summed from:
+// for a row's xyz entries the row's xyz length (a rotation is accurate relative to its rows, not
+// to each entry), for its translation entry the terms P * V adds up (the row's part along the
+// view axis times the eye's distance along it, the rest times the eye's distance across it, plus
+// what the row leaves at the eye: the depth row's own translation), where the eye is `anchor`;
+// the depth row counts the w row's size too (depth rows formed as a difference of multiples of
+// w). A decimal listing adds its own rounding: uniform within half a unit in the last digit.
+glm::dmat4 entryDeviations(const glm::dmat4& clipFromWorld, const EntryPrecision& precision,
+                           const glm::dvec3& anchor);
+
+// How many standard deviations a stated uncertainty spans (Uncertain::error).
+double coverageFactor();
+
+// Half a unit in the last of `digits` significant digits of value as printed (0 for digits 0).
+double decimalHalfUnit(double value, int digits);
+
+// The number with at most two significant digits nearest to v (what apps type: 0.1, 0.05, 0.25,
+// 1000): a near plane is read as typed when its reading lies within its uncertainty of one.
+double nearestRoundNumber(double v);
 
 struct MatrixReading {
   bool perspective = true;  // decided: |row 3 xyz| clears its error
@@ -77,10 +91,10 @@ struct MatrixReading {
   glm::dvec3 anchor{0.0};
 };
 
-// Reads clipFromWorld; anchor (orthographic only) is the point near and far offsets are measured
+// Reads clipFromWorld with the entries' standard deviations (entryDeviations); anchor (orthographic only) is the point near and far offsets are measured
 // from: the camera position when a view matrix is known, else the world origin (which is the
 // camera's position when the matrix is a projection alone).
-MatrixReading readMatrix(const glm::dmat4& clipFromWorld, const glm::dmat4& entryErrors,
+MatrixReading readMatrix(const glm::dmat4& clipFromWorld, const glm::dmat4& entryDeviations,
                          const glm::dvec3& orthographicAnchor);
 
 // The eye of a perspective matrix (the null vector of rows 0, 1, 3), or the centre of an
