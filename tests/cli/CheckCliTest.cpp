@@ -163,7 +163,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "--far: expected a number greater than --near (1), got 0.5"},
         BadCheck{"UnknownDepth",
                  "check --clip-from-world '" + kPerspectiveNo + "' --declared-depth zero",
-                 "--declared-depth: unknown value \"zero\"; expected one of: no, zo"},
+                 "--declared-depth: unknown value \"zero\"; expected one of: no, zo, zo-reversed"},
         BadCheck{"BadDepthRange",
                  "check --clip-from-world '" + kPerspectiveNo + "' --depth-range 0,2",
                  "--depth-range: expected NEAR,FAR in [0, 1], got \"0,2\""},

@@ -7,8 +7,6 @@
 #include <cstdio>
 #include <string>
 
-#include <glm/gtc/matrix_transform.hpp>
-
 #include "clipray/InputError.hpp"
 #include "clipray/check/CheckFields.hpp"
 #include "clipray/check/ConventionCheck.hpp"
@@ -28,13 +26,6 @@ std::string listed(const e::Mat4& m) {
     text += buffer;
   }
   return text;
-}
-
-std::string listed(const glm::dmat4& m) {
-  e::Mat4 values{};
-  for (int c = 0; c < 4; ++c)
-    for (int r = 0; r < 4; ++r) values[static_cast<std::size_t>(4 * c + r)] = m[c][r];
-  return listed(values);
 }
 
 CheckReport checkFields(const CheckFields& fields, CheckInput* inputOut = nullptr) {

@@ -406,7 +406,7 @@ struct Tally {
   int falseErrors = 0, missedErrors = 0, wrongProperties = 0, coincidences = 0;
   // Per engine: the other-convention mistakes injected, those the Monte Carlo criterion says
   // the entries decide (the other reading further than twice its stated bound from every round
-  // number), and those found.
+  // number, the typed one within half the bound that makes roundness evidence), and those found.
   std::map<std::string, int> conventionMistakes, decidableMistakes, foundMistakes;
   int refusedAsSingular = 0;
   std::vector<std::string> failures;
@@ -494,9 +494,14 @@ void checkOne(const Camera& camera, const glm::dmat4& listed, const std::string&
     // the readings' spread): the other reading's exact value lies further than twice its stated
     // bound from every round number. Twice: the reading itself is off its exact value by up to
     // the bound.
+    // The typed reading is evidence of a typed plane while its bound is below 1/200 of the
+    // spacing of two-digit numbers there (a random plane lands that close by chance less than
+    // once in 100).
     const std::optional<Uncertain>& otherRead = zoBuilt ? p.nearIfBuiltForNo : p.nearIfBuiltForZo;
+    const std::optional<Uncertain>& typedRead = zoBuilt ? p.nearIfBuiltForZo : p.nearIfBuiltForNo;
     const double exact = otherReading(t);
-    decidable = decidable && otherRead && otherRead->error < 0.01 * exact &&
+    const double spacing = std::pow(10.0, std::floor(std::log10(t.near)) - 1.0);
+    decidable = decidable && otherRead && typedRead && typedRead->error < 0.5 * spacing / 200 &&
                 std::abs(exact - nearestRoundNumber(exact)) > 2.0 * otherRead->error;
     ++tally.conventionMistakes[camera.engine];
     if (decidable) ++tally.decidableMistakes[camera.engine];

@@ -47,11 +47,22 @@ std::string withError(const Uncertain& reading) {
   return detail::checkReading(reading);
 }
 
-// A reading is a value an app typed (at most two significant digits: 0.1, 0.05, 0.25, 1000)
-// when such a number lies within its uncertainty (and double's own resolution).
-bool isRoundReading(const Uncertain& reading) {
-  return std::abs(reading.value - nearestRoundNumber(reading.value)) <=
-         reading.error + 4.0 * std::ldexp(1.0, -53) * std::abs(reading.value);
+// Whether a reading is a value an app typed (at most two significant digits: 0.1, 0.05, 0.25,
+// 1000): Round when such a number lies within its uncertainty (and double's own resolution), and
+// the uncertainty is below 1/200 of the spacing of two-digit numbers there, so that a value typed
+// at random lands that close to one by chance less than once in 100; NotRound when every round
+// number lies further than its uncertainty; Undecided in between.
+enum class Roundness { Round, NotRound, Undecided };
+
+Roundness roundness(const Uncertain& reading) {
+  const double v = reading.value;
+  const double tolerance = reading.error + 4.0 * std::ldexp(1.0, -53) * std::abs(v);
+  if (std::abs(v) <= tolerance) return Roundness::Round;  // 0 within its uncertainty
+  const double round = nearestRoundNumber(v);
+  if (std::abs(v - round) > tolerance) return Roundness::NotRound;
+  // The spacing at the round number (0.01 at 0.1, 0.1 at 1), whichever side v reads from.
+  const double spacing = std::pow(10.0, std::floor(std::log10(std::abs(round))) - 1.0);
+  return tolerance <= spacing / 200.0 ? Roundness::Round : Roundness::Undecided;
 }
 
 // behindCamera: readings are offsets from a camera position (orthographic), so a negative one puts
@@ -102,12 +113,16 @@ BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<U
             {}};
   }
   const std::string both = " (" + shownReading(*no) + " if NO, " + shownReading(*zo) + " if ZO)";
-  const bool roundNo = isRoundReading(*no), roundZo = isRoundReading(*zo);
-  if (roundNo != roundZo) {
-    const Uncertain& round = roundNo ? *no : *zo;
-    const Uncertain& other = roundNo ? *zo : *no;
-    const std::string roundName = roundNo ? "NO" : "ZO", otherName = roundNo ? "ZO" : "NO";
-    return {roundNo ? "no" : "zo",
+  const Roundness roundNo = roundness(*no), roundZo = roundness(*zo);
+  const auto decided = [](Roundness a, Roundness b) {
+    return a == Roundness::Round && b == Roundness::NotRound;
+  };
+  if (decided(roundNo, roundZo) || decided(roundZo, roundNo)) {
+    const bool byNo = roundNo == Roundness::Round;
+    const Uncertain& round = byNo ? *no : *zo;
+    const Uncertain& other = byNo ? *zo : *no;
+    const std::string roundName = byNo ? "NO" : "ZO", otherName = byNo ? "ZO" : "NO";
+    return {byNo ? "no" : "zo",
             "the " + roundName + " reading is the round number " +
                 number(nearestRoundNumber(round.value)) + " within its uncertainty (" +
                 withError(round) + "), the " + otherName + " reading " + withError(other) +
@@ -115,14 +130,22 @@ BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<U
                 " from the nearest round number, " + number(nearestRoundNumber(other.value)),
             {}};
   }
-  if (roundNo) {
+  if (roundNo == Roundness::Round && roundZo == Roundness::Round) {
     return {"ambiguous",
             "both readings of the " + what + " are round numbers within their uncertainty" + both,
             {}};
   }
+  if (roundNo == Roundness::NotRound && roundZo == Roundness::NotRound) {
+    return {"ambiguous",
+            "neither reading of the " + what + " is a round number within its uncertainty" + both +
+                "; --near settles it",
+            {}};
+  }
   return {"ambiguous",
-          "neither reading of the " + what + " is a round number within its uncertainty" + both +
-              "; --near settles it",
+          "a reading of the " + what +
+              " lies within its uncertainty of a round number, but an uncertainty that wide (over "
+              "1/200 of the spacing of two-digit numbers there) is met by chance" +
+              both + "; --near settles it",
           {}};
 }
 
@@ -438,7 +461,7 @@ MatrixProperties readProperties(const CheckInput& input) {
                  : std::nullopt;
   const glm::dvec3 anchor = translationAnchor(m);
   const MatrixReading reading =
-      readMatrix(m, entryDeviations(m, precision, anchor), viewOrigin.value_or(glm::dvec3(0.0)));
+      readMatrix(m, entryErrors(m, precision, anchor), viewOrigin.value_or(glm::dvec3(0.0)));
   p.perspective = reading.perspective;
   p.viewDirection = reading.viewDirection;
   p.viewDirectionErrorDegrees = reading.viewDirectionAngle.error * 180.0 / kPi;

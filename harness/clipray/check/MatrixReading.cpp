@@ -17,14 +17,16 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// The error model (docs/check.md, "Uncertainty"). An entry of P * V computed in arithmetic of unit
-// roundoff u carries a few roundings, each uniform within +-u |x| at the magnitude x of what was
-// rounded: standard deviation at most u |x| / sqrt(3) each. kRoundings is how many are counted
-// per entry (a product, a sum, and the projection's own coefficients rounded before them);
+// The error model (docs/check.md, "Uncertainty"). Rounding x to a float of unit roundoff u errs
+// uniformly within half an ulp, u |x| / m for x's binary mantissa m in [1, 2); over mantissas
+// spread as real data's are (Benford: density 1 / (m ln 2)) the mean square is
+// u^2 x^2 E[1/m^2] / 3 = u^2 x^2 / (8 ln 2): standard deviation 0.4247 u |x| per rounding.
+// kRoundings is how many are counted per entry (P * V's product and sum);
 // kCoverage is how many standard deviations of the propagated error a stated "+-" spans. Both are
 // checked against a Monte Carlo of float32 constructions in tests/unit/CheckUncertaintyTest.cpp.
-constexpr double kRoundings = 4.0;
-constexpr double kCoverage = 4.0;
+const double kPerRounding = 1.0 / std::sqrt(8.0 * std::log(2.0));
+constexpr double kRoundings = 2.0;
+constexpr double kCoverage = 4.5;
 
 double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
   return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
@@ -145,7 +147,9 @@ double EntryPrecision::decimalRelative() const {
 }
 
 std::string EntryPrecision::description() const {
-  const std::string base = arithmetic == Arithmetic::Float32 ? "float32" : "double";
+  const std::string base = arithmetic == Arithmetic::Float32 ? "float32"
+                           : storedAsFloat32                 ? "double stored as float32"
+                                                             : "double";
   if (decimalDigits == 0) return base;
   return base + " as " + std::to_string(decimalDigits) + "-digit decimals";
 }
@@ -199,6 +203,7 @@ EntryPrecision detectEntryPrecision(const std::vector<glm::dmat4>& matrices) {
   EntryPrecision precision;
   if (allFloat || allNineDigitFloat) {
     precision.arithmetic = EntryPrecision::Arithmetic::Float32;
+    precision.storedAsFloat32 = true;
   } else if (mostDigits >= 16) {
     precision.arithmetic = EntryPrecision::Arithmetic::Double;
   } else {
@@ -232,53 +237,63 @@ double decimalHalfUnit(double value, int digits) {
   return 0.5 * std::pow(10.0, decade - digits + 1);
 }
 
-glm::dmat4 entryDeviations(const glm::dmat4& m, const EntryPrecision& precision,
-                           const glm::dvec3& anchor) {
-  // One rounding: uniform within +-u |x|, standard deviation u |x| / sqrt(3); kRoundings of them.
-  const double perMagnitude = precision.unitRoundoff() * std::sqrt(kRoundings / 3.0);
-  const glm::dvec4 rowW = matrixRow(m, 3);
-  const glm::dvec3 wXyz = xyz(rowW);
+EntryErrors entryErrors(const glm::dmat4& m, const EntryPrecision& precision,
+                        const glm::dvec3& anchor) {
+  // kRoundings roundings at the magnitude of the terms, each of standard deviation kPerRounding u.
+  const double perMagnitude = precision.unitRoundoff() * kPerRounding * std::sqrt(kRoundings);
+  const glm::dvec3 wXyz = xyz(matrixRow(m, 3));
   // The axis the rows are split along: w's (perspective), else the direction depth runs along.
   glm::dvec3 axis = wXyz;
   if (!(glm::length(axis) > 0.0)) axis = glm::cross(xyz(matrixRow(m, 0)), xyz(matrixRow(m, 1)));
   axis = glm::length(axis) > 0.0 ? glm::normalize(axis) : glm::dvec3(0.0, 0.0, 1.0);
   const double eyeAlong = glm::dot(anchor, axis);
   const double eyeAcross = glm::length(anchor - eyeAlong * axis);
-  // The terms a row's translation is summed from, as P * V forms it: the part of the row along
-  // the axis times the eye's distance along it, the rest times the eye's distance across it
-  // (bounded by Cauchy-Schwarz), and what is left at the eye (the projection's own translation:
-  // 0 for rows 0, 1, 3, a |w| for the depth row).
-  const auto terms = [&](const glm::dvec4& row) {
-    const double along = glm::dot(xyz(row), axis);
-    const double across = glm::length(xyz(row) - along * axis);
-    const double left = std::abs(glm::dot(row, glm::dvec4(anchor, 1.0)));
-    return std::max(std::abs(row.w), std::abs(along * eyeAlong) + across * eyeAcross) + left;
-  };
-  glm::dmat4 deviations(0.0);
+  const double storedRounding =
+      precision.storedAsFloat32 && precision.arithmetic == EntryPrecision::Arithmetic::Double
+          ? std::ldexp(1.0, -24) * kPerRounding
+          : 0.0;
+  EntryErrors errors;
   for (int r = 0; r < 4; ++r) {
     const glm::dvec4 row = matrixRow(m, r);
-    // The depth row is often a difference of the w row and a multiple of it (reversed-Z and
-    // depth-remapping matrices: Godot's depth correction, Filament's): its entries then carry
-    // the rounding of terms as large as the w row's, whatever their own size.
-    const double rowLength =
-        r == 2 ? std::max(glm::length(xyz(row)), glm::length(wXyz)) : glm::length(xyz(row));
-    const double rowTerms = r == 2 ? std::max(terms(row), terms(rowW)) : terms(row);
+    // P * V writes each row as a part along the view axis (V's forward row) and a part across it
+    // (V's right and up rows); each entry is summed from those parts' terms.
+    const double along = glm::dot(xyz(row), axis);
+    const double across = glm::length(xyz(row) - along * axis);
+    // The translation adds the parts times the eye's coordinates along and across the axis
+    // (across bounded by Cauchy-Schwarz), and what the row leaves at the eye (the projection's
+    // own translation: 0 for rows 0, 1 and 3, a |w| for the depth row).
+    const double left = std::abs(glm::dot(row, glm::dvec4(anchor, 1.0)));
+    const double translationTerms =
+        std::abs(along * eyeAlong) + std::abs(across * eyeAcross) + left;
     for (int c = 0; c < 4; ++c) {
-      const double arithmetic = perMagnitude * (c < 3 ? rowLength : rowTerms);
+      const double terms =
+          c < 3 ? std::abs(along * axis[c]) +
+                      across * std::sqrt(std::max(0.0, 1.0 - axis[c] * axis[c]))
+                : translationTerms;
+      const double arithmetic = perMagnitude * terms;
       // A decimal listing's rounding: uniform within half a unit in the last printed digit.
       const double decimal = decimalHalfUnit(row[c], precision.decimalDigits) / std::sqrt(3.0);
-      deviations[c][r] = std::sqrt(arithmetic * arithmetic + decimal * decimal);
+      // Double arithmetic stored as float32: the entry's own rounding to float32.
+      const double stored = storedRounding * std::abs(row[c]);
+      errors.deviation[c][r] =
+          std::sqrt(arithmetic * arithmetic + decimal * decimal + stored * stored);
     }
   }
-  return deviations;
+  // The depth row's coefficients are rounded before the product, and the depth row is often
+  // formed from the w row (P22 z + P23 w in view space; Godot's and Filament's depth correction,
+  // reversed-Z): an error of a multiple of the w row, common to its four entries. It cancels at
+  // the eye (where w = 0) and moves only the depth the row tends to far away.
+  errors.depthAlongW = perMagnitude;
+  return errors;
 }
 
 double coverageFactor() {
   return kCoverage;
 }
 
-MatrixReading readMatrix(const glm::dmat4& m, const glm::dmat4& deviations,
+MatrixReading readMatrix(const glm::dmat4& m, const EntryErrors& errors,
                          const glm::dvec3& orthographicAnchor) {
+  const glm::dmat4& deviations = errors.deviation;
   MatrixReading reading;
   const glm::dvec3 wXyz = xyz(matrixRow(m, 3));
   const glm::dvec3 wErrors = kCoverage * glm::dvec3(deviations[0][3], deviations[1][3],
@@ -300,6 +315,28 @@ MatrixReading readMatrix(const glm::dmat4& m, const glm::dmat4& deviations,
     const double c = changed * scale;
     sum += c * c;
   };
+  // Each error mode: the matrix moved by one step along it, and the step's scale back to one
+  // standard deviation.
+  const auto propagate = [&](const glm::dmat4& moved, double scale) {
+    const Figures f = figuresOf(moved, reading.perspective, orthographicAnchor);
+    add(spread.a, change(f.a, base.a), scale);
+    add(spread.b, change(f.b, base.b), scale);
+    for (int k = 0; k < 3; ++k) add(eyeSpread[k], change(f.eye[k], base.eye[k]), scale);
+    add(forwardSpread, angleBetween(f.forward, base.forward), scale);
+    add(spread.nearNo, change(f.nearNo, base.nearNo), scale);
+    add(spread.nearZo, change(f.nearZo, base.nearZo), scale);
+    add(spread.atOne, change(f.atOne, base.atOne), scale);
+    add(spread.obliqueNo, change(f.obliqueNo, base.obliqueNo), scale);
+    add(spread.obliqueZo, change(f.obliqueZo, base.obliqueZo), scale);
+    add(spread.obliqueReversed, change(f.obliqueReversed, base.obliqueReversed), scale);
+    add(spread.offAxis, change(f.offAxis, base.offAxis), scale);
+    add(spread.handedness, change(f.handedness, base.handedness), scale);
+    add(spread.upY, change(f.upY, base.upY), scale);
+    add(spread.fovY, change(f.fovY, base.fovY), scale);
+    add(spread.fovX, change(f.fovX, base.fovX), scale);
+    add(spread.extentX, change(f.extentX, base.extentX), scale);
+    add(spread.extentY, change(f.extentY, base.extentY), scale);
+  };
   for (int c = 0; c < 4; ++c) {
     for (int r = 0; r < 4; ++r) {
       const double deviation = deviations[c][r];
@@ -307,30 +344,20 @@ MatrixReading readMatrix(const glm::dmat4& m, const glm::dmat4& deviations,
       // A step of one standard deviation, but never below double's resolution of the entry
       // (double listings), scaled back to one deviation.
       const double step = std::max(deviation, 1e-9 * std::abs(m[c][r]));
-      const double scale = deviation / step;
       glm::dmat4 moved = m;
       moved[c][r] += step;
-      const Figures f = figuresOf(moved, reading.perspective, orthographicAnchor);
-      add(spread.a, change(f.a, base.a), scale);
-      add(spread.b, change(f.b, base.b), scale);
-      for (int k = 0; k < 3; ++k) add(eyeSpread[k], change(f.eye[k], base.eye[k]), scale);
-      add(forwardSpread, angleBetween(f.forward, base.forward), scale);
-      add(spread.nearNo, change(f.nearNo, base.nearNo), scale);
-      add(spread.nearZo, change(f.nearZo, base.nearZo), scale);
-      add(spread.atOne, change(f.atOne, base.atOne), scale);
-      add(spread.obliqueNo, change(f.obliqueNo, base.obliqueNo), scale);
-      add(spread.obliqueZo, change(f.obliqueZo, base.obliqueZo), scale);
-      add(spread.obliqueReversed, change(f.obliqueReversed, base.obliqueReversed), scale);
-      add(spread.offAxis, change(f.offAxis, base.offAxis), scale);
-      add(spread.handedness, change(f.handedness, base.handedness), scale);
-      add(spread.upY, change(f.upY, base.upY), scale);
-      add(spread.fovY, change(f.fovY, base.fovY), scale);
-      add(spread.fovX, change(f.fovX, base.fovX), scale);
-      add(spread.extentX, change(f.extentX, base.extentX), scale);
-      add(spread.extentY, change(f.extentY, base.extentY), scale);
+      propagate(moved, deviation / step);
     }
   }
-  const auto bound = [](double& sumOfSquares) { sumOfSquares = kCoverage * std::sqrt(sumOfSquares); };
+  if (errors.depthAlongW > 0.0) {
+    const double step = std::max(errors.depthAlongW, 1e-9);
+    glm::dmat4 moved = m;
+    for (int c = 0; c < 4; ++c) moved[c][2] += step * m[c][3];
+    propagate(moved, errors.depthAlongW / step);
+  }
+  const auto bound = [](double& sumOfSquares) {
+    sumOfSquares = kCoverage * std::sqrt(sumOfSquares);
+  };
   for (double* figure :
        {&spread.a, &spread.b, &spread.nearNo, &spread.nearZo, &spread.atOne, &spread.obliqueNo,
         &spread.obliqueZo, &spread.obliqueReversed, &spread.offAxis, &spread.handedness,

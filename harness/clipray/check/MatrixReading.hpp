@@ -25,6 +25,9 @@ struct EntryPrecision {
   // Significant decimal digits of a decimal listing that is not exact in binary (0: exact binary,
   // or decimals that round-trip the binary values, such as float32 printed with %.9g).
   int decimalDigits = 0;
+  // The values are float32 (exactly, or as round-tripping decimals): with double arithmetic
+  // (--precision double: three.js, Filament), each entry carries that one rounding as well.
+  bool storedAsFloat32 = false;
   double unitRoundoff() const;      // 2^-24 or 2^-53
   double decimalRelative() const;   // half a unit in the last printed digit, or 0
   std::string description() const;  // "float32", "float32 as 6-digit decimals", "double", ...
@@ -47,16 +50,21 @@ struct Uncertain {
   bool withinErrorOfZero() const { return !(std::abs(value) > error); }
 };
 
-// The standard deviation of each entry's rounding error under a precision. A matrix computed as
-// P * V carries, per entry, a few roundings at the magnitude of the terms it was summed from:
-// for a row's xyz entries the row's xyz length (a rotation is accurate relative to its rows, not
-// to each entry), for its translation entry the terms P * V adds up (the row's part along the
-// view axis times the eye's distance along it, the rest times the eye's distance across it, plus
-// what the row leaves at the eye: the depth row's own translation), where the eye is `anchor`;
-// the depth row counts the w row's size too (depth rows formed as a difference of multiples of
-// w). A decimal listing adds its own rounding: uniform within half a unit in the last digit.
-glm::dmat4 entryDeviations(const glm::dmat4& clipFromWorld, const EntryPrecision& precision,
-                           const glm::dvec3& anchor);
+// The errors a matrix's entries carry under a precision, as standard deviations. A matrix computed
+// as P * V carries, per entry, a few roundings at the magnitude of the terms it was summed from:
+// each row is a part along the view axis (V's forward row) and a part across it (V's right and up
+// rows), so an xyz entry's terms are the part along times the axis's component plus the part
+// across times the rest (bounded by Cauchy-Schwarz), and the translation's the parts times the
+// eye's distances along and across the axis, plus what the row leaves at the eye (the depth row's
+// own translation); `anchor` is the eye. A decimal listing adds its own rounding, uniform within
+// half a unit in the last digit. These are independent; the depth row also carries a common
+// error: a multiple of the w row (its coefficients rounded, depth rows formed from w).
+struct EntryErrors {
+  glm::dmat4 deviation{0.0};  // per entry, independent
+  double depthAlongW = 0.0;   // the depth row moved by this multiple of the w row
+};
+EntryErrors entryErrors(const glm::dmat4& clipFromWorld, const EntryPrecision& precision,
+                        const glm::dvec3& anchor);
 
 // How many standard deviations a stated uncertainty spans (Uncertain::error).
 double coverageFactor();
@@ -91,10 +99,10 @@ struct MatrixReading {
   glm::dvec3 anchor{0.0};
 };
 
-// Reads clipFromWorld with the entries' standard deviations (entryDeviations); anchor (orthographic only) is the point near and far offsets are measured
+// Reads clipFromWorld with its entries' errors (entryErrors); anchor (orthographic only) is the point near and far offsets are measured
 // from: the camera position when a view matrix is known, else the world origin (which is the
 // camera's position when the matrix is a projection alone).
-MatrixReading readMatrix(const glm::dmat4& clipFromWorld, const glm::dmat4& entryDeviations,
+MatrixReading readMatrix(const glm::dmat4& clipFromWorld, const EntryErrors& errors,
                          const glm::dvec3& orthographicAnchor);
 
 // The eye of a perspective matrix (the null vector of rows 0, 1, 3), or the centre of an
