@@ -102,6 +102,7 @@ struct ConventionFix {
   std::string declared;
   std::string nearPlane;  // --near, where both readings are round
   std::string fix;
+  bool separate = false;  // clipFromWorld is the projection, given with glm's lookAtRH view
 };
 void PrintTo(const ConventionFix& c, std::ostream* os) {
   *os << c.name;
@@ -114,7 +115,13 @@ class CheckConventionFix : public ::testing::TestWithParam<ConventionFix> {};
 TEST_P(CheckConventionFix, NamesTheFunctionOfTheMatrixStructure) {
   const ConventionFix& c = GetParam();
   CheckFields fields;
-  fields.clipFromWorld = listed(c.clipFromWorld);
+  if (c.separate) {
+    // An orthographic near plane is an offset from the camera: give the view that places it.
+    fields.projection = listed(c.clipFromWorld);
+    fields.view = listed(e::glmx::lookAtRH<float>({3, 2, 8}, {0, 0, 0}, {0, 1, 0}));
+  } else {
+    fields.clipFromWorld = listed(c.clipFromWorld);
+  }
   fields.declaredDepth = c.declared;
   fields.nearPlane = c.nearPlane;
   const CheckReport report = checkFields(fields);
@@ -147,8 +154,9 @@ INSTANTIATE_TEST_SUITE_P(
         ConventionFix{"infinitePerspectiveRH_NO with --near",
                       glmCamera(e::glmx::infinitePerspectiveRH_NO<float>(kFov, 1.5f, 0.1f)), "zo",
                       "0.1", "build the projection for ZO (glm::infinitePerspectiveRH_ZO" + kToZo},
-        ConventionFix{"orthoRH_ZO alone", e::glmx::orthoRH_ZO<float>(-4, 4, -3, 3, 0.5f, 50.0f),
-                      "no", "", "build the projection for NO (glm::orthoRH_NO" + kToNo}),
+        ConventionFix{"orthoRH_ZO with its view",
+                      e::glmx::orthoRH_ZO<float>(-4, 4, -3, 3, 0.5f, 50.0f), "no", "",
+                      "build the projection for NO (glm::orthoRH_NO" + kToNo, true}),
     [](const ::testing::TestParamInfo<ConventionFix>& param) {
       std::string name = param.param.name;
       for (char& ch : name)
@@ -181,7 +189,8 @@ TEST(CheckFixText, WithoutADeclaredDepthTheDepthStateIsSaidToBeUnchecked) {
 // The depth modes' names as reconcile, pick and bench take them, in any case.
 TEST(CheckFixText, DeclaredDepthTakesZoReversedAndAnyCase) {
   CheckFields fields;
-  fields.clipFromWorld = listed(glmCamera(e::glmx::perspectiveRH_ZO<float>(kFov, 1.5f, 0.1f, 100.0f)));
+  fields.clipFromWorld =
+      listed(glmCamera(e::glmx::perspectiveRH_ZO<float>(kFov, 1.5f, 0.1f, 100.0f)));
   for (const char* name : {"ZO", "Zo", "zo"}) {
     fields.declaredDepth = name;
     const CheckInput input = checkInputFrom(fields, "");
@@ -211,6 +220,89 @@ TEST(CheckFixText, DeclaredDepthTakesZoReversedAndAnyCase) {
   EXPECT_TRUE(mixed.listedRowMajor);
   EXPECT_EQ(mixed.depthFormat, DepthFormat::Float32);
   EXPECT_EQ(mixed.origin, WindowOrigin::UpperLeft);
+}
+
+// A camera built in double and uploaded as float32 (three.js, Filament): the reason names the
+// round number the reading lies within its uncertainty of, and the reading as shown, never calls
+// 0.099999 itself round.
+TEST(CheckFixText, RoundReadingsAreNamedWithTheirUncertainty) {
+  const e::Mat4 projection = e::glmx::perspectiveRH_ZO<double>(1.0471975511965976, 1.5, 0.1, 100);
+  const e::Mat4 view = e::glmx::lookAtRH<double>({3, 2, 8}, {0, 0, 0}, {0, 1, 0});
+  CheckFields fields;
+  fields.clipFromWorld = listed(e::roundToFloat32(e::multiply(projection, view)));
+  fields.declaredDepth = "no";
+  const CheckReport report = checkFields(fields);
+  EXPECT_EQ(report.properties.builtFor, "zo");
+  const std::string reason =
+      "the ZO reading 0.0999994 +-2.6e-06 lies within its uncertainty of the round number 0.1, "
+      "the NO reading 0.0500247 +-1.3e-06 lies 2.47279e-05 from the nearest one, 0.05";
+  EXPECT_EQ(report.properties.builtForReason, reason);
+  ASSERT_NE(findingOf(report, "depth-convention-mismatch"), nullptr);
+  EXPECT_EQ(findingOf(report, "depth-convention-mismatch")->message,
+            "built for ZERO_TO_ONE (near 0.0999994) but drawn under NEGATIVE_ONE_TO_ONE: the "
+            "rasterizer keeps geometry down to z_ndc = -1, at 0.0500247, nearer than the intended "
+            "near plane, and spends half the depth range on that sliver (read as built for zo: " +
+                reason + ")");
+}
+
+// One number, one spelling: the ambiguous note prints the near plane as the report does.
+TEST(CheckFixText, TheAmbiguousNotePrintsTheNearPlaneAsTheReportDoes) {
+  CheckFields fields;
+  fields.clipFromWorld =
+      listed(glmCamera(e::glmx::infinitePerspectiveRH_NO<float>(kFov, 1.5f, 0.12294f)));
+  fields.declaredDepth = "zo";
+  CheckInput input;
+  const CheckReport report = checkFields(fields, &input);
+  ASSERT_NE(findingOf(report, "depth-convention-ambiguous"), nullptr);
+  const std::string both = "(0.12294 if NO, 0.24588 if ZO)";
+  EXPECT_EQ(
+      findingOf(report, "depth-convention-ambiguous")->message,
+      "this matrix reads as built for NO with near 0.12294 or for ZO with near 0.24588 "
+      "(neither reading of the near plane is a round number within its uncertainty " +
+          both +
+          "; --near settles it); under the declared ZERO_TO_ONE the near plane is at 0.24588");
+  const std::string text = checkReportText(report, input);
+  EXPECT_NE(text.find("  near 0.24588 +-2.6e-06, far infinite,"), std::string::npos) << text;
+  EXPECT_NE(text.find("  built for: ambiguous (near 0.12294 if NO, 0.24588 if ZO)\n"),
+            std::string::npos)
+      << text;
+  EXPECT_EQ(text.find("0.245879"), std::string::npos) << text;
+}
+
+// The infinite-far warning says what the ray table at this camera shows, and the fix takes the
+// direction's sign from clip w, as robust does (docs/bench.md).
+TEST(CheckFixText, InfiniteFarWarningAgreesWithTheRayTable) {
+  // glm's float infinite perspective: listing 4's zero is +0 unless every component of its
+  // (backward) d is negative, so its sign is right looking along (-, -, -), wrong along (+, +, +).
+  const std::string head =
+      "the far plane is at infinity: unproject_glm and two_point unproject the far point, whose w "
+      "is 0 (non-finite rays at this camera); seed 002 listing 4 (full) takes the direction's "
+      "sign from dot(mw - mz, d), which is exactly 0 here, so from the sign of a zero: ";
+  for (const auto& [eye, outcome] :
+       {std::pair{300.0f, std::string("right at this camera (see the ray table), but only "
+                                      "because of the view direction's octant")},
+        std::pair{-300.0f, std::string("backward at this camera")}}) {
+    const e::Mat4 projection = e::glmx::infinitePerspectiveRH_NO<float>(0.5235988f, 1.5f, 0.1f);
+    const e::Mat4 view = e::glmx::lookAtRH<float>({eye, eye, eye}, {0, 0, 0}, {0, 1, 0});
+    CheckFields fields;
+    fields.clipFromWorld = listed(e::glmx::clipFromWorld<float>(projection, view));
+    fields.declaredDepth = "no";
+    fields.viewport = "64x48";
+    const CheckInput input = checkInputFrom(fields, "");
+    const CheckReport report = checkConventions(input);
+    const Finding* warning = findingOf(report, "infinite-far-plane");
+    ASSERT_NE(warning, nullptr);
+    EXPECT_EQ(warning->message, head + outcome) << checkReportText(report, input);
+    EXPECT_EQ(warning->fix,
+              "build picking rays from the plane cross product turned to where clip w grows, "
+              "dot(mw, d) > 0, in front of the eye at every pixel (clipray's robust method), "
+              "starting on the near plane; t_max = +inf");
+    for (const MethodPrediction& m : report.methods) {
+      if (m.method == "full") {
+        EXPECT_EQ(m.backward > 0, eye < 0.0f);
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -118,10 +118,10 @@ e::Mat4 buildCamera(int b, const glm::dvec3& eye, const glm::dvec3& target, doub
     case 8:
     case 9:
     case 10: {
-      const e::Mat4 p =
-          b == 10 ? e::bgfx::mtxProjInf<F>(static_cast<F>(fovDegrees), fa, n, false,
-                                           e::Handedness::Left, e::bgfx::NearFar::Reverse)
-                  : e::bgfx::mtxProj<F>(static_cast<F>(fovDegrees), fa, n, f, b == 8);
+      const e::Mat4 p = b == 10
+                            ? e::bgfx::mtxProjInf<F>(static_cast<F>(fovDegrees), fa, n, false,
+                                                     e::Handedness::Left, e::bgfx::NearFar::Reverse)
+                            : e::bgfx::mtxProj<F>(static_cast<F>(fovDegrees), fa, n, f, b == 8);
       return product(p, e::bgfx::mtxLookAt<F>(vec<F>(eye), vec<F>(target)));
     }
     case 11: {
@@ -253,8 +253,7 @@ TEST(CheckUncertainty, StatedBoundsCoverFloat32ConstructionsAndStayTight) {
           CheckInput input;
           input.predictMethods = false;
           input.clipFromWorld = toGlm(buildCamera(b, eye, target, n, typedFar), sixDigits);
-          input.declaredDepth =
-              zo ? DepthConvention::ZeroToOne : DepthConvention::NegativeOneToOne;
+          input.declaredDepth = zo ? DepthConvention::ZeroToOne : DepthConvention::NegativeOneToOne;
           input.declaredReversed = reversed;
           input.origin = WindowOrigin::UpperLeft;
           // three.js and Filament compute in double and upload float32: the app says so.

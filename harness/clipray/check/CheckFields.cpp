@@ -133,8 +133,8 @@ CheckInput checkInputFrom(const CheckFields& fields, const std::string& where) {
   if (!fields.declaredDepth.empty()) {
     // The depth modes' names, as reconcile, pick and bench take them: zo-reversed is ZO with
     // the reversed depth test (--reversed).
-    const std::string depth = requireOneOf(fields.declaredDepth, where + "--declared-depth",
-                                           {"no", "zo", "zo-reversed"});
+    const std::string depth =
+        requireOneOf(fields.declaredDepth, where + "--declared-depth", {"no", "zo", "zo-reversed"});
     input.declaredDepth =
         depth == "no" ? DepthConvention::NegativeOneToOne : DepthConvention::ZeroToOne;
     input.declaredReversed = input.declaredReversed || depth == "zo-reversed";

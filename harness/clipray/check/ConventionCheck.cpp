@@ -43,8 +43,11 @@ struct BuildReading {
   std::optional<bool> statedMatches;
 };
 
+// A reading and its stated uncertainty, always shown: "0.1 +-2.9e-08".
 std::string withError(const Uncertain& reading) {
-  return detail::checkReading(reading);
+  char error[32];
+  std::snprintf(error, sizeof error, " +-%.2g", reading.error);
+  return shownReading(reading) + error;
 }
 
 // Whether a reading is a value an app typed (at most two significant digits: 0.1, 0.05, 0.25,
@@ -123,11 +126,12 @@ BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<U
     const Uncertain& other = byNo ? *zo : *no;
     const std::string roundName = byNo ? "NO" : "ZO", otherName = byNo ? "ZO" : "NO";
     return {byNo ? "no" : "zo",
-            "the " + roundName + " reading is the round number " +
-                number(nearestRoundNumber(round.value)) + " within its uncertainty (" +
-                withError(round) + "), the " + otherName + " reading " + withError(other) +
-                " is " + number(std::abs(other.value - nearestRoundNumber(other.value))) +
-                " from the nearest round number, " + number(nearestRoundNumber(other.value)),
+            "the " + roundName + " reading " + withError(round) +
+                " lies within its uncertainty of the round number " +
+                number(nearestRoundNumber(round.value)) + ", the " + otherName + " reading " +
+                withError(other) + " lies " +
+                number(std::abs(other.value - nearestRoundNumber(other.value))) +
+                " from the nearest one, " + number(nearestRoundNumber(other.value)),
             {}};
   }
   if (roundNo == Roundness::Round && roundZo == Roundness::Round) {
@@ -488,8 +492,8 @@ DepthMode predictionMode(const CheckInput& input, const MatrixProperties& p) {
 // The glm function whose structure the matrix has (orthographic or perspective, off-axis,
 // infinite far, the camera frame's handedness), built for `convention` ("NO" or "ZO").
 std::string glmProjectionFunction(const MatrixProperties& p, const std::string& convention) {
-  const std::string base = !p.perspective ? "ortho"
-                           : p.offAxis    ? "frustum"
+  const std::string base = !p.perspective  ? "ortho"
+                           : p.offAxis     ? "frustum"
                            : p.infiniteFar ? "infinitePerspective"
                                            : "perspective";
   return "glm::" + base + (p.leftHanded ? "LH_" : "RH_") + convention;
@@ -668,11 +672,13 @@ void infiniteFarFinding(const MatrixProperties& p, const std::vector<MethodPredi
   }
   const MethodPrediction* full = measured("full");
   if (p.reversed) {
-    message += "; seed 002 listing 4 (full) puts the far plane at z_ndc = 1, which reversed-Z "
-               "makes the near plane";
+    message +=
+        "; seed 002 listing 4 (full) puts the far plane at z_ndc = 1, which reversed-Z "
+        "makes the near plane";
   } else {
-    message += "; seed 002 listing 4 (full) takes the direction's sign from dot(mw - mz, d), which "
-               "is exactly 0 here, so from the sign of a zero";
+    message +=
+        "; seed 002 listing 4 (full) takes the direction's sign from dot(mw - mz, d), which "
+        "is exactly 0 here, so from the sign of a zero";
     if (full) {
       message += full->backward > 0 || full->nonfinite > 0
                      ? ": backward at this camera"

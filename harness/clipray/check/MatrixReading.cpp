@@ -266,10 +266,9 @@ EntryErrors entryErrors(const glm::dmat4& m, const EntryPrecision& precision,
     const double translationTerms =
         std::abs(along * eyeAlong) + std::abs(across * eyeAcross) + left;
     for (int c = 0; c < 4; ++c) {
-      const double terms =
-          c < 3 ? std::abs(along * axis[c]) +
-                      across * std::sqrt(std::max(0.0, 1.0 - axis[c] * axis[c]))
-                : translationTerms;
+      const double terms = c < 3 ? std::abs(along * axis[c]) +
+                                       across * std::sqrt(std::max(0.0, 1.0 - axis[c] * axis[c]))
+                                 : translationTerms;
       const double arithmetic = perMagnitude * terms;
       // A decimal listing's rounding: uniform within half a unit in the last printed digit.
       const double decimal = decimalHalfUnit(row[c], precision.decimalDigits) / std::sqrt(3.0);
@@ -296,8 +295,8 @@ MatrixReading readMatrix(const glm::dmat4& m, const EntryErrors& errors,
   const glm::dmat4& deviations = errors.deviation;
   MatrixReading reading;
   const glm::dvec3 wXyz = xyz(matrixRow(m, 3));
-  const glm::dvec3 wErrors = kCoverage * glm::dvec3(deviations[0][3], deviations[1][3],
-                                                    deviations[2][3]);
+  const glm::dvec3 wErrors =
+      kCoverage * glm::dvec3(deviations[0][3], deviations[1][3], deviations[2][3]);
   reading.perspective = glm::length(wXyz) > glm::length(wErrors) && glm::length(wXyz) > 0.0;
   reading.anchor = orthographicAnchor;
   const Figures base = figuresOf(m, reading.perspective, orthographicAnchor);

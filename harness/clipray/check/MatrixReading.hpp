@@ -99,9 +99,9 @@ struct MatrixReading {
   glm::dvec3 anchor{0.0};
 };
 
-// Reads clipFromWorld with its entries' errors (entryErrors); anchor (orthographic only) is the point near and far offsets are measured
-// from: the camera position when a view matrix is known, else the world origin (which is the
-// camera's position when the matrix is a projection alone).
+// Reads clipFromWorld with its entries' errors (entryErrors); anchor (orthographic only) is the
+// point near and far offsets are measured from: the camera position when a view matrix is known,
+// else the world origin (which is the camera's position when the matrix is a projection alone).
 MatrixReading readMatrix(const glm::dmat4& clipFromWorld, const EntryErrors& errors,
                          const glm::dvec3& orthographicAnchor);
 
