@@ -91,8 +91,8 @@ TEST(ConventionCheck, GlmPerspectiveRhNoDrawnUnderZoIsAMismatch) {
             "clips at z_ndc = 0, "
             "so the effective near plane moves to 0.1998 (1.998x) and NDC [-1, 0), half the depth "
             "range, is never "
-            "used (read as built for no: the NO reading 0.1 +-1.9e-15 lies within its uncertainty "
-            "of the round number 0.1, the ZO reading 0.1998 +-3.8e-15 lies 0.0001998 from the "
+            "used (read as built for no: the NO reading 0.1 +-1.1e-14 lies within its uncertainty "
+            "of the round number 0.1, the ZO reading 0.1998 +-2.3e-14 lies 0.0001998 from the "
             "nearest one, 0.2)");
   EXPECT_TRUE(r.hasErrors());
 }

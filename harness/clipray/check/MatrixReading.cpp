@@ -37,6 +37,16 @@ double lineAngle(const glm::dvec3& a, const glm::dvec3& b) {
   return std::atan2(glm::length(glm::cross(a, b)), std::abs(glm::dot(a, b)));
 }
 
+// The part of the line a's unit direction across the unit vector b (sign taken along b): its
+// length is the sine of lineAngle(a, b). An angle near 0 is the length of this vector, whose
+// change under an error is what the error does to the angle; the length's own change is not
+// (an error larger than the vector turns it round and changes its length by little).
+glm::dvec3 across(const glm::dvec3& a, const glm::dvec3& b) {
+  glm::dvec3 unit = glm::normalize(a);
+  if (glm::dot(unit, b) < 0.0) unit = -unit;
+  return unit - glm::dot(unit, b) * b;
+}
+
 bool isFloat(double v) {
   return static_cast<double>(static_cast<float>(v)) == v;
 }
@@ -54,6 +64,9 @@ struct Figures {
   glm::dvec3 forward{0.0};
   double nearNo = kNaN, nearZo = kNaN, atOne = kNaN;  // distances at z_ndc = -1, 0, 1
   double obliqueNo = 0.0, obliqueZo = 0.0, obliqueReversed = 0.0, offAxis = 0.0;
+  // The angles' vectors (across): an angle's error is taken from its vector's change.
+  glm::dvec3 obliqueNoAcross{0.0}, obliqueZoAcross{0.0}, obliqueReversedAcross{0.0},
+      offAxisAcross{0.0};
   double handedness = 0.0, upY = 0.0, fovY = 0.0, fovX = 0.0, extentX = 0.0, extentY = 0.0;
 };
 
@@ -82,6 +95,9 @@ Figures perspectiveFigures(const glm::dmat4& m) {
   f.obliqueNo = lineAngle(xyz(z) + xyz(w), f.forward);
   f.obliqueZo = lineAngle(xyz(z), f.forward);
   f.obliqueReversed = lineAngle(xyz(z) - xyz(w), f.forward);
+  f.obliqueNoAcross = across(xyz(z) + xyz(w), f.forward);
+  f.obliqueZoAcross = across(xyz(z), f.forward);
+  f.obliqueReversedAcross = across(xyz(z) - xyz(w), f.forward);
   // The line of sight through NDC (x', y'): the planes x = x' w and y = y' w cross along it; its
   // sign is the one along which w grows (in front of the eye), whatever the near plane does.
   const auto sight = [&](double xn, double yn) {
@@ -89,6 +105,7 @@ Figures perspectiveFigures(const glm::dmat4& m) {
     return glm::normalize(glm::dot(d, xyz(w)) < 0.0 ? -d : d);
   };
   f.offAxis = angleBetween(sight(0, 0), f.forward);
+  f.offAxisAcross = across(sight(0, 0), f.forward);
   // The camera's own right and up axes: clip x and y grow along the parts of rows 0 and 1
   // across the view (an off-axis shear only adds a multiple of the forward axis to them).
   const glm::dvec3 right = glm::normalize(xyz(x) - glm::dot(xyz(x), f.forward) * f.forward);
@@ -114,6 +131,7 @@ Figures orthographicFigures(const glm::dmat4& m, const glm::dvec3& anchor) {
   f.nearZo = offsetAt(0.0);
   f.atOne = offsetAt(1.0);
   f.obliqueNo = f.obliqueZo = f.obliqueReversed = lineAngle(xyz(z), f.forward);
+  f.obliqueNoAcross = f.obliqueZoAcross = f.obliqueReversedAcross = across(xyz(z), f.forward);
   const glm::dvec3 xPerp = xyz(x) - glm::dot(xyz(x), f.forward) * f.forward;
   const glm::dvec3 yPerp = xyz(y) - glm::dot(xyz(y), f.forward) * f.forward;
   f.extentX = 2.0 * std::abs(w.w) / glm::length(xPerp);
@@ -325,10 +343,20 @@ MatrixReading readMatrix(const glm::dmat4& m, const EntryErrors& errors,
     add(spread.nearNo, change(f.nearNo, base.nearNo), scale);
     add(spread.nearZo, change(f.nearZo, base.nearZo), scale);
     add(spread.atOne, change(f.atOne, base.atOne), scale);
-    add(spread.obliqueNo, change(f.obliqueNo, base.obliqueNo), scale);
-    add(spread.obliqueZo, change(f.obliqueZo, base.obliqueZo), scale);
-    add(spread.obliqueReversed, change(f.obliqueReversed, base.obliqueReversed), scale);
-    add(spread.offAxis, change(f.offAxis, base.offAxis), scale);
+    const auto angleChange = [](double angle, double baseAngle, const glm::dvec3& vector,
+                                const glm::dvec3& baseVector) {
+      return std::max(change(angle, baseAngle), glm::length(vector - baseVector));
+    };
+    add(spread.obliqueNo,
+        angleChange(f.obliqueNo, base.obliqueNo, f.obliqueNoAcross, base.obliqueNoAcross), scale);
+    add(spread.obliqueZo,
+        angleChange(f.obliqueZo, base.obliqueZo, f.obliqueZoAcross, base.obliqueZoAcross), scale);
+    add(spread.obliqueReversed,
+        angleChange(f.obliqueReversed, base.obliqueReversed, f.obliqueReversedAcross,
+                    base.obliqueReversedAcross),
+        scale);
+    add(spread.offAxis, angleChange(f.offAxis, base.offAxis, f.offAxisAcross, base.offAxisAcross),
+        scale);
     add(spread.handedness, change(f.handedness, base.handedness), scale);
     add(spread.upY, change(f.upY, base.upY), scale);
     add(spread.fovY, change(f.fovY, base.fovY), scale);
@@ -367,11 +395,25 @@ MatrixReading readMatrix(const glm::dmat4& m, const EntryErrors& errors,
   // to its size (angles and unit-vector components: to 1).
   const double own = 32.0 * std::ldexp(1.0, -53);
   const auto relative = [&](double value) { return own * std::abs(value); };
-  spread.a += relative(base.a);
+  // a is the depth row at the eye: a cancellation of terms as large as the row times the eye's
+  // distance, so its own rounding is relative to those terms (double entries far from the
+  // origin), and moves every distance read from it in proportion.
+  double ownA = relative(base.a);
+  if (reading.perspective && std::isfinite(base.a) && base.a != 0.0) {
+    const glm::dvec4 z = matrixRow(m, 2);
+    const double terms = std::abs(z.w) + glm::length(xyz(z)) * glm::length(base.eye);
+    ownA = std::max(ownA, 0.5 * own * terms / glm::length(wXyz));
+  }
+  spread.a += ownA;
   spread.b += relative(base.b) + own;
-  spread.nearNo += relative(base.nearNo);
-  spread.nearZo += relative(base.nearZo);
-  spread.atOne += relative(base.atOne);
+  const auto scaled = [&](double distance) {
+    return reading.perspective && std::isfinite(distance) && std::isfinite(base.a) && base.a != 0.0
+               ? std::abs(distance * ownA / base.a)
+               : 0.0;
+  };
+  spread.nearNo += relative(base.nearNo) + scaled(base.nearNo);
+  spread.nearZo += relative(base.nearZo) + scaled(base.nearZo);
+  spread.atOne += relative(base.atOne) + scaled(base.atOne);
   for (double* angle : {&spread.obliqueNo, &spread.obliqueZo, &spread.obliqueReversed,
                         &spread.offAxis, &spread.handedness, &spread.upY})
     *angle += own;
