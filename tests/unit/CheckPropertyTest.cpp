@@ -494,14 +494,14 @@ void checkOne(const Camera& camera, const glm::dmat4& listed, const std::string&
     // the readings' spread): the other reading's exact value lies further than twice its stated
     // bound from every round number. Twice: the reading itself is off its exact value by up to
     // the bound.
-    // The typed reading is evidence of a typed plane while its bound is below 1/200 of the
+    // The typed reading is evidence of a typed plane while its bound is below 1/100 of the
     // spacing of two-digit numbers there (a random plane lands that close by chance less than
-    // once in 100).
+    // once in 50).
     const std::optional<Uncertain>& otherRead = zoBuilt ? p.nearIfBuiltForNo : p.nearIfBuiltForZo;
     const std::optional<Uncertain>& typedRead = zoBuilt ? p.nearIfBuiltForZo : p.nearIfBuiltForNo;
     const double exact = otherReading(t);
     const double spacing = std::pow(10.0, std::floor(std::log10(t.near)) - 1.0);
-    decidable = decidable && otherRead && typedRead && typedRead->error < 0.5 * spacing / 200 &&
+    decidable = decidable && otherRead && typedRead && typedRead->error < 0.5 * spacing / 100 &&
                 std::abs(exact - nearestRoundNumber(exact)) > 2.0 * otherRead->error;
     ++tally.conventionMistakes[camera.engine];
     if (decidable) ++tally.decidableMistakes[camera.engine];

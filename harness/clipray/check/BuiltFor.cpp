@@ -24,8 +24,8 @@ std::string withError(const Uncertain& reading) {
 
 // Whether a reading is a value an app typed (at most two significant digits: 0.1, 0.05, 0.25,
 // 1000): Round when such a number lies within its uncertainty (and double's own resolution), and
-// the uncertainty is below 1/200 of the spacing of two-digit numbers there, so that a value typed
-// at random lands that close to one by chance less than once in 100; NotRound when every round
+// the uncertainty is below 1/100 of the spacing of two-digit numbers there, so that a value typed
+// at random lands that close to one by chance less than once in 50; NotRound when every round
 // number lies further than its uncertainty; Undecided in between.
 enum class Roundness { Round, NotRound, Undecided };
 
@@ -37,7 +37,7 @@ Roundness roundness(const Uncertain& reading) {
   if (std::abs(v - round) > tolerance) return Roundness::NotRound;
   // The spacing at the round number (0.01 at 0.1, 0.1 at 1), whichever side v reads from.
   const double spacing = std::pow(10.0, std::floor(std::log10(std::abs(round))) - 1.0);
-  return tolerance <= spacing / 200.0 ? Roundness::Round : Roundness::Undecided;
+  return tolerance <= spacing / 100.0 ? Roundness::Round : Roundness::Undecided;
 }
 
 }  // namespace
@@ -121,7 +121,7 @@ BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<U
   return {"ambiguous",
           "a reading of the " + what +
               " lies within its uncertainty of a round number, but an uncertainty that wide (over "
-              "1/200 of the spacing of two-digit numbers there) is met by chance" +
+              "1/100 of the spacing of two-digit numbers there) is met by chance" +
               both + "; --near settles it",
           {}};
 }
