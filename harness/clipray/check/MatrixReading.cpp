@@ -304,10 +304,6 @@ EntryErrors entryErrors(const glm::dmat4& m, const EntryPrecision& precision,
   return errors;
 }
 
-double coverageFactor() {
-  return kCoverage;
-}
-
 MatrixReading readMatrix(const glm::dmat4& m, const EntryErrors& errors,
                          const glm::dvec3& orthographicAnchor) {
   const glm::dmat4& deviations = errors.deviation;

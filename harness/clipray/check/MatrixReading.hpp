@@ -6,9 +6,10 @@
 //
 // Apps upload float32 matrices, often printed as decimals; a property decided with a fixed
 // threshold is then decided by rounding noise. Here every decision compares a figure with its own
-// uncertainty, propagated from an error model of the entries (EntryPrecision): a matrix built in
-// arithmetic of unit roundoff u carries, per entry, about k u times the size of the terms it was
-// summed from, and a decimal listing adds half a unit in its last printed digit.
+// uncertainty, propagated to first order from an error model of the entries (EntryPrecision,
+// entryErrors): a matrix built in arithmetic of unit roundoff u carries, per entry, a few
+// roundings at the size of the terms it was summed from, and a decimal listing adds up to half a
+// unit in its last printed digit (docs/check.md, "Uncertainty").
 
 #include <optional>
 #include <string>
@@ -38,8 +39,7 @@ struct EntryPrecision {
 // digits (printed with %g, %.4f...: treated as float32 arithmetic, the common case), or double.
 EntryPrecision detectEntryPrecision(const std::vector<glm::dmat4>& matrices);
 
-// A figure and the bound on its error from the entries' precision: coverageFactor() standard
-// deviations of the error that the entries' rounding propagates to it (first order, the entries'
+// A figure and the bound on its error from the entries' precision: 4.5 standard deviations of the error that the entries' rounding propagates to it (first order, the entries'
 // roundings independent, each entry's effect followed through every path it takes).
 struct Uncertain {
   double value = 0.0;
@@ -65,9 +65,6 @@ struct EntryErrors {
 };
 EntryErrors entryErrors(const glm::dmat4& clipFromWorld, const EntryPrecision& precision,
                         const glm::dvec3& anchor);
-
-// How many standard deviations a stated uncertainty spans (Uncertain::error).
-double coverageFactor();
 
 // Half a unit in the last of `digits` significant digits of value as printed (0 for digits 0).
 double decimalHalfUnit(double value, int digits);
