@@ -39,8 +39,9 @@ struct EntryPrecision {
 // digits (printed with %g, %.4f...: treated as float32 arithmetic, the common case), or double.
 EntryPrecision detectEntryPrecision(const std::vector<glm::dmat4>& matrices);
 
-// A figure and the bound on its error from the entries' precision: 4.5 standard deviations of the error that the entries' rounding propagates to it (first order, the entries'
-// roundings independent, each entry's effect followed through every path it takes).
+// A figure and the bound on its error from the entries' precision: 4.5 standard deviations of the
+// error that the entries' rounding propagates to it (first order, the entries' roundings
+// independent, each entry's effect followed through every path it takes).
 struct Uncertain {
   double value = 0.0;
   double error = 0.0;
