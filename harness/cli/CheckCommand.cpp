@@ -109,8 +109,10 @@ CommandRunner addCheckOptions(CLI::App& app) {
                  "this order too (alias xmmatrix: row vectors store the transpose). row-major: the "
                  "matrix written row by row, as in a maths text or a C array m[row][col]")
       ->capture_default_str();
-  app.add_option("--declared-depth", options->fields.declaredDepth,
-                 "What the app draws under: no or zo (glClipControl)");
+  app.add_option(
+      "--declared-depth", options->fields.declaredDepth,
+      "What the app draws under: no, zo or zo-reversed (glClipControl; zo-reversed: ZO with "
+      "GL_GREATER, as --reversed)");
   app.add_flag("--reversed", options->fields.reversed,
                "The app draws reversed-Z (GL_GREATER, clear 0)");
   app.add_option("--depth-range", options->fields.depthRange,

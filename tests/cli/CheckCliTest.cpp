@@ -73,6 +73,32 @@ TEST(CheckCli, StatedNearSettlesAnAmbiguousReading) {
       << wrong.out;
 }
 
+// Names in any case, zo-reversed as the other commands take it, and a layout given wrongly.
+TEST(CheckCli, DepthNamesInAnyCaseAndTheLayoutGivenWrongly) {
+  TempFolder folder;
+  const auto upper = runClipray(
+      "check --clip-from-world '" + kPerspectiveNo + "' --declared-depth ZO --json", folder.path());
+  EXPECT_EQ(upper.status, 1) << upper.err;
+  EXPECT_EQ(nlohmann::json::parse(upper.out)["findings"][0]["code"], "depth-convention-mismatch");
+  const auto reversed = runClipray(
+      "check --clip-from-world '" + kPerspectiveNo + "' --declared-depth zo-reversed --json",
+      folder.path());
+  EXPECT_EQ(reversed.status, 1) << reversed.err;
+  const auto report = nlohmann::json::parse(reversed.out);
+  EXPECT_EQ(report["declared"]["depth"], "zo");
+  EXPECT_EQ(report["declared"]["reversed"], true);
+  const auto rowMajor = runClipray(
+      "check --clip-from-world '" + kPerspectiveNo + "' --layout row-major --declared-depth no",
+      folder.path());
+  EXPECT_EQ(rowMajor.status, 1) << rowMajor.err;
+  EXPECT_EQ(
+      rowMajor.out.rfind(
+          "matrix: no projection as given (its transpose is one); the camera is not read\n", 0),
+      0u)
+      << rowMajor.out;
+  EXPECT_EQ(rowMajor.out.find("--layout row-major reads"), std::string::npos) << rowMajor.out;
+}
+
 TEST(CheckCli, ReadsTheSameFieldsFromAFile) {
   TempFolder folder;
   std::ofstream(folder.path() / "app.json")
@@ -163,7 +189,7 @@ INSTANTIATE_TEST_SUITE_P(
                  "--far: expected a number greater than --near (1), got 0.5"},
         BadCheck{"UnknownDepth",
                  "check --clip-from-world '" + kPerspectiveNo + "' --declared-depth zero",
-                 "--declared-depth: unknown value \"zero\"; expected one of: no, zo"},
+                 "--declared-depth: unknown value \"zero\"; expected one of: no, zo, zo-reversed"},
         BadCheck{"BadDepthRange",
                  "check --clip-from-world '" + kPerspectiveNo + "' --depth-range 0,2",
                  "--depth-range: expected NEAR,FAR in [0, 1], got \"0,2\""},

@@ -404,6 +404,10 @@ Camera makeObliqueCamera(Random& random, bool zo) {
 struct Tally {
   std::map<std::string, int> cameras, checks, findings;
   int falseErrors = 0, missedErrors = 0, wrongProperties = 0, coincidences = 0;
+  // Per engine: the other-convention mistakes injected, those the Monte Carlo criterion says
+  // the entries decide (the other reading further than twice its stated bound from every round
+  // number, the typed one within half the bound that makes roundness evidence), and those found.
+  std::map<std::string, int> conventionMistakes, decidableMistakes, foundMistakes;
   int refusedAsSingular = 0;
   std::vector<std::string> failures;
   void fail(const std::string& what) {
@@ -443,10 +447,9 @@ void checkOne(const Camera& camera, const glm::dmat4& listed, const std::string&
   if (mistake == "other-convention") {
     input.declaredDepth = zoBuilt ? DepthConvention::NegativeOneToOne : DepthConvention::ZeroToOne;
     injected.insert("depth-convention-mismatch");
-    // Decidable when the typed near is round and the other reading clearly is not, at a
-    // precision the entries carry.
-    decidable = t.perspective && !t.oblique && t.roundPlanes && !t.reversed &&
-                significantDigits(otherReading(t), 1e-3) >= 5;
+    // Decidable when the typed near is round and the other reading is not, at the precision
+    // the entries carry: settled once the report states the other reading's bound (below).
+    decidable = t.perspective && !t.oblique && t.roundPlanes && !t.reversed;
   } else if (mistake == "classic-depth-test") {
     input.declaredReversed = !t.reversed;
     injected.insert("reversed-z-mismatch");
@@ -486,6 +489,23 @@ void checkOne(const Camera& camera, const glm::dmat4& listed, const std::string&
     return;
   }
   const MatrixProperties& p = report.properties;
+  if (mistake == "other-convention") {
+    // The Monte Carlo criterion (tests/unit/CheckUncertaintyTest.cpp validates the bound against
+    // the readings' spread): the other reading's exact value lies further than twice its stated
+    // bound from every round number. Twice: the reading itself is off its exact value by up to
+    // the bound.
+    // The typed reading is evidence of a typed plane while its bound is below 1/100 of the
+    // spacing of two-digit numbers there (a random plane lands that close by chance less than
+    // once in 50).
+    const std::optional<Uncertain>& otherRead = zoBuilt ? p.nearIfBuiltForNo : p.nearIfBuiltForZo;
+    const std::optional<Uncertain>& typedRead = zoBuilt ? p.nearIfBuiltForZo : p.nearIfBuiltForNo;
+    const double exact = otherReading(t);
+    const double spacing = std::pow(10.0, std::floor(std::log10(t.near)) - 1.0);
+    decidable = decidable && otherRead && typedRead && typedRead->error < 0.5 * spacing / 100 &&
+                std::abs(exact - nearestRoundNumber(exact)) > 2.0 * otherRead->error;
+    ++tally.conventionMistakes[camera.engine];
+    if (decidable) ++tally.decidableMistakes[camera.engine];
+  }
   std::set<std::string> errors;
   for (const Finding& f : report.findings) {
     ++tally.findings[f.severity + ":" + f.code];
@@ -514,6 +534,8 @@ void checkOne(const Camera& camera, const glm::dmat4& listed, const std::string&
                  " (built_for " + p.builtFor + ": " + p.builtForReason + ")" + detail);
     }
   }
+  if (mistake == "other-convention" && errors.count("depth-convention-mismatch"))
+    ++tally.foundMistakes[camera.engine];
   for (const std::string& code : injected) {
     if (decidable && !errors.count(code)) {
       ++tally.missedErrors;
@@ -546,8 +568,9 @@ void checkOne(const Camera& camera, const glm::dmat4& listed, const std::string&
       wrong.push_back("far");
     const bool declaredBuild =
         (t.builtFor == "no" || t.builtFor == "zo") ? p.builtFor == t.builtFor : true;
-    const bool readable = t.roundPlanes && significantDigits(otherReading(t), 1e-3) >= 5;
-    if (!t.reversed && readable && !declaredBuild && p.builtFor != "ambiguous")
+    // Any decision for the other convention is wrong, but for a typed random plane whose other
+    // reading happens to be round (a different, equally valid camera).
+    if (!t.reversed && !coincidence && !declaredBuild && p.builtFor != "ambiguous")
       wrong.push_back("built_for " + p.builtFor);
   }
   if (t.perspective && t.fovY > 0 && !t.oblique &&
@@ -649,6 +672,11 @@ TEST(CheckProperties, GeneratedCamerasOfEveryEngineReadAsBuilt) {
       "round other readings %d, listings too coarse for their camera (refused as singular) %d\n",
       tally.falseErrors, tally.missedErrors, tally.wrongProperties, tally.coincidences,
       tally.refusedAsSingular);
+  std::printf("%-12s %10s %10s %10s\n", "engine", "NO/ZO", "decidable", "found");
+  for (const auto& [engine, count] : tally.conventionMistakes) {
+    std::printf("%-12s %10d %10d %10d\n", engine.c_str(), count, tally.decidableMistakes[engine],
+                tally.foundMistakes[engine]);
+  }
   for (const std::string& failure : tally.failures) std::printf("  %s\n", failure.c_str());
   EXPECT_GE(checks, 5000);
   EXPECT_EQ(tally.falseErrors, 0);

@@ -91,8 +91,9 @@ TEST(ConventionCheck, GlmPerspectiveRhNoDrawnUnderZoIsAMismatch) {
             "clips at z_ndc = 0, "
             "so the effective near plane moves to 0.1998 (1.998x) and NDC [-1, 0), half the depth "
             "range, is never "
-            "used (read as built for no: the NO reading 0.1 is a round number (1 significant "
-            "digit at this precision), the ZO reading 0.1998 is not (13 significant digits))");
+            "used (read as built for no: the NO reading 0.1 +-1.1e-14 lies within its uncertainty "
+            "of the round number 0.1, the ZO reading 0.1998 +-2.3e-14 lies 0.0001998 from the "
+            "nearest one, 0.2)");
   EXPECT_TRUE(r.hasErrors());
 }
 
@@ -171,7 +172,8 @@ TEST(ConventionCheck, OrthoCentredOnTheCameraIsNotDecidedByTheBehindCameraRule) 
     const CheckReport r = checkConventions(separate(ui, glm::dmat4(1.0), declared));
     EXPECT_EQ(r.properties.builtFor, "ambiguous");
     EXPECT_EQ(r.properties.builtForReason,
-              "both readings of the near plane are round numbers (-1 if NO, 0 if ZO)");
+              "both readings of the near plane are round numbers within their uncertainty (-1 if "
+              "NO, 0 if ZO)");
     EXPECT_EQ(codes(r), std::vector<std::string>{"info:depth-convention-ambiguous"});
   }
   const glm::dmat4 cube = glm::orthoRH_NO(-1.0, 1.0, -1.0, 1.0, -1.0, 1.0);

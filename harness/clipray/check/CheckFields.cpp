@@ -3,6 +3,7 @@
 #include "clipray/check/CheckFields.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <string>
 #include <vector>
@@ -15,10 +16,14 @@ namespace clipray {
 
 namespace {
 
+// The valid name the value spells, in any case (the report writes NO, ZO; users type them so).
 std::string requireOneOf(const std::string& value, const std::string& what,
                          const std::vector<std::string>& valid) {
+  std::string lower = value;
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   for (const std::string& v : valid) {
-    if (v == value) return value;
+    if (v == lower) return v;
   }
   throw InputError(what + ": unknown value \"" + value +
                    "\"; expected one of: " + joinNames(valid));
@@ -114,6 +119,7 @@ CheckInput checkInputFrom(const CheckFields& fields, const std::string& where) {
   const bool rowMajor = requireOneOf(fields.layout, where + "--layout",
                                      {"column-major", "row-major", "xmmatrix"}) == "row-major";
   CheckInput input;
+  input.listedRowMajor = rowMajor;
   if (!fields.clipFromWorld.empty()) {
     input.clipFromWorld =
         parseMatrixOption(fields.clipFromWorld, rowMajor, where + "--clip-from-world");
@@ -123,13 +129,16 @@ CheckInput checkInputFrom(const CheckFields& fields, const std::string& where) {
                                      : parseMatrixOption(fields.view, rowMajor, where + "--view");
     input.clipFromWorld = *input.projection * *input.view;
   }
-  if (!fields.declaredDepth.empty()) {
-    input.declaredDepth =
-        requireOneOf(fields.declaredDepth, where + "--declared-depth", {"no", "zo"}) == "zo"
-            ? DepthConvention::ZeroToOne
-            : DepthConvention::NegativeOneToOne;
-  }
   input.declaredReversed = fields.reversed;
+  if (!fields.declaredDepth.empty()) {
+    // The depth modes' names, as reconcile, pick and bench take them: zo-reversed is ZO with
+    // the reversed depth test (--reversed).
+    const std::string depth =
+        requireOneOf(fields.declaredDepth, where + "--declared-depth", {"no", "zo", "zo-reversed"});
+    input.declaredDepth =
+        depth == "no" ? DepthConvention::NegativeOneToOne : DepthConvention::ZeroToOne;
+    input.declaredReversed = input.declaredReversed || depth == "zo-reversed";
+  }
   if (!fields.depthRange.empty()) {
     const std::vector<double> range = parseNumberList(fields.depthRange, where + "--depth-range");
     // Written so that NaN fails too.

@@ -12,7 +12,7 @@ namespace clipray {
 struct CheckFields {
   std::string clipFromWorld, projection, view;
   std::string layout = "column-major";  // column-major, row-major, xmmatrix
-  std::string declaredDepth;            // no, zo
+  std::string declaredDepth;            // no, zo, zo-reversed (any case)
   bool reversed = false;
   std::string depthRange;  // "NEAR,FAR"
   std::string origin;      // lower-left, upper-left

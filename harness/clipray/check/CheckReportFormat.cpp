@@ -103,18 +103,32 @@ std::string checkReportText(const CheckReport& report, const CheckInput& input) 
   (void)input;
   const MatrixProperties& p = report.properties;
   std::ostringstream out;
+  const auto count = [&](const char* severity) {
+    return std::count_if(report.findings.begin(), report.findings.end(),
+                         [&](const Finding& f) { return f.severity == severity; });
+  };
+  const auto findingLines = [&] {
+    if (report.findings.empty()) out << "findings: none\n";
+    for (const Finding& f : report.findings) {
+      out << f.severity << " [" << f.code << "] " << f.message << "\n  fix: " << f.fix << "\n";
+    }
+    out << count("error") << " errors, " << count("warning") << " warnings, " << count("info")
+        << " notes\n";
+  };
+  if (p.likelyTransposed) {
+    // What the scrambled matrix would read as is no property of the camera: say only that.
+    out << "matrix: no projection as given (its transpose is one); the camera is not read\n"
+        << "  entries read as " << p.precision << "\n";
+    findingLines();
+    return out.str();
+  }
   out << "matrix: " << (p.perspective ? "perspective" : "orthographic")
       << (p.offAxis ? ", off-axis" : "") << (p.oblique ? ", oblique near plane" : "") << ", "
       << (p.leftHanded ? "left-handed (mirrored)" : "right-handed")
       << (p.reversed ? ", reversed-Z" : "") << (p.yFlipped ? ", y flipped" : "") << "\n";
   if (p.eye) out << "  eye " << vec(*p.eye) << ", looking along " << vec(p.viewDirection) << "\n";
   if (!p.eye) out << "  looking along " << vec(p.viewDirection) << "\n";
-  const auto withError = [](const Uncertain& u) {
-    // The digits the uncertainty allows, and the uncertainty where it shows at six digits.
-    char error[32];
-    std::snprintf(error, sizeof error, " +-%.2g", u.error);
-    return shownReading(u) + (u.error > 5e-7 * std::abs(u.value) ? std::string(error) : "");
-  };
+  const auto withError = [](const Uncertain& u) { return detail::checkReading(u); };
   out << "  " << (p.perspective ? "near " : "near plane at ")
       << (p.near ? withError(*p.near) : std::string("-")) << ", far "
       << (p.infiniteFar ? std::string("infinite")
@@ -155,16 +169,7 @@ std::string checkReportText(const CheckReport& report, const CheckInput& input) 
           << (m.backward ? " (backward)" : "") << "\n";
     }
   }
-  if (report.findings.empty()) out << "findings: none\n";
-  for (const Finding& f : report.findings) {
-    out << f.severity << " [" << f.code << "] " << f.message << "\n  fix: " << f.fix << "\n";
-  }
-  const auto count = [&](const char* severity) {
-    return std::count_if(report.findings.begin(), report.findings.end(),
-                         [&](const Finding& f) { return f.severity == severity; });
-  };
-  out << count("error") << " errors, " << count("warning") << " warnings, " << count("info")
-      << " notes\n";
+  findingLines();
   return out.str();
 }
 

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "clipray/InputError.hpp"
+#include "clipray/check/BuiltFor.hpp"
 #include "clipray/check/MatrixReading.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/QuadReference.hpp"
@@ -17,17 +18,13 @@
 
 namespace clipray {
 
+using detail::BuildReading;
+using detail::kStatedPlaneTolerance;
+using detail::readBuild;
+
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-// A stated near or far plane agrees with a reading within the reading's uncertainty plus this
-// (an app's own constant, typed again by hand).
-constexpr double kStatedPlaneTolerance = 1e-4;
-// A reading is taken for the plane an app typed when it needs at most kRoundDigits significant
-// digits and the other reading kRoundMargin more: 0.1 against 0.1998 (1 against 4 or more).
-constexpr int kRoundDigits = 2;
-constexpr int kRoundMargin = 3;
 
 std::string number(double value) {
   return detail::checkNumber(value);
@@ -35,99 +32,6 @@ std::string number(double value) {
 
 std::string vec(const glm::dvec3& v) {
   return detail::checkVector(v);
-}
-
-// Two readings of one plane, NO's and ZO's: which was built, and why. A stated plane settles it;
-// otherwise the reading that is a round number at the precision it was recovered with (what an
-// app types: 0.1, 0.05, 1000) is taken when the other is clearly not round, and neither is
-// taken when both or neither are.
-struct BuildReading {
-  std::string builtFor;
-  std::string reason;
-  std::optional<bool> statedMatches;
-};
-
-// Significant digits a reading needs at its own uncertainty (never finer than double).
-int readingDigits(const Uncertain& reading) {
-  const double tolerance =
-      std::max(reading.error / std::abs(reading.value), 4.0 * std::ldexp(1.0, -53));
-  return significantDigits(reading.value, tolerance);
-}
-
-// behindCamera: readings are offsets from a camera position (orthographic), so a negative one puts
-// the plane behind the camera, which an app rarely means when the other reading does not --
-// except for a view volume centred on the camera (near = -far, with `far` the far plane's
-// offset): gluOrtho2D and glOrtho(..., -1, 1) build exactly that, and its other reading (near 0)
-// is just as natural, so it is left to the rules that follow.
-BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<Uncertain>& zo,
-                       std::optional<double> stated, const std::string& what,
-                       bool behindCamera = false,
-                       const std::optional<Uncertain>& far = std::nullopt) {
-  // A reading lost to rounding (the eye far from the origin cancels the translation) is no
-  // evidence for the other one: only a precise reading may stand alone.
-  const auto precise = [](const std::optional<Uncertain>& r) {
-    return r && r->error < 0.01 * std::abs(r->value);
-  };
-  if (!no && precise(zo)) return {"zo", "the NO reading puts the " + what + " behind the eye", {}};
-  if (!zo && precise(no)) return {"no", "the ZO reading puts the " + what + " behind the eye", {}};
-  if (!no || !zo) {
-    return {"ambiguous",
-            "the entries' precision cannot place the " + what +
-                " (the camera's translation cancels it)",
-            {}};
-  }
-  if (stated) {
-    const auto matches = [&](const Uncertain& r) {
-      return std::abs(r.value - *stated) <= r.error + kStatedPlaneTolerance * std::abs(*stated);
-    };
-    const bool byNo = matches(*no), byZo = matches(*zo);
-    if (byNo != byZo) {
-      return {byNo ? "no" : "zo", "the stated near plane, " + number(*stated), true};
-    }
-    if (!byNo) {
-      BuildReading fallback = readBuild(no, zo, std::nullopt, what, behindCamera, far);
-      fallback.statedMatches = false;
-      return fallback;
-    }
-  }
-  const auto centredOnCamera = [&](const Uncertain& near) {
-    return far && std::abs(near.value + far->value) <= near.error + far->error;
-  };
-  if (behindCamera && (no->clearlyNegative() != zo->clearlyNegative()) &&
-      !centredOnCamera(no->clearlyNegative() ? *no : *zo)) {
-    const bool noBehind = no->clearlyNegative();
-    return {noBehind ? "zo" : "no",
-            std::string("the ") + (noBehind ? "NO" : "ZO") + " reading puts the " + what + " at " +
-                shownReading(*(noBehind ? no : zo)) + ", behind the camera",
-            {}};
-  }
-  const int digitsNo = readingDigits(*no), digitsZo = readingDigits(*zo);
-  const auto digits = [](int d) {
-    return d > 17 ? std::string("more than 17 digits")
-                  : std::to_string(d) + " significant digit" + (d == 1 ? "" : "s");
-  };
-  const std::string both = " (" + shownReading(*no) + " if NO, " + shownReading(*zo) + " if ZO)";
-  if (digitsNo <= kRoundDigits && digitsZo >= digitsNo + kRoundMargin) {
-    return {"no",
-            "the NO reading " + shownReading(*no) + " is a round number (" + digits(digitsNo) +
-                " at this precision), the ZO reading " + shownReading(*zo) + " is not (" +
-                digits(digitsZo) + ")",
-            {}};
-  }
-  if (digitsZo <= kRoundDigits && digitsNo >= digitsZo + kRoundMargin) {
-    return {"zo",
-            "the ZO reading " + shownReading(*zo) + " is a round number (" + digits(digitsZo) +
-                " at this precision), the NO reading " + shownReading(*no) + " is not (" +
-                digits(digitsNo) + ")",
-            {}};
-  }
-  if (digitsNo <= kRoundDigits && digitsZo <= kRoundDigits) {
-    return {"ambiguous", "both readings of the " + what + " are round numbers" + both, {}};
-  }
-  return {"ambiguous",
-          "neither reading of the " + what + " is clearly rounder than the other" + both +
-              "; --near settles it",
-          {}};
 }
 
 void requireFinite(const glm::dmat4& m, const std::string& what) {
@@ -442,7 +346,7 @@ MatrixProperties readProperties(const CheckInput& input) {
                  : std::nullopt;
   const glm::dvec3 anchor = translationAnchor(m);
   const MatrixReading reading =
-      readMatrix(m, entryErrorBounds(m, precision, anchor), viewOrigin.value_or(glm::dvec3(0.0)));
+      readMatrix(m, entryErrors(m, precision, anchor), viewOrigin.value_or(glm::dvec3(0.0)));
   p.perspective = reading.perspective;
   p.viewDirection = reading.viewDirection;
   p.viewDirectionErrorDegrees = reading.viewDirectionAngle.error * 180.0 / kPi;
@@ -466,6 +370,20 @@ DepthMode predictionMode(const CheckInput& input, const MatrixProperties& p) {
                        : DepthMode{declared, input.declaredReversed};
 }
 
+// The glm function whose structure the matrix has (orthographic or perspective, off-axis,
+// infinite far, the camera frame's handedness), built for `convention` ("NO" or "ZO").
+std::string glmProjectionFunction(const MatrixProperties& p, const std::string& convention) {
+  const std::string base = !p.perspective  ? "ortho"
+                           : p.offAxis     ? "frustum"
+                           : p.infiniteFar ? "infinitePerspective"
+                                           : "perspective";
+  return "glm::" + base + (p.leftHanded ? "LH_" : "RH_") + convention;
+}
+
+std::string clipOriginName(const CheckInput& input) {
+  return input.origin == WindowOrigin::UpperLeft ? "GL_UPPER_LEFT" : "GL_LOWER_LEFT";
+}
+
 // The matrix against the declared convention and the stated planes: built for the other
 // convention, readable as built for either, a stated near or far plane that is not the matrix's.
 void conventionFindings(const CheckInput& input, const MatrixProperties& p,
@@ -487,8 +405,10 @@ void conventionFindings(const CheckInput& input, const MatrixProperties& p,
                shownReading(*p.nearIfBuiltForZo) +
                (p.perspective ? " (" + number(zo / no) + "x)" : std::string()) +
                " and NDC [-1, 0), half the depth range, is never used" + why,
-           "build the projection for ZO (glm::perspectiveRH_ZO) or draw with "
-           "glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE)"});
+           "build the projection for ZO (" + glmProjectionFunction(p, "ZO") +
+               "; in any engine, the depth row z replaced by (z + w) / 2) or draw with "
+               "glClipControl(" +
+               clipOriginName(input) + ", GL_NEGATIVE_ONE_TO_ONE)"});
     } else {
       findings.push_back(
           {"error", "depth-convention-mismatch",
@@ -499,8 +419,10 @@ void conventionFindings(const CheckInput& input, const MatrixProperties& p,
                ", nearer than the intended near plane, and spends half the depth range on that "
                "sliver" +
                why,
-           "build the projection for NO (glm::perspectiveRH_NO) or draw with "
-           "glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)"});
+           "build the projection for NO (" + glmProjectionFunction(p, "NO") +
+               "; in any engine, the depth row z replaced by 2 z - w) or draw with "
+               "glClipControl(" +
+               clipOriginName(input) + ", GL_ZERO_TO_ONE)"});
     }
   } else if (input.declaredDepth && p.builtFor == "ambiguous" && p.nearIfBuiltForNo &&
              p.nearIfBuiltForZo) {
@@ -510,7 +432,7 @@ void conventionFindings(const CheckInput& input, const MatrixProperties& p,
              shownReading(*p.nearIfBuiltForNo) + " or for ZO with " + nearWord + " " +
              shownReading(*p.nearIfBuiltForZo) + " (" + p.builtForReason +
              "); under the declared " + conventionName(declared) + " the near plane is at " +
-             number(p.near->value),
+             shownReading(*p.near),
          "if that is not your near plane, the projection was built for the other convention; "
          "--near states the plane you meant"});
   }
@@ -529,7 +451,7 @@ void conventionFindings(const CheckInput& input, const MatrixProperties& p,
     findings.push_back({"error", "far-plane-mismatch",
                         "the stated far plane " + number(*input.statedFar) +
                             " is not the matrix's (" +
-                            (p.infiniteFar ? std::string("infinite") : number(p.far->value)) + ")",
+                            (p.infiniteFar ? std::string("infinite") : shownReading(*p.far)) + ")",
                         "check which matrix the app uploads, and the far value it builds it with"});
   }
 }
@@ -607,15 +529,48 @@ void frameFindings(const CheckInput& input, const MatrixProperties& p,
          "mirrors and portals): rays must start on it, not at a fixed distance from the eye",
          "use plane-based ray origins (clipray's robust method unprojects the near plane)"});
   }
-  if (p.infiniteFar) {
-    findings.push_back(
-        {"warning", "infinite-far-plane",
-         "the far plane is at infinity: unProject/two-point rays unproject a far point at infinity "
-         "(non-finite) and seed 002 listing 4 fixes the direction's sign with the far plane, whose "
-         "normal is zero here",
-         "build picking rays from the plane cross product with the sign fixed by the near plane "
-         "(clipray's robust method); t_max = +inf"});
+}
+
+// A far plane at infinity, and what the ray methods measured at this camera make of it.
+void infiniteFarFinding(const MatrixProperties& p, const std::vector<MethodPrediction>& methods,
+                        std::vector<Finding>& findings) {
+  if (!p.infiniteFar) return;
+  const auto measured = [&](const char* name) -> const MethodPrediction* {
+    for (const MethodPrediction& m : methods) {
+      if (m.method == name && m.unavailable.empty()) return &m;
+    }
+    return nullptr;
+  };
+  std::string message =
+      "the far plane is at infinity: unproject_glm and two_point unproject the far point, whose w "
+      "is 0";
+  const MethodPrediction* unproject = measured("unproject_glm");
+  const MethodPrediction* twoPoint = measured("two_point");
+  if (unproject && twoPoint) {
+    message += unproject->nonfinite > 0 || twoPoint->nonfinite > 0
+                   ? " (non-finite rays at this camera)"
+                   : " (finite at this camera only because float rounding leaves that w off 0)";
   }
+  const MethodPrediction* full = measured("full");
+  if (p.reversed) {
+    message +=
+        "; seed 002 listing 4 (full) puts the far plane at z_ndc = 1, which reversed-Z "
+        "makes the near plane";
+  } else {
+    message +=
+        "; seed 002 listing 4 (full) takes the direction's sign from dot(mw - mz, d), which "
+        "is exactly 0 here, so from the sign of a zero";
+    if (full) {
+      message += full->backward > 0 || full->nonfinite > 0
+                     ? ": backward at this camera"
+                     : ": right at this camera (see the ray table), but only because of the view "
+                       "direction's octant";
+    }
+  }
+  findings.push_back({"warning", "infinite-far-plane", message,
+                      "build picking rays from the plane cross product turned to where clip w "
+                      "grows, dot(mw, d) > 0, in front of the eye at every pixel (clipray's robust "
+                      "method), starting on the near plane; t_max = +inf"});
 }
 
 // The finding on the method predictions: float picking rays that err where double ones would not.
@@ -641,7 +596,7 @@ void floatPrecisionFinding(const MatrixProperties& p, const std::vector<MethodPr
     const std::string where = p.perspective && p.eye && p.near
                                   ? "the eye is " + number(glm::length(*p.eye)) +
                                         " units from the origin with near " +
-                                        number(p.near->value) + " (ratio " +
+                                        shownReading(*p.near) + " (ratio " +
                                         number(glm::length(*p.eye) / p.near->value) + ")"
                                   : "at this camera";
     findings.push_back(
@@ -696,7 +651,7 @@ void depthPrecisionFinding(const CheckInput& input, const MatrixProperties& p,
                std::string(input.depthFormat == DepthFormat::Float32
                                ? "32F"
                                : depthFormatName(input.depthFormat) + "-bit") +
-               " depth and near " + number(p.near->value) +
+               " depth and near " + shownReading(*p.near) +
                ", surfaces 1% apart stop being separable beyond " + number(low) +
                " units from the eye; the scene reaches " + number(farthest),
            "move the near plane out, or use reversed-Z with a 32F depth buffer under ZERO_TO_ONE "
@@ -718,21 +673,43 @@ CheckReport checkConventions(const CheckInput& input) {
   report.properties = readProperties(input);
   const MatrixProperties& p = report.properties;
   if (p.likelyTransposed) {
-    report.findings.push_back(
-        {"error", "likely-transposed",
-         "the matrix does not have a projection's structure but its transpose does: it was "
-         "probably "
-         "listed row-major (D3D, a C array m[row][col]) and uploaded as column-major",
-         "upload with glUniformMatrix4fv(..., GL_TRUE, ...) or transpose it; clipray check "
-         "--layout row-major reads such a listing"});
+    if (input.listedRowMajor) {
+      // The user said row by row; the numbers are the other order (GL's or XMMATRIX's memory).
+      report.findings.push_back(
+          {"error", "likely-transposed",
+           "read row by row (--layout row-major), the numbers do not have a projection's "
+           "structure but read column by column they do: they are probably in column-major order "
+           "(a GL mat4 or a DirectXMath XMMATRIX as it lies in memory)",
+           "give the numbers with --layout column-major (the default); an app that uploads this "
+           "memory with glUniformMatrix4fv(..., GL_FALSE, ...) uploads it correctly"});
+    } else {
+      report.findings.push_back(
+          {"error", "likely-transposed",
+           "the matrix does not have a projection's structure but its transpose does: it was "
+           "probably listed row-major (D3D, a C array m[row][col]) and uploaded as column-major",
+           "upload with glUniformMatrix4fv(..., GL_TRUE, ...) or transpose it; if the numbers "
+           "are written row by row, clipray check --layout row-major reads them so"});
+    }
     // Everything else would describe the scrambled matrix: say only what matters.
     return report;
   }
   conventionFindings(input, p, report.findings);
+  if (!input.declaredDepth) {
+    report.findings.push_back(
+        {"info", "depth-convention-unchecked",
+         "no depth convention declared: the matrix (" +
+             (p.builtFor == "ambiguous" ? std::string("readable as built for NO or ZO")
+                                        : "built for " + p.builtFor) +
+             ") was not checked against the one the app draws under, and the near plane shown "
+             "is the one GL's default NEGATIVE_ONE_TO_ONE gives",
+         "give --declared-depth no, zo or zo-reversed (glClipControl's depth mode, and GL_GREATER "
+         "with reversed-Z) to check it"});
+  }
   depthTestFindings(input, p, report.findings);
   frameFindings(input, p, report.findings);
   // Float precision: what each ray method errs by at this camera, from the ray library.
   if (input.predictMethods) report.methods = predictMethodErrors(input, predictionMode(input, p));
+  infiniteFarFinding(p, report.methods, report.findings);
   floatPrecisionFinding(p, report.methods, report.findings);
   depthPrecisionFinding(input, p, report.findings);
   return report;

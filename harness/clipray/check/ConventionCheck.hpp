@@ -25,6 +25,7 @@ struct CheckInput {
   std::optional<glm::dmat4> projection;          // clipFromView, when given separately
   std::optional<glm::dmat4> view;                // viewFromWorld (affine), when given separately
   std::optional<DepthConvention> declaredDepth;  // what the app draws under (glClipControl)
+  bool listedRowMajor = false;                   // the numbers were given row by row (--layout)
   bool declaredReversed = false;                 // depth test GREATER, clear 0
   glm::dvec2 depthRange{0.0, 1.0};               // glDepthRange
   std::optional<WindowOrigin> origin;            // where the app's window y counts from

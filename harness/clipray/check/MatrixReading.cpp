@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <limits>
 
 #include "clipray/math/Projections.hpp"
@@ -16,11 +17,16 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-// Error terms per rounded operation a matrix typically went through: building the projection and
-// the view (normalize, cross, dot: a few roundings each on unit-sized terms) and multiplying them
-// (a 4-term dot product). Generated cameras of every engine stay within 8 (tests/unit/
-// CheckPropertyTest.cpp).
-constexpr double kRoundingsPerEntry = 8.0;
+// The error model (docs/check.md, "Uncertainty"). Rounding x to a float of unit roundoff u errs
+// uniformly within half an ulp, u |x| / m for x's binary mantissa m in [1, 2); over mantissas
+// spread as real data's are (Benford: density 1 / (m ln 2)) the mean square is
+// u^2 x^2 E[1/m^2] / 3 = u^2 x^2 / (8 ln 2): standard deviation 0.4247 u |x| per rounding.
+// kRoundings is how many are counted per entry (P * V's product and sum);
+// kCoverage is how many standard deviations of the propagated error a stated "+-" spans. Both are
+// checked against a Monte Carlo of float32 constructions in tests/unit/CheckUncertaintyTest.cpp.
+const double kPerRounding = 1.0 / std::sqrt(8.0 * std::log(2.0));
+constexpr double kRoundings = 2.0;
+constexpr double kCoverage = 4.5;
 
 double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
   return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
@@ -29,6 +35,16 @@ double angleBetween(const glm::dvec3& a, const glm::dvec3& b) {
 // Angle between two lines (either sign of either vector).
 double lineAngle(const glm::dvec3& a, const glm::dvec3& b) {
   return std::atan2(glm::length(glm::cross(a, b)), std::abs(glm::dot(a, b)));
+}
+
+// The part of the line a's unit direction across the unit vector b (sign taken along b): its
+// length is the sine of lineAngle(a, b). An angle near 0 is the length of this vector, whose
+// change under an error is what the error does to the angle; the length's own change is not
+// (an error larger than the vector turns it round and changes its length by little).
+glm::dvec3 across(const glm::dvec3& a, const glm::dvec3& b) {
+  glm::dvec3 unit = glm::normalize(a);
+  if (glm::dot(unit, b) < 0.0) unit = -unit;
+  return unit - glm::dot(unit, b) * b;
 }
 
 bool isFloat(double v) {
@@ -48,6 +64,9 @@ struct Figures {
   glm::dvec3 forward{0.0};
   double nearNo = kNaN, nearZo = kNaN, atOne = kNaN;  // distances at z_ndc = -1, 0, 1
   double obliqueNo = 0.0, obliqueZo = 0.0, obliqueReversed = 0.0, offAxis = 0.0;
+  // The angles' vectors (across): an angle's error is taken from its vector's change.
+  glm::dvec3 obliqueNoAcross{0.0}, obliqueZoAcross{0.0}, obliqueReversedAcross{0.0},
+      offAxisAcross{0.0};
   double handedness = 0.0, upY = 0.0, fovY = 0.0, fovX = 0.0, extentX = 0.0, extentY = 0.0;
 };
 
@@ -76,6 +95,9 @@ Figures perspectiveFigures(const glm::dmat4& m) {
   f.obliqueNo = lineAngle(xyz(z) + xyz(w), f.forward);
   f.obliqueZo = lineAngle(xyz(z), f.forward);
   f.obliqueReversed = lineAngle(xyz(z) - xyz(w), f.forward);
+  f.obliqueNoAcross = across(xyz(z) + xyz(w), f.forward);
+  f.obliqueZoAcross = across(xyz(z), f.forward);
+  f.obliqueReversedAcross = across(xyz(z) - xyz(w), f.forward);
   // The line of sight through NDC (x', y'): the planes x = x' w and y = y' w cross along it; its
   // sign is the one along which w grows (in front of the eye), whatever the near plane does.
   const auto sight = [&](double xn, double yn) {
@@ -83,6 +105,7 @@ Figures perspectiveFigures(const glm::dmat4& m) {
     return glm::normalize(glm::dot(d, xyz(w)) < 0.0 ? -d : d);
   };
   f.offAxis = angleBetween(sight(0, 0), f.forward);
+  f.offAxisAcross = across(sight(0, 0), f.forward);
   // The camera's own right and up axes: clip x and y grow along the parts of rows 0 and 1
   // across the view (an off-axis shear only adds a multiple of the forward axis to them).
   const glm::dvec3 right = glm::normalize(xyz(x) - glm::dot(xyz(x), f.forward) * f.forward);
@@ -108,6 +131,7 @@ Figures orthographicFigures(const glm::dmat4& m, const glm::dvec3& anchor) {
   f.nearZo = offsetAt(0.0);
   f.atOne = offsetAt(1.0);
   f.obliqueNo = f.obliqueZo = f.obliqueReversed = lineAngle(xyz(z), f.forward);
+  f.obliqueNoAcross = f.obliqueZoAcross = f.obliqueReversedAcross = across(xyz(z), f.forward);
   const glm::dvec3 xPerp = xyz(x) - glm::dot(xyz(x), f.forward) * f.forward;
   const glm::dvec3 yPerp = xyz(y) - glm::dot(xyz(y), f.forward) * f.forward;
   f.extentX = 2.0 * std::abs(w.w) / glm::length(xPerp);
@@ -141,7 +165,9 @@ double EntryPrecision::decimalRelative() const {
 }
 
 std::string EntryPrecision::description() const {
-  const std::string base = arithmetic == Arithmetic::Float32 ? "float32" : "double";
+  const std::string base = arithmetic == Arithmetic::Float32 ? "float32"
+                           : storedAsFloat32                 ? "double stored as float32"
+                                                             : "double";
   if (decimalDigits == 0) return base;
   return base + " as " + std::to_string(decimalDigits) + "-digit decimals";
 }
@@ -171,6 +197,14 @@ int significantDigits(double v, double relativeTolerance) {
   return 18;
 }
 
+double nearestRoundNumber(double v) {
+  if (v == 0.0 || !std::isfinite(v)) return v;
+  // Two significant digits, rounded in decimal (0.0999 carries into 0.1).
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.1e", v);
+  return std::strtod(buffer, nullptr);
+}
+
 EntryPrecision detectEntryPrecision(const std::vector<glm::dmat4>& matrices) {
   bool allFloat = true, allNineDigitFloat = true;
   int mostDigits = 0;
@@ -187,6 +221,7 @@ EntryPrecision detectEntryPrecision(const std::vector<glm::dmat4>& matrices) {
   EntryPrecision precision;
   if (allFloat || allNineDigitFloat) {
     precision.arithmetic = EntryPrecision::Arithmetic::Float32;
+    precision.storedAsFloat32 = true;
   } else if (mostDigits >= 16) {
     precision.arithmetic = EntryPrecision::Arithmetic::Double;
   } else {
@@ -209,77 +244,172 @@ glm::dvec3 translationAnchor(const glm::dmat4& clipFromWorld) {
   return glm::dvec3(centre) / centre.w;
 }
 
-glm::dmat4 entryErrorBounds(const glm::dmat4& m, const EntryPrecision& precision,
-                            const glm::dvec3& anchor) {
-  const double arithmetic = kRoundingsPerEntry * precision.unitRoundoff();
-  const double decimal = precision.decimalRelative();
-  const auto terms = [&](const glm::dvec4& row) {
-    return std::abs(row.w) + std::abs(row.x * anchor.x) + std::abs(row.y * anchor.y) +
-           std::abs(row.z * anchor.z);
-  };
-  const glm::dvec4 rowW = matrixRow(m, 3);
-  glm::dmat4 errors(0.0);
+double decimalHalfUnit(double value, int digits) {
+  if (digits <= 0 || value == 0.0 || !std::isfinite(value)) return 0.0;
+  // Half a unit in the d-th significant digit of the value as printed (%.{d-1}e shows the decade
+  // the printed value has, also where rounding carried into the next one).
+  char buffer[40];
+  std::snprintf(buffer, sizeof buffer, "%.*e", digits - 1, value);
+  const char* exponent = std::strchr(buffer, 'e');
+  const int decade = exponent ? std::atoi(exponent + 1) : 0;
+  return 0.5 * std::pow(10.0, decade - digits + 1);
+}
+
+EntryErrors entryErrors(const glm::dmat4& m, const EntryPrecision& precision,
+                        const glm::dvec3& anchor) {
+  // kRoundings roundings at the magnitude of the terms, each of standard deviation kPerRounding u.
+  const double perMagnitude = precision.unitRoundoff() * kPerRounding * std::sqrt(kRoundings);
+  const glm::dvec3 wXyz = xyz(matrixRow(m, 3));
+  // The axis the rows are split along: w's (perspective), else the direction depth runs along.
+  glm::dvec3 axis = wXyz;
+  if (!(glm::length(axis) > 0.0)) axis = glm::cross(xyz(matrixRow(m, 0)), xyz(matrixRow(m, 1)));
+  axis = glm::length(axis) > 0.0 ? glm::normalize(axis) : glm::dvec3(0.0, 0.0, 1.0);
+  const double eyeAlong = glm::dot(anchor, axis);
+  const double eyeAcross = glm::length(anchor - eyeAlong * axis);
+  const double storedRounding =
+      precision.storedAsFloat32 && precision.arithmetic == EntryPrecision::Arithmetic::Double
+          ? std::ldexp(1.0, -24) * kPerRounding
+          : 0.0;
+  EntryErrors errors;
   for (int r = 0; r < 4; ++r) {
     const glm::dvec4 row = matrixRow(m, r);
-    // The depth row is often a difference of the w row and a multiple of it (reversed-Z and
-    // depth-remapping matrices: Godot's depth correction, Filament's): its entries then carry
-    // the rounding of terms as large as the w row's, whatever their own size.
-    const double rowLength =
-        r == 2 ? std::max(glm::length(xyz(row)), glm::length(xyz(rowW))) : glm::length(xyz(row));
-    const double rowTerms = r == 2 ? std::max(terms(row), terms(rowW)) : terms(row);
-    for (int c = 0; c < 3; ++c) errors[c][r] = arithmetic * rowLength + decimal * std::abs(row[c]);
-    errors[3][r] = arithmetic * rowTerms + decimal * std::abs(row.w);
+    // P * V writes each row as a part along the view axis (V's forward row) and a part across it
+    // (V's right and up rows); each entry is summed from those parts' terms.
+    const double along = glm::dot(xyz(row), axis);
+    const double across = glm::length(xyz(row) - along * axis);
+    // The translation adds the parts times the eye's coordinates along and across the axis
+    // (across bounded by Cauchy-Schwarz), and what the row leaves at the eye (the projection's
+    // own translation: 0 for rows 0, 1 and 3, a |w| for the depth row).
+    const double left = std::abs(glm::dot(row, glm::dvec4(anchor, 1.0)));
+    const double translationTerms =
+        std::abs(along * eyeAlong) + std::abs(across * eyeAcross) + left;
+    for (int c = 0; c < 4; ++c) {
+      const double terms = c < 3 ? std::abs(along * axis[c]) +
+                                       across * std::sqrt(std::max(0.0, 1.0 - axis[c] * axis[c]))
+                                 : translationTerms;
+      const double arithmetic = perMagnitude * terms;
+      // A decimal listing's rounding: uniform within half a unit in the last printed digit.
+      const double decimal = decimalHalfUnit(row[c], precision.decimalDigits) / std::sqrt(3.0);
+      // Double arithmetic stored as float32: the entry's own rounding to float32.
+      const double stored = storedRounding * std::abs(row[c]);
+      errors.deviation[c][r] =
+          std::sqrt(arithmetic * arithmetic + decimal * decimal + stored * stored);
+    }
   }
+  // The depth row's coefficients are rounded before the product, and the depth row is often
+  // formed from the w row (P22 z + P23 w in view space; Godot's and Filament's depth correction,
+  // reversed-Z): an error of a multiple of the w row, common to its four entries. It cancels at
+  // the eye (where w = 0) and moves only the depth the row tends to far away.
+  errors.depthAlongW = perMagnitude;
   return errors;
 }
 
-MatrixReading readMatrix(const glm::dmat4& m, const glm::dmat4& errors,
+MatrixReading readMatrix(const glm::dmat4& m, const EntryErrors& errors,
                          const glm::dvec3& orthographicAnchor) {
+  const glm::dmat4& deviations = errors.deviation;
   MatrixReading reading;
   const glm::dvec3 wXyz = xyz(matrixRow(m, 3));
-  const glm::dvec3 wErrors(errors[0][3], errors[1][3], errors[2][3]);
+  const glm::dvec3 wErrors =
+      kCoverage * glm::dvec3(deviations[0][3], deviations[1][3], deviations[2][3]);
   reading.perspective = glm::length(wXyz) > glm::length(wErrors) && glm::length(wXyz) > 0.0;
   reading.anchor = orthographicAnchor;
   const Figures base = figuresOf(m, reading.perspective, orthographicAnchor);
 
-  Figures spread;  // summed changes under each entry's error
+  // First-order propagation: each figure's variance is the sum over the entries of (its
+  // derivative along the entry x the entry's standard deviation)^2. The derivatives are taken
+  // through the whole reading (the eye, the view direction, the planes), so entries that enter a
+  // figure along several paths (the translation through the eye and through the depth row) are
+  // counted once, with their paths' effects added before squaring: that is the correlation.
+  Figures spread;  // summed squared changes, then their root
   spread.a = spread.b = spread.nearNo = spread.nearZo = spread.atOne = 0.0;
   glm::dvec3 eyeSpread(0.0);
   double forwardSpread = 0.0;
+  const auto add = [](double& sum, double changed, double scale) {
+    const double c = changed * scale;
+    sum += c * c;
+  };
+  // Each error mode: the matrix moved by one step along it, and the step's scale back to one
+  // standard deviation.
+  const auto propagate = [&](const glm::dmat4& moved, double scale) {
+    const Figures f = figuresOf(moved, reading.perspective, orthographicAnchor);
+    add(spread.a, change(f.a, base.a), scale);
+    add(spread.b, change(f.b, base.b), scale);
+    for (int k = 0; k < 3; ++k) add(eyeSpread[k], change(f.eye[k], base.eye[k]), scale);
+    add(forwardSpread, angleBetween(f.forward, base.forward), scale);
+    add(spread.nearNo, change(f.nearNo, base.nearNo), scale);
+    add(spread.nearZo, change(f.nearZo, base.nearZo), scale);
+    add(spread.atOne, change(f.atOne, base.atOne), scale);
+    const auto angleChange = [](double angle, double baseAngle, const glm::dvec3& vector,
+                                const glm::dvec3& baseVector) {
+      return std::max(change(angle, baseAngle), glm::length(vector - baseVector));
+    };
+    add(spread.obliqueNo,
+        angleChange(f.obliqueNo, base.obliqueNo, f.obliqueNoAcross, base.obliqueNoAcross), scale);
+    add(spread.obliqueZo,
+        angleChange(f.obliqueZo, base.obliqueZo, f.obliqueZoAcross, base.obliqueZoAcross), scale);
+    add(spread.obliqueReversed,
+        angleChange(f.obliqueReversed, base.obliqueReversed, f.obliqueReversedAcross,
+                    base.obliqueReversedAcross),
+        scale);
+    add(spread.offAxis, angleChange(f.offAxis, base.offAxis, f.offAxisAcross, base.offAxisAcross),
+        scale);
+    add(spread.handedness, change(f.handedness, base.handedness), scale);
+    add(spread.upY, change(f.upY, base.upY), scale);
+    add(spread.fovY, change(f.fovY, base.fovY), scale);
+    add(spread.fovX, change(f.fovX, base.fovX), scale);
+    add(spread.extentX, change(f.extentX, base.extentX), scale);
+    add(spread.extentY, change(f.extentY, base.extentY), scale);
+  };
   for (int c = 0; c < 4; ++c) {
     for (int r = 0; r < 4; ++r) {
-      if (!(errors[c][r] > 0.0)) continue;
+      const double deviation = deviations[c][r];
+      if (!(deviation > 0.0)) continue;
+      // A step of one standard deviation, but never below double's resolution of the entry
+      // (double listings), scaled back to one deviation.
+      const double step = std::max(deviation, 1e-9 * std::abs(m[c][r]));
       glm::dmat4 moved = m;
-      moved[c][r] += errors[c][r];
-      const Figures f = figuresOf(moved, reading.perspective, orthographicAnchor);
-      spread.a += change(f.a, base.a);
-      spread.b += change(f.b, base.b);
-      for (int k = 0; k < 3; ++k) eyeSpread[k] += change(f.eye[k], base.eye[k]);
-      forwardSpread += angleBetween(f.forward, base.forward);
-      spread.nearNo += change(f.nearNo, base.nearNo);
-      spread.nearZo += change(f.nearZo, base.nearZo);
-      spread.atOne += change(f.atOne, base.atOne);
-      spread.obliqueNo += change(f.obliqueNo, base.obliqueNo);
-      spread.obliqueZo += change(f.obliqueZo, base.obliqueZo);
-      spread.obliqueReversed += change(f.obliqueReversed, base.obliqueReversed);
-      spread.offAxis += change(f.offAxis, base.offAxis);
-      spread.handedness += change(f.handedness, base.handedness);
-      spread.upY += change(f.upY, base.upY);
-      spread.fovY += change(f.fovY, base.fovY);
-      spread.fovX += change(f.fovX, base.fovX);
-      spread.extentX += change(f.extentX, base.extentX);
-      spread.extentY += change(f.extentY, base.extentY);
+      moved[c][r] += step;
+      propagate(moved, deviation / step);
     }
   }
+  if (errors.depthAlongW > 0.0) {
+    const double step = std::max(errors.depthAlongW, 1e-9);
+    glm::dmat4 moved = m;
+    for (int c = 0; c < 4; ++c) moved[c][2] += step * m[c][3];
+    propagate(moved, errors.depthAlongW / step);
+  }
+  const auto bound = [](double& sumOfSquares) {
+    sumOfSquares = kCoverage * std::sqrt(sumOfSquares);
+  };
+  for (double* figure :
+       {&spread.a, &spread.b, &spread.nearNo, &spread.nearZo, &spread.atOne, &spread.obliqueNo,
+        &spread.obliqueZo, &spread.obliqueReversed, &spread.offAxis, &spread.handedness,
+        &spread.upY, &spread.fovY, &spread.fovX, &spread.extentX, &spread.extentY, &forwardSpread,
+        &eyeSpread.x, &eyeSpread.y, &eyeSpread.z})
+    bound(*figure);
   // Each figure is itself computed in double from the entries: a few dozen roundings, relative
   // to its size (angles and unit-vector components: to 1).
   const double own = 32.0 * std::ldexp(1.0, -53);
   const auto relative = [&](double value) { return own * std::abs(value); };
-  spread.a += relative(base.a);
+  // a is the depth row at the eye: a cancellation of terms as large as the row times the eye's
+  // distance, so its own rounding is relative to those terms (double entries far from the
+  // origin), and moves every distance read from it in proportion.
+  double ownA = relative(base.a);
+  if (reading.perspective && std::isfinite(base.a) && base.a != 0.0) {
+    const glm::dvec4 z = matrixRow(m, 2);
+    const double terms = std::abs(z.w) + glm::length(xyz(z)) * glm::length(base.eye);
+    ownA = std::max(ownA, 0.5 * own * terms / glm::length(wXyz));
+  }
+  spread.a += ownA;
   spread.b += relative(base.b) + own;
-  spread.nearNo += relative(base.nearNo);
-  spread.nearZo += relative(base.nearZo);
-  spread.atOne += relative(base.atOne);
+  const auto scaled = [&](double distance) {
+    return reading.perspective && std::isfinite(distance) && std::isfinite(base.a) && base.a != 0.0
+               ? std::abs(distance * ownA / base.a)
+               : 0.0;
+  };
+  spread.nearNo += relative(base.nearNo) + scaled(base.nearNo);
+  spread.nearZo += relative(base.nearZo) + scaled(base.nearZo);
+  spread.atOne += relative(base.atOne) + scaled(base.atOne);
   for (double* angle : {&spread.obliqueNo, &spread.obliqueZo, &spread.obliqueReversed,
                         &spread.offAxis, &spread.handedness, &spread.upY})
     *angle += own;

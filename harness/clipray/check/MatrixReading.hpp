@@ -6,9 +6,10 @@
 //
 // Apps upload float32 matrices, often printed as decimals; a property decided with a fixed
 // threshold is then decided by rounding noise. Here every decision compares a figure with its own
-// uncertainty, propagated from an error model of the entries (EntryPrecision): a matrix built in
-// arithmetic of unit roundoff u carries, per entry, about k u times the size of the terms it was
-// summed from, and a decimal listing adds half a unit in its last printed digit.
+// uncertainty, propagated to first order from an error model of the entries (EntryPrecision,
+// entryErrors): a matrix built in arithmetic of unit roundoff u carries, per entry, a few
+// roundings at the size of the terms it was summed from, and a decimal listing adds up to half a
+// unit in its last printed digit (docs/check.md, "Uncertainty").
 
 #include <optional>
 #include <string>
@@ -25,6 +26,9 @@ struct EntryPrecision {
   // Significant decimal digits of a decimal listing that is not exact in binary (0: exact binary,
   // or decimals that round-trip the binary values, such as float32 printed with %.9g).
   int decimalDigits = 0;
+  // The values are float32 (exactly, or as round-tripping decimals): with double arithmetic
+  // (--precision double: three.js, Filament), each entry carries that one rounding as well.
+  bool storedAsFloat32 = false;
   double unitRoundoff() const;      // 2^-24 or 2^-53
   double decimalRelative() const;   // half a unit in the last printed digit, or 0
   std::string description() const;  // "float32", "float32 as 6-digit decimals", "double", ...
@@ -35,8 +39,9 @@ struct EntryPrecision {
 // digits (printed with %g, %.4f...: treated as float32 arithmetic, the common case), or double.
 EntryPrecision detectEntryPrecision(const std::vector<glm::dmat4>& matrices);
 
-// A figure and the bound on its error from the entries' precision (first order, worst case over
-// the entries' errors taken one at a time and summed).
+// A figure and the bound on its error from the entries' precision: 4.5 standard deviations of the
+// error that the entries' rounding propagates to it (first order, the entries' roundings
+// independent, each entry's effect followed through every path it takes).
 struct Uncertain {
   double value = 0.0;
   double error = 0.0;
@@ -46,13 +51,28 @@ struct Uncertain {
   bool withinErrorOfZero() const { return !(std::abs(value) > error); }
 };
 
-// The per-entry error bounds of clipFromWorld under a precision: for a row's xyz entries k u times
-// the row's xyz length (a rotation's entries are accurate relative to its rows, not to each
-// entry), for its translation entry k u times the terms it sums (|m_i3| + sum_k |m_ik anchor_k|,
-// anchor the eye or the view volume's centre: the translation of a camera far from the origin
-// cancels), plus the decimal rounding of each entry.
-glm::dmat4 entryErrorBounds(const glm::dmat4& clipFromWorld, const EntryPrecision& precision,
-                            const glm::dvec3& anchor);
+// The errors a matrix's entries carry under a precision, as standard deviations. A matrix computed
+// as P * V carries, per entry, a few roundings at the magnitude of the terms it was summed from:
+// each row is a part along the view axis (V's forward row) and a part across it (V's right and up
+// rows), so an xyz entry's terms are the part along times the axis's component plus the part
+// across times the rest (bounded by Cauchy-Schwarz), and the translation's the parts times the
+// eye's distances along and across the axis, plus what the row leaves at the eye (the depth row's
+// own translation); `anchor` is the eye. A decimal listing adds its own rounding, uniform within
+// half a unit in the last digit. These are independent; the depth row also carries a common
+// error: a multiple of the w row (its coefficients rounded, depth rows formed from w).
+struct EntryErrors {
+  glm::dmat4 deviation{0.0};  // per entry, independent
+  double depthAlongW = 0.0;   // the depth row moved by this multiple of the w row
+};
+EntryErrors entryErrors(const glm::dmat4& clipFromWorld, const EntryPrecision& precision,
+                        const glm::dvec3& anchor);
+
+// Half a unit in the last of `digits` significant digits of value as printed (0 for digits 0).
+double decimalHalfUnit(double value, int digits);
+
+// The number with at most two significant digits nearest to v (what apps type: 0.1, 0.05, 0.25,
+// 1000): a near plane is read as typed when its reading lies within its uncertainty of one.
+double nearestRoundNumber(double v);
 
 struct MatrixReading {
   bool perspective = true;  // decided: |row 3 xyz| clears its error
@@ -77,10 +97,10 @@ struct MatrixReading {
   glm::dvec3 anchor{0.0};
 };
 
-// Reads clipFromWorld; anchor (orthographic only) is the point near and far offsets are measured
-// from: the camera position when a view matrix is known, else the world origin (which is the
-// camera's position when the matrix is a projection alone).
-MatrixReading readMatrix(const glm::dmat4& clipFromWorld, const glm::dmat4& entryErrors,
+// Reads clipFromWorld with its entries' errors (entryErrors); anchor (orthographic only) is the
+// point near and far offsets are measured from: the camera position when a view matrix is known,
+// else the world origin (which is the camera's position when the matrix is a projection alone).
+MatrixReading readMatrix(const glm::dmat4& clipFromWorld, const EntryErrors& errors,
                          const glm::dvec3& orthographicAnchor);
 
 // The eye of a perspective matrix (the null vector of rows 0, 1, 3), or the centre of an
