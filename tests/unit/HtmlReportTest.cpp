@@ -103,6 +103,17 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
   EXPECT_THAT(html, Not(HasSubstr("<script")));
 }
 
+TEST(HtmlReport, DepthFiguresInUnitsOfTheToleranceOrNotAvailable) {
+  RunRecord compared = run("compared", true);
+  compared.metrics.depthCompared = 100;
+  compared.metrics.distanceRelError = {3e-6, 1e-7, 2.5e-6};
+  RunRecord none = run("none", true);  // depthCompared 0: the figures measured nothing
+  const std::string html = reportHtml({compared, none}, gl());
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">tol 0.12/0.062<br>rel 2.5e-6</td>"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">n/a (0 compared)</td>"));
+  EXPECT_THAT(html, Not(HasSubstr(">q ")));
+}
+
 TEST(HtmlReport, TheLegendHasEveryColour) {
   const std::string html = reportHtml({run("main", true)}, gl());
   for (const auto& [name, colour] : std::vector<std::pair<std::string, std::string>>{

@@ -18,6 +18,7 @@ RunRecord run(const std::string& camera, bool consistent) {
   r.size = {4, 2};
   r.metrics.pixels = 8;
   r.metrics.coverageMismatch = {3, 1, consistent ? 0 : 2};
+  r.metrics.depthCompared = 5;
   r.metrics.depthBeyondTolerance = consistent ? 0 : 1;
   r.metrics.toleranceRatio = {consistent ? 0.5 : 4.0, 0.25, 0.5};
   r.timings = {1.0, 0.5, 0.25, 0.125, 0.125};  // 2 ms
@@ -52,6 +53,18 @@ TEST(JUnit, OneTestCasePerRunAndTheFailuresText) {
                 "  </testsuite>\n"
                 "</testsuites>\n");
   EXPECT_NE(xml.find("&gt;tol 1"), std::string::npos);  // the summary line's ">tol", escaped
+}
+
+TEST(JUnit, NoDepthsComparedIsSaid) {
+  RunRecord bad = run("m", false);
+  bad.metrics.depthCompared = 0;
+  bad.metrics.depthBeyondTolerance = 0;
+  bad.metrics.toleranceRatio = {};
+  const std::string xml = junitXml({bad}, "out");
+  EXPECT_NE(xml.find("0 depths beyond tolerance (no depths compared) of 8 pixels"),
+            std::string::npos)
+      << xml;
+  EXPECT_NE(xml.find("depth n/a (0 compared)"), std::string::npos) << xml;
 }
 
 TEST(JUnit, NoRunsIsAnEmptySuite) {

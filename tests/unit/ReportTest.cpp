@@ -371,7 +371,7 @@ TEST(TextSummary, WorstRunsFirstThenTotals) {
   five.metrics.toleranceRatio.max = 0.1;
 
   const std::vector<std::string> got = lines(textSummary({ok, one, five, oneWorse}));
-  ASSERT_EQ(got.size(), 9u);  // header, 4 runs, totals, 3 legend lines
+  ASSERT_EQ(got.size(), 10u);  // header, 4 runs, totals, 4 legend lines
   EXPECT_THAT(got[0], ::testing::StartsWith("verdict      scene/camera "));
   EXPECT_THAT(got[1], ::testing::StartsWith("INCONSISTENT standard/five "));
   EXPECT_THAT(got[2], ::testing::StartsWith("INCONSISTENT standard/oneworse "));
@@ -381,36 +381,70 @@ TEST(TextSummary, WorstRunsFirstThenTotals) {
   for (const std::string& line : got) EXPECT_LT(line.size(), 160u) << line;
 }
 
-TEST(TextSummary, LineHasFixedColumns) {
+TEST(TextSummary, ColumnsSizedToTheirContent) {
   RunRecord run = sampleRun();
   EXPECT_EQ(textSummary({run}),
-            // A header over the columns: verdict (12), scene/camera (16), convention (11), format
-            // (3), vertex mode (15), size (9), then the metrics, explained after the totals.
-            "verdict      scene/camera     convention  fmt vertex mode     size      "
+            // A header over the columns: verdict, scene/camera, convention, format, vertex mode,
+            // size, then the figures, explained after the totals. Each column as wide as its
+            // widest entry, header included.
+            "verdict      scene/camera  convention fmt vertex mode size    "
             "mismatches and depth error\n"
-            "INCONSISTENT standard/main    zo          24  world           640x480   "
-            "cov 12 (e10 u2) id 3 (z2 e1 u0) >tol 0 q 1/0.5 tol 0.75/0.5 rel 2.1e-7\n"
+            "INCONSISTENT standard/main zo         24  world       640x480 "
+            "cov 12 (e10 u2) id 3 (z2 e1 u0) >tol 0 tol 0.75/0.5 rel 2.1e-7\n"
             "1 runs: 0 consistent, 1 inconsistent\n"
             "  cov: coverage mismatches (e edge-ambiguous, u unexplained); >tol: depths beyond "
             "tolerance\n"
             "  id: id mismatches (z depth-ambiguous, e edge-ambiguous, u unexplained)\n"
-            "  q: depth error in depth-buffer quanta, max/p99; tol: error / tolerance, max/p99; "
-            "rel: p99 distance error / eye distance\n");
-  // Columns line up whatever the names' lengths (up to the column widths).
+            "  tol: depth error / predicted tolerance, max/p99 (above 1: beyond it); rel: p99 "
+            "distance error / eye distance\n"
+            "  n/a (0 compared): no pixel where both sides hit the same primitive\n");
+  // Columns line up whatever the names' lengths: the widest entry sets each column.
   RunRecord other = run;
-  other.camera = "topdown";
-  other.convention = kZeroToOneReversed;
+  other.camera = "a_camera_with_a_long_name";
+  other.convention = *DepthMode::parse("zo-reversed-upper-left");
   other.depthFormat = DepthFormat::Float32;
   other.vertexMode = VertexMode::CameraRelative;
   other.size = {7, 3};
   other.metrics.toleranceRatio.max = kNaN;
+  other.metrics.coverageMismatch = {1234, 1000, 234};
   const std::vector<std::string> got = lines(textSummary({run, other}));
-  ASSERT_EQ(got.size(), 7u);
-  EXPECT_EQ(got[1].find(" cov "), got[2].find(" cov "));
+  ASSERT_EQ(got.size(), 8u);
+  EXPECT_EQ(got[1],
+            "INCONSISTENT standard/a_camera_with_a_long_name zo-reversed-upper-left 32f "
+            "camera-relative 7x3     cov 1234 (e1000 u234) id 3 (z2 e1 u0) >tol 0 tol nan/0.5 "
+            "rel 2.1e-7");  // NaN sorts as the worst ratio
+  EXPECT_EQ(got[2],
+            "INCONSISTENT standard/main                      zo                     24  "
+            "world           640x480 cov 12 (e10 u2)       id 3 (z2 e1 u0) >tol 0 tol 0.75/0.5 "
+            "rel 2.1e-7");
   EXPECT_EQ(got[0].find(" mismatches "), got[1].find(" cov "));  // the header over the columns
   EXPECT_EQ(got[0].find(" size "), got[1].find(" 7x3 "));
-  EXPECT_THAT(got[1], HasSubstr("standard/topdown zo-reversed 32f camera-relative 7x3       cov"));
-  EXPECT_THAT(got[1], HasSubstr("tol nan/0.5"));  // NaN sorts as the worst ratio
+  for (const char* column : {" cov ", " id ", " >tol ", " tol "}) {
+    EXPECT_EQ(got[1].find(column), got[2].find(column)) << column;
+  }
+}
+
+TEST(TextSummary, DepthFiguresAreNotAvailableWhereNothingWasCompared) {
+  RunRecord run = sampleRun();
+  run.metrics.depthCompared = 0;
+  run.metrics.depthErrorQuanta = {};
+  run.metrics.distanceRelError = {};
+  run.metrics.toleranceRatio = {};
+  EXPECT_THAT(runSummaryLine(run), ::testing::EndsWith(" >tol 0 depth n/a (0 compared)"));
+  EXPECT_EQ(depthFiguresText(run.metrics), "depth n/a (0 compared)");
+  EXPECT_EQ(depthFiguresText(sampleRun().metrics), "tol 0.75/0.5 rel 2.1e-7");
+}
+
+TEST(TextSummary, RunSummaryLinesShareTheirColumns) {
+  RunRecord a = sampleRun();
+  RunRecord b = sampleRun();
+  b.camera = "a_longer_camera";
+  const std::vector<std::string> both = runSummaryLines({a, b});
+  ASSERT_EQ(both.size(), 2u);
+  EXPECT_EQ(both[0].find(" cov "), both[1].find(" cov "));
+  EXPECT_THAT(both[0], ::testing::StartsWith("INCONSISTENT standard/main            zo "));
+  // One run alone: columns as wide as it needs.
+  EXPECT_THAT(runSummaryLine(a), ::testing::StartsWith("INCONSISTENT standard/main zo "));
 }
 
 TEST(TextSummary, NoRuns) {

@@ -186,9 +186,12 @@ std::string runRow(const RunRecord& run, std::size_t rank, bool anyImages) {
          ")<br>id " + count(m.idMismatch.total) + " (z" + count(m.idMismatch.depthAmbiguous) +
          " e" + count(m.idMismatch.edgeAmbiguous) + " u" + count(m.idMismatch.unexplained) +
          ")<br>&gt;tol " + count(m.depthBeyondTolerance) + "</td>";
-  out += "<td class=\"figures\">q " + figure(m.depthErrorQuanta.max) + "/" +
-         figure(m.depthErrorQuanta.p99) + "<br>tol " + figure(m.toleranceRatio.max) + "/" +
-         figure(m.toleranceRatio.p99) + "<br>rel " + figure(m.distanceRelError.p99) + "</td>";
+  if (m.depthCompared == 0) {
+    out += "<td class=\"figures\">n/a (0 compared)</td>";
+  } else {
+    out += "<td class=\"figures\">tol " + figure(m.toleranceRatio.max) + "/" +
+           figure(m.toleranceRatio.p99) + "<br>rel " + figure(m.distanceRelError.p99) + "</td>";
+  }
   if (anyImages) out += linksCell(run, rank);
   out += "</tr>\n";
   return out;
@@ -201,8 +204,9 @@ std::string runsSection(const std::vector<RunRecord>& runs, const std::vector<st
       "<p>The worst first: inconsistent runs, then by unexplained pixels, then by worst error / "
       "tolerance. cov: coverage mismatches (e edge-ambiguous, u unexplained); id: id mismatches "
       "(z depth-ambiguous, e edge-ambiguous, u unexplained); &gt;tol: depths beyond tolerance; "
-      "q: depth error in depth-buffer quanta, max/p99; tol: error / tolerance, max/p99; rel: "
-      "p99 distance error / eye distance.";
+      "tol: depth error / predicted tolerance, max/p99 (above 1: beyond it); rel: p99 distance "
+      "error / eye distance; n/a (0 compared): no pixel where both sides hit the same "
+      "primitive.";
   if (anyImages) {
     out +=
         " Thumbnails: each pixel the most severe class (or largest error / tolerance) of its "

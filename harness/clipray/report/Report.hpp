@@ -106,10 +106,17 @@ nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl,
 // run order.
 std::vector<std::size_t> worstFirst(const std::vector<RunRecord>& runs);
 // A header, one line per run, the worst first (worstFirst), then a totals line and a legend of the
-// figures.
+// figures. Each column is as wide as its widest entry.
 std::string textSummary(const std::vector<RunRecord>& runs);
-// The run's line of textSummary, without its newline.
+// The runs' lines of a summary of them alone, in their order, in columns sized to them, without
+// newlines.
+std::vector<std::string> runSummaryLines(const std::vector<RunRecord>& runs);
+// The run's line of a summary of it alone.
 std::string runSummaryLine(const RunRecord& run);
+// The summary's depth figures of a run: "tol MAX/P99 rel P99" (error / predicted tolerance, and
+// distance error / eye distance), or "depth n/a (0 compared)" where no pixel showed the same
+// primitive on both sides.
+std::string depthFiguresText(const RunMetrics& metrics);
 // A figure as the summary line writes it: two significant digits, a short exponent ("2.1e-7",
 // "1.2e5"), "nan" and "inf" spelled out.
 std::string shortNumber(double value);
