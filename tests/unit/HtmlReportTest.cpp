@@ -49,6 +49,18 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
                 {"standard/main-zo-32f-world/cluster1.png", ""}};
   bad.clusters.count = 7;
   bad.clusters.largest = {{2, 2, 0, 0, 10, 20, 11, 20, 10, 20}, {1, 0, 0, 1, 5, 0, 5, 0, 5, 0}};
+  PixelHits wall;  // what each side hit at the clusters' pixels and at the worst pixel
+  wall.x = 10;
+  wall.y = 20;
+  wall.pixelClass = PixelClass::CoverageUnexplained;
+  wall.ray = {4, "far<wall", "triangle", 1, 0.75};
+  PixelHits ball = wall;
+  ball.x = 5;
+  ball.y = 0;
+  ball.pixelClass = PixelClass::IdUnexplained;
+  ball.raster = {9, "ball", "sphere", -1, 0.5};
+  bad.clusterHits = {wall, ball};
+  bad.worstPixel = ball;
   const std::string html =
       reportHtml({good, bad}, gl(), {"clipray reconcile a.json --out r", "2026-11-25T05:00:00Z"});
 
@@ -94,6 +106,17 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
                               "alt=\"standard/main zo 32f world: cluster 1\" width=\"256\" "
                               "height=\"256\">"));
   EXPECT_EQ(occurrences(html, "<tr class=\"cluster\""), 2u);
+  // Which side hit what: the worst pixel, and each cluster's pixel (names escaped).
+  EXPECT_THAT(html, HasSubstr("<p class=\"worst-pixel\" data-gl-x=\"5\" data-gl-y=\"0\">Worst "
+                              "pixel: GL window (5, 0) = image (5, 47): id_unexplained: raster "
+                              "&quot;ball&quot; (sphere) at depth 0.5, ray &quot;far&lt;wall&quot; "
+                              "triangle 1 at depth 0.75</p>"));
+  EXPECT_THAT(html, HasSubstr("<th>class at the pixel</th><th>raster hit</th><th>ray hit</th>"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">coverage_unexplained</td><td "
+                              "class=\"hit\">nothing</td><td class=\"hit\">&quot;far&lt;wall&quot; "
+                              "triangle 1<br>depth 0.75</td>"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">id_unexplained</td><td "
+                              "class=\"hit\">&quot;ball&quot; (sphere)<br>depth 0.5</td>"));
   EXPECT_EQ(occurrences(html, "<section class=\"clusters\""), 1u);
   EXPECT_THAT(html, Not(HasSubstr("no-images")));
   EXPECT_THAT(html, HasSubstr("<th>thumbnails: mismatch, error / tolerance</th>"));

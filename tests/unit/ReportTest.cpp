@@ -98,6 +98,17 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
   // Two clusters of three; the second has no crop image.
   run.clusters.count = 3;
   run.clusters.largest = {{2, 2, 0, 0, 10, 20, 11, 20, 10, 20}, {1, 0, 0, 1, 5, 0, 5, 0, 5, 0}};
+  // What each side hit at the clusters' pixels and at the worst pixel: a depth beyond tolerance
+  // on a sphere at the second.
+  PixelHits sphere;
+  sphere.x = 5;
+  sphere.y = 0;
+  sphere.pixelClass = PixelClass::DepthBeyondTolerance;
+  sphere.raster = {9, "ball", "sphere", -1, 0.5};
+  sphere.ray = {9, "ball", "sphere", -1, 0.25};
+  sphere.toleranceRatio = 2.5;
+  run.clusterHits = {testing::sampleHits(10, 20), sphere};
+  run.worstPixel = testing::sampleHits(10, 20);
   const nlohmann::json j = reportJson({run}, sampleGl());
 
   EXPECT_EQ(j["tool"], "clipray");
@@ -148,13 +159,25 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
        "pixel_gl": {"x": 10, "y": 20}, "pixel_image": {"x": 10, "y": 459},
        "bounds_gl": {"x_min": 10, "y_min": 20, "x_max": 11, "y_max": 20},
        "bounds_image": {"x_min": 10, "y_min": 459, "x_max": 11, "y_max": 459},
-       "crop": "standard/main-zo-24-world/cluster1.png"},
+       "crop": "standard/main-zo-24-world/cluster1.png",
+       "class": "coverage_unexplained", "raster": null,
+       "ray": {"id": 4, "object": "far_wall", "kind": "triangle", "triangle": 1, "depth": 0.75},
+       "tolerance_ratio": null},
       {"pixels": 1, "coverage_unexplained": 0, "id_unexplained": 0, "depth_beyond_tolerance": 1,
        "pixel_gl": {"x": 5, "y": 0}, "pixel_image": {"x": 5, "y": 479},
        "bounds_gl": {"x_min": 5, "y_min": 0, "x_max": 5, "y_max": 0},
        "bounds_image": {"x_min": 5, "y_min": 479, "x_max": 5, "y_max": 479},
-       "crop": null}
-    ]
+       "crop": null,
+       "class": "depth_beyond_tolerance",
+       "raster": {"id": 9, "object": "ball", "kind": "sphere", "triangle": null, "depth": 0.5},
+       "ray": {"id": 9, "object": "ball", "kind": "sphere", "triangle": null, "depth": 0.25},
+       "tolerance_ratio": 2.5}
+    ],
+    "worst_pixel": {
+      "pixel_gl": {"x": 10, "y": 20}, "pixel_image": {"x": 10, "y": 459},
+      "class": "coverage_unexplained", "raster": null,
+      "ray": {"id": 4, "object": "far_wall", "kind": "triangle", "triangle": 1, "depth": 0.75},
+      "tolerance_ratio": null}
   })");
   EXPECT_EQ(j["runs"][0], expected) << j["runs"][0].dump(2);
 }
@@ -445,6 +468,51 @@ TEST(TextSummary, RunSummaryLinesShareTheirColumns) {
   EXPECT_THAT(both[0], ::testing::StartsWith("INCONSISTENT standard/main            zo "));
   // One run alone: columns as wide as it needs.
   EXPECT_THAT(runSummaryLine(a), ::testing::StartsWith("INCONSISTENT standard/main zo "));
+}
+
+TEST(TextSummary, SaysWhichSideHitWhatInTheInconsistentRuns) {
+  RunRecord bad = sampleRun();
+  bad.clusters.count = 1;
+  bad.clusters.largest = {{2, 2, 0, 0, 10, 20, 11, 20, 10, 20}};
+  bad.clusterHits = {testing::sampleHits(10, 20)};
+  PixelHits worst = testing::sampleHits(11, 20);
+  worst.pixelClass = PixelClass::IdUnexplained;
+  worst.raster = {2, "floor", "triangle", 0, 0.5};
+  bad.worstPixel = worst;
+  RunRecord good = sampleRun();  // consistent: its worst pixel is not shown
+  good.camera = "good";
+  good.metrics.coverageMismatch.unexplained = 0;
+  good.worstPixel = worst;
+  const std::vector<std::string> got = lines(textSummary({good, bad}));
+  ASSERT_EQ(got.size(), 12u);  // header, 2 runs, totals, 4 lines of hits, 4 legend lines
+  EXPECT_EQ(got[3], "2 runs: 1 consistent, 1 inconsistent");
+  EXPECT_EQ(got[4],
+            "which side hit what in the inconsistent runs (pixels in GL window coordinates, y up "
+            "from the bottom row):");
+  EXPECT_EQ(got[5], "  standard/main zo 24 world");
+  EXPECT_EQ(got[6],
+            "    worst pixel (11, 20): id_unexplained: raster \"floor\" triangle 0 at depth 0.5, "
+            "ray \"far_wall\" triangle 1 at depth 0.75");
+  EXPECT_EQ(got[7],
+            "    cluster 1 (2 px) at (10, 20): coverage_unexplained: raster nothing, ray "
+            "\"far_wall\" triangle 1 at depth 0.75");
+  EXPECT_THAT(got[8], ::testing::StartsWith("  cov: "));
+}
+
+TEST(PixelHits, NameWhatEachSideHit) {
+  SurfaceHit nothing;
+  EXPECT_EQ(nothing.text(), "nothing");
+  EXPECT_EQ(SurfaceHit({7, "floor", "triangle", 12, 0.4998712}).text(),
+            "\"floor\" triangle 12 at depth 0.499871");
+  EXPECT_EQ(SurfaceHit({9, "ball", "sphere", -1, kNaN}).text(), "\"ball\" (sphere)");
+  EXPECT_EQ(SurfaceHit({99, "", "unknown", -1, 0.5}).name(), "id 99");
+  PixelHits hits = testing::sampleHits(1, 2);
+  hits.pixelClass = PixelClass::DepthBeyondTolerance;
+  hits.raster = {4, "far_wall", "triangle", 1, 0.5};
+  hits.toleranceRatio = 3.25;
+  EXPECT_EQ(hits.text(),
+            "depth_beyond_tolerance: raster \"far_wall\" triangle 1 at depth 0.5, ray "
+            "\"far_wall\" triangle 1 at depth 0.75, error/tolerance 3.2");
 }
 
 TEST(TextSummary, NoRuns) {

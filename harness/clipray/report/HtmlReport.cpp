@@ -1,7 +1,8 @@
 // reportHtml: index.html (see HtmlReport.hpp). Elements a test or script may look for carry ids
 // and data- attributes: #verdict, #summary, #runs (tr.run, data-run = the run's folder), #legend-
 // classes (tr data-class = pixelClassName), #legend-heatmap, #legend-depth, #no-images, and per
-// inconsistent run section.clusters (tr.cluster with data-gl-x/-y and data-image-x/-y).
+// inconsistent run section.clusters (p.worst-pixel and tr.cluster with data-gl-x/-y, tr.cluster
+// also with data-image-x/-y and td.hit: what the raster and the rays hit).
 
 #include "clipray/report/HtmlReport.hpp"
 
@@ -14,6 +15,7 @@
 
 #include "clipray/io/XmlText.hpp"
 #include "clipray/report/RunImages.hpp"
+#include "clipray/util/OptionValues.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {
@@ -77,8 +79,14 @@ std::string imagePath(const RunRecord& run, const std::string& file) {
 }
 
 std::string runTitle(const RunRecord& run) {
-  return run.scene + "/" + run.camera + " " + run.convention.name() + " " +
-         depthFormatName(run.depthFormat) + " " + vertexModeName(run.vertexMode);
+  return runTitleText(run);
+}
+
+// What one side hit, for a table cell: "\"floor\" triangle 12<br>depth 0.499871", "nothing".
+std::string hitCell(const SurfaceHit& hit) {
+  std::string out = "<td class=\"hit\">" + escaped(hit.name());
+  if (hit.hit() && !std::isnan(hit.depth)) out += "<br>depth " + escaped(sixDigits(hit.depth));
+  return out + "</td>";
 }
 
 std::string factRow(const std::string& name, const std::string& value, bool mono = false) {
@@ -252,11 +260,22 @@ std::string clustersSection(const std::vector<RunRecord>& runs,
            escaped(runFolderName(run)) + "\">\n<h3>#" + rank + " " + escaped(runTitle(run)) + ": " +
            std::to_string(run.clusters.count) +
            (run.clusters.count == 1 ? " cluster" : " clusters") + "</h3>\n";
+    const int height = run.size.height;
+    if (run.worstPixel) {
+      const PixelHits& p = *run.worstPixel;
+      out += "<p class=\"worst-pixel\" data-gl-x=\"" + std::to_string(p.x) + "\" data-gl-y=\"" +
+             std::to_string(p.y) + "\">Worst pixel: GL window (" + std::to_string(p.x) + ", " +
+             std::to_string(p.y) + ") = image (" + std::to_string(p.x) + ", " +
+             std::to_string(imageY(p.y, height)) + "): " + escaped(p.text()) + "</p>\n";
+    }
+    const bool hits = !run.clusterHits.empty();
     out +=
         "<table>\n<thead><tr><th>#</th><th>pixels</th><th>coverage / id / depth</th>"
-        "<th>pixel, GL window</th><th>pixel, image</th><th>bounds, GL window</th>"
-        "<th>bounds, image</th><th>crop</th></tr></thead>\n<tbody>\n";
-    const int height = run.size.height;
+        "<th>pixel, GL window</th><th>pixel, image</th>";
+    if (hits) out += "<th>class at the pixel</th><th>raster hit</th><th>ray hit</th>";
+    out +=
+        "<th>bounds, GL window</th><th>bounds, image</th><th>crop</th></tr></thead>\n"
+        "<tbody>\n";
     for (std::size_t c = 0; c < run.clusters.largest.size(); ++c) {
       const MismatchCluster& cluster = run.clusters.largest[c];
       const int imageYValue = imageY(cluster.y, height);
@@ -271,6 +290,15 @@ std::string clustersSection(const std::vector<RunRecord>& runs,
              std::to_string(cluster.y) + ")</td>";
       out += "<td class=\"figures\">(" + std::to_string(cluster.x) + ", " +
              std::to_string(imageYValue) + ")</td>";
+      if (hits) {
+        if (c < run.clusterHits.size()) {
+          const PixelHits& p = run.clusterHits[c];
+          out += "<td class=\"figures\">" + escaped(pixelClassName(p.pixelClass)) + "</td>" +
+                 hitCell(p.raster) + hitCell(p.ray);
+        } else {
+          out += "<td></td><td></td><td></td>";
+        }
+      }
       out += "<td class=\"figures\">" +
              boundsText(cluster.minX, cluster.minY, cluster.maxX, cluster.maxY) + "</td>";
       out += "<td class=\"figures\">" +

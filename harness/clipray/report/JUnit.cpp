@@ -52,6 +52,12 @@ std::string failureText(const RunRecord& run, const std::filesystem::path& outDi
                   static_cast<long long>(c.depthBeyondTolerance));
     text += buffer;
   }
+  // Which side hit what: at the worst pixel and at each cluster's pixel.
+  const std::string hits = runHitsText(run, "  ");
+  if (!hits.empty()) {
+    text += "\nwhich side hit what (GL window pixels):\n" + hits;
+    text.pop_back();  // the last line's newline
+  }
   if (!run.images.empty()) {
     text += "\nimages:";
     for (const EncodedImage& image : run.images) {

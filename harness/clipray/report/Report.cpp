@@ -22,6 +22,7 @@
 #include "clipray/io/StagedWrite.hpp"
 #include "clipray/report/HtmlReport.hpp"
 #include "clipray/util/Check.hpp"
+#include "clipray/util/OptionValues.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {
@@ -74,6 +75,33 @@ nlohmann::json boundsJson(const MismatchCluster& c, int height, bool image) {
           {"y_max", image ? imageY(c.minY, height) : c.maxY}};
 }
 
+// What one side hit: null for nothing.
+nlohmann::json hitJson(const SurfaceHit& hit) {
+  if (!hit.hit()) return nullptr;
+  return {{"id", hit.id},
+          {"object", hit.object},
+          {"kind", hit.kind},
+          {"triangle", hit.triangle >= 0 ? nlohmann::json(hit.triangle) : nlohmann::json(nullptr)},
+          {"depth", number(hit.depth)}};
+}
+
+// The pixel's class, what each side hit there and the error / tolerance, into `out`.
+void addHitsJson(nlohmann::json& out, const PixelHits& hits) {
+  out["class"] = pixelClassName(hits.pixelClass);
+  out["raster"] = hitJson(hits.raster);
+  out["ray"] = hitJson(hits.ray);
+  out["tolerance_ratio"] = number(hits.toleranceRatio);
+}
+
+nlohmann::json worstPixelJson(const RunRecord& run) {
+  if (!run.worstPixel) return nullptr;
+  const PixelHits& hits = *run.worstPixel;
+  nlohmann::json out = {{"pixel_gl", {{"x", hits.x}, {"y", hits.y}}},
+                        {"pixel_image", {{"x", hits.x}, {"y", imageY(hits.y, run.size.height)}}}};
+  addHitsJson(out, hits);
+  return out;
+}
+
 nlohmann::json clustersJson(const RunRecord& run) {
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t k = 0; k < run.clusters.largest.size(); ++k) {
@@ -90,6 +118,7 @@ nlohmann::json clustersJson(const RunRecord& run) {
         {"bounds_image", boundsJson(c, height, true)},
         {"crop", imagePath(run, "cluster" + std::to_string(k + 1) + ".png")},
     });
+    if (k < run.clusterHits.size()) addHitsJson(list.back(), run.clusterHits[k]);
   }
   return list;
 }
@@ -152,6 +181,7 @@ nlohmann::json runJson(const RunRecord& run) {
       {"thumbnails", thumbnailsJson(run)},
       {"cluster_count", run.clusters.count},
       {"clusters", clustersJson(run)},
+      {"worst_pixel", worstPixelJson(run)},
   };
   if (run.rounds > 1) {
     json["rounds"] = run.rounds;
@@ -267,11 +297,68 @@ std::vector<std::string> summaryTable(const std::vector<const RunRecord*>& runs)
   return lines;
 }
 
+// Which side hit what in each inconsistent run (in the order given): its worst pixel and its
+// largest clusters' pixels.
+std::string hitsSection(const std::vector<const RunRecord*>& runs) {
+  std::string out;
+  for (const RunRecord* run : runs) {
+    if (run->metrics.consistent() || (!run->worstPixel && run->clusterHits.empty())) continue;
+    if (out.empty()) {
+      out =
+          "which side hit what in the inconsistent runs (pixels in GL window coordinates, y up "
+          "from the bottom row):\n";
+    }
+    out += "  " + runTitleText(*run) + "\n";
+    out += runHitsText(*run, "    ");
+  }
+  return out;
+}
+
 std::string errnoText(int error) {
   return std::strerror(error);
 }
 
 }  // namespace
+
+std::string SurfaceHit::name() const {
+  if (!hit()) return "nothing";
+  if (kind == "triangle") return "\"" + object + "\" triangle " + std::to_string(triangle);
+  if (!kind.empty() && kind != "unknown") return "\"" + object + "\" (" + kind + ")";
+  return "id " + std::to_string(id);
+}
+
+std::string SurfaceHit::text() const {
+  if (!hit() || std::isnan(depth)) return name();
+  return name() + " at depth " + sixDigits(depth);
+}
+
+std::string PixelHits::text() const {
+  std::string out =
+      std::string(pixelClassName(pixelClass)) + ": raster " + raster.text() + ", ray " + ray.text();
+  if (!std::isnan(toleranceRatio)) out += ", error/tolerance " + twoDigits(toleranceRatio);
+  return out;
+}
+
+std::string runTitleText(const RunRecord& run) {
+  return run.scene + "/" + run.camera + " " + run.convention.name() + " " +
+         depthFormatName(run.depthFormat) + " " + vertexModeName(run.vertexMode);
+}
+
+std::string runHitsText(const RunRecord& run, const std::string& indent) {
+  std::string out;
+  if (run.worstPixel) {
+    const PixelHits& p = *run.worstPixel;
+    out += indent + "worst pixel (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
+           "): " + p.text() + "\n";
+  }
+  for (std::size_t k = 0; k < run.clusterHits.size() && k < run.clusters.largest.size(); ++k) {
+    const MismatchCluster& c = run.clusters.largest[k];
+    out += indent + "cluster " + std::to_string(k + 1) + " (" + std::to_string(c.pixels) +
+           " px) at (" + std::to_string(c.x) + ", " + std::to_string(c.y) +
+           "): " + run.clusterHits[k].text() + "\n";
+  }
+  return out;
+}
 
 std::string depthFiguresText(const RunMetrics& m) {
   if (m.depthCompared == 0) return "depth n/a (0 compared)";
@@ -484,6 +571,7 @@ std::string textSummary(const std::vector<RunRecord>& runs) {
   }
   out += std::to_string(runs.size()) + " runs: " + std::to_string(consistent) + " consistent, " +
          std::to_string(runs.size() - consistent) + " inconsistent\n";
+  out += hitsSection(shown);
   if (!runs.empty()) out += kSummaryLegend;
   return out;
 }
