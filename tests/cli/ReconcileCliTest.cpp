@@ -42,6 +42,9 @@ TEST(ReconcileCli, SaysWhichSideHitWhat) {
       "    cluster 1 (472 px) at (31, 27): coverage_unexplained: raster nothing, ray "
       "\"far_wall\" triangle 1 at depth 0.999999\n";
   EXPECT_NE(result.out.find(hits), std::string::npos) << result.out;
+  // The last line names the page a person opens.
+  EXPECT_TRUE(result.out.ends_with("\nreport: out/index.html (report.json beside it)\n"))
+      << result.out;
   EXPECT_NE(testing::readText(folder.path() / "out/summary.txt").find(hits), std::string::npos);
   const auto report = nlohmann::json::parse(testing::readText(folder.path() / "out/report.json"));
   const auto& run = report["runs"][0];
@@ -479,8 +482,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadInvocation{"OsMesaUnavailable", "reconcile " + kStandard,
                       "CLIPRAY_OSMESA_LIBRARY=/nonexistent/libOSMesa.so.8",
                       "clipray: OSMesa: cannot load /nonexistent/libOSMesa.so.8"},
-        BadInvocation{"NoSubcommand", "", "", "A subcommand is required"},
-        BadInvocation{"UnknownOption", "reconcile --frobnicate", "", "frobnicate"},
+        BadInvocation{"NoSubcommand", "", "", "\nclipray: no command given; name one of: "},
+        BadInvocation{"UnknownOption", "reconcile --frobnicate", "",
+                      "clipray: --frobnicate: unknown option (clipray reconcile --help lists the "
+                      "options)\n"},
         BadInvocation{"UnknownImagePolicy", "reconcile " + kStandard + " --images some", "",
                       "--images: unknown value \"some\"; expected one of: failing, all, none"},
         BadInvocation{"UnknownKernels", "reconcile " + kStandard + " --kernels fast", "",
