@@ -89,8 +89,12 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
                               "class=\"thumb\" src=\"standard/main-zo-32f-world/"
                               "thumb_mismatch.png\" alt=\"standard/main zo 32f world: mismatch\" "
                               "width=\"128\" height=\"96\"></a>"));
-  EXPECT_THAT(html, HasSubstr("<img class=\"thumb\" src=\"standard/a_b-zo-32f-world/"
-                              "thumb_heatmap.png\""));
+  EXPECT_THAT(html, HasSubstr("<span title=\"no full-size image: clipray reconcile --images all "
+                              "writes every run's\"><img class=\"thumb\" "
+                              "src=\"standard/a_b-zo-32f-world/thumb_heatmap.png\""));
+  // The legend comes before the runs whose thumbnails it explains.
+  ASSERT_NE(html.find("id=\"legend-classes\""), std::string::npos);
+  EXPECT_LT(html.find("id=\"legend-classes\""), html.find("<table id=\"runs\">"));
   // The clusters: both of the inconsistent run, in GL and image coordinates, the first with its
   // crop (a 32x32 window drawn 8x: 256 px).
   EXPECT_THAT(html, HasSubstr("<section class=\"clusters\" id=\"clusters-1\" "
@@ -100,8 +104,10 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
                               "data-gl-y=\"20\" data-image-x=\"10\" data-image-y=\"27\">"));
   EXPECT_THAT(html, HasSubstr("<tr class=\"cluster\" data-pixels=\"1\" data-gl-x=\"5\" "
                               "data-gl-y=\"0\" data-image-x=\"5\" data-image-y=\"47\">"));
-  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">(10, 20) - (11, 20)</td><td "
-                              "class=\"figures\">(10, 27) - (11, 27)</td>"));
+  // The pixel and the bounds in GL window coordinates over image coordinates, one cell each.
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">(10, 20)<br>(10, 27)</td>"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">(10, 20) - (11, 20)<br>(10, 27) - (11, "
+                              "27)</td>"));
   EXPECT_THAT(html, HasSubstr("<img class=\"crop\" src=\"standard/main-zo-32f-world/cluster1.png\" "
                               "alt=\"standard/main zo 32f world: cluster 1\" width=\"256\" "
                               "height=\"256\">"));
@@ -140,7 +146,7 @@ TEST(HtmlReport, DepthFiguresInUnitsOfTheToleranceOrNotAvailable) {
 TEST(HtmlReport, TheLegendHasEveryColour) {
   const std::string html = reportHtml({run("main", true)}, gl());
   for (const auto& [name, colour] : std::vector<std::pair<std::string, std::string>>{
-           {"agree", "rgb(60,60,60)"},
+           {"agree", "rgb(128,128,128)"},
            {"depth_beyond_tolerance", "rgb(255,140,0)"},
            {"coverage_edge_ambiguous", "rgb(255,230,0)"},
            {"coverage_unexplained", "rgb(255,0,0)"},

@@ -149,7 +149,11 @@ std::string thumbnailsCell(const RunRecord& run) {
     const std::string fullPath = imagePath(run, full);
     const std::string img =
         image(thumb, runTitle(run) + ": " + what, "thumb", thumbnailShownSize(run.size));
-    out += fullPath.empty() ? img : "<a href=\"" + escaped(fullPath) + "\">" + img + "</a>";
+    out += fullPath.empty()
+               ? "<span title=\"no full-size image: clipray reconcile --images all writes every "
+                 "run's\">" +
+                     img + "</span>"
+               : "<a href=\"" + escaped(fullPath) + "\">" + img + "</a>";
     out += " ";
   }
   return out + "</td>";
@@ -271,10 +275,10 @@ std::string clustersSection(const std::vector<RunRecord>& runs,
     const bool hits = !run.clusterHits.empty();
     out +=
         "<table>\n<thead><tr><th>#</th><th>pixels</th><th>coverage / id / depth</th>"
-        "<th>pixel, GL window</th><th>pixel, image</th>";
+        "<th>pixel: GL window<br>image</th>";
     if (hits) out += "<th>class at the pixel</th><th>raster hit</th><th>ray hit</th>";
     out +=
-        "<th>bounds, GL window</th><th>bounds, image</th><th>crop</th></tr></thead>\n"
+        "<th>bounds: GL window<br>image</th><th>crop</th></tr></thead>\n"
         "<tbody>\n";
     for (std::size_t c = 0; c < run.clusters.largest.size(); ++c) {
       const MismatchCluster& cluster = run.clusters.largest[c];
@@ -287,8 +291,7 @@ std::string clustersSection(const std::vector<RunRecord>& runs,
       out += "<td class=\"figures\">" + count(cluster.coverageUnexplained) + " / " +
              count(cluster.idUnexplained) + " / " + count(cluster.depthBeyondTolerance) + "</td>";
       out += "<td class=\"figures\">(" + std::to_string(cluster.x) + ", " +
-             std::to_string(cluster.y) + ")</td>";
-      out += "<td class=\"figures\">(" + std::to_string(cluster.x) + ", " +
+             std::to_string(cluster.y) + ")<br>(" + std::to_string(cluster.x) + ", " +
              std::to_string(imageYValue) + ")</td>";
       if (hits) {
         if (c < run.clusterHits.size()) {
@@ -300,8 +303,7 @@ std::string clustersSection(const std::vector<RunRecord>& runs,
         }
       }
       out += "<td class=\"figures\">" +
-             boundsText(cluster.minX, cluster.minY, cluster.maxX, cluster.maxY) + "</td>";
-      out += "<td class=\"figures\">" +
+             boundsText(cluster.minX, cluster.minY, cluster.maxX, cluster.maxY) + "<br>" +
              boundsText(cluster.minX, imageY(cluster.maxY, height), cluster.maxX,
                         imageY(cluster.minY, height)) +
              "</td>";
@@ -324,7 +326,8 @@ struct ClassEntry {
   const char* meaning;
 };
 constexpr std::array<ClassEntry, 8> kClasses{{
-    {PixelClass::Agree, "agree", "same primitive, depth error within the predicted tolerance"},
+    {PixelClass::Agree, "agree",
+     "same primitive, depth error within the predicted tolerance (mid grey)"},
     {PixelClass::DepthBeyondTolerance, "depth beyond tolerance",
      "same primitive, depth error above the tolerance (unexplained)"},
     {PixelClass::CoverageEdgeAmbiguous, "coverage, edge-ambiguous",
@@ -342,7 +345,10 @@ constexpr std::array<ClassEntry, 8> kClasses{{
 
 std::string legendSection() {
   std::string out = "<h2>Colours</h2>\n";
-  out += "<h3>mismatch.png, its thumbnail and the cluster crops: the class of each pixel</h3>\n";
+  out +=
+      "<h3>mismatch.png, its thumbnail and the cluster crops: the class of each pixel (in the "
+      "thumbnail, the most severe of its block; an unexplained block also paints the eight around "
+      "it)</h3>\n";
   out += "<table class=\"legend\" id=\"legend-classes\">\n";
   for (const ClassEntry& entry : kClasses) {
     out += "<tr data-class=\"" + std::string(pixelClassName(entry.value)) + "\"><td>" +
@@ -411,8 +417,9 @@ std::string reportHtml(const std::vector<RunRecord>& runs, const GlInfo& gl,
         "<p class=\"note\" id=\"no-images\">No images: this report was written without them "
         "(clipray reconcile --images none).</p>\n";
   }
-  out += runsSection(runs, order, anyImages);
+  // The colours first: a person reads the thumbnails below with them.
   out += legendSection();
+  out += runsSection(runs, order, anyImages);
   out += clustersSection(runs, order);
   out += "</body>\n</html>\n";
   return out;
