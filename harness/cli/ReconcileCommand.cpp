@@ -163,7 +163,9 @@ int printOutcome(const engine::ReconcilePlan& plan, const engine::ReconcileOutco
                  bool json) {
   std::ostream& summary = json ? std::cerr : std::cout;
   summary << textSummary(outcome.runs);
-  summary << "report: " << (std::filesystem::path(plan.out) / "report.json").string() << "\n";
+  // Last, the page a person opens (report.json, summary.txt and the images are beside it).
+  summary << "report: " << (std::filesystem::path(plan.out) / "index.html").string()
+          << " (report.json beside it)\n";
   if (json) {
     std::cout << reportJson(outcome.runs, outcome.gl, plan.provenance)
                      .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)

@@ -43,8 +43,8 @@ int runMerge(const MergeOptions& options) {
   out.commit();
   if (!options.junit.empty()) writeFileAtomically(options.junit, junitXml(runs, options.out));
   std::cout << textSummary(runs);
-  std::cout << "report: " << (std::filesystem::path(options.out) / "report.json").string()
-            << " (merged from " << reports.size() << " reports)\n";
+  std::cout << "report: " << (std::filesystem::path(options.out) / "index.html").string()
+            << " (report.json beside it; merged from " << reports.size() << " reports)\n";
   for (const RunRecord& run : runs) {
     if (!run.metrics.consistent()) return 1;
   }

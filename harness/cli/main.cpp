@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "Commands.hpp"
+#include "ParseErrors.hpp"
 #include "clipray/util/ExitStatus.hpp"
 #include "clipray/util/OptionValues.hpp"
 #include "clipray/util/Version.hpp"
@@ -84,22 +85,46 @@ int main(int argc, char** argv) {
       if (option->get_type_size() > 0 && option->get_name() != "--help") option->check(nonEmpty);
     }
   }
+  // No command: the usage, then one line saying what is missing.
+  if (argc < 2) {
+    std::cerr << app.help()
+              << "clipray: no command given; name one of: " << clipray::joinNames(names)
+              << " (e.g. clipray reconcile; clipray COMMAND --help lists its options)\n";
+    return 2;
+  }
   // A mistyped command: CLI11 would say "A subcommand is required" or name the word as an
   // unexpected argument; say which command was probably meant.
-  if (argc > 1 && argv[1][0] != '-' &&
-      std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+  if (argv[1][0] != '-' && std::find(names.begin(), names.end(), argv[1]) == names.end()) {
     const std::string suggestion = clipray::closestName(argv[1], names);
     std::cerr << "clipray: unknown command \"" << argv[1] << "\""
               << (suggestion.empty() ? "" : "; did you mean \"" + suggestion + "\"?")
               << " (commands: " << clipray::joinNames(names) << ")\n";
     return 2;
   }
+  // The command being parsed (argv[1] names one, else the options are clipray's own) and the
+  // arguments after its name.
+  const bool command = argv[1][0] != '-';
+  const CLI::App* parsed = command ? app.get_subcommand(argv[1]) : &app;
+  const std::vector<std::string> arguments(argv + (command ? 2 : 1), argv + argc);
+  const std::string usage = command ? "clipray " + std::string(argv[1]) : "clipray";
+  // An unknown option before any command: CLI11 would say "A subcommand is required".
+  if (!command) {
+    const std::string unknown =
+        clipray::cli::unknownOptionText(arguments, clipray::cli::optionNames(app));
+    if (!unknown.empty()) {
+      std::cerr << "clipray: " << unknown << " (clipray --help lists the commands)\n";
+      return 2;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    const int status = app.exit(error);
-    // CLI11 uses its own codes; clipray promises 2 for every usage error, 0 for --help.
-    return status == 0 ? 0 : 2;
+    // --help and --version print what they were asked for; every other parse error is one line
+    // and status 2 (CLI11 has its own codes and a second line).
+    if (error.get_exit_code() == 0) return app.exit(error);
+    std::cerr << "clipray: " << clipray::cli::parseErrorText(error, *parsed, arguments, usage)
+              << "\n";
+    return 2;
   }
   try {
     for (const auto& [sub, run] : commands) {

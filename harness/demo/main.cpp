@@ -9,6 +9,7 @@
 
 #include "PickDemo.hpp"
 #include "PickScript.hpp"
+#include "cli/ParseErrors.hpp"
 #include "clipray/InputError.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "clipray/util/ExitStatus.hpp"
@@ -71,8 +72,13 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& error) {
-    const int status = app.exit(error);
-    return status == 0 ? 0 : 2;
+    // --help and --version print what they were asked for; every other parse error is one line
+    // and status 2.
+    if (error.get_exit_code() == 0) return app.exit(error);
+    const std::vector<std::string> arguments(argv + 1, argv + argc);
+    std::cerr << "clipray-pick: "
+              << clipray::cli::parseErrorText(error, app, arguments, "clipray-pick") << "\n";
+    return 2;
   }
 
   try {

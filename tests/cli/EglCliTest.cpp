@@ -56,7 +56,7 @@ TEST(EglCli, ReportsMatchOsMesaOnLlvmpipe) {
   // 16-bit depth makes some hard scenes inconsistent (status 1): the same ones on both backends.
   ASSERT_TRUE(osMesa.status == 0 || osMesa.status == 1) << osMesa.err;
   EXPECT_EQ(egl.status, osMesa.status) << egl.err;
-  // The text summary, line for line, up to the "report: FOLDER/report.json" line.
+  // The text summary, line for line, up to the "report: FOLDER/index.html" line.
   auto summary = [](const std::string& out) { return out.substr(0, out.rfind("report: ")); };
   EXPECT_EQ(summary(egl.out), summary(osMesa.out));
   auto eglReport = nlohmann::json::parse(testing::readText(folder.path() / "egl/report.json"));

@@ -145,6 +145,21 @@ TEST(HostileInput, TextAfterANulByteIsNotIgnored) {
 namespace clipray {
 namespace {
 
+TEST(HostileInput, NoCommandPrintsTheUsageAndOneLine) {
+  TempFolder folder;
+  const auto result = runClipray("", folder.path(), kTimeout);
+  EXPECT_EQ(result.status, 2);
+  EXPECT_TRUE(result.out.empty()) << result.out;
+  EXPECT_EQ(result.err.rfind("clipray: reconcile OpenGL rasterization with ray picking\n", 0), 0u)
+      << result.err;
+  EXPECT_NE(result.err.find("\n  reconcile "), std::string::npos) << result.err;  // the commands
+  EXPECT_TRUE(result.err.ends_with(
+      "\nclipray: no command given; name one of: reconcile, check, bench, report (e.g. clipray "
+      "reconcile; clipray COMMAND --help lists its options)\n"))
+      << result.err;
+  EXPECT_TRUE(std::filesystem::is_empty(folder.path()));
+}
+
 TEST(HostileInput, OptionValuesThatAreEmptyOrExplodeAreRefused) {
   TempFolder folder;
   struct Case {
@@ -160,15 +175,26 @@ TEST(HostileInput, OptionValuesThatAreEmptyOrExplodeAreRefused) {
            Case{"frobnicate",
                 "clipray: unknown command \"frobnicate\" (commands: reconcile, "
                 "check, bench, report)\n"},
-           Case{"reconcile --size ''",
-                "--size: expected a value, got an empty string\nRun with --help for more "
-                "information.\n"},
+           Case{"reconcile --size ''", "clipray: --size: expected a value, got an empty string\n"},
            Case{"reconcile --conventions ''",
-                "--conventions: expected a value, got an empty string\nRun with --help for more "
-                "information.\n"},
+                "clipray: --conventions: expected a value, got an empty string\n"},
            Case{"bench --methods ''",
-                "--methods: expected a value, got an empty string\nRun with --help for more "
-                "information.\n"},
+                "clipray: --methods: expected a value, got an empty string\n"},
+           // The option parser's errors: one line, "did you mean" for a misspelt option.
+           Case{"reconcile --sise 320x240",
+                "clipray: --sise: unknown option; did you mean --size? (clipray reconcile --help "
+                "lists the options)\n"},
+           Case{"reconcile --threads=4 --vertex-mode world",
+                "clipray: --vertex-mode: unknown option; did you mean --vertex-modes? (clipray "
+                "reconcile --help lists the options)\n"},
+           Case{"check --frobnicate",
+                "clipray: --frobnicate: unknown option (clipray check --help "
+                "lists the options)\n"},
+           Case{"reconcile --threads -1", "clipray: --threads: Value -1 not in range 0 to 256\n"},
+           Case{"reconcile --size", "clipray: --size: expected a value\n"},
+           Case{"--versoin",
+                "clipray: --versoin: unknown option; did you mean --version? (clipray --help "
+                "lists the commands)\n"},
            Case{"bench --size 100000x100000",
                 "clipray: --size: 100000x100000 is larger than 7680x7680, the most this takes\n"},
            Case{"check --clip-from-world '1 0 0 0 0 1 0 0 0 0 -1 -1 0 0 -0.2 0' "

@@ -24,6 +24,54 @@ bool folderIsEmpty(const std::filesystem::path& folder) {
   return std::filesystem::is_empty(folder);
 }
 
+// An inconsistent run says which side hit what: under an infinite far plane, 16-bit depth rounds
+// the far wall to the cleared 1.0 and the raster drops it, where the rays hit it.
+TEST(ReconcileCli, SaysWhichSideHitWhat) {
+  TempFolder folder;
+  const auto result = runClipray("reconcile '" + kSource +
+                                     "/scenes/infinite_far.json' --conventions zo --depth-formats "
+                                     "16 --size 64x36 --out out --junit junit.xml",
+                                 folder.path());
+  ASSERT_EQ(result.status, 1) << result.err;
+  const std::string hits =
+      "which side hit what in the inconsistent runs (pixels in GL window coordinates, y up from "
+      "the bottom row):\n"
+      "  infinite_far/main zo 16 world\n"
+      "    worst pixel (13, 21): coverage_unexplained: raster nothing, ray \"far_wall\" triangle "
+      "1 at depth 0.999999\n"
+      "    cluster 1 (472 px) at (31, 27): coverage_unexplained: raster nothing, ray "
+      "\"far_wall\" triangle 1 at depth 0.999999\n";
+  EXPECT_NE(result.out.find(hits), std::string::npos) << result.out;
+  // The last line names the page a person opens.
+  EXPECT_TRUE(result.out.ends_with("\nreport: out/index.html (report.json beside it)\n"))
+      << result.out;
+  EXPECT_NE(testing::readText(folder.path() / "out/summary.txt").find(hits), std::string::npos);
+  const auto report = nlohmann::json::parse(testing::readText(folder.path() / "out/report.json"));
+  const auto& run = report["runs"][0];
+  const auto wall = nlohmann::json::parse(
+      R"({"id": 4, "object": "far_wall", "kind": "triangle", "triangle": 1})");
+  for (const auto& pixel : {run["worst_pixel"], run["clusters"][0]}) {
+    EXPECT_EQ(pixel["class"], "coverage_unexplained");
+    EXPECT_TRUE(pixel["raster"].is_null());
+    auto ray = pixel["ray"];
+    EXPECT_GT(ray["depth"].get<double>(), 0.99999);
+    ray.erase("depth");
+    EXPECT_EQ(ray, wall);
+    EXPECT_TRUE(pixel["tolerance_ratio"].is_null());
+  }
+  EXPECT_EQ(run["worst_pixel"]["pixel_gl"], nlohmann::json::parse(R"({"x": 13, "y": 21})"));
+  EXPECT_EQ(run["worst_pixel"]["pixel_image"], nlohmann::json::parse(R"({"x": 13, "y": 14})"));
+  const std::string junit = testing::readText(folder.path() / "junit.xml");
+  EXPECT_NE(junit.find("\n  worst pixel (13, 21): coverage_unexplained: raster nothing, ray "
+                       "&quot;far_wall&quot; triangle 1 at depth 0.999999\n"),
+            std::string::npos)
+      << junit;
+  const std::string html = testing::readText(folder.path() / "out/index.html");
+  EXPECT_NE(html.find("<td class=\"hit\">nothing</td><td class=\"hit\">&quot;far_wall&quot; "
+                      "triangle 1<br>depth 0.999999</td>"),
+            std::string::npos);
+}
+
 TEST(ReconcileCli, WritesTheReportAndExitsZeroWhenConsistent) {
   TempFolder folder;
   const auto result =
@@ -436,8 +484,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadInvocation{"OsMesaUnavailable", "reconcile " + kStandard,
                       "CLIPRAY_OSMESA_LIBRARY=/nonexistent/libOSMesa.so.8",
                       "clipray: OSMesa: cannot load /nonexistent/libOSMesa.so.8"},
-        BadInvocation{"NoSubcommand", "", "", "A subcommand is required"},
-        BadInvocation{"UnknownOption", "reconcile --frobnicate", "", "frobnicate"},
+        BadInvocation{"NoSubcommand", "", "", "\nclipray: no command given; name one of: "},
+        BadInvocation{"UnknownOption", "reconcile --frobnicate", "",
+                      "clipray: --frobnicate: unknown option (clipray reconcile --help lists the "
+                      "options)\n"},
         BadInvocation{"UnknownImagePolicy", "reconcile " + kStandard + " --images some", "",
                       "--images: unknown value \"some\"; expected one of: failing, all, none"},
         BadInvocation{"UnknownKernels", "reconcile " + kStandard + " --kernels fast", "",

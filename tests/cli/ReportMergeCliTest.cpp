@@ -105,7 +105,10 @@ TEST_F(ReportMerge, TheShardsMergedBackAreTheUnshardedReport) {
   EXPECT_TRUE(std::filesystem::is_regular_file(path() / "merged/index.html"));
   EXPECT_EQ(readText(path() / "merged.xml").find("<testsuites"),
             readText(path() / "whole.xml").find("<testsuites"));
-  EXPECT_NE(merged.out.find("(merged from 3 reports)"), std::string::npos);
+  EXPECT_NE(merged.out.find("\nreport: merged/index.html (report.json beside it; merged from 3 "
+                            "reports)\n"),
+            std::string::npos)
+      << merged.out;
 }
 
 TEST_F(ReportMerge, ReportsThatDoNotBelongTogetherAreRefused) {

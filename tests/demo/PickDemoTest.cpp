@@ -442,7 +442,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadPick{"ScreenshotFolder", "'" + kStandard + "' --screenshot no/such/shot.png", "",
                 "clipray-pick: --screenshot: no/such/shot.png: folder no/such does not exist\n"},
         BadPick{"NoDisplay", "'" + kStandard + "'", "",
-                "clipray-pick: GLFW: no display available ("}),
+                "clipray-pick: GLFW: no display available ("},
+        // The option parser's errors read the same: one line, with "did you mean".
+        BadPick{"MisspeltOption", "--sise 960x640", "",
+                "clipray-pick: --sise: unknown option; did you mean --size? (clipray-pick --help "
+                "lists the options)\n"},
+        BadPick{"OptionWithoutValue", "'" + kStandard + "' --size", "",
+                "clipray-pick: --size: expected a value\n"}),
     [](const ::testing::TestParamInfo<BadPick>& param) { return std::string(param.param.name); });
 
 TEST(PickDemoNoDisplay, VersionNeedsNoDisplay) {

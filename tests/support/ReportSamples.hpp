@@ -49,6 +49,17 @@ inline RunRecord sampleRun() {
   return run;
 }
 
+// What each side hit at pixel (x, y): the raster nothing, the rays triangle 1 of "far_wall" (id 4)
+// at window depth 0.75, a coverage mismatch (no error / tolerance).
+inline PixelHits sampleHits(int x, int y) {
+  PixelHits hits;
+  hits.x = x;
+  hits.y = y;
+  hits.pixelClass = PixelClass::CoverageUnexplained;
+  hits.ray = {4, "far_wall", "triangle", 1, 0.75};
+  return hits;
+}
+
 inline GlInfo sampleGl() {
   return {"osmesa", "Mesa", "llvmpipe (LLVM 15.0.6, 256 bits)", "4.5 (Core)", 8};
 }

@@ -73,15 +73,15 @@ TEST(EncodeRunImages, MismatchMaskHasOneColourPerClassAndIsFlipped) {
   ASSERT_EQ(m.width, 4);
   ASSERT_EQ(m.height, 3);
   // Frame row 0 (bottom) is the last PNG row.
-  EXPECT_EQ(m.at(0, 2), (Rgb{0, 0, 0}));       // Background
-  EXPECT_EQ(m.at(1, 2), (Rgb{60, 60, 60}));    // Agree
-  EXPECT_EQ(m.at(2, 2), (Rgb{255, 140, 0}));   // DepthBeyondTolerance
-  EXPECT_EQ(m.at(3, 2), (Rgb{255, 230, 0}));   // CoverageEdgeAmbiguous
-  EXPECT_EQ(m.at(0, 1), (Rgb{255, 0, 0}));     // CoverageUnexplained
-  EXPECT_EQ(m.at(1, 1), (Rgb{0, 255, 255}));   // IdDepthAmbiguous
-  EXPECT_EQ(m.at(2, 1), (Rgb{60, 110, 255}));  // IdEdgeAmbiguous
-  EXPECT_EQ(m.at(3, 1), (Rgb{255, 0, 255}));   // IdUnexplained
-  EXPECT_EQ(m.at(0, 0), (Rgb{60, 60, 60}));    // frame row 2 is the first PNG row
+  EXPECT_EQ(m.at(0, 2), (Rgb{0, 0, 0}));        // Background
+  EXPECT_EQ(m.at(1, 2), (Rgb{128, 128, 128}));  // Agree
+  EXPECT_EQ(m.at(2, 2), (Rgb{255, 140, 0}));    // DepthBeyondTolerance
+  EXPECT_EQ(m.at(3, 2), (Rgb{255, 230, 0}));    // CoverageEdgeAmbiguous
+  EXPECT_EQ(m.at(0, 1), (Rgb{255, 0, 0}));      // CoverageUnexplained
+  EXPECT_EQ(m.at(1, 1), (Rgb{0, 255, 255}));    // IdDepthAmbiguous
+  EXPECT_EQ(m.at(2, 1), (Rgb{60, 110, 255}));   // IdEdgeAmbiguous
+  EXPECT_EQ(m.at(3, 1), (Rgb{255, 0, 255}));    // IdUnexplained
+  EXPECT_EQ(m.at(0, 0), (Rgb{128, 128, 128}));  // frame row 2 is the first PNG row
   EXPECT_EQ(m.at(3, 0), (Rgb{0, 0, 0}));
 }
 

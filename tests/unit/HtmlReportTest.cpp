@@ -49,6 +49,18 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
                 {"standard/main-zo-32f-world/cluster1.png", ""}};
   bad.clusters.count = 7;
   bad.clusters.largest = {{2, 2, 0, 0, 10, 20, 11, 20, 10, 20}, {1, 0, 0, 1, 5, 0, 5, 0, 5, 0}};
+  PixelHits wall;  // what each side hit at the clusters' pixels and at the worst pixel
+  wall.x = 10;
+  wall.y = 20;
+  wall.pixelClass = PixelClass::CoverageUnexplained;
+  wall.ray = {4, "far<wall", "triangle", 1, 0.75};
+  PixelHits ball = wall;
+  ball.x = 5;
+  ball.y = 0;
+  ball.pixelClass = PixelClass::IdUnexplained;
+  ball.raster = {9, "ball", "sphere", -1, 0.5};
+  bad.clusterHits = {wall, ball};
+  bad.worstPixel = ball;
   const std::string html =
       reportHtml({good, bad}, gl(), {"clipray reconcile a.json --out r", "2026-11-25T05:00:00Z"});
 
@@ -77,8 +89,12 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
                               "class=\"thumb\" src=\"standard/main-zo-32f-world/"
                               "thumb_mismatch.png\" alt=\"standard/main zo 32f world: mismatch\" "
                               "width=\"128\" height=\"96\"></a>"));
-  EXPECT_THAT(html, HasSubstr("<img class=\"thumb\" src=\"standard/a_b-zo-32f-world/"
-                              "thumb_heatmap.png\""));
+  EXPECT_THAT(html, HasSubstr("<span title=\"no full-size image: clipray reconcile --images all "
+                              "writes every run's\"><img class=\"thumb\" "
+                              "src=\"standard/a_b-zo-32f-world/thumb_heatmap.png\""));
+  // The legend comes before the runs whose thumbnails it explains.
+  ASSERT_NE(html.find("id=\"legend-classes\""), std::string::npos);
+  EXPECT_LT(html.find("id=\"legend-classes\""), html.find("<table id=\"runs\">"));
   // The clusters: both of the inconsistent run, in GL and image coordinates, the first with its
   // crop (a 32x32 window drawn 8x: 256 px).
   EXPECT_THAT(html, HasSubstr("<section class=\"clusters\" id=\"clusters-1\" "
@@ -88,12 +104,25 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
                               "data-gl-y=\"20\" data-image-x=\"10\" data-image-y=\"27\">"));
   EXPECT_THAT(html, HasSubstr("<tr class=\"cluster\" data-pixels=\"1\" data-gl-x=\"5\" "
                               "data-gl-y=\"0\" data-image-x=\"5\" data-image-y=\"47\">"));
-  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">(10, 20) - (11, 20)</td><td "
-                              "class=\"figures\">(10, 27) - (11, 27)</td>"));
+  // The pixel and the bounds in GL window coordinates over image coordinates, one cell each.
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">(10, 20)<br>(10, 27)</td>"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">(10, 20) - (11, 20)<br>(10, 27) - (11, "
+                              "27)</td>"));
   EXPECT_THAT(html, HasSubstr("<img class=\"crop\" src=\"standard/main-zo-32f-world/cluster1.png\" "
                               "alt=\"standard/main zo 32f world: cluster 1\" width=\"256\" "
                               "height=\"256\">"));
   EXPECT_EQ(occurrences(html, "<tr class=\"cluster\""), 2u);
+  // Which side hit what: the worst pixel, and each cluster's pixel (names escaped).
+  EXPECT_THAT(html, HasSubstr("<p class=\"worst-pixel\" data-gl-x=\"5\" data-gl-y=\"0\">Worst "
+                              "pixel: GL window (5, 0) = image (5, 47): id_unexplained: raster "
+                              "&quot;ball&quot; (sphere) at depth 0.5, ray &quot;far&lt;wall&quot; "
+                              "triangle 1 at depth 0.75</p>"));
+  EXPECT_THAT(html, HasSubstr("<th>class at the pixel</th><th>raster hit</th><th>ray hit</th>"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">coverage_unexplained</td><td "
+                              "class=\"hit\">nothing</td><td class=\"hit\">&quot;far&lt;wall&quot; "
+                              "triangle 1<br>depth 0.75</td>"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">id_unexplained</td><td "
+                              "class=\"hit\">&quot;ball&quot; (sphere)<br>depth 0.5</td>"));
   EXPECT_EQ(occurrences(html, "<section class=\"clusters\""), 1u);
   EXPECT_THAT(html, Not(HasSubstr("no-images")));
   EXPECT_THAT(html, HasSubstr("<th>thumbnails: mismatch, error / tolerance</th>"));
@@ -103,10 +132,21 @@ TEST(HtmlReport, RowsWorstFirstWithClustersThumbnailsAndCrops) {
   EXPECT_THAT(html, Not(HasSubstr("<script")));
 }
 
+TEST(HtmlReport, DepthFiguresInUnitsOfTheToleranceOrNotAvailable) {
+  RunRecord compared = run("compared", true);
+  compared.metrics.depthCompared = 100;
+  compared.metrics.distanceRelError = {3e-6, 1e-7, 2.5e-6};
+  RunRecord none = run("none", true);  // depthCompared 0: the figures measured nothing
+  const std::string html = reportHtml({compared, none}, gl());
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">tol 0.12/0.062<br>rel 2.5e-6</td>"));
+  EXPECT_THAT(html, HasSubstr("<td class=\"figures\">n/a (0 compared)</td>"));
+  EXPECT_THAT(html, Not(HasSubstr(">q ")));
+}
+
 TEST(HtmlReport, TheLegendHasEveryColour) {
   const std::string html = reportHtml({run("main", true)}, gl());
   for (const auto& [name, colour] : std::vector<std::pair<std::string, std::string>>{
-           {"agree", "rgb(60,60,60)"},
+           {"agree", "rgb(128,128,128)"},
            {"depth_beyond_tolerance", "rgb(255,140,0)"},
            {"coverage_edge_ambiguous", "rgb(255,230,0)"},
            {"coverage_unexplained", "rgb(255,0,0)"},

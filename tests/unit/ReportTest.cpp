@@ -98,6 +98,17 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
   // Two clusters of three; the second has no crop image.
   run.clusters.count = 3;
   run.clusters.largest = {{2, 2, 0, 0, 10, 20, 11, 20, 10, 20}, {1, 0, 0, 1, 5, 0, 5, 0, 5, 0}};
+  // What each side hit at the clusters' pixels and at the worst pixel: a depth beyond tolerance
+  // on a sphere at the second.
+  PixelHits sphere;
+  sphere.x = 5;
+  sphere.y = 0;
+  sphere.pixelClass = PixelClass::DepthBeyondTolerance;
+  sphere.raster = {9, "ball", "sphere", -1, 0.5};
+  sphere.ray = {9, "ball", "sphere", -1, 0.25};
+  sphere.toleranceRatio = 2.5;
+  run.clusterHits = {testing::sampleHits(10, 20), sphere};
+  run.worstPixel = testing::sampleHits(10, 20);
   const nlohmann::json j = reportJson({run}, sampleGl());
 
   EXPECT_EQ(j["tool"], "clipray");
@@ -148,13 +159,25 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
        "pixel_gl": {"x": 10, "y": 20}, "pixel_image": {"x": 10, "y": 459},
        "bounds_gl": {"x_min": 10, "y_min": 20, "x_max": 11, "y_max": 20},
        "bounds_image": {"x_min": 10, "y_min": 459, "x_max": 11, "y_max": 459},
-       "crop": "standard/main-zo-24-world/cluster1.png"},
+       "crop": "standard/main-zo-24-world/cluster1.png",
+       "class": "coverage_unexplained", "raster": null,
+       "ray": {"id": 4, "object": "far_wall", "kind": "triangle", "triangle": 1, "depth": 0.75},
+       "tolerance_ratio": null},
       {"pixels": 1, "coverage_unexplained": 0, "id_unexplained": 0, "depth_beyond_tolerance": 1,
        "pixel_gl": {"x": 5, "y": 0}, "pixel_image": {"x": 5, "y": 479},
        "bounds_gl": {"x_min": 5, "y_min": 0, "x_max": 5, "y_max": 0},
        "bounds_image": {"x_min": 5, "y_min": 479, "x_max": 5, "y_max": 479},
-       "crop": null}
-    ]
+       "crop": null,
+       "class": "depth_beyond_tolerance",
+       "raster": {"id": 9, "object": "ball", "kind": "sphere", "triangle": null, "depth": 0.5},
+       "ray": {"id": 9, "object": "ball", "kind": "sphere", "triangle": null, "depth": 0.25},
+       "tolerance_ratio": 2.5}
+    ],
+    "worst_pixel": {
+      "pixel_gl": {"x": 10, "y": 20}, "pixel_image": {"x": 10, "y": 459},
+      "class": "coverage_unexplained", "raster": null,
+      "ray": {"id": 4, "object": "far_wall", "kind": "triangle", "triangle": 1, "depth": 0.75},
+      "tolerance_ratio": null}
   })");
   EXPECT_EQ(j["runs"][0], expected) << j["runs"][0].dump(2);
 }
@@ -371,7 +394,7 @@ TEST(TextSummary, WorstRunsFirstThenTotals) {
   five.metrics.toleranceRatio.max = 0.1;
 
   const std::vector<std::string> got = lines(textSummary({ok, one, five, oneWorse}));
-  ASSERT_EQ(got.size(), 9u);  // header, 4 runs, totals, 3 legend lines
+  ASSERT_EQ(got.size(), 10u);  // header, 4 runs, totals, 4 legend lines
   EXPECT_THAT(got[0], ::testing::StartsWith("verdict      scene/camera "));
   EXPECT_THAT(got[1], ::testing::StartsWith("INCONSISTENT standard/five "));
   EXPECT_THAT(got[2], ::testing::StartsWith("INCONSISTENT standard/oneworse "));
@@ -381,36 +404,115 @@ TEST(TextSummary, WorstRunsFirstThenTotals) {
   for (const std::string& line : got) EXPECT_LT(line.size(), 160u) << line;
 }
 
-TEST(TextSummary, LineHasFixedColumns) {
+TEST(TextSummary, ColumnsSizedToTheirContent) {
   RunRecord run = sampleRun();
   EXPECT_EQ(textSummary({run}),
-            // A header over the columns: verdict (12), scene/camera (16), convention (11), format
-            // (3), vertex mode (15), size (9), then the metrics, explained after the totals.
-            "verdict      scene/camera     convention  fmt vertex mode     size      "
+            // A header over the columns: verdict, scene/camera, convention, format, vertex mode,
+            // size, then the figures, explained after the totals. Each column as wide as its
+            // widest entry, header included.
+            "verdict      scene/camera  convention fmt vertex mode size    "
             "mismatches and depth error\n"
-            "INCONSISTENT standard/main    zo          24  world           640x480   "
-            "cov 12 (e10 u2) id 3 (z2 e1 u0) >tol 0 q 1/0.5 tol 0.75/0.5 rel 2.1e-7\n"
+            "INCONSISTENT standard/main zo         24  world       640x480 "
+            "cov 12 (e10 u2) id 3 (z2 e1 u0) >tol 0 tol 0.75/0.5 rel 2.1e-7\n"
             "1 runs: 0 consistent, 1 inconsistent\n"
             "  cov: coverage mismatches (e edge-ambiguous, u unexplained); >tol: depths beyond "
             "tolerance\n"
             "  id: id mismatches (z depth-ambiguous, e edge-ambiguous, u unexplained)\n"
-            "  q: depth error in depth-buffer quanta, max/p99; tol: error / tolerance, max/p99; "
-            "rel: p99 distance error / eye distance\n");
-  // Columns line up whatever the names' lengths (up to the column widths).
+            "  tol: depth error / predicted tolerance, max/p99 (above 1: beyond it); rel: p99 "
+            "distance error / eye distance\n"
+            "  n/a (0 compared): no pixel where both sides hit the same primitive\n");
+  // Columns line up whatever the names' lengths: the widest entry sets each column.
   RunRecord other = run;
-  other.camera = "topdown";
-  other.convention = kZeroToOneReversed;
+  other.camera = "a_camera_with_a_long_name";
+  other.convention = *DepthMode::parse("zo-reversed-upper-left");
   other.depthFormat = DepthFormat::Float32;
   other.vertexMode = VertexMode::CameraRelative;
   other.size = {7, 3};
   other.metrics.toleranceRatio.max = kNaN;
+  other.metrics.coverageMismatch = {1234, 1000, 234};
   const std::vector<std::string> got = lines(textSummary({run, other}));
-  ASSERT_EQ(got.size(), 7u);
-  EXPECT_EQ(got[1].find(" cov "), got[2].find(" cov "));
+  ASSERT_EQ(got.size(), 8u);
+  EXPECT_EQ(got[1],
+            "INCONSISTENT standard/a_camera_with_a_long_name zo-reversed-upper-left 32f "
+            "camera-relative 7x3     cov 1234 (e1000 u234) id 3 (z2 e1 u0) >tol 0 tol nan/0.5 "
+            "rel 2.1e-7");  // NaN sorts as the worst ratio
+  EXPECT_EQ(got[2],
+            "INCONSISTENT standard/main                      zo                     24  "
+            "world           640x480 cov 12 (e10 u2)       id 3 (z2 e1 u0) >tol 0 tol 0.75/0.5 "
+            "rel 2.1e-7");
   EXPECT_EQ(got[0].find(" mismatches "), got[1].find(" cov "));  // the header over the columns
   EXPECT_EQ(got[0].find(" size "), got[1].find(" 7x3 "));
-  EXPECT_THAT(got[1], HasSubstr("standard/topdown zo-reversed 32f camera-relative 7x3       cov"));
-  EXPECT_THAT(got[1], HasSubstr("tol nan/0.5"));  // NaN sorts as the worst ratio
+  for (const char* column : {" cov ", " id ", " >tol ", " tol "}) {
+    EXPECT_EQ(got[1].find(column), got[2].find(column)) << column;
+  }
+}
+
+TEST(TextSummary, DepthFiguresAreNotAvailableWhereNothingWasCompared) {
+  RunRecord run = sampleRun();
+  run.metrics.depthCompared = 0;
+  run.metrics.depthErrorQuanta = {};
+  run.metrics.distanceRelError = {};
+  run.metrics.toleranceRatio = {};
+  EXPECT_THAT(runSummaryLine(run), ::testing::EndsWith(" >tol 0 depth n/a (0 compared)"));
+  EXPECT_EQ(depthFiguresText(run.metrics), "depth n/a (0 compared)");
+  EXPECT_EQ(depthFiguresText(sampleRun().metrics), "tol 0.75/0.5 rel 2.1e-7");
+}
+
+TEST(TextSummary, RunSummaryLinesShareTheirColumns) {
+  RunRecord a = sampleRun();
+  RunRecord b = sampleRun();
+  b.camera = "a_longer_camera";
+  const std::vector<std::string> both = runSummaryLines({a, b});
+  ASSERT_EQ(both.size(), 2u);
+  EXPECT_EQ(both[0].find(" cov "), both[1].find(" cov "));
+  EXPECT_THAT(both[0], ::testing::StartsWith("INCONSISTENT standard/main            zo "));
+  // One run alone: columns as wide as it needs.
+  EXPECT_THAT(runSummaryLine(a), ::testing::StartsWith("INCONSISTENT standard/main zo "));
+}
+
+TEST(TextSummary, SaysWhichSideHitWhatInTheInconsistentRuns) {
+  RunRecord bad = sampleRun();
+  bad.clusters.count = 1;
+  bad.clusters.largest = {{2, 2, 0, 0, 10, 20, 11, 20, 10, 20}};
+  bad.clusterHits = {testing::sampleHits(10, 20)};
+  PixelHits worst = testing::sampleHits(11, 20);
+  worst.pixelClass = PixelClass::IdUnexplained;
+  worst.raster = {2, "floor", "triangle", 0, 0.5};
+  bad.worstPixel = worst;
+  RunRecord good = sampleRun();  // consistent: its worst pixel is not shown
+  good.camera = "good";
+  good.metrics.coverageMismatch.unexplained = 0;
+  good.worstPixel = worst;
+  const std::vector<std::string> got = lines(textSummary({good, bad}));
+  ASSERT_EQ(got.size(), 12u);  // header, 2 runs, totals, 4 lines of hits, 4 legend lines
+  EXPECT_EQ(got[3], "2 runs: 1 consistent, 1 inconsistent");
+  EXPECT_EQ(got[4],
+            "which side hit what in the inconsistent runs (pixels in GL window coordinates, y up "
+            "from the bottom row):");
+  EXPECT_EQ(got[5], "  standard/main zo 24 world");
+  EXPECT_EQ(got[6],
+            "    worst pixel (11, 20): id_unexplained: raster \"floor\" triangle 0 at depth 0.5, "
+            "ray \"far_wall\" triangle 1 at depth 0.75");
+  EXPECT_EQ(got[7],
+            "    cluster 1 (2 px) at (10, 20): coverage_unexplained: raster nothing, ray "
+            "\"far_wall\" triangle 1 at depth 0.75");
+  EXPECT_THAT(got[8], ::testing::StartsWith("  cov: "));
+}
+
+TEST(PixelHits, NameWhatEachSideHit) {
+  SurfaceHit nothing;
+  EXPECT_EQ(nothing.text(), "nothing");
+  EXPECT_EQ(SurfaceHit({7, "floor", "triangle", 12, 0.4998712}).text(),
+            "\"floor\" triangle 12 at depth 0.499871");
+  EXPECT_EQ(SurfaceHit({9, "ball", "sphere", -1, kNaN}).text(), "\"ball\" (sphere)");
+  EXPECT_EQ(SurfaceHit({99, "", "unknown", -1, 0.5}).name(), "id 99");
+  PixelHits hits = testing::sampleHits(1, 2);
+  hits.pixelClass = PixelClass::DepthBeyondTolerance;
+  hits.raster = {4, "far_wall", "triangle", 1, 0.5};
+  hits.toleranceRatio = 3.25;
+  EXPECT_EQ(hits.text(),
+            "depth_beyond_tolerance: raster \"far_wall\" triangle 1 at depth 0.5, ray "
+            "\"far_wall\" triangle 1 at depth 0.75, error/tolerance 3.2");
 }
 
 TEST(TextSummary, NoRuns) {

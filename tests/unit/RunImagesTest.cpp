@@ -53,7 +53,7 @@ PixelComparison blankFrame(Viewport viewport) {
   return p;
 }
 
-constexpr Rgb kMagenta{255, 0, 255}, kYellow{255, 230, 0}, kRed{255, 0, 0}, kGrey{60, 60, 60},
+constexpr Rgb kMagenta{255, 0, 255}, kYellow{255, 230, 0}, kRed{255, 0, 0}, kGrey{128, 128, 128},
     kBlack{0, 0, 0}, kWhite{255, 255, 255};
 
 TEST(HeatMapColour, LogarithmicWithinToleranceRedToWhiteBeyond) {
@@ -92,8 +92,8 @@ TEST(Thumbnails, EachPixelIsTheMostSevereClassAndLargestRatioOfItsBlock) {
     p.classes[x] = PixelClass::Agree;
     p.toleranceRatio[x] = 0.01f;
   }
-  p.classes[4] = PixelClass::IdUnexplained;  // one pixel among 9: it shows
-  p.toleranceRatio[7] = 0.5f;                // the block's largest ratio
+  p.classes[91] = PixelClass::IdUnexplained;  // one pixel among 9 (block 30): it shows
+  p.toleranceRatio[7] = 0.5f;                 // the block's largest ratio
   p.classes[3 * 330 + 100] = PixelClass::CoverageEdgeAmbiguous;
   RunRecord run = sampleRun();
   encodeThumbnails(run, p);
@@ -106,7 +106,14 @@ TEST(Thumbnails, EachPixelIsTheMostSevereClassAndLargestRatioOfItsBlock) {
   ASSERT_EQ(m.height, 2);
   ASSERT_EQ(h.width, 110);
   ASSERT_EQ(h.height, 2);
-  EXPECT_EQ(m.at(1, 1), kMagenta);  // IdUnexplained beats Agree and Background
+  EXPECT_EQ(m.at(30, 1), kMagenta);  // IdUnexplained beats Agree and Background
+  // and paints the eight thumbnail pixels around it, Agree and Background alike: a dot.
+  for (const int x : {29, 30, 31}) {
+    EXPECT_EQ(m.at(x, 0), kMagenta) << x;
+    EXPECT_EQ(m.at(x, 1), kMagenta) << x;
+  }
+  EXPECT_EQ(m.at(28, 1), kGrey);    // beyond the dot
+  EXPECT_EQ(m.at(32, 0), kBlack);   // an ambiguous class beside it (33, 0) does not spread
   EXPECT_EQ(m.at(0, 1), kGrey);     // Agree beats Background
   EXPECT_EQ(m.at(33, 0), kYellow);  // frame (100, 3)
   EXPECT_EQ(m.at(0, 0), kBlack);    // all background

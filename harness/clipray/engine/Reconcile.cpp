@@ -77,7 +77,7 @@ bool isThumbnail(const EncodedImage& image) {
   return std::filesystem::path(image.relativePath).filename().string().rfind("thumb_", 0) == 0;
 }
 
-RunResult runResult(const RunRecord& run, bool appRender) {
+RunResult runResult(const RunRecord& run, const std::string& summaryLine, bool appRender) {
   RunResult result;
   result.scene = run.scene;
   result.camera = run.camera;
@@ -101,7 +101,7 @@ RunResult runResult(const RunRecord& run, bool appRender) {
   result.maxDepthErrorQuanta = m.depthErrorQuanta.max;
   result.maxDistanceRelError = m.distanceRelError.max;
   result.notes = run.notes;
-  result.summaryLine = runSummaryLine(run) + (appRender ? "  (app render)" : "");
+  result.summaryLine = summaryLine + (appRender ? "  (app render)" : "");
   return result;
 }
 
@@ -115,9 +115,11 @@ ReconcileResult reconcile(const TestScene& testScene, const PickRayFunction& pic
   engine::ReconcileOutcome outcome = engine::runReconcilePlan(planOf(scene, pick, options));
 
   ReconcileResult result;
+  // The runs' summary lines in one set of columns, as ReconcileResult::text prints them together.
+  const std::vector<std::string> summaryLines = runSummaryLines(outcome.runs);
   for (std::size_t r = 0; r < outcome.runs.size(); ++r) {
     const RunRecord& record = outcome.runs[r];
-    RunResult run = runResult(record, static_cast<bool>(options.render));
+    RunResult run = runResult(record, summaryLines[r], static_cast<bool>(options.render));
     run.worstPixels = std::move(outcome.worstPixels[r]);
     // The images a person opens (the four full-size PNGs and the cluster crops), not the
     // thumbnails of index.html.

@@ -267,6 +267,7 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
         engine::ComparedRun compared = engine::compareRasterFrame(
             pass, raster, format, vertexMode, renderer.info().subpixelBits, timings, plan_.threads);
         compared.run.notes = std::move(notes);
+        describeHits(pass, raster, compared.pixels, compared.run);
         if (lastRound) {
           worstPixels_.push_back(
               worstPixels(pass, raster, compared.pixels, plan_.worstPixelsPerRun, plan_.window));

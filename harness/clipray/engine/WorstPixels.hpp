@@ -1,6 +1,7 @@
 #pragma once
 // The pixels of a run worth describing to a person, as both sides saw them: what each side hit
-// there (a named triangle or analytic primitive, or nothing) and at which window depth.
+// there (a named triangle or analytic primitive, or nothing) and at which window depth. The
+// library's worst pixels (PixelReport), and the report's worst pixel and cluster pixels.
 
 #include <cstddef>
 #include <optional>
@@ -21,5 +22,11 @@ namespace clipray::engine {
 std::vector<PixelReport> worstPixels(const AnalyticPass& pass, const RasterFrame& raster,
                                      const PixelComparison& pixels, std::size_t count,
                                      const std::optional<AppWindow>& window);
+
+// What each side hit at the run's worst pixel (the first of worstPixels' order) and at each of
+// its clusters' pixels: run.worstPixel (none where every pixel is background) and
+// run.clusterHits, for the report.
+void describeHits(const AnalyticPass& pass, const RasterFrame& raster,
+                  const PixelComparison& pixels, RunRecord& run);
 
 }  // namespace clipray::engine

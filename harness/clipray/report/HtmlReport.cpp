@@ -1,7 +1,8 @@
 // reportHtml: index.html (see HtmlReport.hpp). Elements a test or script may look for carry ids
 // and data- attributes: #verdict, #summary, #runs (tr.run, data-run = the run's folder), #legend-
 // classes (tr data-class = pixelClassName), #legend-heatmap, #legend-depth, #no-images, and per
-// inconsistent run section.clusters (tr.cluster with data-gl-x/-y and data-image-x/-y).
+// inconsistent run section.clusters (p.worst-pixel and tr.cluster with data-gl-x/-y, tr.cluster
+// also with data-image-x/-y and td.hit: what the raster and the rays hit).
 
 #include "clipray/report/HtmlReport.hpp"
 
@@ -14,6 +15,7 @@
 
 #include "clipray/io/XmlText.hpp"
 #include "clipray/report/RunImages.hpp"
+#include "clipray/util/OptionValues.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {
@@ -77,8 +79,14 @@ std::string imagePath(const RunRecord& run, const std::string& file) {
 }
 
 std::string runTitle(const RunRecord& run) {
-  return run.scene + "/" + run.camera + " " + run.convention.name() + " " +
-         depthFormatName(run.depthFormat) + " " + vertexModeName(run.vertexMode);
+  return runTitleText(run);
+}
+
+// What one side hit, for a table cell: "\"floor\" triangle 12<br>depth 0.499871", "nothing".
+std::string hitCell(const SurfaceHit& hit) {
+  std::string out = "<td class=\"hit\">" + escaped(hit.name());
+  if (hit.hit() && !std::isnan(hit.depth)) out += "<br>depth " + escaped(sixDigits(hit.depth));
+  return out + "</td>";
 }
 
 std::string factRow(const std::string& name, const std::string& value, bool mono = false) {
@@ -141,7 +149,11 @@ std::string thumbnailsCell(const RunRecord& run) {
     const std::string fullPath = imagePath(run, full);
     const std::string img =
         image(thumb, runTitle(run) + ": " + what, "thumb", thumbnailShownSize(run.size));
-    out += fullPath.empty() ? img : "<a href=\"" + escaped(fullPath) + "\">" + img + "</a>";
+    out += fullPath.empty()
+               ? "<span title=\"no full-size image: clipray reconcile --images all writes every "
+                 "run's\">" +
+                     img + "</span>"
+               : "<a href=\"" + escaped(fullPath) + "\">" + img + "</a>";
     out += " ";
   }
   return out + "</td>";
@@ -186,9 +198,12 @@ std::string runRow(const RunRecord& run, std::size_t rank, bool anyImages) {
          ")<br>id " + count(m.idMismatch.total) + " (z" + count(m.idMismatch.depthAmbiguous) +
          " e" + count(m.idMismatch.edgeAmbiguous) + " u" + count(m.idMismatch.unexplained) +
          ")<br>&gt;tol " + count(m.depthBeyondTolerance) + "</td>";
-  out += "<td class=\"figures\">q " + figure(m.depthErrorQuanta.max) + "/" +
-         figure(m.depthErrorQuanta.p99) + "<br>tol " + figure(m.toleranceRatio.max) + "/" +
-         figure(m.toleranceRatio.p99) + "<br>rel " + figure(m.distanceRelError.p99) + "</td>";
+  if (m.depthCompared == 0) {
+    out += "<td class=\"figures\">n/a (0 compared)</td>";
+  } else {
+    out += "<td class=\"figures\">tol " + figure(m.toleranceRatio.max) + "/" +
+           figure(m.toleranceRatio.p99) + "<br>rel " + figure(m.distanceRelError.p99) + "</td>";
+  }
   if (anyImages) out += linksCell(run, rank);
   out += "</tr>\n";
   return out;
@@ -201,8 +216,9 @@ std::string runsSection(const std::vector<RunRecord>& runs, const std::vector<st
       "<p>The worst first: inconsistent runs, then by unexplained pixels, then by worst error / "
       "tolerance. cov: coverage mismatches (e edge-ambiguous, u unexplained); id: id mismatches "
       "(z depth-ambiguous, e edge-ambiguous, u unexplained); &gt;tol: depths beyond tolerance; "
-      "q: depth error in depth-buffer quanta, max/p99; tol: error / tolerance, max/p99; rel: "
-      "p99 distance error / eye distance.";
+      "tol: depth error / predicted tolerance, max/p99 (above 1: beyond it); rel: p99 distance "
+      "error / eye distance; n/a (0 compared): no pixel where both sides hit the same "
+      "primitive.";
   if (anyImages) {
     out +=
         " Thumbnails: each pixel the most severe class (or largest error / tolerance) of its "
@@ -248,11 +264,22 @@ std::string clustersSection(const std::vector<RunRecord>& runs,
            escaped(runFolderName(run)) + "\">\n<h3>#" + rank + " " + escaped(runTitle(run)) + ": " +
            std::to_string(run.clusters.count) +
            (run.clusters.count == 1 ? " cluster" : " clusters") + "</h3>\n";
+    const int height = run.size.height;
+    if (run.worstPixel) {
+      const PixelHits& p = *run.worstPixel;
+      out += "<p class=\"worst-pixel\" data-gl-x=\"" + std::to_string(p.x) + "\" data-gl-y=\"" +
+             std::to_string(p.y) + "\">Worst pixel: GL window (" + std::to_string(p.x) + ", " +
+             std::to_string(p.y) + ") = image (" + std::to_string(p.x) + ", " +
+             std::to_string(imageY(p.y, height)) + "): " + escaped(p.text()) + "</p>\n";
+    }
+    const bool hits = !run.clusterHits.empty();
     out +=
         "<table>\n<thead><tr><th>#</th><th>pixels</th><th>coverage / id / depth</th>"
-        "<th>pixel, GL window</th><th>pixel, image</th><th>bounds, GL window</th>"
-        "<th>bounds, image</th><th>crop</th></tr></thead>\n<tbody>\n";
-    const int height = run.size.height;
+        "<th>pixel: GL window<br>image</th>";
+    if (hits) out += "<th>class at the pixel</th><th>raster hit</th><th>ray hit</th>";
+    out +=
+        "<th>bounds: GL window<br>image</th><th>crop</th></tr></thead>\n"
+        "<tbody>\n";
     for (std::size_t c = 0; c < run.clusters.largest.size(); ++c) {
       const MismatchCluster& cluster = run.clusters.largest[c];
       const int imageYValue = imageY(cluster.y, height);
@@ -264,12 +291,19 @@ std::string clustersSection(const std::vector<RunRecord>& runs,
       out += "<td class=\"figures\">" + count(cluster.coverageUnexplained) + " / " +
              count(cluster.idUnexplained) + " / " + count(cluster.depthBeyondTolerance) + "</td>";
       out += "<td class=\"figures\">(" + std::to_string(cluster.x) + ", " +
-             std::to_string(cluster.y) + ")</td>";
-      out += "<td class=\"figures\">(" + std::to_string(cluster.x) + ", " +
+             std::to_string(cluster.y) + ")<br>(" + std::to_string(cluster.x) + ", " +
              std::to_string(imageYValue) + ")</td>";
+      if (hits) {
+        if (c < run.clusterHits.size()) {
+          const PixelHits& p = run.clusterHits[c];
+          out += "<td class=\"figures\">" + escaped(pixelClassName(p.pixelClass)) + "</td>" +
+                 hitCell(p.raster) + hitCell(p.ray);
+        } else {
+          out += "<td></td><td></td><td></td>";
+        }
+      }
       out += "<td class=\"figures\">" +
-             boundsText(cluster.minX, cluster.minY, cluster.maxX, cluster.maxY) + "</td>";
-      out += "<td class=\"figures\">" +
+             boundsText(cluster.minX, cluster.minY, cluster.maxX, cluster.maxY) + "<br>" +
              boundsText(cluster.minX, imageY(cluster.maxY, height), cluster.maxX,
                         imageY(cluster.minY, height)) +
              "</td>";
@@ -292,7 +326,8 @@ struct ClassEntry {
   const char* meaning;
 };
 constexpr std::array<ClassEntry, 8> kClasses{{
-    {PixelClass::Agree, "agree", "same primitive, depth error within the predicted tolerance"},
+    {PixelClass::Agree, "agree",
+     "same primitive, depth error within the predicted tolerance (mid grey)"},
     {PixelClass::DepthBeyondTolerance, "depth beyond tolerance",
      "same primitive, depth error above the tolerance (unexplained)"},
     {PixelClass::CoverageEdgeAmbiguous, "coverage, edge-ambiguous",
@@ -310,7 +345,10 @@ constexpr std::array<ClassEntry, 8> kClasses{{
 
 std::string legendSection() {
   std::string out = "<h2>Colours</h2>\n";
-  out += "<h3>mismatch.png, its thumbnail and the cluster crops: the class of each pixel</h3>\n";
+  out +=
+      "<h3>mismatch.png, its thumbnail and the cluster crops: the class of each pixel (in the "
+      "thumbnail, the most severe of its block; an unexplained block also paints the eight around "
+      "it)</h3>\n";
   out += "<table class=\"legend\" id=\"legend-classes\">\n";
   for (const ClassEntry& entry : kClasses) {
     out += "<tr data-class=\"" + std::string(pixelClassName(entry.value)) + "\"><td>" +
@@ -379,8 +417,9 @@ std::string reportHtml(const std::vector<RunRecord>& runs, const GlInfo& gl,
         "<p class=\"note\" id=\"no-images\">No images: this report was written without them "
         "(clipray reconcile --images none).</p>\n";
   }
-  out += runsSection(runs, order, anyImages);
+  // The colours first: a person reads the thumbnails below with them.
   out += legendSection();
+  out += runsSection(runs, order, anyImages);
   out += clustersSection(runs, order);
   out += "</body>\n</html>\n";
   return out;

@@ -23,7 +23,7 @@
 //       the scale always fits.
 //   mismatch.png, one colour per PixelClass:
 //     Background            black        (0,0,0)
-//     Agree                 dark grey    (60,60,60)
+//     Agree                 mid grey     (128,128,128): apart from the black background
 //     DepthBeyondTolerance  orange       (255,140,0)
 //     CoverageEdgeAmbiguous yellow       (255,230,0)
 //     CoverageUnexplained   red          (255,0,0)
@@ -35,7 +35,10 @@
 //     class of its block (IdUnexplained, CoverageUnexplained, DepthBeyondTolerance,
 //     IdEdgeAmbiguous, CoverageEdgeAmbiguous, IdDepthAmbiguous, Agree, Background, in that order),
 //     or the heat-map colour of its block's largest compared ratio, so a single unexplained pixel
-//     of a 1080p frame still shows. No scale strip.
+//     of a 1080p frame still shows. In thumb_mismatch.png a block holding an unexplained class
+//     (IdUnexplained, CoverageUnexplained, DepthBeyondTolerance) also paints the eight thumbnail
+//     pixels around it where they show a less severe class: one unexplained pixel is a 3 x 3 dot
+//     at thumbnail size. No scale strip.
 //   cluster<k>.png: the mismatch colours of a 32 x 32 window around cluster k's representative
 //     pixel (moved inside the frame; smaller frames whole), each pixel drawn 8 x 8, the
 //     representative pixel outlined in white (255,255,255).
@@ -253,7 +256,7 @@ Rgb pixelClassColour(PixelClass value) {
     case PixelClass::Background:
       return {0, 0, 0};
     case PixelClass::Agree:
-      return {60, 60, 60};
+      return {128, 128, 128};
     case PixelClass::DepthBeyondTolerance:
       return {255, 140, 0};
     case PixelClass::CoverageEdgeAmbiguous:
@@ -373,11 +376,27 @@ void encodeThumbnails(RunRecord& run, const PixelComparison& pixels) {
     const int r = rank[static_cast<std::size_t>(c)];
     if (r < 8) ofRank[static_cast<std::size_t>(r)] = static_cast<PixelClass>(c);
   }
+  // An unexplained block (rank 5 and above: depth beyond tolerance, coverage and id
+  // unexplained) spreads to its eight neighbours where they rank lower: a dot a person sees.
+  constexpr int kUnexplainedRank = 5;
+  std::vector<int> shown = worst;
+  for (int row = 0; row < thumbHeight; ++row) {
+    for (int x = 0; x < thumbWidth; ++x) {
+      const int r = worst[static_cast<std::size_t>(row) * thumbWidth + x];
+      if (r < kUnexplainedRank) continue;
+      for (int ny = std::max(0, row - 1); ny <= std::min(thumbHeight - 1, row + 1); ++ny) {
+        for (int nx = std::max(0, x - 1); nx <= std::min(thumbWidth - 1, x + 1); ++nx) {
+          int& neighbour = shown[static_cast<std::size_t>(ny) * thumbWidth + nx];
+          neighbour = std::max(neighbour, r);
+        }
+      }
+    }
+  }
   Image mismatch(thumbWidth, thumbHeight, {}), heat(thumbWidth, thumbHeight, {});
   for (int row = 0; row < thumbHeight; ++row) {
     for (int x = 0; x < thumbWidth; ++x) {
       const std::size_t t = static_cast<std::size_t>(row) * thumbWidth + x;
-      const int r = worst[t];
+      const int r = shown[t];
       // Rank 8 is a value outside PixelClass: white, as in mismatch.png.
       mismatch.set(x, thumbHeight - 1 - row,
                    r < 8 ? pixelClassColour(ofRank[static_cast<std::size_t>(r)]) : kOutline);

@@ -22,12 +22,16 @@ std::string seconds(const RunTimings& t) {
 std::string failureText(const RunRecord& run, const std::filesystem::path& outDir) {
   const RunMetrics& m = run.metrics;
   char buffer[512];
+  char worst[64] = "no depths compared";
+  if (m.depthCompared > 0) {
+    std::snprintf(worst, sizeof worst, "worst error / tolerance %.3g", m.toleranceRatio.max);
+  }
   std::snprintf(buffer, sizeof buffer,
                 "%lld unexplained coverage mismatches, %lld unexplained id mismatches, %lld depths "
-                "beyond tolerance (worst error / tolerance %.3g) of %lld pixels",
+                "beyond tolerance (%s) of %lld pixels",
                 static_cast<long long>(m.coverageMismatch.unexplained),
                 static_cast<long long>(m.idMismatch.unexplained),
-                static_cast<long long>(m.depthBeyondTolerance), m.toleranceRatio.max,
+                static_cast<long long>(m.depthBeyondTolerance), worst,
                 static_cast<long long>(m.pixels));
   std::string text = buffer;
   text.append("\n").append(runSummaryLine(run));
@@ -47,6 +51,12 @@ std::string failureText(const RunRecord& run, const std::filesystem::path& outDi
                   static_cast<long long>(c.idUnexplained),
                   static_cast<long long>(c.depthBeyondTolerance));
     text += buffer;
+  }
+  // Which side hit what: at the worst pixel and at each cluster's pixel.
+  const std::string hits = runHitsText(run, "  ");
+  if (!hits.empty()) {
+    text += "\nwhich side hit what (GL window pixels):\n" + hits;
+    text.pop_back();  // the last line's newline
   }
   if (!run.images.empty()) {
     text += "\nimages:";

@@ -22,6 +22,7 @@
 #include "clipray/io/StagedWrite.hpp"
 #include "clipray/report/HtmlReport.hpp"
 #include "clipray/util/Check.hpp"
+#include "clipray/util/OptionValues.hpp"
 #include "clipray/util/Version.hpp"
 
 namespace clipray {
@@ -74,6 +75,33 @@ nlohmann::json boundsJson(const MismatchCluster& c, int height, bool image) {
           {"y_max", image ? imageY(c.minY, height) : c.maxY}};
 }
 
+// What one side hit: null for nothing.
+nlohmann::json hitJson(const SurfaceHit& hit) {
+  if (!hit.hit()) return nullptr;
+  return {{"id", hit.id},
+          {"object", hit.object},
+          {"kind", hit.kind},
+          {"triangle", hit.triangle >= 0 ? nlohmann::json(hit.triangle) : nlohmann::json(nullptr)},
+          {"depth", number(hit.depth)}};
+}
+
+// The pixel's class, what each side hit there and the error / tolerance, into `out`.
+void addHitsJson(nlohmann::json& out, const PixelHits& hits) {
+  out["class"] = pixelClassName(hits.pixelClass);
+  out["raster"] = hitJson(hits.raster);
+  out["ray"] = hitJson(hits.ray);
+  out["tolerance_ratio"] = number(hits.toleranceRatio);
+}
+
+nlohmann::json worstPixelJson(const RunRecord& run) {
+  if (!run.worstPixel) return nullptr;
+  const PixelHits& hits = *run.worstPixel;
+  nlohmann::json out = {{"pixel_gl", {{"x", hits.x}, {"y", hits.y}}},
+                        {"pixel_image", {{"x", hits.x}, {"y", imageY(hits.y, run.size.height)}}}};
+  addHitsJson(out, hits);
+  return out;
+}
+
 nlohmann::json clustersJson(const RunRecord& run) {
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t k = 0; k < run.clusters.largest.size(); ++k) {
@@ -90,6 +118,7 @@ nlohmann::json clustersJson(const RunRecord& run) {
         {"bounds_image", boundsJson(c, height, true)},
         {"crop", imagePath(run, "cluster" + std::to_string(k + 1) + ".png")},
     });
+    if (k < run.clusterHits.size()) addHitsJson(list.back(), run.clusterHits[k]);
   }
   return list;
 }
@@ -152,6 +181,7 @@ nlohmann::json runJson(const RunRecord& run) {
       {"thumbnails", thumbnailsJson(run)},
       {"cluster_count", run.clusters.count},
       {"clusters", clustersJson(run)},
+      {"worst_pixel", worstPixelJson(run)},
   };
   if (run.rounds > 1) {
     json["rounds"] = run.rounds;
@@ -189,41 +219,100 @@ std::string twoDigits(double value) {
   return text.substr(0, e + 1) + (negative ? "-" : "") + exponent;
 }
 
-// The columns of summaryLine, and what its figures mean (docs/reconcile.md, "The summary").
-constexpr const char* kSummaryHeader =
-    "verdict      scene/camera     convention  fmt vertex mode     size      mismatches and "
-    "depth error\n";
+// The summary's columns: which run, then its figures (docs/reconcile.md, "The summary line"). Each
+// column is as wide as its widest entry over the runs shown together (and its header); the
+// figures' header spans the four figure columns: cov, id, >tol and the depth figures.
+constexpr std::size_t kWhichColumns = 6;
+constexpr std::size_t kSummaryColumns = kWhichColumns + 4;
+using SummaryCells = std::array<std::string, kSummaryColumns>;
+constexpr std::array<const char*, kWhichColumns + 1> kSummaryHeader{"verdict",
+                                                                    "scene/camera",
+                                                                    "convention",
+                                                                    "fmt",
+                                                                    "vertex mode",
+                                                                    "size",
+                                                                    "mismatches and depth error"};
 constexpr const char* kSummaryLegend =
     "  cov: coverage mismatches (e edge-ambiguous, u unexplained); >tol: depths beyond "
     "tolerance\n"
     "  id: id mismatches (z depth-ambiguous, e edge-ambiguous, u unexplained)\n"
-    "  q: depth error in depth-buffer quanta, max/p99; tol: error / tolerance, max/p99; rel: p99 "
-    "distance error / eye distance\n";
+    "  tol: depth error / predicted tolerance, max/p99 (above 1: beyond it); rel: p99 distance "
+    "error / eye distance\n"
+    "  n/a (0 compared): no pixel where both sides hit the same primitive\n";
 
-std::string summaryLine(const RunRecord& run) {
+std::string countText(std::int64_t value) {
+  return std::to_string(static_cast<long long>(value));
+}
+
+SummaryCells summaryCells(const RunRecord& run) {
   const RunMetrics& m = run.metrics;
-  const std::string name = run.scene + "/" + run.camera;
-  const std::string size = std::to_string(run.size.width) + "x" + std::to_string(run.size.height);
-  char buffer[512];
-  std::snprintf(
-      buffer, sizeof buffer,
-      "%-12s %-16s %-11s %-3s %-15s %-9s cov %lld (e%lld u%lld) id %lld (z%lld e%lld u%lld) "
-      ">tol %lld q %s/%s tol %s/%s rel %s",
-      m.consistent() ? "consistent" : "INCONSISTENT", name.c_str(), run.convention.name().c_str(),
-      depthFormatName(run.depthFormat).c_str(), vertexModeName(run.vertexMode).c_str(),
-      size.c_str(), static_cast<long long>(m.coverageMismatch.total),
-      static_cast<long long>(m.coverageMismatch.edgeAmbiguous),
-      static_cast<long long>(m.coverageMismatch.unexplained),
-      static_cast<long long>(m.idMismatch.total),
-      static_cast<long long>(m.idMismatch.depthAmbiguous),
-      static_cast<long long>(m.idMismatch.edgeAmbiguous),
-      static_cast<long long>(m.idMismatch.unexplained),
-      static_cast<long long>(m.depthBeyondTolerance), twoDigits(m.depthErrorQuanta.max).c_str(),
-      twoDigits(m.depthErrorQuanta.p99).c_str(), twoDigits(m.toleranceRatio.max).c_str(),
-      twoDigits(m.toleranceRatio.p99).c_str(), twoDigits(m.distanceRelError.p99).c_str());
-  std::string line = buffer;
+  const auto& c = m.coverageMismatch;
+  const auto& i = m.idMismatch;
+  return {m.consistent() ? "consistent" : "INCONSISTENT",
+          run.scene + "/" + run.camera,
+          run.convention.name(),
+          depthFormatName(run.depthFormat),
+          vertexModeName(run.vertexMode),
+          std::to_string(run.size.width) + "x" + std::to_string(run.size.height),
+          "cov " + countText(c.total) + " (e" + countText(c.edgeAmbiguous) + " u" +
+              countText(c.unexplained) + ")",
+          "id " + countText(i.total) + " (z" + countText(i.depthAmbiguous) + " e" +
+              countText(i.edgeAmbiguous) + " u" + countText(i.unexplained) + ")",
+          ">tol " + countText(m.depthBeyondTolerance),
+          depthFiguresText(m)};
+}
+
+// The cells joined, each padded to its column's width, without trailing spaces.
+std::string joinedCells(const std::vector<std::string>& cells,
+                        const std::vector<std::size_t>& widths) {
+  std::string line;
+  for (std::size_t k = 0; k < cells.size(); ++k) {
+    if (k > 0) line += ' ';
+    line += cells[k];
+    if (k < widths.size() && cells[k].size() < widths[k]) {
+      line.append(widths[k] - cells[k].size(), ' ');
+    }
+  }
   while (!line.empty() && line.back() == ' ') line.pop_back();
   return line;
+}
+
+// The header and each run's line (in the order given), in columns sized to them.
+std::vector<std::string> summaryTable(const std::vector<const RunRecord*>& runs) {
+  std::vector<SummaryCells> rows;
+  rows.reserve(runs.size());
+  for (const RunRecord* run : runs) rows.push_back(summaryCells(*run));
+  std::vector<std::size_t> widths(kSummaryColumns, 0);
+  for (std::size_t k = 0; k < kWhichColumns; ++k) widths[k] = std::strlen(kSummaryHeader[k]);
+  for (const SummaryCells& row : rows) {
+    for (std::size_t k = 0; k < kSummaryColumns; ++k) {
+      widths[k] = std::max(widths[k], row[k].size());
+    }
+  }
+  std::vector<std::string> lines;
+  lines.push_back(
+      joinedCells(std::vector<std::string>(kSummaryHeader.begin(), kSummaryHeader.end()), widths));
+  for (const SummaryCells& row : rows) {
+    lines.push_back(joinedCells(std::vector<std::string>(row.begin(), row.end()), widths));
+  }
+  return lines;
+}
+
+// Which side hit what in each inconsistent run (in the order given): its worst pixel and its
+// largest clusters' pixels.
+std::string hitsSection(const std::vector<const RunRecord*>& runs) {
+  std::string out;
+  for (const RunRecord* run : runs) {
+    if (run->metrics.consistent() || (!run->worstPixel && run->clusterHits.empty())) continue;
+    if (out.empty()) {
+      out =
+          "which side hit what in the inconsistent runs (pixels in GL window coordinates, y up "
+          "from the bottom row):\n";
+    }
+    out += "  " + runTitleText(*run) + "\n";
+    out += runHitsText(*run, "    ");
+  }
+  return out;
 }
 
 std::string errnoText(int error) {
@@ -232,8 +321,62 @@ std::string errnoText(int error) {
 
 }  // namespace
 
+std::string SurfaceHit::name() const {
+  if (!hit()) return "nothing";
+  if (kind == "triangle") return "\"" + object + "\" triangle " + std::to_string(triangle);
+  if (!kind.empty() && kind != "unknown") return "\"" + object + "\" (" + kind + ")";
+  return "id " + std::to_string(id);
+}
+
+std::string SurfaceHit::text() const {
+  if (!hit() || std::isnan(depth)) return name();
+  return name() + " at depth " + sixDigits(depth);
+}
+
+std::string PixelHits::text() const {
+  std::string out =
+      std::string(pixelClassName(pixelClass)) + ": raster " + raster.text() + ", ray " + ray.text();
+  if (!std::isnan(toleranceRatio)) out += ", error/tolerance " + twoDigits(toleranceRatio);
+  return out;
+}
+
+std::string runTitleText(const RunRecord& run) {
+  return run.scene + "/" + run.camera + " " + run.convention.name() + " " +
+         depthFormatName(run.depthFormat) + " " + vertexModeName(run.vertexMode);
+}
+
+std::string runHitsText(const RunRecord& run, const std::string& indent) {
+  std::string out;
+  if (run.worstPixel) {
+    const PixelHits& p = *run.worstPixel;
+    out += indent + "worst pixel (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
+           "): " + p.text() + "\n";
+  }
+  for (std::size_t k = 0; k < run.clusterHits.size() && k < run.clusters.largest.size(); ++k) {
+    const MismatchCluster& c = run.clusters.largest[k];
+    out += indent + "cluster " + std::to_string(k + 1) + " (" + std::to_string(c.pixels) +
+           " px) at (" + std::to_string(c.x) + ", " + std::to_string(c.y) +
+           "): " + run.clusterHits[k].text() + "\n";
+  }
+  return out;
+}
+
+std::string depthFiguresText(const RunMetrics& m) {
+  if (m.depthCompared == 0) return "depth n/a (0 compared)";
+  return "tol " + twoDigits(m.toleranceRatio.max) + "/" + twoDigits(m.toleranceRatio.p99) +
+         " rel " + twoDigits(m.distanceRelError.p99);
+}
+
+std::vector<std::string> runSummaryLines(const std::vector<RunRecord>& runs) {
+  std::vector<const RunRecord*> shown;
+  for (const RunRecord& run : runs) shown.push_back(&run);
+  std::vector<std::string> lines = summaryTable(shown);
+  lines.erase(lines.begin());
+  return lines;
+}
+
 std::string runSummaryLine(const RunRecord& run) {
-  return summaryLine(run);
+  return summaryTable({&run}).back();
 }
 
 std::string shortNumber(double value) {
@@ -417,16 +560,19 @@ std::vector<std::size_t> worstFirst(const std::vector<RunRecord>& runs) {
 }
 
 std::string textSummary(const std::vector<RunRecord>& runs) {
-  const std::vector<std::size_t> order = worstFirst(runs);
-  std::string out;
-  if (!runs.empty()) out += kSummaryHeader;
+  std::vector<const RunRecord*> shown;
   std::size_t consistent = 0;
-  for (const std::size_t i : order) {
-    out += summaryLine(runs[i]) + "\n";
+  for (const std::size_t i : worstFirst(runs)) {
+    shown.push_back(&runs[i]);
     if (runs[i].metrics.consistent()) ++consistent;
+  }
+  std::string out;
+  if (!runs.empty()) {
+    for (const std::string& line : summaryTable(shown)) out += line + "\n";
   }
   out += std::to_string(runs.size()) + " runs: " + std::to_string(consistent) + " consistent, " +
          std::to_string(runs.size() - consistent) + " inconsistent\n";
+  out += hitsSection(shown);
   if (!runs.empty()) out += kSummaryLegend;
   return out;
 }

@@ -5,8 +5,10 @@
 // a failed reconcile leaves nothing half-written.
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -36,6 +38,33 @@ struct EncodedImage {
   std::string pngBytes;
 };
 
+// What one side of a run hit at a pixel: a triangle of a named object, an analytic primitive, or
+// nothing (named by the engine from the scene: engine/WorstPixels.hpp).
+struct SurfaceHit {
+  std::uint32_t id = 0;  // the primitive id in the frames; 0: nothing
+  std::string object;    // the object's or the analytic primitive's name
+  std::string kind;      // "triangle", or the primitive's kind ("sphere", ...); empty: nothing
+  std::int64_t triangle = -1;  // the triangle's index in its object; -1 for anything else
+  double depth = std::numeric_limits<double>::quiet_NaN();  // window depth; NaN: none
+  bool hit() const { return id != 0; }
+  // "\"floor\" triangle 12", "\"ball\" (sphere)", "nothing"; "id 7" for an id the scene lacks.
+  std::string name() const;
+  // The name and the depth: "\"floor\" triangle 12 at depth 0.499871".
+  std::string text() const;
+  friend bool operator==(const SurfaceHit&, const SurfaceHit&) = default;
+};
+
+// Both sides at one pixel of a run.
+struct PixelHits {
+  int x = 0, y = 0;  // GL window coordinates: y from the bottom row
+  PixelClass pixelClass = PixelClass::Background;
+  SurfaceHit raster, ray;
+  double toleranceRatio = std::numeric_limits<double>::quiet_NaN();  // NaN: not compared
+  // "coverage_unexplained: raster nothing, ray \"wall\" triangle 3 at depth 0.999981", and
+  // ", error/tolerance 3.2" where the depths were compared.
+  std::string text() const;
+};
+
 struct RunRecord {
   std::string scene;
   std::string camera;
@@ -63,6 +92,12 @@ struct RunRecord {
   // Where the app's render function drew with other state than the run says (its clip control,
   // depth range, depth test, face culling, depth clamp): one line each (engine/AppStateNotes).
   std::vector<std::string> notes;
+  // What each side hit at each of clusters.largest's pixels, in its order (or nothing, for a
+  // record made without the scene at hand).
+  std::vector<PixelHits> clusterHits;
+  // The run's worst pixel as both sides saw it (engine::worstPixels' order: unexplained first,
+  // then by error / tolerance); none where no pixel shows anything.
+  std::optional<PixelHits> worstPixel;
   // Filled by encodeRunImages (the four full-size PNGs), encodeThumbnails and encodeClusterCrops.
   std::vector<EncodedImage> images;
 };
@@ -109,10 +144,22 @@ nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl,
 // run order.
 std::vector<std::size_t> worstFirst(const std::vector<RunRecord>& runs);
 // A header, one line per run, the worst first (worstFirst), then a totals line and a legend of the
-// figures.
+// figures. Each column is as wide as its widest entry.
 std::string textSummary(const std::vector<RunRecord>& runs);
-// The run's line of textSummary, without its newline.
+// The runs' lines of a summary of them alone, in their order, in columns sized to them, without
+// newlines.
+std::vector<std::string> runSummaryLines(const std::vector<RunRecord>& runs);
+// The run's line of a summary of it alone.
 std::string runSummaryLine(const RunRecord& run);
+// "<scene>/<camera> <convention> <format> <vertex mode>": a run as messages name it.
+std::string runTitleText(const RunRecord& run);
+// Which side hit what at the run's worst pixel and at its clusters' pixels, one line each, each
+// line after `indent`: "worst pixel (12, 40): coverage_unexplained: raster nothing, ray ...".
+std::string runHitsText(const RunRecord& run, const std::string& indent);
+// The summary's depth figures of a run: "tol MAX/P99 rel P99" (error / predicted tolerance, and
+// distance error / eye distance), or "depth n/a (0 compared)" where no pixel showed the same
+// primitive on both sides.
+std::string depthFiguresText(const RunMetrics& metrics);
 // A figure as the summary line writes it: two significant digits, a short exponent ("2.1e-7",
 // "1.2e5"), "nan" and "inf" spelled out.
 std::string shortNumber(double value);

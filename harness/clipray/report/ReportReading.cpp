@@ -1,6 +1,7 @@
 #include "clipray/report/ReportReading.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <map>
@@ -17,6 +18,12 @@ namespace {
 
 using detail::json;
 using detail::Pointer;
+
+constexpr std::array<PixelClass, 8> kPixelClasses{
+    PixelClass::Background,           PixelClass::Agree,
+    PixelClass::DepthBeyondTolerance, PixelClass::CoverageEdgeAmbiguous,
+    PixelClass::CoverageUnexplained,  PixelClass::IdDepthAmbiguous,
+    PixelClass::IdEdgeAmbiguous,      PixelClass::IdUnexplained};
 
 // A report.json holds every run of a run's images beside it; PNGs are read back whole.
 constexpr std::uint64_t kMaxReportBytes = 1ull << 30;
@@ -98,6 +105,43 @@ class ReportReader {
       fail(at / key, "names " + relative + ", which is not in " + folder_.string());
     }
     run.images.push_back({relative, readInputFile(file.string(), kMaxImageBytes, "image")});
+  }
+
+  // What one side hit (hitJson): null for nothing.
+  SurfaceHit hit(const json& object, const Pointer& at, const char* key) const {
+    const json& value = field(object, at, key);
+    SurfaceHit out;
+    if (value.is_null()) return out;
+    const Pointer hAt = at / key;
+    const std::int64_t id = integer(value, hAt, "id");
+    if (id < 1 || id > std::numeric_limits<std::uint32_t>::max()) {
+      fail(hAt / "id", "expected a primitive id from 1, got " + std::to_string(id));
+    }
+    out.id = static_cast<std::uint32_t>(id);
+    out.object = text(value, hAt, "object");
+    out.kind = text(value, hAt, "kind");
+    out.triangle = field(value, hAt, "triangle").is_null() ? -1 : integer(value, hAt, "triangle");
+    out.depth = figure(value, hAt, "depth");
+    return out;
+  }
+
+  // A pixel's class, both sides' hits and the error / tolerance (addHitsJson).
+  PixelHits pixelHits(const json& object, const Pointer& at, int x, int y) const {
+    PixelHits out;
+    out.x = x;
+    out.y = y;
+    const std::string name = text(object, at, "class");
+    const auto known = std::find_if(kPixelClasses.begin(), kPixelClasses.end(),
+                                    [&](PixelClass c) { return name == pixelClassName(c); });
+    if (known == kPixelClasses.end()) {
+      fail(at / "class",
+           "expected a pixel class (e.g. coverage_unexplained), got \"" + name + "\"");
+    }
+    out.pixelClass = *known;
+    out.raster = hit(object, at, "raster");
+    out.ray = hit(object, at, "ray");
+    out.toleranceRatio = figure(object, at, "tolerance_ratio");
+    return out;
   }
 
   DepthMode convention(const json& object, const Pointer& at) const {
@@ -222,6 +266,19 @@ class ReportReader {
       cluster.maxY = static_cast<int>(integer(bounds, bAt, "y_max"));
       image(c, kAt, "crop", run);
       run.clusters.largest.push_back(cluster);
+      // Reports before which-side-hit-what have no hits.
+      if (c.contains("class")) run.clusterHits.push_back(pixelHits(c, kAt, cluster.x, cluster.y));
+    }
+    if (!run.clusterHits.empty() && run.clusterHits.size() != run.clusters.largest.size()) {
+      fail(at / "clusters", "expected what each side hit at every cluster's pixel or at none");
+    }
+    if (value.contains("worst_pixel") && !value["worst_pixel"].is_null()) {
+      const json& worst = value["worst_pixel"];
+      const Pointer wAt = at / "worst_pixel";
+      const json& pixel = field(worst, wAt, "pixel_gl");
+      run.worstPixel =
+          pixelHits(worst, wAt, static_cast<int>(integer(pixel, wAt / "pixel_gl", "x")),
+                    static_cast<int>(integer(pixel, wAt / "pixel_gl", "y")));
     }
     return run;
   }
@@ -269,8 +326,7 @@ class ReportReader {
 };
 
 std::string runKey(const RunRecord& run) {
-  return run.scene + "/" + run.camera + " " + run.convention.name() + " " +
-         depthFormatName(run.depthFormat) + " " + vertexModeName(run.vertexMode);
+  return runTitleText(run);
 }
 
 std::string reportFile(const ReadReport& report) {

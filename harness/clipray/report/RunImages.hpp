@@ -47,8 +47,8 @@ struct CropWindow {
 CropWindow clusterCropWindow(const MismatchCluster& cluster, Viewport viewport);
 
 // Appends thumb_mismatch.png (each thumbnail pixel the most severe class of its block of frame
-// pixels, so one unexplained pixel still shows) and thumb_heatmap.png (the block's largest ratio)
-// to run.images.
+// pixels, an unexplained block also painting the eight around it, so one unexplained pixel shows
+// as a dot) and thumb_heatmap.png (the block's largest ratio) to run.images.
 void encodeThumbnails(RunRecord& run, const PixelComparison& pixels);
 // Appends cluster1.png, cluster2.png, ... for run.clusters.largest to run.images: each cluster's
 // crop of the mismatch image, enlarged, its representative pixel outlined in white.
