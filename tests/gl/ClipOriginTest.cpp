@@ -11,20 +11,12 @@
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "support/GlFixture.hpp"
+#include "support/RunStates.hpp"
 
 namespace clipray {
 namespace {
 
 using testing::GlTest;
-
-DepthMode upperLeft(DepthMode mode) {
-  mode.origin = ClipOrigin::UpperLeft;
-  return mode;
-}
-
-const std::vector<DepthMode> kLowerLeftModes = {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed};
-const std::vector<DepthFormat> kFormats = {DepthFormat::Unorm16, DepthFormat::Unorm24,
-                                           DepthFormat::Float32};
 
 std::string runName(const RunRecord& run) {
   return run.scene + "/" + run.camera + " " + run.convention.name() + " " +
@@ -34,8 +26,8 @@ std::string runName(const RunRecord& run) {
 class ClipOriginRuns : public GlTest {};
 
 TEST(ClipOriginNames, ParseAndPrintWithTheUpperLeftSuffix) {
-  for (const DepthMode mode : kLowerLeftModes) {
-    const DepthMode upper = upperLeft(mode);
+  for (const DepthMode mode : testing::kLowerLeftModes) {
+    const DepthMode upper = testing::upperLeft(mode);
     EXPECT_EQ(upper.name(), mode.name() + "-upper-left");
     EXPECT_EQ(DepthMode::parse(upper.name()), upper);
     EXPECT_EQ(upper.lowerLeft(), mode);
@@ -48,9 +40,9 @@ TEST(ClipOriginNames, ParseAndPrintWithTheUpperLeftSuffix) {
 TEST(ClipOriginMatrices, TheUpperLeftProjectionIsTheLowerLeftOneWithYNegated) {
   const Scene scene = loadScene(testing::sourcePath("scenes/standard.json"));
   const Camera& camera = scene.cameras.at(0);
-  for (const DepthMode mode : kLowerLeftModes) {
+  for (const DepthMode mode : testing::kLowerLeftModes) {
     const glm::dmat4 lower = camera.clipFromWorld(mode, camera.viewport);
-    const glm::dmat4 upper = camera.clipFromWorld(upperLeft(mode), camera.viewport);
+    const glm::dmat4 upper = camera.clipFromWorld(testing::upperLeft(mode), camera.viewport);
     EXPECT_NE(upper, lower);
     // Bit for bit: the negation is exact.
     EXPECT_EQ(lowerLeftClipFromWorld(upper, ClipOrigin::UpperLeft), lower) << mode.name();
@@ -63,13 +55,13 @@ TEST_F(ClipOriginRuns, ABuiltProjectionDrawsTheSamePixelsUnderEitherOrigin) {
   for (const char* file : {"scenes/standard.json", "scenes/primitives.json"}) {
     const Scene scene = loadScene(testing::sourcePath(file));
     const Camera& camera = scene.cameras.at(0);
-    for (const DepthMode mode : kLowerLeftModes) {
+    for (const DepthMode mode : testing::kLowerLeftModes) {
       const engine::AnalyticPass lower =
           engine::runAnalyticPass(scene, camera, mode, camera.viewport);
       const engine::AnalyticPass upper =
-          engine::runAnalyticPass(scene, camera, upperLeft(mode), camera.viewport);
+          engine::runAnalyticPass(scene, camera, testing::upperLeft(mode), camera.viewport);
       EXPECT_EQ(upper.camera.clipFromWorld, lower.camera.clipFromWorld);
-      for (const DepthFormat format : kFormats) {
+      for (const DepthFormat format : testing::kDepthFormats) {
         const RasterFrame a =
             renderer().render(engine::renderRequest(lower, format, VertexMode::World));
         const RasterFrame b =
@@ -80,7 +72,7 @@ TEST_F(ClipOriginRuns, ABuiltProjectionDrawsTheSamePixelsUnderEitherOrigin) {
             engine::rasterAndCompare(renderer(), lower, format, VertexMode::World, false);
         const RunRecord runB =
             engine::rasterAndCompare(renderer(), upper, format, VertexMode::World, false);
-        EXPECT_EQ(runB.convention, upperLeft(mode));
+        EXPECT_EQ(runB.convention, testing::upperLeft(mode));
         EXPECT_EQ(runB.metrics.consistent(), runA.metrics.consistent()) << runName(runB);
         EXPECT_EQ(runB.metrics.rasterHits, runA.metrics.rasterHits) << runName(runB);
         EXPECT_EQ(runB.metrics.rayHits, runA.metrics.rayHits) << runName(runB);
@@ -99,10 +91,11 @@ TEST_F(ClipOriginRuns, ARawMatrixIsDrawnUpsideDownAndTheRaysFollowIt) {
   Camera& camera = scene.cameras.at(0);
   camera.rawClipFromWorld = camera.clipFromWorld(kZeroToOne, camera.viewport);
   const Viewport v = camera.viewport;
-  for (const DepthMode mode : kLowerLeftModes) {
+  for (const DepthMode mode : testing::kLowerLeftModes) {
     const engine::AnalyticPass lower = engine::runAnalyticPass(scene, camera, mode, v);
-    const engine::AnalyticPass upper = engine::runAnalyticPass(scene, camera, upperLeft(mode), v);
-    for (const DepthFormat format : kFormats) {
+    const engine::AnalyticPass upper =
+        engine::runAnalyticPass(scene, camera, testing::upperLeft(mode), v);
+    for (const DepthFormat format : testing::kDepthFormats) {
       const RunRecord run =
           engine::rasterAndCompare(renderer(), upper, format, VertexMode::World, false);
       EXPECT_TRUE(run.metrics.consistent()) << runName(run);

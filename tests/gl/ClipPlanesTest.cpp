@@ -11,20 +11,13 @@
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "support/GlFixture.hpp"
+#include "support/RunStates.hpp"
 
 namespace clipray {
 namespace {
 
 using testing::GlTest;
 
-DepthMode upperLeft(DepthMode mode) {
-  mode.origin = ClipOrigin::UpperLeft;
-  return mode;
-}
-
-const std::vector<DepthMode> kLowerLeftModes = {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed};
-const std::vector<DepthFormat> kFormats = {DepthFormat::Unorm16, DepthFormat::Unorm24,
-                                           DepthFormat::Float32};
 const std::vector<VertexMode> kVertexModes = {VertexMode::World, VertexMode::CameraRelative,
                                               VertexMode::Pretransformed};
 
@@ -43,11 +36,11 @@ class ClipPlanes : public GlTest {};
 TEST_F(ClipPlanes, RasterAndRaysAgreeAndEveryHitIsKept) {
   const Scene scene = clippedStandard();
   const Camera& camera = scene.cameras.at(0);
-  for (const DepthMode lowerMode : kLowerLeftModes) {
-    for (const DepthMode mode : {lowerMode, upperLeft(lowerMode)}) {
+  for (const DepthMode lowerMode : testing::kLowerLeftModes) {
+    for (const DepthMode mode : {lowerMode, testing::upperLeft(lowerMode)}) {
       const engine::AnalyticPass pass =
           engine::runAnalyticPass(scene, camera, mode, camera.viewport);
-      for (const DepthFormat format : kFormats) {
+      for (const DepthFormat format : testing::kDepthFormats) {
         for (const VertexMode vertexMode : kVertexModes) {
           const RunRecord run =
               engine::rasterAndCompare(renderer(), pass, format, vertexMode, false);

@@ -11,6 +11,7 @@
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "support/GlFixture.hpp"
+#include "support/RunStates.hpp"
 
 namespace clipray {
 namespace {
@@ -19,9 +20,6 @@ using testing::GlTest;
 
 class DepthRange : public GlTest {};
 
-const std::vector<DepthMode> kModes = {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed};
-const std::vector<DepthFormat> kFormats = {DepthFormat::Unorm16, DepthFormat::Unorm24,
-                                           DepthFormat::Float32};
 RasterFrame drawn(gl::Renderer& renderer, const engine::AnalyticPass& pass, DepthFormat format,
                   glm::dvec2 range) {
   gl::RenderRequest request = engine::renderRequest(pass, format, VertexMode::World);
@@ -43,10 +41,10 @@ TEST_F(DepthRange, EveryRangeAgreesWithTheRaysAndShowsTheSameSurfaces) {
       Scene scene = base;
       scene.depthRange = range;
       const Camera& camera = scene.cameras.at(0);
-      for (const DepthMode mode : kModes) {
+      for (const DepthMode mode : testing::kLowerLeftModes) {
         const engine::AnalyticPass pass =
             engine::runAnalyticPass(scene, camera, mode, camera.viewport);
-        for (const DepthFormat format : kFormats) {
+        for (const DepthFormat format : testing::kDepthFormats) {
           const RunRecord run =
               engine::rasterAndCompare(renderer(), pass, format, VertexMode::World, false);
           EXPECT_TRUE(run.metrics.consistent()) << runName(run, range);

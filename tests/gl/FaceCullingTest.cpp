@@ -12,20 +12,12 @@
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "support/GlFixture.hpp"
+#include "support/RunStates.hpp"
 
 namespace clipray {
 namespace {
 
 using testing::GlTest;
-
-DepthMode upperLeft(DepthMode mode) {
-  mode.origin = ClipOrigin::UpperLeft;
-  return mode;
-}
-
-const std::vector<DepthMode> kLowerLeftModes = {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed};
-const std::vector<DepthFormat> kFormats = {DepthFormat::Unorm16, DepthFormat::Unorm24,
-                                           DepthFormat::Float32};
 
 // scenes/standard.json (a ground quad, a box and a tetrahedron, wound counter-clockwise seen from
 // outside) with a mirror image of the box: reflected through the plane x = -1.5 and lifted off
@@ -69,8 +61,8 @@ TEST_F(FaceCulling, TheRaysCullWhatThePictureCulls) {
       const Scene scene = standardWithMirroredBox(cull, frontFace);
       const Camera& camera = scene.cameras.at(0);
       const glm::dvec3 eye(glm::inverse(camera.viewFromWorld)[3]);
-      for (const DepthMode lowerMode : kLowerLeftModes) {
-        for (const DepthMode mode : {lowerMode, upperLeft(lowerMode)}) {
+      for (const DepthMode lowerMode : testing::kLowerLeftModes) {
+        for (const DepthMode mode : {lowerMode, testing::upperLeft(lowerMode)}) {
           const engine::AnalyticPass pass =
               engine::runAnalyticPass(scene, camera, mode, camera.viewport);
           const SceneIntersector& intersector = *pass.intersector;
@@ -80,7 +72,7 @@ TEST_F(FaceCulling, TheRaysCullWhatThePictureCulls) {
           const bool flipped = mode.origin == ClipOrigin::UpperLeft;
           const bool ccwIsFront = (frontFace == FrontFace::Ccw) != flipped;
           const bool keepsFront = cull == CullFace::Back;
-          for (const DepthFormat format : kFormats) {
+          for (const DepthFormat format : testing::kDepthFormats) {
             const RasterFrame raster =
                 renderer().render(engine::renderRequest(pass, format, VertexMode::World));
             const RunRecord run =
@@ -117,18 +109,18 @@ TEST_F(FaceCulling, AnUpperLeftProjectionFlipsTheWindingAsAYFlipDoes) {
   const Scene backCw = standardWithMirroredBox(CullFace::Back, FrontFace::Cw);
   const Camera& camera = backCcw.cameras.at(0);
   const Viewport viewport = camera.viewport;
-  for (const DepthMode mode : kLowerLeftModes) {
+  for (const DepthMode mode : testing::kLowerLeftModes) {
     const engine::AnalyticPass upperBackCcw =
-        engine::runAnalyticPass(backCcw, camera, upperLeft(mode), viewport);
+        engine::runAnalyticPass(backCcw, camera, testing::upperLeft(mode), viewport);
     const engine::AnalyticPass lowerFrontCcw =
         engine::runAnalyticPass(frontCcw, camera, mode, viewport);
     const engine::AnalyticPass upperBackCw =
-        engine::runAnalyticPass(backCw, camera, upperLeft(mode), viewport);
+        engine::runAnalyticPass(backCw, camera, testing::upperLeft(mode), viewport);
     const engine::AnalyticPass lowerBackCcw =
         engine::runAnalyticPass(backCcw, camera, mode, viewport);
     EXPECT_EQ(upperBackCcw.intersector->culledCount(), lowerFrontCcw.intersector->culledCount());
     EXPECT_EQ(upperBackCw.intersector->culledCount(), lowerBackCcw.intersector->culledCount());
-    for (const DepthFormat format : kFormats) {
+    for (const DepthFormat format : testing::kDepthFormats) {
       const auto draw = [&](const engine::AnalyticPass& pass) {
         return renderer().render(engine::renderRequest(pass, format, VertexMode::World));
       };
@@ -156,7 +148,7 @@ TEST_F(FaceCulling, AMirroredObjectShowsItsInside) {
   const PrimitiveIdTable ids(culled);
   const int box = 1;
   const int mirrored = 3;
-  for (const DepthMode mode : kLowerLeftModes) {
+  for (const DepthMode mode : testing::kLowerLeftModes) {
     const engine::AnalyticPass a = engine::runAnalyticPass(culled, camera, mode, camera.viewport);
     const engine::AnalyticPass b = engine::runAnalyticPass(whole, camera, mode, camera.viewport);
     int mirroredPixels = 0;
