@@ -131,6 +131,11 @@ CommandRunner addCheckOptions(CLI::App& app) {
   app.add_option("--near", options->fields.nearPlane,
                  "The near plane the app meant: settles a matrix that reads as NO or ZO");
   app.add_option("--far", options->fields.farPlane, "The far plane the app meant (checked)");
+  app.add_option("--cull", options->fields.cull,
+                 "Face culling the app draws with: none, back or front (glCullFace with "
+                 "GL_CULL_FACE enabled): checked against the winding the matrix puts on screen");
+  app.add_option("--front-face", options->fields.frontFace,
+                 "With --cull: the app's glFrontFace, ccw (default) or cw");
   app.add_option("--trace", options->trace,
                  "An apitrace trace of the app (apitrace trace --api egl|glx APP): check every "
                  "projection it draws with under the depth state traced at each draw");
@@ -145,7 +150,7 @@ CommandRunner addCheckOptions(CLI::App& app) {
     for (const char* name :
          {"--clip-from-world", "--projection", "--view", "--layout", "--declared-depth",
           "--reversed", "--depth-range", "--origin", "--viewport", "--depth-bits", "--scene-extent",
-          "--precision", "--near", "--far"}) {
+          "--precision", "--near", "--far", "--cull", "--front-face"}) {
       options->optionsGiven += app.count(name);
     }
     return runCheck(*options);

@@ -305,5 +305,40 @@ TEST(CheckFixText, InfiniteFarWarningAgreesWithTheRayTable) {
   }
 }
 
+// --cull and --front-face: a Vulkan-style y-flipped glm camera keeps the insides with the default
+// GL_CCW and is right with GL_CW; the same camera unflipped is right with GL_CCW; --front-face
+// without --cull is refused.
+TEST(CheckFixText, FaceCullingThroughAYFlippedProjection) {
+  e::Mat4 flipped = e::glmx::perspectiveRH_ZO<float>(kFov, 16.0f / 9.0f, 0.1f, 100.0f);
+  flipped[5] = -flipped[5];  // Vulkan's y points down: proj[1][1] *= -1
+  CheckFields fields;
+  fields.clipFromWorld = listed(glmCamera(flipped));
+  fields.declaredDepth = "zo";
+  fields.cull = "BACK";  // any case, as every name the check takes
+  const CheckReport wrong = checkFields(fields);
+  const Finding* finding = findingOf(wrong, "face-culling-keeps-insides");
+  ASSERT_NE(finding, nullptr);
+  EXPECT_EQ(finding->severity, "warning");
+  EXPECT_EQ(finding->message.substr(0, 121),
+            "face culling (glCullFace(GL_BACK) at --cull, glFrontFace(GL_CCW) at GL's default) "
+            "keeps the triangles that wind clockwise");
+  EXPECT_EQ(finding->fix.substr(0, 18), "glFrontFace(GL_CW)");
+  fields.frontFace = "cw";
+  EXPECT_EQ(findingOf(checkFields(fields), "face-culling-keeps-insides"), nullptr);
+  fields.clipFromWorld =
+      listed(glmCamera(e::glmx::perspectiveRH_ZO<float>(kFov, 16.0f / 9.0f, 0.1f, 100.0f)));
+  fields.frontFace = "ccw";
+  EXPECT_EQ(findingOf(checkFields(fields), "face-culling-keeps-insides"), nullptr);
+  fields.cull.clear();
+  try {
+    checkFields(fields);
+    FAIL() << "no error";
+  } catch (const InputError& error) {
+    EXPECT_EQ(std::string(error.what()),
+              "--front-face needs --cull (back or front): without culling the front face changes "
+              "nothing a depth check sees");
+  }
+}
+
 }  // namespace
 }  // namespace clipray

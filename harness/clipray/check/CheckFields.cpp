@@ -87,6 +87,10 @@ CheckFields parseCheckFile(const std::string& text, const std::string& file) {
       fields.depthBits = value.get<std::string>();
     else if (key == "depthBits" && value.is_number_integer())  // 16 or 24 as a number
       fields.depthBits = value.dump();
+    else if (key == "cull" && value.is_string())
+      fields.cull = value.get<std::string>();
+    else if (key == "frontFace" && value.is_string())
+      fields.frontFace = value.get<std::string>();
     else if (key == "reversed" && value.is_boolean())
       fields.reversed = value.get<bool>();
     else if (key == "comment")
@@ -96,8 +100,8 @@ CheckFields parseCheckFile(const std::string& text, const std::string& file) {
           file, "/" + key,
           "unknown key or wrong type (" + detail::describe(value) +
               "); valid keys: clipFromWorld, projection, view, layout, declaredDepth, reversed, "
-              "depthRange, origin, viewport, depthBits, sceneExtent, precision, near, far, "
-              "comment");
+              "depthRange, origin, viewport, depthBits, sceneExtent, precision, near, far, cull, "
+              "frontFace, comment");
     }
   }
   return fields;
@@ -153,6 +157,19 @@ CheckInput checkInputFrom(const CheckFields& fields, const std::string& where) {
                            "upper-left"
                        ? WindowOrigin::UpperLeft
                        : WindowOrigin::LowerLeft;
+  }
+  if (!fields.cull.empty()) {
+    input.cull =
+        parseCullFace(requireOneOf(fields.cull, where + "--cull", {"none", "back", "front"}));
+  }
+  if (!fields.frontFace.empty()) {
+    if (fields.cull.empty()) {
+      throw InputError(where +
+                       "--front-face needs --cull (back or front): without culling the "
+                       "front face changes nothing a depth check sees");
+    }
+    input.frontFace =
+        *parseFrontFace(requireOneOf(fields.frontFace, where + "--front-face", {"ccw", "cw"}));
   }
   input.viewport = parseViewportOption(fields.viewport, where + "--viewport");
   input.depthFormat = *parseDepthFormat(

@@ -21,6 +21,8 @@ struct CheckFields {
   std::string sceneExtent;       // "minx miny minz maxx maxy maxz"
   std::string precision;         // float, double
   std::string nearPlane, farPlane;
+  std::string cull;       // none, back, front (glCullFace with GL_CULL_FACE enabled)
+  std::string frontFace;  // ccw, cw (glFrontFace)
 };
 
 // A check file's JSON text; `file` names it in messages. Unknown keys and wrong types are refused.

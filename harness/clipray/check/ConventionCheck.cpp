@@ -1,5 +1,7 @@
 #include "clipray/check/ConventionCheck.hpp"
+
 #include "clipray/check/CheckText.hpp"
+#include "clipray/check/FacingCheck.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -712,6 +714,16 @@ CheckReport checkConventions(const CheckInput& input) {
   infiniteFarFinding(p, report.methods, report.findings);
   floatPrecisionFinding(p, report.methods, report.findings);
   depthPrecisionFinding(input, p, report.findings);
+  if (input.cull) {
+    CullingState culling;
+    culling.cull = *input.cull;
+    culling.frontFace = input.frontFace.value_or(FrontFace::Ccw);
+    culling.cullSetAt = "--cull";
+    culling.frontFaceSetAt = input.frontFace ? "--front-face" : "GL's default";
+    if (auto finding = faceCullingFinding(input.clipFromWorld, culling)) {
+      report.findings.push_back(std::move(*finding));
+    }
+  }
   return report;
 }
 

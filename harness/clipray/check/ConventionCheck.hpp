@@ -36,6 +36,10 @@ struct CheckInput {
   std::optional<EntryPrecision::Arithmetic> precision;
   // The near and far planes the app meant (--near, --far): settle NO against ZO.
   std::optional<double> statedNear, statedFar;
+  // Face culling the app draws with (--cull, --front-face): checked against the winding the
+  // matrix puts on screen (FacingCheck.hpp); unset: not checked.
+  std::optional<CullFace> cull;
+  std::optional<FrontFace> frontFace;  // unset: GL's default, GL_CCW
   bool predictMethods = true;  // the ray-method table (the slow part: __float128 references)
 };
 
