@@ -61,7 +61,7 @@ struct Row {
 };
 
 template <typename T>
-double timeGenerator(const RayGenerator<T>& generator) {
+double timeGenerator(const RayGenerator<T>& generator, double budgetSeconds) {
   // Row by row into one cache-resident row buffer, as a tracer consuming the rays would.
   const Viewport v = generator.viewport();
   RayBuffer<T> buffer(static_cast<std::size_t>(v.width));
@@ -69,7 +69,7 @@ double timeGenerator(const RayGenerator<T>& generator) {
   using Clock = std::chrono::steady_clock;
   double best = std::numeric_limits<double>::infinity();
   double spent = 0.0;
-  for (int repeat = 0; repeat < 50 && (repeat < 3 || spent < 0.15); ++repeat) {
+  for (int repeat = 0; repeat < 50 && (repeat < 3 || spent < budgetSeconds); ++repeat) {
     const auto start = Clock::now();
     for (int j = 0; j < v.height; ++j) generator.generateRow(j, span);
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -85,6 +85,9 @@ double timeGenerator(const RayGenerator<T>& generator) {
 struct CaseJob {
   HardCase hardCase;
   std::vector<RayMethod> methods;
+  // Seconds of repeated passes per method and precision (best pass kept): the quick default's
+  // 36 cases x 16 timings would spend most of their minute here at the full sweep's budget.
+  double timingBudgetSeconds = 0.15;
 };
 
 // Measures one case: timings (single thread, nothing else running), then errors on all cores.
@@ -109,7 +112,8 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
       row.precision = precisionName(precision);
       row.fovYDegrees = c.fovYDegrees;
       row.parallel = parallel;
-      row.nsPerRay = precision == Precision::Float ? timeGenerator(*f) : timeGenerator(*d);
+      row.nsPerRay = precision == Precision::Float ? timeGenerator(*f, job.timingBudgetSeconds)
+                                                   : timeGenerator(*d, job.timingBudgetSeconds);
       rows.push_back(row);
     }
     floats.push_back(std::move(f));
@@ -422,7 +426,9 @@ int runBench(const BenchOptions& options) {
                 << " (" << size.width << "x" << size.height << ")\n"
                 << std::flush;
     }
-    std::vector<Row> caseRows = measureCase({cases[k], methods}, progress, tag);
+    const bool quick = !options.full && options.size.empty();
+    std::vector<Row> caseRows =
+        measureCase({cases[k], methods, quick ? 0.02 : 0.15}, progress, tag);
     rows.insert(rows.end(), caseRows.begin(), caseRows.end());
   }
   if (progress) std::cerr << "\x1b[K" << std::flush;

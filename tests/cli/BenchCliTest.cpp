@@ -55,8 +55,15 @@ TEST(BenchCli, WritesTableJsonAndSvg) {
       }
       // The origin's floors: a float origin near the origin of the world is far inside a pixel.
       EXPECT_GT(row["floor_output_origin_px"].get<double>(), 0.0) << row.dump();
-      EXPECT_LT(row["floor_output_origin_px"].get<double>(), 1e-3) << row.dump();
-      if (row["precision"] == "double") EXPECT_EQ(row["floor_origin_px"], 0.0) << row.dump();
+      EXPECT_LT(row["floor_output_origin_px"].get<double>(), 0.05) << row.dump();
+      // robust's origin is within a few times what storing the exact origin costs (about 3x at
+      // eye_1e7, where that is tens of pixels): not at the origin floor, as its angle is.
+      const double originFloor = std::max(row["floor_origin_px"].get<double>(),
+                                          row["floor_output_origin_px"].get<double>());
+      EXPECT_LE(row["origin_lateral_err_px"]["max"].get<double>(), 4.0 * originFloor) << row.dump();
+      if (row["precision"] == "double") {
+        EXPECT_EQ(row["floor_origin_px"], 0.0) << row.dump();
+      }
     }
     if (row["method"] == "full" && row["case"] == "infinite_far_eye_mmm") {
       EXPECT_EQ(row["backward"], 32 * 18);
