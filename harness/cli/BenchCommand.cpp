@@ -305,8 +305,7 @@ std::string plotSvg(const std::vector<Row>& rows, Viewport size) {
                    {"double", "#d62728", MarkerShape::Square}};
   figure.yLines = {{1.0, "1 px"}, {0.01, "0.01 px"}};
   figure.overview.title = "All cases: median ns per ray, worst error over the cases";
-  figure.keyTitle =
-      "Key: method precision, median ns/ray, worst px (as measured; plotted >= 1e-12)";
+  figure.keyTitle = "Key: method precision, median ns/ray, worst px (measured)";
   for (const std::string& name : order) {
     Summary& s = byName[name];
     std::sort(s.ns.begin(), s.ns.end());
