@@ -31,10 +31,16 @@ namespace clipray::cli {
 
 namespace {
 
+// The default grid finishes every case in well under a minute; --full measures at 1920x1080
+// (about 9 times the pixels, minutes).
+constexpr const char* kQuickSize = "640x360";
+constexpr const char* kFullSize = "1920x1080";
+
 struct BenchOptions {
   std::string cases;
   std::string methods;
-  std::string size = "1920x1080";
+  std::string size;  // empty: kQuickSize, or kFullSize with --full
+  bool full = false;
   std::string clipFromWorld;
   std::string layout = "column-major";
   std::string convention;
@@ -48,12 +54,14 @@ struct Row {
   MethodErrors errors;
   double floorAnglePx = 0.0;        // what the matrix stored in float costs
   double outputFloorAnglePx = 0.0;  // what storing the exact ray in this precision costs
+  double floorOriginPx = 0.0;       // the same two for the origin (lateral, near-plane pixels)
+  double outputFloorOriginPx = 0.0;
   std::optional<double> fovYDegrees;
   bool parallel = false;
 };
 
 template <typename T>
-double timeGenerator(const RayGenerator<T>& generator) {
+double timeGenerator(const RayGenerator<T>& generator, double budgetSeconds) {
   // Row by row into one cache-resident row buffer, as a tracer consuming the rays would.
   const Viewport v = generator.viewport();
   RayBuffer<T> buffer(static_cast<std::size_t>(v.width));
@@ -61,7 +69,7 @@ double timeGenerator(const RayGenerator<T>& generator) {
   using Clock = std::chrono::steady_clock;
   double best = std::numeric_limits<double>::infinity();
   double spent = 0.0;
-  for (int repeat = 0; repeat < 50 && (repeat < 3 || spent < 0.15); ++repeat) {
+  for (int repeat = 0; repeat < 50 && (repeat < 3 || spent < budgetSeconds); ++repeat) {
     const auto start = Clock::now();
     for (int j = 0; j < v.height; ++j) generator.generateRow(j, span);
     const double seconds = std::chrono::duration<double>(Clock::now() - start).count();
@@ -77,6 +85,9 @@ double timeGenerator(const RayGenerator<T>& generator) {
 struct CaseJob {
   HardCase hardCase;
   std::vector<RayMethod> methods;
+  // Seconds of repeated passes per method and precision (best pass kept): the quick default's
+  // 36 cases x 16 timings would spend most of their minute here at the full sweep's budget.
+  double timingBudgetSeconds = 0.15;
 };
 
 // Measures one case: timings (single thread, nothing else running), then errors on all cores.
@@ -101,7 +112,8 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
       row.precision = precisionName(precision);
       row.fovYDegrees = c.fovYDegrees;
       row.parallel = parallel;
-      row.nsPerRay = precision == Precision::Float ? timeGenerator(*f) : timeGenerator(*d);
+      row.nsPerRay = precision == Precision::Float ? timeGenerator(*f, job.timingBudgetSeconds)
+                                                   : timeGenerator(*d, job.timingBudgetSeconds);
       rows.push_back(row);
     }
     floats.push_back(std::move(f));
@@ -123,6 +135,8 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
     std::vector<ErrorAccumulator> floatErrors, doubleErrors;
     double floorMax = 0.0;
     double outputFloorFloat = 0.0, outputFloorDouble = 0.0;
+    double originFloorMax = 0.0;
+    double outputOriginFloorFloat = 0.0, outputOriginFloorDouble = 0.0;
   };
   std::vector<Partial> partials(threads);
   auto work = [&](unsigned t) {
@@ -143,6 +157,12 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
           std::max(partial.outputFloorFloat, outputFloorAngleRowMax<float>(floatRow));
       partial.outputFloorDouble =
           std::max(partial.outputFloorDouble, outputFloorAngleRowMax<double>(doubleRow));
+      partial.originFloorMax =
+          std::max(partial.originFloorMax, floorOriginRowMax(floatRow, doubleRow));
+      partial.outputOriginFloorFloat =
+          std::max(partial.outputOriginFloorFloat, outputFloorOriginRowMax<float>(floatRow));
+      partial.outputOriginFloorDouble =
+          std::max(partial.outputOriginFloorDouble, outputFloorOriginRowMax<double>(doubleRow));
       for (std::size_t m = 0; m < floats.size(); ++m) {
         floats[m]->generateRow(j, floatRays.span(0, v.width));
         partial.floatErrors[m].addRow(floatRow, floatRays.span(0, v.width));
@@ -156,10 +176,14 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
   work(0);
   for (std::thread& thread : pool) thread.join();
   double floorMax = 0.0, outputFloorFloat = 0.0, outputFloorDouble = 0.0;
+  double originFloorMax = 0.0, outputOriginFloorFloat = 0.0, outputOriginFloorDouble = 0.0;
   for (const Partial& p : partials) {
     floorMax = std::max(floorMax, p.floorMax);
     outputFloorFloat = std::max(outputFloorFloat, p.outputFloorFloat);
     outputFloorDouble = std::max(outputFloorDouble, p.outputFloorDouble);
+    originFloorMax = std::max(originFloorMax, p.originFloorMax);
+    outputOriginFloorFloat = std::max(outputOriginFloorFloat, p.outputOriginFloorFloat);
+    outputOriginFloorDouble = std::max(outputOriginFloorDouble, p.outputOriginFloorDouble);
   }
   for (std::size_t m = 0; m < floats.size(); ++m) {
     ErrorAccumulator f = partials[0].floatErrors[m], d = partials[0].doubleErrors[m];
@@ -173,6 +197,10 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
     rows[2 * m + 1].outputFloorAnglePx = outputFloorDouble;
     rows[2 * m + 1].errors = d.result();
     rows[2 * m + 1].floorAnglePx = 0.0;  // the double entries are the camera: nothing is lost
+    rows[2 * m].floorOriginPx = originFloorMax;
+    rows[2 * m].outputFloorOriginPx = outputOriginFloorFloat;
+    rows[2 * m + 1].floorOriginPx = 0.0;
+    rows[2 * m + 1].outputFloorOriginPx = outputOriginFloorDouble;
   }
   return rows;
 }
@@ -208,7 +236,7 @@ std::string table(const std::vector<Row>& rows) {
       << std::setw(10) << "ang max" << std::setw(10) << "ang p50" << std::setw(10) << "org max"
       << std::setw(10) << "org p50" << std::setw(10) << "tmax rel" << std::setw(9) << "nonfin"
       << std::setw(9) << "backw" << std::setw(10) << "floor" << std::setw(10) << "out floor"
-      << std::setw(9) << "no ray"
+      << std::setw(10) << "org floor" << std::setw(10) << "org out" << std::setw(9) << "no ray"
       << "\n";
   for (const Row& r : rows) {
     std::ostringstream ns;
@@ -220,7 +248,8 @@ std::string table(const std::vector<Row>& rows) {
         << std::setw(10) << cell(r.errors.originLateralPx.p50) << std::setw(10)
         << cell(r.errors.tMaxRelativeMax) << std::setw(9) << r.errors.nonfinite << std::setw(9)
         << r.errors.backward << std::setw(10) << cell(r.floorAnglePx) << std::setw(10)
-        << cell(r.outputFloorAnglePx) << std::setw(9) << r.errors.noRay << "\n";
+        << cell(r.outputFloorAnglePx) << std::setw(10) << cell(r.floorOriginPx) << std::setw(10)
+        << cell(r.outputFloorOriginPx) << std::setw(9) << r.errors.noRay << "\n";
   }
   return out.str();
 }
@@ -232,7 +261,8 @@ std::string plotSvg(const std::vector<Row>& rows, Viewport size) {
     int key = 0;
     std::size_t series = 0;
     std::vector<double> ns;
-    double worst = 0.0;
+    double worst = 0.0;      // as plotted: clamped to 1e-12 px, the log axis' floor
+    double trueWorst = 0.0;  // as measured, for the key
     bool nonfinite = false;
   };
   const auto angleOf = [](const Row& r) {
@@ -255,7 +285,10 @@ std::string plotSvg(const std::vector<Row>& rows, Viewport size) {
     s.ns.push_back(r.nsPerRay);
     const double angle = angleOf(r);
     if (std::isinf(angle)) s.nonfinite = true;
-    if (std::isfinite(angle)) s.worst = std::max(s.worst, angle);
+    if (std::isfinite(angle)) {
+      s.worst = std::max(s.worst, angle);
+      s.trueWorst = std::max(s.trueWorst, r.errors.anglePx.max);
+    }
     const std::string caseName = r.caseName + " (" + r.convention + ")";
     if (!byCase.count(caseName)) {
       caseOrder.push_back(caseName);
@@ -272,7 +305,7 @@ std::string plotSvg(const std::vector<Row>& rows, Viewport size) {
                    {"double", "#d62728", MarkerShape::Square}};
   figure.yLines = {{1.0, "1 px"}, {0.01, "0.01 px"}};
   figure.overview.title = "All cases: median ns per ray, worst error over the cases";
-  figure.keyTitle = "Key: method precision, median ns/ray, worst px";
+  figure.keyTitle = "Key: method precision, median ns/ray, worst px (measured)";
   for (const std::string& name : order) {
     Summary& s = byName[name];
     std::sort(s.ns.begin(), s.ns.end());
@@ -282,7 +315,7 @@ std::string plotSvg(const std::vector<Row>& rows, Viewport size) {
     std::ostringstream text;
     text << std::left << std::setw(22) << name << std::right << std::setw(9) << std::setprecision(3)
          << median << " ns " << std::setw(9)
-         << (s.nonfinite ? std::string("non-finite rays") : cell(s.worst) + " px");
+         << (s.nonfinite ? std::string("non-finite rays") : cell(s.trueWorst) + " px");
     figure.key.push_back({s.key, s.series, text.str()});
   }
   for (const std::string& caseName : caseOrder) figure.perCase.push_back(byCase[caseName]);
@@ -294,7 +327,13 @@ int runBench(const BenchOptions& options) {
   // Each case's errors are measured against a __float128 reference at every pixel: 8K (about
   // 33 Mpx) already takes minutes per case on one core; beyond it only the wait grows.
   constexpr int kMaxBenchDimension = 7680;
-  const Viewport size = parseViewportOption(options.size, "--size", kMaxBenchDimension);
+  if (options.full && !options.size.empty()) {
+    throw InputError("--full and --size exclude each other (--full is --size " +
+                     std::string(kFullSize) + ")");
+  }
+  const Viewport size = parseViewportOption(
+      options.size.empty() ? (options.full ? kFullSize : kQuickSize) : options.size, "--size",
+      kMaxBenchDimension);
   std::vector<std::string> methodNames;
   for (const RayMethod m : kRayMethods) methodNames.push_back(rayMethodName(m));
   std::vector<RayMethod> methods;
@@ -376,12 +415,19 @@ int runBench(const BenchOptions& options) {
       throw InputError(option + ": " + path + " is a folder");
   }
   // 2. The measurements: a progress line on stderr while the reference runs (when a person
-  //    watches stderr).
+  //    watches stderr), else one line per case as it starts (a log or a pipe).
   const bool progress = isatty(STDERR_FILENO) != 0;
   std::vector<Row> rows;
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const std::string tag = "[" + std::to_string(k + 1) + "/" + std::to_string(cases.size()) + "]";
-    std::vector<Row> caseRows = measureCase({cases[k], methods}, progress, tag);
+    if (!progress) {
+      std::cerr << "clipray bench: " << tag << " " << cases[k].name << " " << cases[k].convention()
+                << " (" << size.width << "x" << size.height << ")\n"
+                << std::flush;
+    }
+    const bool quick = !options.full && options.size.empty();
+    std::vector<Row> caseRows =
+        measureCase({cases[k], methods, quick ? 0.02 : 0.15}, progress, tag);
     rows.insert(rows.end(), caseRows.begin(), caseRows.end());
   }
   if (progress) std::cerr << "\x1b[K" << std::flush;
@@ -389,9 +435,14 @@ int runBench(const BenchOptions& options) {
   // 3. Outputs.
   std::cout << "clipray bench: " << cpuName() << ", batch code path " << batchCodePath()
             << ", one core for timings\n";
+  std::cout << "size " << size.width << "x" << size.height
+            << (options.full || !options.size.empty() ? ""
+                                                      : " (the quick default; --full: 1920x1080)")
+            << "\n";
   std::cout << "errors in pixels (angle: pixel angles; org: lateral origin error in near-plane "
                "pixel footprints); floor: what the float matrix costs; out floor: what storing the "
-               "exact ray's direction in the row's precision costs; no ray: pixels whose line of "
+               "exact ray's direction in the row's precision costs; org floor, org out: the same "
+               "two for the origin; no ray: pixels whose line of "
                "sight never crosses the near plane in front of the eye (an oblique near plane's "
                "horizon in view), measured no further\n";
   std::cout << table(rows);
@@ -418,6 +469,8 @@ int runBench(const BenchOptions& options) {
           {"backward", r.errors.backward},
           {"floor_angle_px", number(r.floorAnglePx)},
           {"floor_output_angle_px", number(r.outputFloorAnglePx)},
+          {"floor_origin_px", number(r.floorOriginPx)},
+          {"floor_output_origin_px", number(r.outputFloorOriginPx)},
           {"no_ray", r.errors.noRay},
           {"no_ray_disagree", r.errors.noRayDisagree},
       });
@@ -440,7 +493,11 @@ CommandRunner addBenchOptions(CLI::App& app) {
   app.add_option("--methods", options->methods,
                  "Comma-separated methods (default: all): unproject_glm, two_point, inverse_pv, "
                  "fov_tangent, plane_cross, plane_cross_pre, full, robust");
-  app.add_option("--size", options->size, "WxH of the pixel grid")->capture_default_str();
+  app.add_option("--size", options->size,
+                 "WxH of the pixel grid (default: " + std::string(kQuickSize) + ")");
+  app.add_flag("--full", options->full,
+               "The full sweep at " + std::string(kFullSize) + " (minutes; same as --size " +
+                   kFullSize + ")");
   app.add_option("--clip-from-world", options->clipFromWorld,
                  "Bench your own matrix: \"16 numbers\" (with --convention)");
   app.add_option("--layout", options->layout, "Order of the 16 numbers: column-major, row-major")

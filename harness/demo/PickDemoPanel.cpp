@@ -67,7 +67,10 @@ void PickDemo::drawPanel() {
     const PickResult& p = *lastPick_;
     const PickJudgement judgement = judgePick(p, shownScene_);
     if (!compactPanel_) {
-      ImGui::Text("pixel (%d, %d)", p.pixel.x, p.pixel.y);
+      // The framebuffer pixel, as GL numbers it; the script's and the cursor's coordinates are
+      // the window's (top-left origin, y down), so a click at y = 300 picks row 339 of 640.
+      ImGui::Text("pixel (%d, %d)   framebuffer, GL: origin lower left, y up", p.pixel.x,
+                  p.pixel.y);
       if (p.rayUnavailable.empty()) {
         ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s",
                            objectName(shownScene_, p.rayObject).c_str(),

@@ -275,9 +275,13 @@ nlohmann::json pickJson(const PickResult& result, const Scene& scene, bool telep
   line["gap_world"] = optionalJson(result.gapWorld);
   line["gap_px"] = optionalJson(result.gapPixels);
   line["ray_offset_px"] = optionalJson(result.rayOffsetPixels);
+  const PickVerdict verdict = judgePick(result, scene).verdict;
   if (result.rayUnavailable.empty()) {
-    line["agree"] = result.agree();
+    // "agree" is the verdict's word: the same object is not enough where the hit lands apart.
+    line["same_object"] = result.agree();
+    line["agree"] = verdict == PickVerdict::Agree;
   } else {
+    line["same_object"] = nullptr;
     line["agree"] = nullptr;
   }
   if (result.reconcileClass) {
@@ -285,7 +289,7 @@ nlohmann::json pickJson(const PickResult& result, const Scene& scene, bool telep
   } else {
     line["reconcile_class"] = nullptr;
   }
-  line["verdict"] = pickVerdictName(judgePick(result, scene).verdict);
+  line["verdict"] = pickVerdictName(verdict);
   return line;
 }
 

@@ -126,9 +126,11 @@ std::optional<glm::dvec2> framebufferFromWorld(const glm::dmat4& clipFromWorld, 
                                                const glm::dvec3& world);
 
 // {pixel, framebuffer, method, precision, convention, depth_format, teleported, ray:{object,
-// point}, depth:{point, window_depth}, id:{object}, gap_world, gap_px, ray_offset_px, agree,
-// reconcile_class, verdict}; absent values are null; "ray" (and "agree") are null where the method
-// could not run. "agree" compares objects only; "verdict" is pickVerdictName(judgePick(...)).
+// point}, depth:{point, window_depth}, id:{object}, gap_world, gap_px, ray_offset_px,
+// same_object, agree, reconcile_class, verdict}; absent values are null; "ray", "same_object" and
+// "agree" are null where the method could not run. "verdict" is pickVerdictName(judgePick(...));
+// "agree" is true exactly where the verdict is "agree" (the same object and the hit inside the
+// clicked pixel); "same_object" compares objects only (true for an "apart" pick).
 nlohmann::json pickJson(const PickResult& result, const Scene& scene, bool teleported);
 
 }  // namespace clipray::demo

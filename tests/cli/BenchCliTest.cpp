@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
+#include <map>
+#include <string>
 
 #include <nlohmann/json.hpp>
 
@@ -22,12 +25,21 @@ TEST(BenchCli, WritesTableJsonAndSvg) {
       folder.path());
   ASSERT_EQ(result.status, 0) << result.err;
   EXPECT_NE(result.out.find("ns/ray"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("org floor   org out"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("\nsize 32x18\n"), std::string::npos) << result.out;
+  // Piped, stderr is no terminal: one line per case as it starts, instead of silence.
+  EXPECT_EQ(result.err,
+            "clipray bench: [1/4] standard no (32x18)\n"
+            "clipray bench: [2/4] infinite_far_eye_mmm no (32x18)\n"
+            "clipray bench: [3/4] standard zo (32x18)\n"
+            "clipray bench: [4/4] infinite_far_eye_mmm zo (32x18)\n");
   const auto json = nlohmann::json::parse(testing::readText(folder.path() / "rows.json"));
   ASSERT_EQ(json["rows"].size(), 2u * 2u * 2u * 2u);  // cases x conventions x methods x precisions
   for (const auto& row : json["rows"]) {
-    for (const char* field : {"case", "convention", "method", "precision", "ns_per_ray",
-                              "angle_err_px", "origin_lateral_err_px", "tmax_rel_err", "nonfinite",
-                              "backward", "floor_angle_px", "floor_output_angle_px"}) {
+    for (const char* field :
+         {"case", "convention", "method", "precision", "ns_per_ray", "angle_err_px",
+          "origin_lateral_err_px", "tmax_rel_err", "nonfinite", "backward", "floor_angle_px",
+          "floor_output_angle_px", "floor_origin_px", "floor_output_origin_px"}) {
       EXPECT_TRUE(row.contains(field)) << field;
     }
     EXPECT_TRUE(row["angle_err_px"].contains("max"));
@@ -41,6 +53,17 @@ TEST(BenchCli, WritesTableJsonAndSvg) {
       if (row["precision"] == "float") {
         EXPECT_LE(row["angle_err_px"]["max"].get<double>(), 2.0 * floor) << row.dump();
       }
+      // The origin's floors: a float origin near the origin of the world is far inside a pixel.
+      EXPECT_GT(row["floor_output_origin_px"].get<double>(), 0.0) << row.dump();
+      EXPECT_LT(row["floor_output_origin_px"].get<double>(), 0.05) << row.dump();
+      // robust's origin is within a few times what storing the exact origin costs (about 3x at
+      // eye_1e7, where that is tens of pixels): not at the origin floor, as its angle is.
+      const double originFloor = std::max(row["floor_origin_px"].get<double>(),
+                                          row["floor_output_origin_px"].get<double>());
+      EXPECT_LE(row["origin_lateral_err_px"]["max"].get<double>(), 4.0 * originFloor) << row.dump();
+      if (row["precision"] == "double") {
+        EXPECT_EQ(row["floor_origin_px"], 0.0) << row.dump();
+      }
     }
     if (row["method"] == "full" && row["case"] == "infinite_far_eye_mmm") {
       EXPECT_EQ(row["backward"], 32 * 18);
@@ -49,6 +72,35 @@ TEST(BenchCli, WritesTableJsonAndSvg) {
   const std::string svg = testing::readText(folder.path() / "plot.svg");
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);
   EXPECT_NE(svg.find("robust float"), std::string::npos);
+  // The key gives each method's worst angle as measured, not as clamped for the log axis.
+  std::map<std::string, double> worst;
+  for (const auto& row : json["rows"]) {
+    const std::string name =
+        row["method"].get<std::string>() + " " + row["precision"].get<std::string>();
+    worst[name] = std::max(worst[name], row["angle_err_px"]["max"].get<double>());
+  }
+  for (const auto& [name, value] : worst) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2e px", value);
+    EXPECT_NE(svg.find(text), std::string::npos) << name << " " << text;
+  }
+}
+
+// Without --size the bench measures a quick grid; --full is the 1920x1080 sweep.
+TEST(BenchCli, DefaultsToAQuickGridAndNamesFull) {
+  TempFolder folder;
+  const auto result =
+      runClipray("bench --cases standard --methods robust --json r.json", folder.path());
+  ASSERT_EQ(result.status, 0) << result.err;
+  EXPECT_NE(result.out.find("\nsize 640x360 (the quick default; --full: 1920x1080)\n"),
+            std::string::npos)
+      << result.out;
+  const auto json = nlohmann::json::parse(testing::readText(folder.path() / "r.json"));
+  EXPECT_EQ(json["size"]["width"], 640);
+  EXPECT_EQ(json["size"]["height"], 360);
+  EXPECT_EQ(result.err,
+            "clipray bench: [1/2] standard no (640x360)\n"
+            "clipray bench: [2/2] standard zo (640x360)\n");
 }
 
 TEST(BenchCli, BenchesAUsersOwnMatrix) {
@@ -89,6 +141,8 @@ TEST(BenchCli, BadInputExitsTwoWithAClearMessage) {
       {"--methods robust,fast",
        "clipray: --methods: unknown method \"fast\"; valid methods: unproject_glm, two_point, "
        "inverse_pv, fov_tangent, plane_cross, plane_cross_pre, full, robust\n"},
+      {"--full --size 640x360",
+       "clipray: --full and --size exclude each other (--full is --size 1920x1080)\n"},
       {"--size 0x10",
        "clipray: --size: expected WxH with positive integers (e.g. 1920x1080), got \"0x10\"\n"},
   };

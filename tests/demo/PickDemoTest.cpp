@@ -181,7 +181,7 @@ TEST_F(PickDemoUnderX, ScriptedPicksAgreeWithTheLibraryAndTheIdBuffer) {
     EXPECT_EQ(p["depth_format"], "32f");
     EXPECT_EQ(p["ray"]["object"], reference.name(e.rayObject));
     EXPECT_EQ(p["id"]["object"], reference.name(e.idObject));
-    EXPECT_EQ(p["agree"], e.rayObject == e.idObject);
+    EXPECT_EQ(p["same_object"], e.rayObject == e.idObject);
     if (e.rayObject >= 0) {
       for (int c = 0; c < 3; ++c) {
         EXPECT_NEAR(p["ray"]["point"][c].get<double>(), e.rayPoint[c], 1e-12);
@@ -293,10 +293,12 @@ TEST_F(PickDemoUnderX, TeleportedTwoPointFloatDriftsWhileRobustFloatHolds) {
   // two_point inverts a float matrix with 1e5 in it: the ray lands pixels off the surface. The
   // objects match (the box is large), so only the pixel offset tells: "apart", not "agree".
   EXPECT_GT(twoPoint["gap_px"].get<double>(), 1.0);
-  EXPECT_EQ(twoPoint["agree"], true);
+  EXPECT_EQ(twoPoint["same_object"], true);
+  EXPECT_EQ(twoPoint["agree"], false);
   EXPECT_GT(twoPoint["ray_offset_px"].get<double>(), demo::kPickAgreementPixels);
   EXPECT_EQ(twoPoint["verdict"], "apart");
   EXPECT_EQ(robust["verdict"], "agree");
+  EXPECT_EQ(robust["agree"], true);
   EXPECT_LT(robust["ray_offset_px"].get<double>(), demo::kPickAgreementPixels);
   EXPECT_EQ(robustDouble["verdict"], "agree");
   // robust float is as good as float allows 1e5 from the origin: float spacing there is
@@ -327,8 +329,9 @@ TEST_F(PickDemoUnderX, CoplanarMismatchesAreAmbiguousAsTheReconcileSays) {
   int mismatches = 0, agreements = 0;
   for (const nlohmann::json& p : picks) {
     SCOPED_TRACE(p.dump());
-    if (p["agree"] == false) {
+    if (p["same_object"] == false) {
       ++mismatches;
+      EXPECT_EQ(p["agree"], false);
       EXPECT_EQ(p["reconcile_class"], "id_depth_ambiguous");
       EXPECT_EQ(p["verdict"], "ambiguous");
     } else {
@@ -532,6 +535,45 @@ TEST(PickVerdict, SaysAgreeApartAmbiguousDisagreeOrNoRay) {
   EXPECT_EQ(judgement.verdict, demo::PickVerdict::NoRay);
   EXPECT_EQ(judgement.text, "1 and 3: n/a (non-finite ray)");
   EXPECT_STREQ(demo::pickVerdictName(demo::PickVerdict::NoRay), "n/a");
+}
+
+// The JSON line says what the verdict says: an "apart" pick (same object, hit pixels away) does
+// not "agree", though its objects are the same.
+TEST(PickJson, AgreeIsTheVerdictAndSameObjectComparesObjects) {
+  Scene scene;
+  scene.objects.resize(2);
+  scene.objects[0].name = "floor";
+  scene.objects[1].name = "box";
+  demo::PickResult result;
+  result.rayObject = 1;
+  result.idObject = 1;
+  result.rayOffsetPixels = 24.1;
+  nlohmann::json line = demo::pickJson(result, scene, true);
+  EXPECT_EQ(line["verdict"], "apart");
+  EXPECT_EQ(line["agree"], false);
+  EXPECT_EQ(line["same_object"], true);
+  result.rayOffsetPixels = 0.004;
+  line = demo::pickJson(result, scene, false);
+  EXPECT_EQ(line["verdict"], "agree");
+  EXPECT_EQ(line["agree"], true);
+  EXPECT_EQ(line["same_object"], true);
+  result.idObject = 0;
+  result.reconcileClass = PixelClass::IdDepthAmbiguous;
+  line = demo::pickJson(result, scene, false);
+  EXPECT_EQ(line["verdict"], "ambiguous");
+  EXPECT_EQ(line["agree"], false);
+  EXPECT_EQ(line["same_object"], false);
+  result.reconcileClass.reset();
+  line = demo::pickJson(result, scene, false);
+  EXPECT_EQ(line["verdict"], "disagree");
+  EXPECT_EQ(line["agree"], false);
+  EXPECT_EQ(line["same_object"], false);
+  result.rayUnavailable = "non-finite ray";
+  line = demo::pickJson(result, scene, false);
+  EXPECT_EQ(line["verdict"], "n/a");
+  EXPECT_TRUE(line["agree"].is_null());
+  EXPECT_TRUE(line["same_object"].is_null());
+  EXPECT_TRUE(line["ray"].is_null());
 }
 
 TEST(PickScript, ParsesEveryCommand) {

@@ -189,4 +189,33 @@ double outputFloorAngleRowMax(const std::vector<ReferenceRay>& reference) {
 template double outputFloorAngleRowMax<float>(const std::vector<ReferenceRay>&);
 template double outputFloorAngleRowMax<double>(const std::vector<ReferenceRay>&);
 
+double floorOriginRowMax(const std::vector<ReferenceRay>& rounded,
+                         const std::vector<ReferenceRay>& exact) {
+  double worst = 0.0;
+  const std::size_t count = std::min(rounded.size(), exact.size());
+  for (std::size_t i = 0; i < count; ++i) {
+    if (!rounded[i].hasRay() || !exact[i].hasRay()) continue;
+    const glm::dvec3 origin(rounded[i].origin[0].hi + rounded[i].origin[0].lo,
+                            rounded[i].origin[1].hi + rounded[i].origin[1].lo,
+                            rounded[i].origin[2].hi + rounded[i].origin[2].lo);
+    worst = std::max(worst, lateralDistanceToReference(origin, exact[i]) / exact[i].pixelFootprint);
+  }
+  return worst;
+}
+
+template <typename T>
+double outputFloorOriginRowMax(const std::vector<ReferenceRay>& reference) {
+  double worst = 0.0;
+  for (const ReferenceRay& ray : reference) {
+    if (!ray.hasRay()) continue;
+    const glm::dvec3 stored(static_cast<T>(ray.origin[0].hi), static_cast<T>(ray.origin[1].hi),
+                            static_cast<T>(ray.origin[2].hi));
+    worst = std::max(worst, lateralDistanceToReference(stored, ray) / ray.pixelFootprint);
+  }
+  return worst;
+}
+
+template double outputFloorOriginRowMax<float>(const std::vector<ReferenceRay>&);
+template double outputFloorOriginRowMax<double>(const std::vector<ReferenceRay>&);
+
 }  // namespace clipray

@@ -89,6 +89,17 @@ double outputFloorAngleRowMax(const std::vector<ReferenceRay>& reference);
 extern template double outputFloorAngleRowMax<float>(const std::vector<ReferenceRay>&);
 extern template double outputFloorAngleRowMax<double>(const std::vector<ReferenceRay>&);
 
+// The origin's counterparts, in pixel footprints on the near plane (lateral distance from the
+// exact ray line, as the origin error is measured): the float-rounded matrix's exact origin
+// against the double matrix's ray (the matrix floor), and the exact origin rounded to T (the
+// output floor: far from the origin, float spacing alone puts a stored origin pixels off).
+double floorOriginRowMax(const std::vector<ReferenceRay>& rounded,
+                         const std::vector<ReferenceRay>& exact);
+template <typename T>
+double outputFloorOriginRowMax(const std::vector<ReferenceRay>& reference);
+extern template double outputFloorOriginRowMax<float>(const std::vector<ReferenceRay>&);
+extern template double outputFloorOriginRowMax<double>(const std::vector<ReferenceRay>&);
+
 // The angle between a computed unit direction and the reference's, in radians, accurate to well
 // below 1e-20 rad near zero (the difference is taken against the double-double reference).
 double angleToReference(const glm::dvec3& direction, const ReferenceRay& reference);
