@@ -16,39 +16,15 @@
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/util/Check.hpp"
+#include "support/FastPathScenes.hpp"
 #include "support/TestScenes.hpp"
 
 namespace clipray {
 namespace {
 
+using namespace testing::fast_path;
+
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// A heightfield grid (shared vertices stored once), cells x cells quads over [-s, s]^2.
-MeshObject terrain(int cells, double size, std::uint64_t seed) {
-  MeshObject mesh;
-  mesh.name = "terrain";
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> height(-0.5, 0.5);
-  const int n = cells + 1;
-  for (int j = 0; j < n; ++j) {
-    for (int i = 0; i < n; ++i) {
-      mesh.worldPositions.emplace_back(-size + 2 * size * i / cells, height(rng),
-                                       -size + 2 * size * j / cells);
-    }
-  }
-  mesh.triangles = testing::gridTriangles(cells);
-  return mesh;
-}
-
-Scene testScene() {
-  Scene scene;
-  scene.objects.push_back(terrain(40, 5.0, 11));
-  scene.objects.push_back(testing::icosphere("ball", {0.5, 1.0, -0.5}, 0.8, 3));
-  // A coplanar duplicate of part of the floor: ties at equal t must go to the smaller id.
-  scene.objects.push_back(testing::quad("decal", {-1, 2, -1}, {-1, 2, 1}, {1, 2, 1}, {1, 2, -1}));
-  scene.objects.push_back(testing::quad("decal2", {-1, 2, -1}, {-1, 2, 1}, {1, 2, 1}, {1, 2, -1}));
-  return scene;
-}
 
 // closestHits (packets of up to 64 rays), closestHit and closestHitLinear agree bit for bit.
 void expectIdentical(const SceneIntersector& intersector, const std::vector<Ray>& rays,
@@ -224,42 +200,6 @@ TEST_F(FastPath, IntersectFrameMatchesClosestHitPerPixel) {
 
 // The same scene with analytic primitives: the packets trace the triangles, then each ray tests
 // the primitives; every path must still give the linear scan's (t, id) bit for bit.
-Scene testSceneWithPrimitives() {
-  Scene scene = testScene();
-  auto add = [&](PrimitiveKind kind, const glm::dmat4& worldFromLocal) {
-    AnalyticPrimitive p;
-    p.name = primitiveKindName(kind);
-    p.kind = kind;
-    p.worldFromLocal = worldFromLocal;
-    p.localFromWorld = glm::inverse(worldFromLocal);
-    scene.primitives.push_back(p);
-  };
-  auto placed = [](glm::dvec3 position, glm::dvec3 scale) {
-    glm::dmat4 m(1.0);
-    m[0][0] = scale.x;
-    m[1][1] = scale.y;
-    m[2][2] = scale.z;
-    m[3] = glm::dvec4(position, 1.0);
-    return m;
-  };
-  glm::dmat4 upright(0.0);  // local z -> world y, local y -> world -z
-  upright[0] = {1, 0, 0, 0};
-  upright[1] = {0, 0, -1, 0};
-  upright[2] = {0, 1, 0, 0};
-  upright[3] = {0, 0, 0, 1};
-  add(PrimitiveKind::Sphere, placed({-2.0, 0.5, 1.0}, {1.0, 1.0, 1.0}));  // half sunk in terrain
-  add(PrimitiveKind::Box, placed({2.5, 0.0, -2.0}, {0.7, 1.2, 0.5}));
-  // A disk on the decals' plane (y = 2): ties with both decals, which must keep winning.
-  glm::dmat4 disk = upright * placed({0, 0, 0}, {0.8, 0.8, 1.0});
-  disk[3] = {0.0, 2.0, 0.0, 1.0};
-  add(PrimitiveKind::Disk, disk);
-  glm::dmat4 quad = upright * placed({0, 0, 0}, {0.5, 0.5, 1.0});
-  quad[3] = {-3.0, 1.5, -3.0, 1.0};
-  add(PrimitiveKind::Quad, quad);
-  add(PrimitiveKind::Plane, placed({0, 0, -4.5}, {1, 1, 1}));  // a wall behind the terrain
-  return scene;
-}
-
 TEST(FastPathPrimitives, PacketsWithAnalyticPrimitivesMatchTheLinearScan) {
   const Scene scene = testSceneWithPrimitives();
   const glm::dvec3 eye{0.3, 6.0, 9.0};
@@ -312,57 +252,6 @@ TEST(FastPathPrimitives, PacketsWithAnalyticPrimitivesMatchTheLinearScan) {
 
 // ---- Screen-space bins (intersectFrame with a camera) ----
 
-struct BinnedCase {
-  const char* name;
-  PickingCamera camera;
-};
-
-PickingCamera lookingAt(const glm::dmat4& clipFromView, DepthMode mode, const glm::dvec3& eye,
-                        const glm::dvec3& target, Viewport viewport) {
-  return {clipFromView * viewFromWorldLookAt(eye, target, {0, 1, 0}), mode, viewport};
-}
-
-// 61x47 by default: partial tiles at the right and top.
-std::vector<BinnedCase> binnedCases(Viewport v = {61, 47}) {
-  const double aspect = static_cast<double>(v.width) / v.height;
-  return {
-      {"perspective NO",
-       lookingAt(perspectiveClipFromView(0.9, aspect, 0.1, 100.0, kNegativeOneToOne),
-                 kNegativeOneToOne, {0.3, 6.0, 9.0}, {0, 0, -1}, v)},
-      {"reversed-Z infinite ZO",
-       lookingAt(perspectiveClipFromView(0.9, aspect, 0.05, std::nullopt, kZeroToOneReversed),
-                 kZeroToOneReversed, {-3.0, 2.5, 7.0}, {0.5, 0.5, -1}, v)},
-      // Inside the scene, eye level with the terrain: many triangles cross the eye plane and are
-      // clipped at w = wClip before they are binned.
-      {"inside the terrain", lookingAt(perspectiveClipFromView(1.4, aspect, 0.01, 50.0, kZeroToOne),
-                                       kZeroToOne, {0.2, 0.7, 0.1}, {-3.0, 0.2, -2.0}, v)},
-      {"orthographic", lookingAt(orthographicClipFromView(-6, 6, -4.6, 4.6, 0.5, 40.0, kZeroToOne),
-                                 kZeroToOne, {1.0, 9.0, 8.0}, {0, 0, 0}, v)},
-  };
-}
-
-void expectFrameMatchesTheLinearScan(const SceneIntersector& intersector,
-                                     const AnalyticFrame& frame, const std::string& what) {
-  for (std::size_t i = 0; i < frame.rays.size(); ++i) {
-    const Hit expected = intersector.closestHitLinear(frame.rays[i]);
-    ASSERT_EQ(frame.hits[i].primitiveId, expected.primitiveId) << what << " pixel " << i;
-    ASSERT_EQ(frame.hits[i].t, expected.t) << what << " pixel " << i;
-  }
-}
-
-std::size_t tileCount(Viewport v) {
-  return static_cast<std::size_t>((v.width + 7) / 8) * ((v.height + 7) / 8);
-}
-
-// The intersector as a reconcile makes it for a camera: the reference point at the near plane's
-// centre, the BVH only if a tile needs it.
-SceneIntersector intersectorSeenFrom(const Scene& scene, const PickingCamera& camera) {
-  const glm::dvec4 centre =
-      glm::inverse(camera.clipFromWorld) * glm::dvec4(0.0, 0.0, camera.mode.nearNdcZ(), 1.0);
-  return SceneIntersector(scene, glm::dvec3(centre) / centre.w,
-                          SceneIntersector::BvhBuild::WhenFirstNeeded);
-}
-
 // The camera whose pixel centres lie (dx, dy) pixels from `camera`'s: x_ndc' = x_ndc - shift.
 PickingCamera shiftedByPixels(const PickingCamera& camera, double dx, double dy) {
   glm::dmat4 ndcShift(1.0);
@@ -387,78 +276,6 @@ TEST(FastPathBinned, CameraRaysUseTheBinsAndMatchTheLinearScan) {
     for (const Hit& hit : frame.hits) hits += hit.hit() ? 1 : 0;
     EXPECT_GT(hits, 61 * 47 / 3);
     expectFrameMatchesTheLinearScan(intersector, frame, c.name);
-  }
-}
-
-// Face culling: with the drawn matrix, the triangles it culls are left out of the bins, the BVH
-// and the linear scan alike (still bit for bit the same hits), and the culled ones are exactly
-// those whose index-order normal faces away from the eye (the clip-space rule, checked in world
-// space: det[x; y; w] of a triangle is the same positive multiple of n . (eye - a) for every
-// triangle of a non-mirrored camera, whether or not it crosses the eye plane).
-TEST(FastPathBinned, CulledTrianglesAreLeftOutOfEveryQuery) {
-  Scene scene = testSceneWithPrimitives();
-  scene.objects[0].cull = CullFace::Back;   // the terrain
-  scene.objects[1].cull = CullFace::Front;  // the ball: its inside
-  const Scene unculled = testSceneWithPrimitives();
-  for (const BinnedCase& c : binnedCases()) {
-    SCOPED_TRACE(c.name);
-    const SceneIntersector reference = intersectorSeenFrom(unculled, c.camera);
-    const SceneIntersector intersector(scene, reference.reference(),
-                                       SceneIntersector::BvhBuild::WhenFirstNeeded,
-                                       c.camera.clipFromWorld);
-    EXPECT_EQ(intersector.triangleCount(), reference.triangleCount());
-    EXPECT_GT(intersector.culledCount(), intersector.triangleCount() / 4);
-    AnalyticFrame frame = generateRobustRays(c.camera, 2);
-    EXPECT_EQ(intersectFrame(frame, intersector, c.camera, 2), tileCount(c.camera.viewport));
-    expectFrameMatchesTheLinearScan(intersector, frame, c.name);
-    std::vector<Hit> walked(frame.rays.size());
-    intersector.closestHits(frame.rays, walked);  // packets walking the BVH
-    int culledIdHits = 0;
-    int fartherOnTheBall = 0;
-    int ballPixels = 0;
-    const PrimitiveIdTable ids(scene);
-    AnalyticFrame whole = generateRobustRays(c.camera, 2);
-    intersectFrame(whole, reference, c.camera, 2);
-    for (std::size_t i = 0; i < frame.rays.size(); ++i) {
-      ASSERT_EQ(walked[i].primitiveId, frame.hits[i].primitiveId) << "pixel " << i;
-      ASSERT_EQ(walked[i].t, frame.hits[i].t) << "pixel " << i;
-      culledIdHits += intersector.culled(frame.hits[i].primitiveId);
-      const bool ballBefore = ids.decode(whole.hits[i].primitiveId).object == 1;
-      const bool ballAfter = ids.decode(frame.hits[i].primitiveId).object == 1;
-      ballPixels += ballBefore;
-      if (ballBefore && ballAfter) fartherOnTheBall += frame.hits[i].t > whole.hits[i].t;
-      // Culled: no hit on a culled triangle, and never an earlier hit than without culling.
-      ASSERT_GE(frame.hits[i].t, whole.hits[i].t) << "pixel " << i;
-      EXPECT_EQ(intersector.intersectOne(whole.hits[i].primitiveId, frame.rays[i]).hit(),
-                !intersector.culled(whole.hits[i].primitiveId))
-          << "pixel " << i;
-    }
-    EXPECT_EQ(culledIdHits, 0);
-    // The eye: the point clipFromWorld maps to x = y = w = 0 (at infinity for orthographic).
-    const glm::dvec4 eye = glm::inverse(c.camera.clipFromWorld) * glm::dvec4(0.0, 0.0, 1.0, 0.0);
-    const bool eyeInBall = std::abs(eye.w) > 1e-9 &&
-                           glm::distance(glm::dvec3(eye) / eye.w, glm::dvec3(0.5, 1.0, -0.5)) < 0.8;
-    // Seen from outside, the ball shows its inside: further away (the terrain crosses the ball,
-    // so some rays meet that first). Seen from inside, it shows its inside either way.
-    if (eyeInBall) {
-      EXPECT_EQ(fartherOnTheBall, 0);
-    } else {
-      EXPECT_GE(fartherOnTheBall, ballPixels / 2);
-    }
-    if (std::abs(eye.w) < 1e-9) continue;
-    std::uint32_t id = 1;
-    for (std::size_t k = 0; k < 2; ++k) {
-      const MeshObject& object = scene.objects[k];
-      for (const glm::u32vec3& t : object.triangles) {
-        const glm::dvec3 a = object.worldPositions[t.x];
-        const glm::dvec3 n =
-            glm::cross(object.worldPositions[t.y] - a, object.worldPositions[t.z] - a);
-        const bool facesEye = glm::dot(n, glm::dvec3(eye) / eye.w - a) > 0.0;
-        ASSERT_EQ(intersector.culled(id), facesEye == (object.cull == CullFace::Front))
-            << object.name << " triangle " << id;
-        ++id;
-      }
-    }
   }
 }
 
