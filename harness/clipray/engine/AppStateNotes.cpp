@@ -1,28 +1,16 @@
 #include "clipray/engine/AppStateNotes.hpp"
 
 #include <cmath>
-#include <map>
 #include <optional>
 #include <utility>
 
 #include "clipray/compare/ToleranceModel.hpp"
+#include "clipray/trace/GlTraceState.hpp"
 #include "clipray/util/OptionValues.hpp"
 
 namespace clipray::engine {
 
 namespace {
-
-constexpr std::uint32_t kGlLess = 0x0201, kGlLequal = 0x0203, kGlGreater = 0x0204,
-                        kGlGequal = 0x0206;
-
-std::string depthFuncName(std::uint32_t func) {
-  static const std::map<std::uint32_t, std::string> names = {
-      {0x0200, "GL_NEVER"},     {kGlLess, "GL_LESS"},       {0x0202, "GL_EQUAL"},
-      {kGlLequal, "GL_LEQUAL"}, {kGlGreater, "GL_GREATER"}, {0x0205, "GL_NOTEQUAL"},
-      {kGlGequal, "GL_GEQUAL"}, {0x0207, "GL_ALWAYS"}};
-  const auto found = names.find(func);
-  return found != names.end() ? found->second : "0x" + std::to_string(func);
-}
 
 std::string clipControlText(ClipOrigin origin, DepthConvention convention) {
   return std::string(origin == ClipOrigin::UpperLeft ? "GL_UPPER_LEFT" : "GL_LOWER_LEFT") + ", " +
@@ -93,9 +81,9 @@ std::vector<std::string> appStateNotes(const std::vector<gl::AppDrawState>& draw
       note(k, std::string("the depth test is off; the run expects ") +
                   (greater ? "GL_GREATER" : "GL_LESS") + " (the nearer surface has the " +
                   (greater ? "greater" : "smaller") + " depth)");
-    } else if (greater ? d.depthFunc != kGlGreater && d.depthFunc != kGlGequal
-                       : d.depthFunc != kGlLess && d.depthFunc != kGlLequal) {
-      note(k, "glDepthFunc(" + depthFuncName(d.depthFunc) + "), but under " + mode.name() +
+    } else if (greater ? d.depthFunc != trace::kGlGreater && d.depthFunc != trace::kGlGequal
+                       : d.depthFunc != trace::kGlLess && d.depthFunc != trace::kGlLequal) {
+      note(k, "glDepthFunc(" + trace::glEnumName(d.depthFunc) + "), but under " + mode.name() +
                   (scene.depthRange.x > scene.depthRange.y ? " with a reversed depth range" : "") +
                   " the nearer surface has the " + (greater ? "greater" : "smaller") +
                   " depth: " + (greater ? "GL_GREATER" : "GL_LESS"));
