@@ -79,10 +79,12 @@ def perspective(name, eye, target, fov, near, far=None, viewport=(320, 240), up=
     return cam
 
 
-def write(name, comment, cameras, objects, conventions=None):
+def write(name, comment, cameras, objects, conventions=None, depth_clamp=False):
     scene = {"version": 1, "comment": comment}
     if conventions:
         scene["conventions"] = conventions
+    if depth_clamp:
+        scene["depthClamp"] = True
     scene["cameras"] = cameras
     scene["objects"] = objects
     text = json.dumps(scene, indent=1)
@@ -267,6 +269,19 @@ def main():
           "keeps GL_CCW. The rays cull what the picture culls under both.",
           [perspective("main", (0.5, 2.5, 5), (0, 0.5, 0), 55, 0.1, 100)],
           [ground, culled_box, mirrored_box, card], conventions=["zo", "zo-upper-left"])
+
+    barrel = box("barrel", (0.25, 1.3, 3.2), (0.24, 0.24, 2.8))
+    write("depth_clamp",
+          "GL_DEPTH_CLAMP: nothing is clipped at the near plane (0.5 from the eye), so a long barrel held in "
+          "front of the camera (a first-person weapon) is drawn whole, its part in front of the near plane at "
+          "the near depth; a box beyond the far plane (40) is clipped all the same, since its clamped depth is "
+          "the clear value the strict depth test never passes. The rays start at the eye and reach the barrel; "
+          "its pixels in front of the near plane are a class of their own (in_front_of_near): a picking ray "
+          "that starts on the near plane cannot hit them.",
+          [perspective("main", (0, 1.5, 4), (0, 1, 0), 60, 0.5, 40)],
+          [ground, box("crate", (-1, 0.5, -1), (1, 1, 1), ((0, 1, 0), 25)), barrel,
+           box("beyond_far", (3, 2, -45), (4, 4, 4))],
+          conventions=["no", "zo", "zo-reversed", "zo-upper-left"], depth_clamp=True)
 
     write("no_matrix_under_zo",
           "A projection built for NO (z_n = -1, near 1, far 100) drawn under both conventions. Under ZO the "

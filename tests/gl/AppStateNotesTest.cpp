@@ -52,14 +52,25 @@ TEST(AppStateNotes, EachDifferenceOnceWithItsDraws) {
   // Three draws for two meshes: the culling is set beside the one every mesh declares.
   EXPECT_EQ(engine::appStateNotes(draws, kZeroToOne, scene, AppIds::Written),
             (std::vector<std::string>{
-                "draws 1, 3: GL_DEPTH_CLAMP is enabled, which clipray does not model yet: what the "
-                "picture shows in front of the near plane (or beyond the far plane) no ray from "
-                "the near plane can hit",
+                "draws 1, 3: GL_DEPTH_CLAMP is enabled, but the scene does not declare it "
+                "(depthClamp, SceneBuilder::depthClamp): what the picture shows in front of the "
+                "near plane no ray from the near plane can hit",
                 "draw 2: glDepthRange(0, 0.5), but the scene declares (0, 1) (depthRange, "
                 "SceneBuilder::depthRange)",
                 "draw 3: no face culling, but the scene declares glCullFace(GL_BACK) with "
                 "glFrontFace(GL_CCW) for mesh \"floor\" (cull and frontFace, "
                 "SceneBuilder::faceCulling)"}));
+}
+
+TEST(AppStateNotes, DepthClampIsSetBesideTheScenes) {
+  Scene scene = twoMeshes(CullFace::None, CullFace::None);
+  scene.depthClamp = true;
+  std::vector<gl::AppDrawState> draws(2, rightUnderZeroToOne());
+  draws[0].depthClamp = true;
+  EXPECT_EQ(engine::appStateNotes(draws, kZeroToOne, scene, AppIds::Written),
+            (std::vector<std::string>{
+                "draw 2: GL_DEPTH_CLAMP is disabled, but the scene declares it (depthClamp, "
+                "SceneBuilder::depthClamp): the picture is clipped at the near and far planes"}));
 }
 
 TEST(AppStateNotes, CullingIsSetBesideTheMeshOfEachDraw) {

@@ -185,5 +185,67 @@ TEST(RobustRays, ClipPlanesCutEachRayToTheKeptInterval) {
   }
 }
 
+// Depth clamp: the rays leave the eye (perspective) or start parallelReach behind the near plane
+// (parallel), on the same lines of sight, and end at the far plane unless what lies beyond it is
+// drawn. The row kernels give the same bits.
+TEST(RobustRays, DepthClampRaysReachInFrontOfTheNearPlane) {
+  const glm::dvec3 eye(3, 2.5, 5);
+  const glm::dmat4 view = viewFromWorldLookAt(eye, {0, 0.5, 0}, {0, 1, 0});
+  for (const DepthMode mode : {kNegativeOneToOne, kZeroToOne, kZeroToOneReversed}) {
+    SCOPED_TRACE(mode.name());
+    const glm::dmat4 perspective = perspectiveClipFromView(1.0, 1.5, 0.5, 40.0, mode) * view;
+    const glm::dmat4 parallel = orthographicClipFromView(-2, 2, -1.5, 1.5, 0.5, 40.0, mode) * view;
+    for (const bool beyondFar : {false, true}) {
+      const RobustRayGenerator open(perspective, mode);
+      const RobustRayGenerator clamped(perspective, mode, {}, {true, 0.0, beyondFar});
+      const RobustRayGenerator openParallel(parallel, mode);
+      const RobustRayGenerator clampedParallel(parallel, mode, {}, {true, 7.0, beyondFar});
+      for (double x = -0.95; x < 1.0; x += 0.3) {
+        for (double y = -0.95; y < 1.0; y += 0.3) {
+          const Ray a = open.generate({x, y});
+          const Ray b = clamped.generate({x, y});
+          EXPECT_EQ(a.direction, b.direction);
+          EXPECT_LT(glm::length(b.origin - eye), 1e-12);
+          // The near point lies 0.5 / cos(angle to the view axis) from the eye; the far end as far
+          // from the new origin as from the eye.
+          const double toNear = glm::length(a.origin - eye);
+          EXPECT_NEAR(toNear, 0.5 / -glm::dot(a.direction, glm::dvec3(matrixRow(view, 2))), 1e-12);
+          if (beyondFar) {
+            EXPECT_EQ(b.tMax, std::numeric_limits<double>::infinity());
+          } else {
+            EXPECT_NEAR(b.tMax, a.tMax + toNear, 1e-9 * b.tMax);
+          }
+          const Ray c = openParallel.generate({x, y});
+          const Ray d = clampedParallel.generate({x, y});
+          EXPECT_EQ(c.direction, d.direction);
+          EXPECT_NEAR(glm::length(d.origin + 7.0 * d.direction - c.origin), 0.0, 1e-12);
+          if (beyondFar) {
+            EXPECT_EQ(d.tMax, std::numeric_limits<double>::infinity());
+          } else {
+            EXPECT_NEAR(d.tMax, c.tMax + 7.0, 1e-9 * d.tMax);
+          }
+        }
+      }
+      const Viewport viewport{37, 5};
+      const PixelCentreRays rows(perspective, mode, viewport, {}, {true, 0.0, beyondFar});
+      const PixelCentreRays parallelRows(parallel, mode, viewport, {}, {true, 7.0, beyondFar});
+      std::vector<Ray> row(37), parallelRow(37);
+      for (int j = 0; j < viewport.height; ++j) {
+        rows.row(j, 0, viewport.width, row.data());
+        parallelRows.row(j, 0, viewport.width, parallelRow.data());
+        for (int i = 0; i < viewport.width; ++i) {
+          const Ray single = clamped.generateForPixel(i, j, viewport);
+          EXPECT_EQ(row[i].origin, single.origin) << i << ", " << j;
+          EXPECT_EQ(row[i].direction, single.direction) << i << ", " << j;
+          EXPECT_EQ(row[i].tMax, single.tMax) << i << ", " << j;
+          const Ray singleParallel = clampedParallel.generateForPixel(i, j, viewport);
+          EXPECT_EQ(parallelRow[i].origin, singleParallel.origin) << i << ", " << j;
+          EXPECT_EQ(parallelRow[i].tMax, singleParallel.tMax) << i << ", " << j;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace clipray

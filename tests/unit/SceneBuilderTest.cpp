@@ -145,6 +145,17 @@ TEST(SceneBuilder, ClipPlanesApplyToTheCameraAddedLast) {
             "[a, b, c], got [0.0,0.0,0.0,1.0]");
 }
 
+TEST(SceneBuilder, DepthClampIsTheScenes) {
+  SceneBuilder builder("clamped");
+  builder.mesh("quad", kQuadPositions, kQuadIndices).camera("main", cameraMatrix(), {64, 48});
+  EXPECT_FALSE(builder.build().model().depthClamp);
+  builder.depthClamp(true);
+  EXPECT_TRUE(builder.build().model().depthClamp);
+  EXPECT_TRUE(parseScene(builder.json(), "clamped.json").depthClamp);
+  builder.depthClamp(false);
+  EXPECT_FALSE(builder.build().model().depthClamp);
+}
+
 TEST(SceneBuilder, WithoutCamerasUsesTheAutomaticOnes) {
   const TestScene scene = SceneBuilder("auto").mesh("quad", kQuadPositions, kQuadIndices).build();
   EXPECT_EQ(scene.cameraNames().size(), 4u);

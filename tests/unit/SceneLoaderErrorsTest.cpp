@@ -71,9 +71,10 @@ TEST(SceneLoaderErrors, RootAndVersion) {
 }
 
 TEST(SceneLoaderErrors, UnknownKeys) {
-  EXPECT_EQ(errorOf(R"({"version": 1, "camera": [], "objects": []})"),
-            "scenes/a.json: /camera: unknown key \"camera\"; valid keys are \"version\", "
-            "\"comment\", \"conventions\", \"depthRange\", \"cameras\", \"objects\"");
+  EXPECT_EQ(
+      errorOf(R"({"version": 1, "camera": [], "objects": []})"),
+      "scenes/a.json: /camera: unknown key \"camera\"; valid keys are \"version\", "
+      "\"comment\", \"conventions\", \"depthRange\", \"depthClamp\", \"cameras\", \"objects\"");
   // A misspelt key is reported as unknown, not as a missing required field.
   EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "veiwport": [640, 480]})")),
             "scenes/a.json: /cameras/0/veiwport: unknown key \"veiwport\"; valid keys are "
@@ -336,6 +337,22 @@ TEST(SceneLoaderErrors, FaceCulling) {
                     "halfEdges": [[1, 0, 0], [0, 1, 0]], "frontFace": "cw"})")),
             "scenes/a.json: /objects/0/frontFace: face culling applies to triangle meshes (mesh, "
             "meshFile, terrain); a quad is ray-traced by its fragment shader and has no winding");
+}
+
+TEST(SceneLoaderErrors, DepthClamp) {
+  EXPECT_EQ(errorOf(R"({"version": 1, "depthClamp": 1, "cameras": [], "objects": []})"),
+            "scenes/a.json: /depthClamp: expected true or false (GL_DEPTH_CLAMP), got 1");
+  const std::string ball = R"({"name": "ball", "type": "sphere", "centre": [0, 0, 0],
+      "radius": 1})";
+  std::string clamped = sceneWith(R"({"name": "main", "viewport": [640, 480],
+      "view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]},
+      "projection": {"type": "perspective", "fovYDegrees": 60, "near": 0.1}})",
+                                  ball);
+  clamped.insert(clamped.find('{') + 1, R"("depthClamp": true, )");
+  EXPECT_EQ(errorOf(clamped),
+            "scenes/a.json: /depthClamp: depth clamp with analytic primitives (\"ball\") is not "
+            "modelled: their fragment shader traces the ray from the near plane, and depth clamp "
+            "draws what lies in front of it; use triangle meshes");
 }
 
 TEST(SceneLoaderErrors, ClipPlanes) {

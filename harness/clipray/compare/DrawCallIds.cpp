@@ -49,7 +49,8 @@ std::vector<std::uint32_t> idsFromDrawCalls(const Scene& scene, const PickingCam
                                             const AnalyticFrame& analytic) {
   const PrimitiveIdTable table(scene);
   const Viewport viewport = camera.viewport;
-  const RobustRayGenerator rays(camera.clipFromWorld, camera.mode, camera.clipPlanes);
+  const RobustRayGenerator rays(camera.clipFromWorld, camera.mode, camera.clipPlanes,
+                                depthClampRays(camera));
   std::vector<std::uint32_t> ids(meshOfPixel.size(), 0);
   for (std::size_t i = 0; i < meshOfPixel.size(); ++i) {
     if (meshOfPixel[i] == 0) continue;

@@ -81,8 +81,12 @@ PickRayFunction robustPickRays() {
   auto cache = std::make_shared<Cache>();
   return [cache](int x, int y, const PickingCamera& camera) -> std::optional<Ray> {
     if (!cache->generator || cache->camera.clipFromWorld != camera.clipFromWorld ||
-        cache->camera.mode != camera.mode || cache->camera.clipPlanes != camera.clipPlanes) {
-      cache->generator.emplace(camera.clipFromWorld, camera.mode, camera.clipPlanes);
+        cache->camera.mode != camera.mode || cache->camera.clipPlanes != camera.clipPlanes ||
+        cache->camera.depthClamp != camera.depthClamp ||
+        cache->camera.depthClampReach != camera.depthClampReach ||
+        cache->camera.depthClampBeyondFar != camera.depthClampBeyondFar) {
+      cache->generator.emplace(camera.clipFromWorld, camera.mode, camera.clipPlanes,
+                               depthClampRays(camera));
       cache->camera = camera;
     }
     return cache->generator->generateForPixel(x, y, camera.viewport);
@@ -128,7 +132,8 @@ AnalyticFrame generateRays(const PickingCamera& camera, const PickRayFunction& r
 
 AnalyticFrame generateRobustRays(const PickingCamera& camera, unsigned threadCount) {
   const Viewport viewport = camera.viewport;
-  const PixelCentreRays pixelCentreRays(camera.clipFromWorld, camera.mode, viewport);
+  const PixelCentreRays pixelCentreRays(camera.clipFromWorld, camera.mode, viewport,
+                                        camera.clipPlanes, depthClampRays(camera));
   AnalyticFrame frame;
   frame.viewport = viewport;
   frame.rays.resize(frame.pixelCount());
@@ -144,8 +149,9 @@ AnalyticFrame generateRobustRays(const PickingCamera& camera, unsigned threadCou
 AnalyticFrame robustRayFrame(const PickingCamera& camera) {
   AnalyticFrame frame;
   frame.viewport = camera.viewport;
-  frame.pixelCentreRays = std::make_shared<const PixelCentreRays>(
-      camera.clipFromWorld, camera.mode, camera.viewport, camera.clipPlanes);
+  frame.pixelCentreRays =
+      std::make_shared<const PixelCentreRays>(camera.clipFromWorld, camera.mode, camera.viewport,
+                                              camera.clipPlanes, depthClampRays(camera));
   return frame;
 }
 

@@ -52,6 +52,11 @@ struct AnalyticFrame {
   }
 };
 
+// The rays a camera's depth clamp needs (RobustRays.hpp).
+inline DepthClampRays depthClampRays(const PickingCamera& camera) {
+  return {camera.depthClamp, camera.depthClampReach, camera.depthClampBeyondFar};
+}
+
 // A pixel whose ray function returned nullopt holds this ray: tMax < 0 never hits anything.
 
 // Pass 1: one ray per pixel from the ray function, multi-threaded over rows (frame.hits empty).

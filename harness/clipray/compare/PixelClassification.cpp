@@ -330,8 +330,10 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
   eye_ = glm::dvec3(eyeHomogeneous) / eyeHomogeneous.w;
 #if CLIPRAY_COMPARE_AVX2
   const DepthConvention convention = setup.mode.convention;
-  // The four-pixel kernels map NDC z to window depth for the default depth range only.
-  fourAtOnce_ = cpuHasAvx2() && simdKernelsChosen() && setup.defaultDepthRange();
+  // The four-pixel kernels map NDC z to window depth for the default depth range only, and never
+  // clamp it.
+  fourAtOnce_ =
+      cpuHasAvx2() && simdKernelsChosen() && setup.defaultDepthRange() && !setup.depthClamp.enabled;
   fourInput_ = {
       setup.clipFromWorld,
       rowZ_,
@@ -385,12 +387,21 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
   }
   glm::dvec4 hitClip(0.0);
   double zNdc = kNaN, rayDepth = kNaN;
+  // Depth clamp: the hit lies beyond the near or far plane and both sides store the range's end.
+  bool clamped = false, inFrontOfNear = false;
   if (rayId != 0) {
     ++metrics.rayHits;
     const glm::dvec3 hitPoint = ray.origin + hit.t * ray.direction;
     hitClip = setup_.clipFromWorld * glm::dvec4(hitPoint, 1.0);
     zNdc = hitClip.z / hitClip.w;
-    rayDepth = setup_.windowDepth(zNdc);
+    if (setup_.depthClamp.enabled) {
+      const double mapped = setup_.mappedWindowDepth(zNdc);
+      rayDepth = setup_.clampToDepthRange(mapped);
+      clamped = rayDepth != mapped;
+      inFrontOfNear = clamped && setup_.inFrontOfNear(mapped);
+    } else {
+      rayDepth = setup_.windowDepth(zNdc);
+    }
     pixels_.analyticDepth[i] = rayDepth;
   }
   PixelClass& cls = pixels_.classes[i];
@@ -429,6 +440,14 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
       return;
     }
     const auto [ratio, quanta] = divideTwo(error, tolerance, error, quantum);
+    if (clamped && ratio <= 1.0) {
+      // Both sides store the depth range's end: nothing to measure along the ray. In front of the
+      // near plane a class of its own (what a near-plane picking ray cannot reach).
+      pixels_.toleranceRatio[i] = static_cast<float>(ratio);
+      metrics.inFrontOfNear += inFrontOfNear ? 1 : 0;
+      cls = inFrontOfNear ? PixelClass::InFrontOfNear : PixelClass::Agree;
+      return;
+    }
     // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1 t).
     const double zRaster = setup_.ndcOfWindowDepth(rasterDepth);
     const double z0 = glm::dot(rowZ_, glm::dvec4(ray.origin, 1.0));
@@ -458,6 +477,14 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
                                     ? model_.analyticDepthTolerance(rayId, ray, hit.t)
                                     : model_.depthToleranceAtClip(rayId, hitClip);
     cls = classifyMismatch(model_, rayId, rayDepth, rayTolerance, rasterId, centre);
+    if (inFrontOfNear && cls == PixelClass::IdDepthAmbiguous) {
+      // Two surfaces in front of the near plane, both at the near depth: the first drawn shows
+      // (the strict depth test keeps it), the rays see the nearest. Neither is measurable there.
+      --metrics.idMismatch.total;
+      ++metrics.inFrontOfNear;
+      cls = PixelClass::InFrontOfNear;
+      return;
+    }
     ++(cls == PixelClass::IdDepthAmbiguous  ? metrics.idMismatch.depthAmbiguous
        : cls == PixelClass::IdEdgeAmbiguous ? metrics.idMismatch.edgeAmbiguous
                                             : metrics.idMismatch.unexplained);

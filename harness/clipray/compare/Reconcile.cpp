@@ -36,6 +36,8 @@ const char* pixelClassName(PixelClass value) {
       return "id_edge_ambiguous";
     case PixelClass::IdUnexplained:
       return "id_unexplained";
+    case PixelClass::InFrontOfNear:
+      return "in_front_of_near";
   }
   return "?";
 }
@@ -158,6 +160,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
         total.idMismatch.unexplained += local.idMismatch.unexplained;
         total.depthCompared += local.depthCompared;
         total.depthBeyondTolerance += local.depthBeyondTolerance;
+        total.inFrontOfNear += local.inFrontOfNear;
       });
 
   // Every distribution to compute: per kind with samples, then over all kinds. Where one kind

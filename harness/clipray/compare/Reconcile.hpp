@@ -29,6 +29,10 @@ enum class PixelClass : std::uint8_t {
   IdDepthAmbiguous,  // different primitives whose depths are within tolerance (z-fighting)
   IdEdgeAmbiguous,   // different primitives, pixel centre within epsilon of an edge
   IdUnexplained,
+  // The surface lies in front of the near plane: drawn by GL_DEPTH_CLAMP at the near end of the
+  // depth range, out of reach of a picking ray that starts on the near plane. Both sides show the
+  // same primitive at that depth, or two primitives both there (the first drawn shows).
+  InFrontOfNear,
 };
 const char* pixelClassName(PixelClass value);
 
@@ -50,9 +54,12 @@ struct RunMetrics {
   } idMismatch;
   std::int64_t depthCompared = 0;         // pixels where both sides hit the same primitive
   std::int64_t depthBeyondTolerance = 0;  // of those, error above the predicted tolerance
-  Distribution depthErrorQuanta;          // |d_r - d_a| / quantum(d_a)
-  Distribution distanceRelError;          // |t_r - t_a| / distance from the eye
-  Distribution toleranceRatio;  // |d_r - d_a| / predicted tolerance (p50 unused in report)
+  // Pixels of class InFrontOfNear (depth clamp; not in depthCompared: both sides store the near
+  // end of the depth range, nothing is measured along the ray).
+  std::int64_t inFrontOfNear = 0;
+  Distribution depthErrorQuanta;  // |d_r - d_a| / quantum(d_a)
+  Distribution distanceRelError;  // |t_r - t_a| / distance from the eye
+  Distribution toleranceRatio;    // |d_r - d_a| / predicted tolerance (p50 unused in report)
   // The same depth figures split by surface kind: "triangle" or an analytic primitive kind
   // (GLSL float rays against CPU double rays). Only kinds with compared pixels are listed.
   struct KindFigures {

@@ -61,6 +61,18 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
                                                                {0, 1, 0, 1},
                                                                {0, -1, 0, 1}};
   std::size_t planeCount = 6;
+  // Depth clamp turns the near and far planes off (GL 4.6 13.7); -w <= x, y <= w still clip
+  // everything behind the eye. What lies beyond the far plane then still fails the depth test
+  // where the far end is the clear value: the far plane stays (z = w, or z = z_n w for
+  // reversed-Z, whose far plane has window depth 0), moved first.
+  std::size_t firstPlane = 0;
+  if (setup_.depthClamp.enabled) {
+    firstPlane = 2;
+    if (!setup_.depthClamp.beyondFar) {
+      firstPlane = 1;
+      planes[1] = planes[setup_.mode.reversed ? 0 : 1];
+    }
+  }
   const glm::dmat4 clipToWorldTransposed = glm::transpose(rays_.worldFromClip());
   for (const glm::dvec4& plane : setup_.clipPlanes) {
     if (planeCount < planes.size()) planes[planeCount++] = clipToWorldTransposed * plane;
@@ -119,10 +131,10 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
   // Most triangles of a frame lie inside the clip volume, and clipping leaves those as they are
   // (the same test clipPolygon makes): skip the six passes for them.
   bool inside = true;
-  for (std::size_t p = 0; p < planeCount; ++p) {
+  for (std::size_t p = firstPlane; p < planeCount; ++p) {
     for (int k = 0; k < 3; ++k) inside &= glm::dot(planes[p], bufferA[k]) >= 0.0;
   }
-  for (std::size_t p = 0; p < planeCount; ++p) {
+  for (std::size_t p = firstPlane; p < planeCount; ++p) {
     if (inside) break;
     count = clipPolygon(current, count, planes[p], next);
     std::swap(current, next);
@@ -134,7 +146,8 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
     const glm::dvec4 c = current[k];
     const double w = c.w;
     polygon.vertices[k] = {(c.x / w + 1.0) * 0.5 * viewport_.width,
-                           (c.y / w + 1.0) * 0.5 * viewport_.height, setup_.windowDepth(c.z / w)};
+                           (c.y / w + 1.0) * 0.5 * viewport_.height,
+                           setup_.mappedWindowDepth(c.z / w)};
     polygon.maxDepth = std::max(polygon.maxDepth, std::abs(polygon.vertices[k].z));
     // Vertex xy error in pixels: (dx + |x_ndc| dw) / w, scaled to the viewport.
     const double ex = (error.x + std::abs(c.x / w) * error.w) / w * 0.5 * viewport_.width;
@@ -146,7 +159,7 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
   polygon.edgeEpsilon = subpixel + std::sqrt(2.0) * xyError;
 
   // Window depth is affine in window xy over a planar triangle: fit it from the largest-area
-  // triple of polygon vertices.
+  // triple of polygon vertices (before depth clamp's clamp, which planeDepthAt applies).
   double bestArea = 0.0;
   for (int a = 0; a < polygon.vertexCount; ++a) {
     for (int b = a + 1; b < polygon.vertexCount; ++b) {
@@ -197,7 +210,8 @@ double ToleranceModel::edgeEpsilonPixels(std::uint32_t primitiveId) const {
 
 double ToleranceModel::planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel) const {
   const glm::dvec3& plane = polygon(primitiveId).depthPlane;
-  return plane.x * pixel.x + plane.y * pixel.y + plane.z;
+  const double depth = plane.x * pixel.x + plane.y * pixel.y + plane.z;
+  return setup_.depthClamp.enabled ? setup_.clampToDepthRange(depth) : depth;
 }
 bool ToleranceModel::onClipPlane(std::uint32_t primitiveId) const {
   if (setup_.clipPlanes.empty() || primitiveId == 0 ||

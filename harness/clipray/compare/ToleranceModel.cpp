@@ -38,7 +38,7 @@ ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const Raster
     : setup_(setup),
       viewport_(viewport),
       intersector_(intersector),
-      rays_(setup.clipFromWorld, setup.mode, setup.clipPlanes),
+      rays_(setup.clipFromWorld, setup.mode, setup.clipPlanes, setup.depthClamp),
       cameraRelativeMatrix_(setup.clipFromWorld *
                             glm::dmat4(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 1, 0, 0),
                                        glm::dvec4(0, 0, 1, 0),
@@ -47,11 +47,12 @@ ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const Raster
       serial_(nextSerial.fetch_add(1, std::memory_order_relaxed)),
       windowFromNdcScale_(setup.windowFromNdcScale()),
       subpixelStep_(std::ldexp(1.0, -setup.subpixelBits)) {
-  // A robust ray starts on the near plane (RobustRays.hpp). Perspective: the origin o lies between
-  // the eye and the hit p on the line of sight, so |o_i| <= |eye_i| + |p_i - eye_i| and
-  // t |d_i| = |p_i - o_i| <= |p_i - eye_i|: |o_i| + t |d_i| <= 3 |eye_i| + 2 |p_i|. Parallel: o
-  // lies in the near plane's quad (pixel centres within [-1, 1]), whose corners bound |o_i|, and
-  // t |d_i| <= |p_i| + |o_i|: |o_i| + t |d_i| <= 2 max |corner_i| + |p_i|.
+  // A robust ray starts on the near plane (RobustRays.hpp), or with depth clamp at the eye, which
+  // the same bound covers (|o_i| + t |d_i| <= 2 |eye_i| + |p_i|). Perspective: the origin o lies
+  // between the eye and the hit p on the line of sight, so |o_i| <= |eye_i| + |p_i - eye_i| and t
+  // |d_i| = |p_i - o_i| <= |p_i - eye_i|: |o_i| + t |d_i| <= 3 |eye_i| + 2 |p_i|. Parallel: o lies
+  // in the near plane's quad (pixel centres within [-1, 1]), whose corners bound |o_i|, and t |d_i|
+  // <= |p_i| + |o_i|: |o_i| + t |d_i| <= 2 max |corner_i| + |p_i|.
   const glm::dmat4& worldFromClip = rays_.worldFromClip();
   if (rays_.isParallel()) {
     for (const double x : {-1.0, 1.0}) {
@@ -61,6 +62,8 @@ ToleranceModel::ToleranceModel(const SceneIntersector& intersector, const Raster
         rayOriginScale_ = glm::max(rayOriginScale_, 2.0 * glm::abs(glm::dvec3(corner) / corner.w));
       }
     }
+    // Depth clamp moves the origin parallelReach further back along the unit direction.
+    if (setup.depthClamp.enabled) rayOriginScale_ += 2.0 * setup.depthClamp.parallelReach;
   } else {
     const glm::dvec4 eye = worldFromClip * glm::dvec4(0.0, 0.0, 1.0, 0.0);
     rayOriginScale_ = 3.0 * glm::abs(glm::dvec3(eye) / eye.w);

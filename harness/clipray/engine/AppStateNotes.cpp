@@ -101,10 +101,13 @@ std::vector<std::string> appStateNotes(const std::vector<gl::AppDrawState>& draw
                     "\" (cull and frontFace, SceneBuilder::faceCulling)");
       }
     }
-    if (d.depthClamp) {
-      note(k,
-           "GL_DEPTH_CLAMP is enabled, which clipray does not model yet: what the picture shows in "
-           "front of the near plane (or beyond the far plane) no ray from the near plane can hit");
+    if (d.depthClamp != scene.depthClamp) {
+      note(k, d.depthClamp
+                  ? "GL_DEPTH_CLAMP is enabled, but the scene does not declare it (depthClamp, "
+                    "SceneBuilder::depthClamp): what the picture shows in front of the near plane "
+                    "no ray from the near plane can hit"
+                  : "GL_DEPTH_CLAMP is disabled, but the scene declares it (depthClamp, "
+                    "SceneBuilder::depthClamp): the picture is clipped at the near and far planes");
     }
   }
   std::vector<std::string> lines;

@@ -1,8 +1,10 @@
 #include "clipray/engine/ReconcileRun.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
+#include "clipray/math/Projections.hpp"
 #include "clipray/util/PhaseClock.hpp"
 
 namespace clipray::engine {
@@ -19,6 +21,29 @@ glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode) {
   return std::isfinite(eye.x + eye.y + eye.z) ? eye : glm::dvec3(0.0);
 }
 
+double depthClampReach(const Scene& scene, const glm::dmat4& clipFromWorld, DepthMode mode) {
+  if (!scene.depthClamp || glm::dvec3(matrixRow(clipFromWorld, 3)) != glm::dvec3(0.0)) return 0.0;
+  // A parallel camera's ray starts at a near-plane point p0 inside the near quad; a vertex v it
+  // can reach behind p0 lies within |v - p0| <= |v - c| + |c - p0| of it (c the quad's centre).
+  const glm::dmat4 worldFromClip = glm::inverse(clipFromWorld);
+  const glm::dvec3 centre = nearPlaneCentre(clipFromWorld, mode);
+  double corner = 0.0;
+  for (const double x : {-1.0, 1.0}) {
+    for (const double y : {-1.0, 1.0}) {
+      const glm::dvec4 p = worldFromClip * glm::dvec4(x, y, mode.nearNdcZ(), 1.0);
+      corner = std::max(corner, glm::length(glm::dvec3(p) / p.w - centre));
+    }
+  }
+  double vertex = 0.0;
+  for (const MeshObject& object : scene.objects) {
+    for (const glm::dvec3& v : object.worldPositions) {
+      vertex = std::max(vertex, glm::length(v - centre));
+    }
+  }
+  // A margin so that a vertex at exactly that distance is not the ray's origin (t > 0).
+  return (vertex + corner) * 1.0625 + 1.0;
+}
+
 namespace {
 
 AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
@@ -31,10 +56,17 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
   pass.drawnCamera.mode = mode;
   pass.drawnCamera.viewport = viewport;
   pass.drawnCamera.clipPlanes = camera.clipPlanes;
+  pass.drawnCamera.depthClamp = scene.depthClamp;
+  pass.drawnCamera.depthClampReach =
+      depthClampReach(scene, pass.drawnCamera.clipFromWorld, pass.drawnCamera.mode);
   pass.camera.clipFromWorld = lowerLeftClipFromWorld(pass.drawnCamera.clipFromWorld, mode.origin);
   pass.camera.mode = mode.lowerLeft();
   pass.camera.viewport = viewport;
   pass.camera.clipPlanes = camera.clipPlanes;
+  pass.camera.depthClamp = pass.drawnCamera.depthClamp;
+  pass.drawnCamera.depthClampBeyondFar = clampedFarIsDrawn(mode, scene.depthRange);
+  pass.camera.depthClampBeyondFar = pass.drawnCamera.depthClampBeyondFar;
+  pass.camera.depthClampReach = pass.drawnCamera.depthClampReach;
   pass.reference = nearPlaneCentre(pass.camera.clipFromWorld, pass.camera.mode);
 
   const PhaseClock raysClock;
@@ -92,6 +124,7 @@ gl::RenderRequest renderRequest(const AnalyticPass& pass, DepthFormat depthForma
   request.viewport = pass.drawnCamera.viewport;
   request.depthRange = pass.scene->depthRange;
   request.clipPlanes = pass.drawnCamera.clipPlanes;
+  request.depthClamp = pass.scene->depthClamp;
   return request;
 }
 
@@ -117,6 +150,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   setup.subpixelBits = subpixelBits;
   setup.depthRange = pass.scene->depthRange;
   setup.clipPlanes = pass.camera.clipPlanes;
+  setup.depthClamp = depthClampRays(pass.camera);
   const PhaseClock compareClock;
   // The last run's model where only the depth format differs (its polygons serve every format),
   // else one built for this raster (the old one released first).
@@ -146,6 +180,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   run.vertexMode = vertexMode;
   run.size = pass.camera.viewport;
   run.depthRange = pass.scene->depthRange;
+  run.depthClamp = pass.scene->depthClamp;
   run.metrics = comparison.metrics;
   run.clusters = std::move(clusters);
   run.timings = {renderTimings.raster, renderTimings.readback, pass.raysMilliseconds,

@@ -89,5 +89,9 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
 // The point near the camera that both passes measure coordinates from: the centre of the near
 // plane the rasterizer clips at, in world space.
 glm::dvec3 nearPlaneCentre(const glm::dmat4& clipFromWorld, DepthMode mode);
+// How far behind the near plane a parallel camera's rays start under the scene's depth clamp
+// (PickingCamera::depthClampReach): past every vertex of the scene; 0 without depth clamp or for
+// a perspective camera (whose rays start at the eye).
+double depthClampReach(const Scene& scene, const glm::dmat4& clipFromWorld, DepthMode mode);
 
 }  // namespace clipray::engine

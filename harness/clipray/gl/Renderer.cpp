@@ -452,6 +452,11 @@ void Renderer::State::beginFrame(const RenderRequest& request) {
   const bool greater = nearerIsGreater(request.mode, request.depthRange);
   glDepthFunc(greater ? GL_GREATER : GL_LESS);
   glDisable(GL_CULL_FACE);
+  if (request.depthClamp) {
+    glEnable(GL_DEPTH_CLAMP);
+  } else {
+    glDisable(GL_DEPTH_CLAMP);
+  }
   glDisable(GL_BLEND);
   glDisable(GL_MULTISAMPLE);
   const GLuint clearId[4] = {0, 0, 0, 0};

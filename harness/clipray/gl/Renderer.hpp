@@ -38,6 +38,7 @@ struct RenderRequest {
   glm::dvec2 depthRange{0.0, 1.0};  // glDepthRange(n, f) (Scene::depthRange)
   // The camera's user clip planes, world space (Camera::clipPlanes): gl_ClipDistance for meshes.
   std::vector<glm::dvec4> clipPlanes{};
+  bool depthClamp = false;  // GL_DEPTH_CLAMP (Scene::depthClamp)
 };
 
 struct RenderTimings {  // milliseconds

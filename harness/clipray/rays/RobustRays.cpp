@@ -20,8 +20,10 @@
 namespace clipray {
 
 RobustRayGenerator::RobustRayGenerator(const glm::dmat4& drawnClipFromWorld, DepthMode drawnMode,
-                                       std::span<const glm::dvec4> clipPlanes)
+                                       std::span<const glm::dvec4> clipPlanes,
+                                       DepthClampRays depthClamp)
     : clipPlanes_(clipPlanes.begin(), clipPlanes.end()),
+      depthClamp_(depthClamp),
       clipFromWorld_(lowerLeftClipFromWorld(drawnClipFromWorld, drawnMode.origin)),
       worldFromClip_(glm::inverse(clipFromWorld_)),
       mode_(drawnMode.lowerLeft()) {
@@ -52,6 +54,14 @@ RobustRayGenerator::RobustRayGenerator(const glm::dmat4& drawnClipFromWorld, Dep
     facingNormal_ = mw;
     facingSign_ = static_cast<double>(robustDirectionSign(clipFromWorld, mode)) *
                   (glm::determinant(glm::dmat3(mx, my, mw)) < 0.0 ? -1.0 : 1.0);
+    if (depthClamp_.enabled) {
+      // Without near clipping everything in front of the eye is drawn: the rays leave the eye
+      // where w grows (dot(mw, d) > 0), wherever the near plane lies.
+      facingSign_ = 1.0;
+      // The eye: where clip x, y and w vanish (worldFromClip * (0, 0, 1, 0), dehomogenized).
+      const glm::dvec4 eye = worldFromClip_[2];
+      eye_ = glm::dvec3(eye) / eye.w;
+    }
   }
   depthPart_ = worldFromClip_[2] * mode_.nearNdcZ() + worldFromClip_[3] * 1.0;
 }
@@ -231,10 +241,10 @@ void RobustRayGenerator::generateRow(const RowTerms& row, std::span<const double
       directionsOfRowSoA(clipX.data() + first, count, myCrossMw_, rowTerm, directions);
       const std::size_t count4 = count / 4 * 4;
       finishRowBlock(constants, clipX.data() + first, directions, count4, rays + first);
-      // The kernel finishes the rays as finishRay does up to the planes' cut (the tail's
-      // finishRay below cuts its own).
-      for (std::size_t k = 0; k < count4 && !clipPlanes_.empty(); ++k) {
-        clipToPlanes(rays[first + k]);
+      // The kernel finishes the rays as finishRay does up to depth clamp's reach and the planes'
+      // cut (the tail's finishRay below does its own).
+      for (std::size_t k = 0; k < count4 && (depthClamp_.enabled || !clipPlanes_.empty()); ++k) {
+        finishInterval(rays[first + k]);
       }
       for (std::size_t k = count4; k < count; ++k) {
         const glm::dvec4 nearPointWorld =
@@ -279,6 +289,7 @@ Ray RobustRayGenerator::finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld
   // shows nothing there): no ray, rather than one from behind the camera.
   if (!(nearPointWorld.w > 0.0) || !std::isfinite(ray.origin.x + ray.origin.y + ray.origin.z)) {
     ray.tMax = kNoRayTMax;
+    finishInterval(ray);  // depth clamp draws this line of sight from the eye all the same
     return ray;
   }
 
@@ -290,8 +301,22 @@ Ray RobustRayGenerator::finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld
   ray.tMax = (denominator != 0.0 && t > 0.0 && std::isfinite(t))
                  ? t
                  : std::numeric_limits<double>::infinity();
-  clipToPlanes(ray);
+  finishInterval(ray);
   return ray;
+}
+
+void RobustRayGenerator::reachForDepthClamp(Ray& ray) const noexcept {
+  if (parallel_) {
+    ray.origin -= depthClamp_.parallelReach * ray.direction;
+  } else {
+    ray.origin = eye_;
+  }
+  ray.tMax = std::numeric_limits<double>::infinity();
+  if (depthClamp_.beyondFar) return;
+  // The far plane from the new origin, as finishRay finds it from the near point.
+  const double denominator = glm::dot(glm::dvec3(farPlane_), ray.direction);
+  const double t = -glm::dot(farPlane_, glm::dvec4(ray.origin, 1.0)) / denominator;
+  if (denominator != 0.0 && t > 0.0 && std::isfinite(t)) ray.tMax = t;
 }
 
 void RobustRayGenerator::clipToPlanes(Ray& ray) const noexcept {
@@ -320,8 +345,8 @@ void RobustRayGenerator::clipToPlanes(Ray& ray) const noexcept {
 }
 
 PixelCentreRays::PixelCentreRays(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport,
-                                 std::span<const glm::dvec4> clipPlanes)
-    : generator_(clipFromWorld, mode, clipPlanes), viewport_(viewport) {
+                                 std::span<const glm::dvec4> clipPlanes, DepthClampRays depthClamp)
+    : generator_(clipFromWorld, mode, clipPlanes, depthClamp), viewport_(viewport) {
   clipXOfColumn_.resize(static_cast<std::size_t>(std::max(viewport.width, 0)));
   for (int x = 0; x < viewport.width; ++x) {
     clipXOfColumn_[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, viewport).x;

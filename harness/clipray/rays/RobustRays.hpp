@@ -19,6 +19,19 @@
 
 namespace clipray {
 
+// GL_DEPTH_CLAMP on the raster side: nothing is clipped at the near and far planes, so the rays
+// reach what the picture shows in front of the near plane. A perspective camera's rays start at
+// the eye (GL still clips at w = 0: -w <= x, y <= w holds nowhere behind it); a parallel one has
+// no eye, and its rays start parallelReach behind the near plane (what the scene's extent there
+// needs). They end at the far plane unless beyondFar: what lies beyond it is drawn at the far end
+// of the depth range, except where that end is the depth buffer's clear value, which a strict
+// depth test (GL_LESS, GL_GREATER) never passes.
+struct DepthClampRays {
+  bool enabled = false;
+  double parallelReach = 0.0;
+  bool beyondFar = false;
+};
+
 class RobustRayGenerator {
  public:
   // Precomputes per camera. The matrix and mode as the frame is drawn, under either clip origin;
@@ -28,8 +41,9 @@ class RobustRayGenerator {
   // Camera::clipPlanes): each ray is cut to the part of its interval that every plane keeps (its
   // origin moved forward along the same line, tMax shortened), and a line of sight that no plane
   // leaves anything of gets tMax 0 (a ray that hits nothing).
+  // depthClamp: the rays GL_DEPTH_CLAMP needs (DepthClampRays), cut by the clip planes after.
   RobustRayGenerator(const glm::dmat4& drawnClipFromWorld, DepthMode drawnMode,
-                     std::span<const glm::dvec4> clipPlanes = {});
+                     std::span<const glm::dvec4> clipPlanes = {}, DepthClampRays depthClamp = {});
 
   // Ray through clip-space xy (x', y' in [-1, 1]). Never throws.
   Ray generate(glm::dvec2 clipXY) const noexcept;
@@ -67,7 +81,16 @@ class RobustRayGenerator {
   Ray finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld) const noexcept;
   // The clip planes' cut of a finished ray (see the constructor).
   void clipToPlanes(Ray& ray) const noexcept;
+  // A finished ray moved back to where depth clamp's drawing starts (DepthClampRays).
+  void reachForDepthClamp(Ray& ray) const noexcept;
+  // What finishRay does after the near-plane ray: depth clamp's reach, then the planes' cut.
+  void finishInterval(Ray& ray) const noexcept {
+    if (depthClamp_.enabled) reachForDepthClamp(ray);
+    clipToPlanes(ray);
+  }
   std::vector<glm::dvec4> clipPlanes_;
+  DepthClampRays depthClamp_;
+  glm::dvec3 eye_{0.0};  // a perspective camera's eye (depth clamp's origin)
   glm::dmat4 clipFromWorld_;
   glm::dmat4 worldFromClip_;
   DepthMode mode_;
@@ -94,7 +117,7 @@ class RobustRayGenerator {
 class PixelCentreRays {
  public:
   PixelCentreRays(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport,
-                  std::span<const glm::dvec4> clipPlanes = {});
+                  std::span<const glm::dvec4> clipPlanes = {}, DepthClampRays depthClamp = {});
 
   // rays[k] = generator().generateForPixel(xBegin + k, y, viewport()), bit for bit, for
   // k < count (the pixels must lie in the viewport).

@@ -325,9 +325,13 @@ struct ClassEntry {
   const char* label;
   const char* meaning;
 };
-constexpr std::array<ClassEntry, 8> kClasses{{
+constexpr std::array<ClassEntry, 9> kClasses{{
     {PixelClass::Agree, "agree",
      "same primitive, depth error within the predicted tolerance (mid grey)"},
+    {PixelClass::InFrontOfNear, "in front of near",
+     "in front of the near plane, drawn by depth clamp at the near depth (where two surfaces lie "
+     "there, the first drawn shows): out of reach of a picking ray that starts on the near "
+     "plane"},
     {PixelClass::DepthBeyondTolerance, "depth beyond tolerance",
      "same primitive, depth error above the tolerance (unexplained)"},
     {PixelClass::CoverageEdgeAmbiguous, "coverage, edge-ambiguous",

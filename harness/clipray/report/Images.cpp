@@ -30,15 +30,16 @@
 //     IdDepthAmbiguous      cyan         (0,255,255)
 //     IdEdgeAmbiguous       blue         (60,110,255)
 //     IdUnexplained         magenta      (255,0,255)
+//     InFrontOfNear         green        (40,200,90): agrees, drawn by depth clamp
 //   thumb_mismatch.png / thumb_heatmap.png: the frame in blocks of f x f pixels, f the smallest
 //     integer that brings both sides to 160 px or less; each thumbnail pixel is the most severe
 //     class of its block (IdUnexplained, CoverageUnexplained, DepthBeyondTolerance,
-//     IdEdgeAmbiguous, CoverageEdgeAmbiguous, IdDepthAmbiguous, Agree, Background, in that order),
-//     or the heat-map colour of its block's largest compared ratio, so a single unexplained pixel
-//     of a 1080p frame still shows. In thumb_mismatch.png a block holding an unexplained class
-//     (IdUnexplained, CoverageUnexplained, DepthBeyondTolerance) also paints the eight thumbnail
-//     pixels around it where they show a less severe class: one unexplained pixel is a 3 x 3 dot
-//     at thumbnail size. No scale strip.
+//     IdEdgeAmbiguous, CoverageEdgeAmbiguous, IdDepthAmbiguous, InFrontOfNear, Agree, Background,
+//     in that order), or the heat-map colour of its block's largest compared ratio, so a single
+//     unexplained pixel of a 1080p frame still shows. In thumb_mismatch.png a block holding an
+//     unexplained class (IdUnexplained, CoverageUnexplained, DepthBeyondTolerance) also paints the
+//     eight thumbnail pixels around it where they show a less severe class: one unexplained pixel
+//     is a 3 x 3 dot at thumbnail size. No scale strip.
 //   cluster<k>.png: the mismatch colours of a 32 x 32 window around cluster k's representative
 //     pixel (moved inside the frame; smaller frames whole), each pixel drawn 8 x 8, the
 //     representative pixel outlined in white (255,255,255).
@@ -109,20 +110,22 @@ int severity(PixelClass value) {
       return 0;
     case PixelClass::Agree:
       return 1;
-    case PixelClass::IdDepthAmbiguous:
+    case PixelClass::InFrontOfNear:
       return 2;
-    case PixelClass::CoverageEdgeAmbiguous:
+    case PixelClass::IdDepthAmbiguous:
       return 3;
-    case PixelClass::IdEdgeAmbiguous:
+    case PixelClass::CoverageEdgeAmbiguous:
       return 4;
-    case PixelClass::DepthBeyondTolerance:
+    case PixelClass::IdEdgeAmbiguous:
       return 5;
-    case PixelClass::CoverageUnexplained:
+    case PixelClass::DepthBeyondTolerance:
       return 6;
-    case PixelClass::IdUnexplained:
+    case PixelClass::CoverageUnexplained:
       return 7;
+    case PixelClass::IdUnexplained:
+      return 8;
   }
-  return 8;  // an out-of-range value: shown (in white), never hidden
+  return 9;  // an out-of-range value: shown (in white), never hidden
 }
 
 // An RGB image with top-down rows, as PNG wants them.
@@ -269,6 +272,8 @@ Rgb pixelClassColour(PixelClass value) {
       return {60, 110, 255};
     case PixelClass::IdUnexplained:
       return {255, 0, 255};
+    case PixelClass::InFrontOfNear:
+      return {40, 200, 90};
   }
   return {255, 255, 255};  // an out-of-range value: impossible to miss
 }
@@ -370,15 +375,16 @@ void encodeThumbnails(RunRecord& run, const PixelComparison& pixels) {
     }
   }
   // The class of each severity rank.
-  std::array<PixelClass, 9> ofRank{};
+  constexpr int kOutsideRank = 9;  // severity() of a value outside PixelClass
+  std::array<PixelClass, kOutsideRank> ofRank{};
   ofRank.fill(PixelClass::Background);
   for (int c = 0; c < 256; ++c) {
     const int r = rank[static_cast<std::size_t>(c)];
-    if (r < 8) ofRank[static_cast<std::size_t>(r)] = static_cast<PixelClass>(c);
+    if (r < kOutsideRank) ofRank[static_cast<std::size_t>(r)] = static_cast<PixelClass>(c);
   }
-  // An unexplained block (rank 5 and above: depth beyond tolerance, coverage and id
+  // An unexplained block (rank 6 and above: depth beyond tolerance, coverage and id
   // unexplained) spreads to its eight neighbours where they rank lower: a dot a person sees.
-  constexpr int kUnexplainedRank = 5;
+  constexpr int kUnexplainedRank = 6;
   std::vector<int> shown = worst;
   for (int row = 0; row < thumbHeight; ++row) {
     for (int x = 0; x < thumbWidth; ++x) {
@@ -397,9 +403,10 @@ void encodeThumbnails(RunRecord& run, const PixelComparison& pixels) {
     for (int x = 0; x < thumbWidth; ++x) {
       const std::size_t t = static_cast<std::size_t>(row) * thumbWidth + x;
       const int r = shown[t];
-      // Rank 8 is a value outside PixelClass: white, as in mismatch.png.
-      mismatch.set(x, thumbHeight - 1 - row,
-                   r < 8 ? pixelClassColour(ofRank[static_cast<std::size_t>(r)]) : kOutline);
+      // A value outside PixelClass: white, as in mismatch.png.
+      mismatch.set(
+          x, thumbHeight - 1 - row,
+          r < kOutsideRank ? pixelClassColour(ofRank[static_cast<std::size_t>(r)]) : kOutline);
       heat.set(x, thumbHeight - 1 - row, heatMapColour(largest[t]));
     }
   }

@@ -192,6 +192,10 @@ nlohmann::json runJson(const RunRecord& run) {
   if (run.depthRange != glm::dvec2(0.0, 1.0)) {
     json["depth_range"] = {run.depthRange.x, run.depthRange.y};
   }
+  if (run.depthClamp) {
+    json["depth_clamp"] = true;
+    json["in_front_of_near"] = m.inFrontOfNear;
+  }
   if (!run.notes.empty()) json["notes"] = run.notes;
   return json;
 }
@@ -240,6 +244,11 @@ constexpr const char* kSummaryLegend =
     "error / eye distance\n"
     "  n/a (0 compared): no pixel where both sides hit the same primitive\n";
 
+// Only under a summary that shows a run drawn with depth clamp.
+constexpr const char* kDepthClampLegend =
+    "  front: pixels in front of the near plane, drawn by depth clamp at the near depth: out of "
+    "reach of a picking ray that starts on the near plane\n";
+
 std::string countText(std::int64_t value) {
   return std::to_string(static_cast<long long>(value));
 }
@@ -259,7 +268,8 @@ SummaryCells summaryCells(const RunRecord& run) {
           "id " + countText(i.total) + " (z" + countText(i.depthAmbiguous) + " e" +
               countText(i.edgeAmbiguous) + " u" + countText(i.unexplained) + ")",
           ">tol " + countText(m.depthBeyondTolerance),
-          depthFiguresText(m)};
+          depthFiguresText(m) +
+              (run.depthClamp ? " front " + countText(m.inFrontOfNear) : std::string())};
 }
 
 // The cells joined, each padded to its column's width, without trailing spaces.
@@ -574,6 +584,9 @@ std::string textSummary(const std::vector<RunRecord>& runs) {
          std::to_string(runs.size() - consistent) + " inconsistent\n";
   out += hitsSection(shown);
   if (!runs.empty()) out += kSummaryLegend;
+  if (std::any_of(runs.begin(), runs.end(), [](const RunRecord& r) { return r.depthClamp; })) {
+    out += kDepthClampLegend;
+  }
   return out;
 }
 

@@ -73,6 +73,7 @@ struct RunRecord {
   VertexMode vertexMode = VertexMode::World;
   Viewport size;
   glm::dvec2 depthRange{0.0, 1.0};  // glDepthRange(n, f) it was drawn with (Scene::depthRange)
+  bool depthClamp = false;          // drawn with GL_DEPTH_CLAMP (Scene::depthClamp)
   RunMetrics metrics;
   RunTimings timings;
   // The CPU time the process spent in each phase, every thread's (the GL driver's in the raster

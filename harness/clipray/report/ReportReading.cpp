@@ -19,11 +19,12 @@ namespace {
 using detail::json;
 using detail::Pointer;
 
-constexpr std::array<PixelClass, 8> kPixelClasses{
+constexpr std::array<PixelClass, 9> kPixelClasses{
     PixelClass::Background,           PixelClass::Agree,
     PixelClass::DepthBeyondTolerance, PixelClass::CoverageEdgeAmbiguous,
     PixelClass::CoverageUnexplained,  PixelClass::IdDepthAmbiguous,
-    PixelClass::IdEdgeAmbiguous,      PixelClass::IdUnexplained};
+    PixelClass::IdEdgeAmbiguous,      PixelClass::IdUnexplained,
+    PixelClass::InFrontOfNear};
 
 // A report.json holds every run of a run's images beside it; PNGs are read back whole.
 constexpr std::uint64_t kMaxReportBytes = 1ull << 30;
@@ -175,6 +176,12 @@ class ReportReader {
       }
       run.depthRange = {range[0].get<double>(), range[1].get<double>()};
     }
+    if (value.contains("depth_clamp")) {
+      if (!value["depth_clamp"].is_boolean()) {
+        fail(at / "depth_clamp", "expected true or false, got " + value["depth_clamp"].dump());
+      }
+      run.depthClamp = value["depth_clamp"].get<bool>();
+    }
     if (value.contains("notes")) {
       const json& notes = value["notes"];
       if (!notes.is_array())
@@ -204,6 +211,7 @@ class ReportReader {
                     integer(id, iAt, "edge_ambiguous"), integer(id, iAt, "unexplained")};
     m.depthCompared = integer(value, at, "depth_compared");
     m.depthBeyondTolerance = integer(value, at, "depth_beyond_tolerance");
+    if (run.depthClamp) m.inFrontOfNear = integer(value, at, "in_front_of_near");
     m.depthErrorQuanta = distribution(value, at, "depth_error_quanta", true);
     m.distanceRelError = distribution(value, at, "distance_rel_error", true);
     m.toleranceRatio = distribution(value, at, "tolerance_ratio", false);

@@ -98,6 +98,10 @@ struct Scene {
   // glDepthRange(0, 1) would give. Reversed (n > f) is the reversed-Z of apps without clip
   // control (a NO projection, glDepthRange(1, 0), GL_GREATER, clear 0).
   glm::dvec2 depthRange{0.0, 1.0};
+  // glEnable(GL_DEPTH_CLAMP) for every object: no clipping at the near and far planes; a fragment
+  // in front of the near plane (or beyond the far plane) is drawn at the depth range's near (far)
+  // end. Everything in front of the eye is drawn (GL 4.6 13.7, 13.8.1).
+  bool depthClamp = false;
 
   std::size_t triangleCount() const;
 };

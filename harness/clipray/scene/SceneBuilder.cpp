@@ -77,6 +77,11 @@ SceneBuilder& SceneBuilder::depthRange(double nearDepth, double farDepth) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::depthClamp(bool enabled) {
+  document_->root["depthClamp"] = enabled;
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::faceCulling(CullFace cull, FrontFace frontFace) {
   if (document_->objects().empty()) {
     throw InputError("SceneBuilder " + detail::jsonString(name_) +

@@ -99,8 +99,9 @@ Scene SceneReader::read(const json& root) {
     fail(top / "version", "unsupported version " + describe(version) +
                               "; this clipray reads version " + std::to_string(kFormatVersion));
   }
-  expectKnownKeys(root, top,
-                  {"version", "comment", "conventions", "depthRange", "cameras", "objects"});
+  expectKnownKeys(
+      root, top,
+      {"version", "comment", "conventions", "depthRange", "depthClamp", "cameras", "objects"});
 
   Scene scene;
   scene.version = kFormatVersion;
@@ -112,6 +113,12 @@ Scene SceneReader::read(const json& root) {
   }
   if (const json* range = optional(root, "depthRange")) {
     scene.depthRange = depthRange(*range, top / "depthRange");
+  }
+  if (const json* clamp = optional(root, "depthClamp")) {
+    if (!clamp->is_boolean()) {
+      fail(top / "depthClamp", "expected true or false (GL_DEPTH_CLAMP), got " + describe(*clamp));
+    }
+    scene.depthClamp = clamp->get<bool>();
   }
 
   const json& cameras = required(root, top, "cameras");
@@ -155,6 +162,12 @@ Scene SceneReader::read(const json& root) {
          "clip planes with analytic primitives (\"" + scene.primitives[0].name +
              "\") are not modelled: their fragment shader traces the ray from the near plane, "
              "not the clipped interval; use triangle meshes");
+  }
+  if (scene.depthClamp && !scene.primitives.empty()) {
+    fail(top / "depthClamp",
+         "depth clamp with analytic primitives (\"" + scene.primitives[0].name +
+             "\") is not modelled: their fragment shader traces the ray from the near plane, "
+             "and depth clamp draws what lies in front of it; use triangle meshes");
   }
   if (scene.triangleCount() + scene.primitives.size() > PrimitiveIdTable::kMaxPrimitives) {
     fail(top / "objects", "too many primitives for 32-bit primitive ids: " +

@@ -27,6 +27,16 @@ struct PickingCamera {
   // The user clip planes it draws with (world space, gl_ClipDistance = dot(plane, (p, 1)), kept
   // where >= 0); a ray function whose picking should not reach what they clip cuts its rays.
   std::vector<glm::dvec4> clipPlanes{};
+  // GL_DEPTH_CLAMP (Scene::depthClamp): nothing is clipped at the near and far planes, and what
+  // lies in front of the near plane is drawn at the depth range's near end. A ray function that
+  // should reach it starts its rays at the eye (perspective) or depthClampReach behind the near
+  // plane (parallel: as far as the scene reaches behind it), with no far end.
+  bool depthClamp = false;
+  double depthClampReach = 0.0;
+  // What lies beyond the far plane is drawn too (at the far end of the depth range), unless that
+  // end is the depth buffer's clear value, which a strict depth test never passes: rays then end
+  // at the far plane.
+  bool depthClampBeyondFar = false;
 };
 
 // A ray for pixel (x, y) (lower-left origin, integer pixel indices) or nullopt for "no ray": the

@@ -63,6 +63,9 @@ class SceneBuilder {
   // glDepthRange(nearDepth, farDepth) the scene is drawn with (default 0, 1); (1, 0) is the
   // reversed-Z of apps without clip control: a NO projection, GL_GREATER, clear 0.
   SceneBuilder& depthRange(double nearDepth, double farDepth);
+  // glEnable(GL_DEPTH_CLAMP) (default off): nothing is clipped at the near and far planes, and
+  // what lies in front of the near plane is drawn at the near end of the depth range.
+  SceneBuilder& depthClamp(bool enabled);
 
   // A triangle mesh from the app's arrays: x, y, z per vertex and 3 indices per triangle, in the
   // order the app draws them (triangle k gets id firstId + k, as gl_PrimitiveID counts).
