@@ -180,8 +180,8 @@ glm::dvec3 PickDemo::teleportOffset() const {
 }
 
 std::vector<glm::dvec4> PickDemo::shownClipPlanes() const {
-  // A plane keeps dot(n, p) + w >= 0; the teleported point is p + offset, so w loses dot(n,
-  // offset).
+  // A plane keeps dot(n, p) + w >= 0. A teleported point is p + offset: the same plane through
+  // the moved points has w - dot(n, offset).
   const glm::dvec3 offset = teleportOffset();
   std::vector<glm::dvec4> planes = camera_.clipPlanes;
   for (glm::dvec4& plane : planes) plane.w -= glm::dot(glm::dvec3(plane), offset);
