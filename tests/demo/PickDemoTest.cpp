@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "GlfwBackend.hpp"
+#include "PickDemo.hpp"
 #include "PickScript.hpp"
 #include "ThreeWayPick.hpp"
 #include "XvfbServer.hpp"
@@ -520,6 +521,40 @@ TEST_F(PickDemoUnderX, ClipPlanesCutThePicksWhereTheyCutThePicture) {
   EXPECT_TRUE(below["id"]["object"].is_null());
   EXPECT_TRUE(below["depth"]["point"].is_null());
   EXPECT_EQ(below["verdict"], "agree");
+}
+
+// The teleport moves the clip planes with the scene: the standard camera cut at x = 0 (keeping
+// x <= 0) shows the ground through the cut half of the box, at the origin and 1e5 away alike.
+TEST_F(PickDemoUnderX, TeleportMovesTheClipPlanesWithTheScene) {
+  const StandardSceneReference reference;
+  const glm::ivec2 cutBox{175, 128};
+  ASSERT_EQ(reference.at(cutBox).rayObject, 1);  // the box, uncut
+  nlohmann::json scene = nlohmann::json::parse(testing::readText(kStandard));
+  scene["cameras"][0]["clipPlanes"] = nlohmann::json::array({{-1.0, 0.0, 0.0, 0.0}});
+  writeText(folder_.path() / "standard-cut.json", scene.dump());
+  const auto result =
+      run("standard-cut.json --size 320x240 --convention zo --depth-format 32f --precision double "
+          "--vertex-mode camera-relative",
+          clickInside(cutBox, 240) + "key t\n" + clickInside(cutBox, 240));
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 2u) << result.out;
+  for (const nlohmann::json& p : picks) {
+    SCOPED_TRACE(p.dump());
+    EXPECT_EQ(p["clip_planes"], 1);
+    EXPECT_EQ(p["ray"]["object"], "ground");
+    EXPECT_EQ(p["id"]["object"], "ground");
+    EXPECT_EQ(p["verdict"], "agree");
+  }
+  EXPECT_EQ(picks[0]["teleported"], false);
+  EXPECT_EQ(picks[1]["teleported"], true);
+  // The same ground point, moved by the teleport.
+  EXPECT_NEAR(picks[1]["ray"]["point"][0].get<double>(),
+              picks[0]["ray"]["point"][0].get<double>() + demo::kTeleportDistance, 1e-6);
+  for (int c = 1; c < 3; ++c) {
+    EXPECT_NEAR(picks[1]["ray"]["point"][c].get<double>(),
+                picks[0]["ray"]["point"][c].get<double>(), 1e-6);
+  }
 }
 
 // Bad input is reported before any window opens: these run without a display on purpose.
