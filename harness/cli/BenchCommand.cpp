@@ -84,6 +84,9 @@ double timeGenerator(const RayGenerator<T>& generator, double budgetSeconds) {
 
 struct CaseJob {
   HardCase hardCase;
+  // The convention the rows name: the case's own, or the user's --convention as given, its clip
+  // origin included (which changes no figure: the matrix is measured as given).
+  std::string convention;
   std::vector<RayMethod> methods;
   // Seconds of repeated passes per method and precision (best pass kept): the quick default's
   // 36 cases x 16 timings would spend most of their minute here at the full sweep's budget.
@@ -107,7 +110,7 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
     for (const Precision precision : kPrecisions) {
       Row row;
       row.caseName = c.name;
-      row.convention = c.convention();
+      row.convention = job.convention;
       row.method = rayMethodName(method);
       row.precision = precisionName(precision);
       row.fovYDegrees = c.fovYDegrees;
@@ -120,7 +123,7 @@ std::vector<Row> measureCase(const CaseJob& job, bool progress, const std::strin
     doubles.push_back(std::move(d));
   }
   if (progress) {
-    std::cerr << "clipray bench: " << progressTag << " " << c.name << " " << c.convention()
+    std::cerr << "clipray bench: " << progressTag << " " << c.name << " " << job.convention
               << ": reference (__float128)...\x1b[K\r" << std::flush;
   }
 
@@ -230,8 +233,13 @@ std::string cell(double value) {
 }
 
 std::string table(const std::vector<Row>& rows) {
+  // The convention column fits the hard cases' names ("zo-reversed"), and widens for a user's
+  // matrix drawn under an upper-left origin ("zo-reversed-upper-left").
+  std::size_t conventionWidth = 12;
+  for (const Row& r : rows) conventionWidth = std::max(conventionWidth, r.convention.size() + 1);
+  const int conv = static_cast<int>(conventionWidth);
   std::ostringstream out;
-  out << std::left << std::setw(22) << "case" << std::setw(12) << "conv" << std::setw(16)
+  out << std::left << std::setw(22) << "case" << std::setw(conv) << "conv" << std::setw(16)
       << "method" << std::setw(7) << "prec" << std::right << std::setw(9) << "ns/ray"
       << std::setw(10) << "ang max" << std::setw(10) << "ang p50" << std::setw(10) << "org max"
       << std::setw(10) << "org p50" << std::setw(10) << "tmax rel" << std::setw(9) << "nonfin"
@@ -241,7 +249,7 @@ std::string table(const std::vector<Row>& rows) {
   for (const Row& r : rows) {
     std::ostringstream ns;
     ns << std::fixed << std::setprecision(r.nsPerRay < 10 ? 2 : 1) << r.nsPerRay;
-    out << std::left << std::setw(22) << r.caseName << std::setw(12) << r.convention
+    out << std::left << std::setw(22) << r.caseName << std::setw(conv) << r.convention
         << std::setw(16) << r.method << std::setw(7) << r.precision << std::right << std::setw(9)
         << ns.str() << std::setw(10) << cell(r.errors.anglePx.max) << std::setw(10)
         << cell(r.errors.anglePx.p50) << std::setw(10) << cell(r.errors.originLateralPx.max)
@@ -355,29 +363,35 @@ int runBench(const BenchOptions& options) {
   }
 
   std::vector<HardCase> cases;
+  std::string userConvention;  // --convention as given, its clip origin included
   if (!options.clipFromWorld.empty()) {
     if (!options.cases.empty()) {
       throw InputError("--cases and --clip-from-world exclude each other");
     }
     if (options.convention.empty()) {
       throw InputError(
-          "--clip-from-world needs --convention no|zo|zo-reversed (the depth convention it is "
-          "drawn under)");
+          "--clip-from-world needs --convention no|zo|zo-reversed, each also with -upper-left "
+          "(the conventions it is drawn under)");
     }
     const std::optional<DepthMode> mode = DepthMode::parse(options.convention);
-    // The ray methods it compares work in a lower-left origin's clip space.
-    if (!mode || mode->origin != ClipOrigin::LowerLeft) {
-      throw InputError("--convention: expected no, zo or zo-reversed, got \"" + options.convention +
-                       "\"");
+    if (!mode) {
+      throw InputError(
+          "--convention: expected no, zo or zo-reversed (each also with -upper-left), got \"" +
+          options.convention + "\"");
     }
+    userConvention = mode->name();
     HardCase user;
     user.name = "user";
     user.description = "--clip-from-world";
     user.viewport = size;
+    // The matrix is measured as given, whatever the origin: under GL_UPPER_LEFT the app computes
+    // y' = (2r + 1) / H - 1 from the mouse row r counted from the top, the bench's own formula
+    // for row r, so it computes the bench's rays, each for the mirrored framebuffer row, and every
+    // figure is over all pixels (docs/bench.md, "Clip origin"). The rows keep the name as given.
     user.inputs.clipFromWorld = parseMatrixOption(
         options.clipFromWorld, options.layout == "row-major", "--clip-from-world");
-    user.inputs.mode = *mode;
-    const ProjectionCheck check = describeProjection(user.inputs.clipFromWorld, *mode);
+    user.inputs.mode = mode->lowerLeft();
+    const ProjectionCheck check = describeProjection(user.inputs.clipFromWorld, user.inputs.mode);
     if (!check.facts) throw InputError("--clip-from-world: " + check.problem);
     if (!check.facts->parallel) user.fovYDegrees = check.facts->fovYDegrees;
     cases.push_back(user);
@@ -403,6 +417,10 @@ int runBench(const BenchOptions& options) {
     }
   }
 
+  auto conventionOf = [&](const HardCase& c) {
+    return userConvention.empty() ? c.convention() : userConvention;
+  };
+
   // Output files: their folders must exist before minutes of measuring are spent.
   for (const auto& [option, path] : {std::pair<std::string, std::string>{"--json", options.json},
                                      std::pair<std::string, std::string>{"--plot", options.plot}}) {
@@ -421,13 +439,13 @@ int runBench(const BenchOptions& options) {
   for (std::size_t k = 0; k < cases.size(); ++k) {
     const std::string tag = "[" + std::to_string(k + 1) + "/" + std::to_string(cases.size()) + "]";
     if (!progress) {
-      std::cerr << "clipray bench: " << tag << " " << cases[k].name << " " << cases[k].convention()
+      std::cerr << "clipray bench: " << tag << " " << cases[k].name << " " << conventionOf(cases[k])
                 << " (" << size.width << "x" << size.height << ")\n"
                 << std::flush;
     }
     const bool quick = !options.full && options.size.empty();
-    std::vector<Row> caseRows =
-        measureCase({cases[k], methods, quick ? 0.02 : 0.15}, progress, tag);
+    std::vector<Row> caseRows = measureCase(
+        {cases[k], conventionOf(cases[k]), methods, quick ? 0.02 : 0.15}, progress, tag);
     rows.insert(rows.end(), caseRows.begin(), caseRows.end());
   }
   if (progress) std::cerr << "\x1b[K" << std::flush;
@@ -503,7 +521,8 @@ CommandRunner addBenchOptions(CLI::App& app) {
   app.add_option("--layout", options->layout, "Order of the 16 numbers: column-major, row-major")
       ->capture_default_str();
   app.add_option("--convention", options->convention,
-                 "Convention the matrix is drawn under: no, zo, zo-reversed");
+                 "Convention the matrix is drawn under: no, zo, zo-reversed, each also with "
+                 "-upper-left (glClipControl(GL_UPPER_LEFT, ...))");
   app.add_option("--json", options->json, "Write the rows as JSON to FILE");
   app.add_option("--plot", options->plot, "Write speed vs worst error as an SVG to FILE.svg");
   return [options] { return runBench(*options); };

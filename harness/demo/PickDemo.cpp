@@ -179,7 +179,16 @@ glm::dvec3 PickDemo::teleportOffset() const {
   return teleported_ ? glm::dvec3(kTeleportDistance, 0.0, 0.0) : glm::dvec3(0.0);
 }
 
-CameraInputs PickDemo::cameraInputs(Viewport viewport) const {
+std::vector<glm::dvec4> PickDemo::shownClipPlanes() const {
+  // A plane keeps dot(n, p) + w >= 0. A teleported point is p + offset: the same plane through
+  // the moved points has w - dot(n, offset).
+  const glm::dvec3 offset = teleportOffset();
+  std::vector<glm::dvec4> planes = camera_.clipPlanes;
+  for (glm::dvec4& plane : planes) plane.w -= glm::dot(glm::dvec3(plane), offset);
+  return planes;
+}
+
+CameraInputs PickDemo::drawnCameraInputs(Viewport viewport) const {
   // The teleport moves the camera with the scene: the view gains a translation by -offset.
   const glm::dmat4 offset = translation(-teleportOffset());
   CameraInputs inputs;
@@ -215,28 +224,36 @@ void PickDemo::updateRaster() {
   const WindowGeometry geometry = window_->geometry();
   const Viewport viewport{geometry.framebufferSize.x, geometry.framebufferSize.y};
   if (!rasterDirty_ && raster_.viewport == viewport) return;
-  rasterCamera_ = cameraInputs(viewport);
-  const glm::dvec3 reference = engine::nearPlaneCentre(rasterCamera_.clipFromWorld, settings_.mode);
+  // GL draws the matrix as the app hands it, under its clip origin; glReadPixels returns the rows
+  // from the bottom either way, so the picks work with the lower-left view of the same camera.
+  const CameraInputs drawn = drawnCameraInputs(viewport);
+  rasterCamera_ = lowerLeftCameraInputs(drawn);
+  rasterClipPlanes_ = shownClipPlanes();
+  const glm::dvec3 reference =
+      engine::nearPlaneCentre(rasterCamera_.clipFromWorld, rasterCamera_.mode);
   gl::RenderRequest request;
   request.scene = &shownScene_;
-  request.clipFromWorld = rasterCamera_.clipFromWorld;
+  request.clipFromWorld = drawn.clipFromWorld;
   request.mode = settings_.mode;
   request.depthFormat = settings_.depthFormat;
   request.vertexMode = settings_.vertexMode;
   request.vertexReference = reference;
   request.viewport = viewport;
   request.depthRange = shownScene_.depthRange;
+  request.clipPlanes = rasterClipPlanes_;
   raster_ = renderer_->render(request);
-  // The picks cull what the picture culls (the demo draws lower-left: the matrix is as drawn).
+  // The picks cull what the picture culls: facing is decided by the matrix as drawn (GL's
+  // upper-left origin negates the window-space area and so undoes its own y flip).
   intersector_.emplace(shownScene_, reference, SceneIntersector::BvhBuild::Now,
-                       rasterCamera_.clipFromWorld);
+                       drawn.clipFromWorld);
   rasterSetup_.clipFromWorld = rasterCamera_.clipFromWorld;
-  rasterSetup_.mode = settings_.mode;
+  rasterSetup_.mode = rasterCamera_.mode;
   rasterSetup_.depthFormat = settings_.depthFormat;
   rasterSetup_.vertexMode = settings_.vertexMode;
   rasterSetup_.vertexReference = reference;
   rasterSetup_.subpixelBits = renderer_->info().subpixelBits;
   rasterSetup_.depthRange = shownScene_.depthRange;
+  rasterSetup_.clipPlanes = rasterClipPlanes_;
 
   if (gpu_->idTextureSize != glm::ivec2(viewport.width, viewport.height)) {
     glDeleteTextures(1, &gpu_->idTexture);
@@ -263,8 +280,16 @@ void PickDemo::repick() {
 
 PickView PickDemo::pickView() {
   updateRaster();
-  return {&shownScene_, rasterCamera_,  settings_.depthFormat,
-          &raster_,     &*intersector_, &rasterSetup_};
+  PickView view;
+  view.scene = &shownScene_;
+  view.camera = rasterCamera_;
+  view.drawnOrigin = settings_.mode.origin;
+  view.clipPlanes = rasterClipPlanes_;
+  view.depthFormat = settings_.depthFormat;
+  view.raster = &raster_;
+  view.intersector = &*intersector_;
+  view.setup = &rasterSetup_;
+  return view;
 }
 
 void PickDemo::drawFrame() {

@@ -21,7 +21,7 @@
 namespace clipray::demo {
 
 struct DemoSettings {
-  DepthMode mode = kZeroToOne;
+  DepthMode mode = kZeroToOne;  // with glClipControl's origin: C and O change it
   DepthFormat depthFormat = DepthFormat::Unorm24;
   VertexMode vertexMode = VertexMode::World;
   RayChoice ray;  // robust float
@@ -58,10 +58,14 @@ class PickDemo {
   void updateRaster();
   void repick();
   PickView pickView();  // of the current raster, redrawn first if needed
-  // What the demo's camera hands the ray methods: clipFromWorld, and for a parametric camera the
-  // projection and view separately, and for a perspective one the fov scalars too.
-  CameraInputs cameraInputs(Viewport viewport) const;
+  // The demo's camera as the app draws it, under settings_.mode (its origin included):
+  // clipFromWorld, and for a parametric camera the projection and view separately, and for a
+  // perspective one the fov scalars too. The picks take its lower-left view
+  // (lowerLeftCameraInputs).
+  CameraInputs drawnCameraInputs(Viewport viewport) const;
   glm::dvec3 teleportOffset() const;
+  // The camera's user clip planes in the shown scene's world (moved by the teleport offset).
+  std::vector<glm::dvec4> shownClipPlanes() const;
   void drawPanel();              // PickDemoPanel.cpp
   void installInputCallbacks();  // PickDemoInput.cpp, like the handlers
   void resetView();
@@ -83,8 +87,9 @@ class PickDemo {
   std::unique_ptr<Gpu> gpu_;
   bool rasterDirty_ = true;
   RasterFrame raster_;
-  CameraInputs rasterCamera_;  // the camera the raster was drawn with
-  RasterSetup rasterSetup_;    // how it was drawn, as the tolerance model needs it
+  CameraInputs rasterCamera_;  // the lower-left view of the camera the raster was drawn with
+  std::vector<glm::dvec4> rasterClipPlanes_;  // the clip planes it was drawn with
+  RasterSetup rasterSetup_;                   // how it was drawn, as the tolerance model needs it
   std::optional<SceneIntersector> intersector_;
   std::optional<PickResult> lastPick_;
 

@@ -128,10 +128,19 @@ void PickDemo::onScroll(double steps) {
 
 void PickDemo::onKey(char key) {
   switch (key) {
-    case 'c':  // no -> zo -> zo-reversed -> no
-      settings_.mode = settings_.mode == kNegativeOneToOne ? kZeroToOne
-                       : settings_.mode == kZeroToOne      ? kZeroToOneReversed
-                                                           : kNegativeOneToOne;
+    case 'c': {  // no -> zo -> zo-reversed -> no, keeping the clip origin
+      const DepthMode depth = settings_.mode.lowerLeft();
+      const ClipOrigin origin = settings_.mode.origin;
+      settings_.mode = depth == kNegativeOneToOne ? kZeroToOne
+                       : depth == kZeroToOne      ? kZeroToOneReversed
+                                                  : kNegativeOneToOne;
+      settings_.mode.origin = origin;
+      break;
+    }
+    case 'o':  // glClipControl's origin: lower-left <-> upper-left, keeping the depth convention
+      settings_.mode.origin = settings_.mode.origin == ClipOrigin::LowerLeft
+                                  ? ClipOrigin::UpperLeft
+                                  : ClipOrigin::LowerLeft;
       break;
     case 'd':  // 16 -> 24 -> 32f -> 16
       settings_.depthFormat = settings_.depthFormat == DepthFormat::Unorm16 ? DepthFormat::Unorm24

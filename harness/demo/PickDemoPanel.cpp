@@ -57,6 +57,11 @@ void PickDemo::drawPanel() {
     ImGui::Text("convention %s   depth %s   vertices %s", settings_.mode.name().c_str(),
                 depthFormatName(settings_.depthFormat).c_str(),
                 vertexModeName(settings_.vertexMode).c_str());
+    if (!camera_.clipPlanes.empty()) {
+      // The picture is cut by them; so is every pick's ray, or it would find what is not shown.
+      ImGui::Text("clip planes %zu (gl_ClipDistance): the rays are cut by them too",
+                  camera_.clipPlanes.size());
+    }
     ImGui::Text("rays %s   framebuffer %dx%d", rayChoiceName(settings_.ray).c_str(),
                 geometry.framebufferSize.x, geometry.framebufferSize.y);
     ImGui::Separator();
@@ -67,10 +72,11 @@ void PickDemo::drawPanel() {
     const PickResult& p = *lastPick_;
     const PickJudgement judgement = judgePick(p, shownScene_);
     if (!compactPanel_) {
-      // The framebuffer pixel, as GL numbers it; the script's and the cursor's coordinates are
-      // the window's (top-left origin, y down), so a click at y = 300 picks row 339 of 640.
-      ImGui::Text("pixel (%d, %d)   framebuffer, GL: origin lower left, y up", p.pixel.x,
-                  p.pixel.y);
+      // The framebuffer pixel, as GL numbers it under either clip origin; the script's and the
+      // cursor's coordinates are the window's (top-left origin, y down), so a click at y = 300
+      // picks row 339 of 640.
+      ImGui::Text("pixel (%d, %d)   %s", p.pixel.x, p.pixel.y,
+                  pixelCoordinatesLabel(p.mode.origin));
       if (p.rayUnavailable.empty()) {
         ImGui::TextColored(ImVec4(0.4f, 1.0f, 0.4f, 1.0f), "1 ray   %-12s %s",
                            objectName(shownScene_, p.rayObject).c_str(),
@@ -109,11 +115,12 @@ void PickDemo::drawPanel() {
                      ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing);
     ImGui::TextUnformatted(
         "left-click pick   left-drag orbit   right-drag pan   wheel zoom\n"
-        "C convention (no / zo / zo-reversed)   D depth format (16 / 24 / 32f)\n"
+        "C convention (no / zo / zo-reversed)   O clip origin (lower-left / upper-left)\n"
+        "D depth format (16 / 24 / 32f)   V vertex mode (world / camera-relative / "
+        "pretransformed)\n"
         "M ray method: unproject_glm / two_point / inverse_pv / fov_tangent / plane_cross /\n"
         "  plane_cross_pre / full / robust (float), then robust double\n"
-        "V vertex mode (world / camera-relative / pretransformed)   T teleport 1e5\n"
-        "R reset view   P compact panel   H this help   Esc quit");
+        "T teleport 1e5   R reset view   P compact panel   H this help   Esc quit");
     ImGui::End();
   }
 

@@ -94,7 +94,11 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
       const std::string key = reader.word();
       if (key.size() != 1 ||
           !std::strchr(kScriptKeys, std::tolower(static_cast<unsigned char>(key[0])))) {
-        reader.fail("key: expected one of c, d, m, v, t, r, h, got \"" + key + "\"");
+        std::string keys;
+        for (const char* k = kScriptKeys; *k != '\0'; ++k) {
+          keys += (keys.empty() ? "" : ", ") + std::string(1, *k);
+        }
+        reader.fail("key: expected one of " + keys + ", got \"" + key + "\"");
       }
       command.key = static_cast<char>(std::tolower(static_cast<unsigned char>(key[0])));
     } else {

@@ -6,7 +6,7 @@
 //   click X Y                cursor position in window coordinates (top-left origin)
 //   drag left|right X0 Y0 X1 Y1
 //   scroll STEPS             wheel steps, positive zooms in
-//   key K                    one of the demo's keys (c d m v t r h p)
+//   key K                    one of the demo's keys (c o d m v t r h p)
 
 #include <string>
 #include <vector>
@@ -26,7 +26,7 @@ struct ScriptCommand {
 };
 
 // The keys a script may press (the demo's key bindings, lower case).
-inline constexpr const char* kScriptKeys = "cdmvtrhp";
+inline constexpr const char* kScriptKeys = "codmvtrhp";
 
 // Throws InputError "FILE:LINE: ..." for anything it does not understand.
 std::vector<ScriptCommand> parseScript(const std::string& text, const std::string& path);

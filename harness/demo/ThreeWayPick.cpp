@@ -1,5 +1,6 @@
 #include "ThreeWayPick.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <iterator>
@@ -104,6 +105,47 @@ PickRay pickRay(RayChoice choice, const CameraInputs& camera, Viewport viewport,
              : libraryRay<double>(choice.method, camera, viewport, pixel);
 }
 
+CameraInputs lowerLeftCameraInputs(const CameraInputs& drawn) {
+  CameraInputs view = drawn;
+  const ClipOrigin origin = drawn.mode.origin;
+  view.mode = drawn.mode.lowerLeft();
+  view.clipFromWorld = lowerLeftClipFromWorld(drawn.clipFromWorld, origin);
+  // clipFromView * viewFromWorld keeps composing to clipFromWorld: the y row is the projection's.
+  if (drawn.clipFromView) view.clipFromView = lowerLeftClipFromWorld(*drawn.clipFromView, origin);
+  return view;
+}
+
+void cutToClipPlanes(Ray& ray, std::span<const glm::dvec4> clipPlanes) {
+  if (clipPlanes.empty() || ray.tMax < 0.0) return;
+  // Along the ray each plane's value is s0 + s1 t: it keeps t >= -s0 / s1 where s1 > 0, t <=
+  // -s0 / s1 where s1 < 0, and everything or nothing where s1 = 0 (a plane parallel to it).
+  double low = 0.0;
+  double high = ray.tMax;
+  for (const glm::dvec4& plane : clipPlanes) {
+    const double s0 = glm::dot(glm::dvec3(plane), ray.origin) + plane.w;
+    const double s1 = glm::dot(glm::dvec3(plane), ray.direction);
+    if (s1 > 0.0) {
+      low = std::max(low, -s0 / s1);
+    } else if (s1 < 0.0) {
+      high = std::min(high, -s0 / s1);
+    } else if (s0 < 0.0) {
+      high = -1.0;
+    }
+  }
+  if (!(low < high)) {
+    ray.tMax = 0.0;  // the planes leave nothing of this line of sight
+    return;
+  }
+  if (low > 0.0) ray.origin += low * ray.direction;
+  ray.tMax = high - low;  // +inf stays +inf
+}
+
+const char* pixelCoordinatesLabel(ClipOrigin origin) {
+  return origin == ClipOrigin::UpperLeft
+             ? "framebuffer, GL: origin lower left, y up; clip y down (GL_UPPER_LEFT)"
+             : "framebuffer, GL: origin lower left, y up";
+}
+
 std::optional<glm::dvec2> framebufferFromWorld(const glm::dmat4& clipFromWorld, Viewport viewport,
                                                const glm::dvec3& world) {
   const glm::dvec4 clip = clipFromWorld * glm::dvec4(world, 1.0);
@@ -150,11 +192,14 @@ PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
   result.framebuffer = viewport;
   result.ray = ray;
   result.mode = view.camera.mode;
+  result.mode.origin = view.drawnOrigin;
   result.depthFormat = view.depthFormat;
+  result.clipPlaneCount = view.clipPlanes.size();
   const glm::dvec2 clipXY = clipXYOfPixelCentre(pixel.x, pixel.y, viewport);
 
-  // 1. The analytic ray through the pixel centre.
-  const PickRay analytic = pickRay(ray, view.camera, viewport, pixel);
+  // 1. The analytic ray through the pixel centre, cut where the picture is.
+  PickRay analytic = pickRay(ray, view.camera, viewport, pixel);
+  if (analytic.ray) cutToClipPlanes(*analytic.ray, view.clipPlanes);
   std::uint32_t rayPrimitive = 0;
   double rayHitT = 0.0;
   if (analytic.ray) {
@@ -261,6 +306,8 @@ nlohmann::json pickJson(const PickResult& result, const Scene& scene, bool telep
   line["method"] = rayMethodName(result.ray.method);
   line["precision"] = precisionName(result.ray.precision);
   line["convention"] = result.mode.name();
+  line["clip_origin"] = result.mode.origin == ClipOrigin::UpperLeft ? "upper-left" : "lower-left";
+  line["clip_planes"] = result.clipPlaneCount;
   line["depth_format"] = depthFormatName(result.depthFormat);
   line["teleported"] = teleported;
   if (result.rayUnavailable.empty()) {

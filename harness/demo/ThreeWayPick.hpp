@@ -7,8 +7,10 @@
 // and the gap between 1 and 2, in world units and in pixel footprints at that depth.
 
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
@@ -52,10 +54,39 @@ struct PickRay {
 // The ray through the centre of pixel (lower-left origin) by `choice` on `camera`. Never throws.
 PickRay pickRay(RayChoice choice, const CameraInputs& camera, Viewport viewport, glm::ivec2 pixel);
 
+// The camera a frame drawn with `drawn` (its matrices as the app hands them to GL, built for
+// drawn.mode, whose origin is glClipControl's) shows, as a lower-left origin numbers the
+// framebuffer rows: for GL_UPPER_LEFT every matrix's y row negated (exact, in float too) and the
+// origin lower-left, as the reconcile traces it (lowerLeftClipFromWorld). glReadPixels and the
+// cursor count rows from the bottom whatever the origin, so the ray methods, the depth
+// unprojection and the tolerance model all take this view. The fov scalars describe the camera as
+// built, upright, and stay as they are.
+CameraInputs lowerLeftCameraInputs(const CameraInputs& drawn);
+
+// Cuts a pick's ray to the part of its interval that every user clip plane keeps (world space,
+// kept where dot(plane, (p, 1)) >= 0, Camera::clipPlanes): the origin moves forward along the same
+// line, tMax shortens, and a line of sight the planes leave nothing of gets tMax 0 (it hits
+// nothing). The picture shows nothing a plane clips, so the picks must not find it either. The
+// same arithmetic as the cut RobustRayGenerator makes to clipray's own rays (a test pins them
+// bit for bit), applied here to every method's ray, widened to double.
+void cutToClipPlanes(Ray& ray, std::span<const glm::dvec4> clipPlanes);
+
+// How the panel names the coordinates of `pixel (i, j)`: the framebuffer's, rows counted from the
+// bottom as glReadPixels and gl_FragCoord count them under either clip origin; for GL_UPPER_LEFT
+// it adds that clip space's y runs down those rows.
+const char* pixelCoordinatesLabel(ClipOrigin origin);
+
 // What the screen showed when the user clicked.
 struct PickView {
   const Scene* scene = nullptr;
-  CameraInputs camera;  // clipFromWorld and mode always; projection, view, fov where known
+  // The camera as a lower-left origin sees the frame (lowerLeftCameraInputs): clipFromWorld and
+  // mode always; projection, view, fov where known.
+  CameraInputs camera;
+  // glClipControl's origin the frame was drawn under (camera.mode is lower-left either way).
+  ClipOrigin drawnOrigin = ClipOrigin::LowerLeft;
+  // The camera's user clip planes, in the same world as the scene (moved with a teleport): the
+  // picture was drawn with them, and every pick's ray is cut by them (cutToClipPlanes).
+  std::vector<glm::dvec4> clipPlanes;
   DepthFormat depthFormat = DepthFormat::Float32;
   const RasterFrame* raster = nullptr;            // depth and ids read back from the same frame
   const SceneIntersector* intersector = nullptr;  // over the same (possibly teleported) scene
@@ -69,8 +100,9 @@ struct PickResult {
   glm::ivec2 pixel{0};  // lower-left origin, framebuffer pixels
   Viewport framebuffer;
   RayChoice ray;
-  DepthMode mode;
+  DepthMode mode;  // as drawn: its origin is glClipControl's
   DepthFormat depthFormat = DepthFormat::Float32;
+  std::size_t clipPlaneCount = 0;  // the user clip planes the picture and the ray were cut by
   // 1. analytic ray
   std::string rayUnavailable;  // not empty: the method could not run here ("n/a"); why
   int rayObject = -1;          // surface index (see surfaceIndex), -1: background (or no ray)
@@ -125,12 +157,15 @@ std::string surfaceName(const Scene& scene, int surface);
 std::optional<glm::dvec2> framebufferFromWorld(const glm::dmat4& clipFromWorld, Viewport viewport,
                                                const glm::dvec3& world);
 
-// {pixel, framebuffer, method, precision, convention, depth_format, teleported, ray:{object,
-// point}, depth:{point, window_depth}, id:{object}, gap_world, gap_px, ray_offset_px,
-// same_object, agree, reconcile_class, verdict}; absent values are null; "ray", "same_object" and
-// "agree" are null where the method could not run. "verdict" is pickVerdictName(judgePick(...));
-// "agree" is true exactly where the verdict is "agree" (the same object and the hit inside the
-// clicked pixel); "same_object" compares objects only (true for an "apart" pick).
+// {pixel, framebuffer, method, precision, convention, clip_origin, clip_planes, depth_format,
+// teleported, ray:{object, point}, depth:{point, window_depth}, id:{object}, gap_world, gap_px,
+// ray_offset_px, same_object, agree, reconcile_class, verdict}; absent values are null;
+// "convention" is the mode's name ("zo-upper-left"), "clip_origin" its origin ("lower-left" or
+// "upper-left"), "clip_planes" how many user clip planes cut the picture and the ray; "ray",
+// "same_object" and "agree" are null where the method could not run. "verdict" is
+// pickVerdictName(judgePick(...)); "agree" is true exactly where the verdict is "agree" (the same
+// object and the hit inside the clicked pixel); "same_object" compares objects only (true for an
+// "apart" pick).
 nlohmann::json pickJson(const PickResult& result, const Scene& scene, bool teleported);
 
 }  // namespace clipray::demo

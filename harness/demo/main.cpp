@@ -52,7 +52,10 @@ int main(int argc, char** argv) {
   std::string vertexMode = "world";
   std::string size = "960x640", scriptPath, screenshotPath;
   app.add_option("scene", scenePath, "Scene file (default: scenes/standard.json)");
-  app.add_option("--convention", convention, "no, zo or zo-reversed")->capture_default_str();
+  app.add_option("--convention", convention,
+                 "no, zo or zo-reversed, each also with -upper-left (drawn under "
+                 "glClipControl(GL_UPPER_LEFT, ...))")
+      ->capture_default_str();
   app.add_option("--depth-format", depthFormat, "16, 24 or 32f")->capture_default_str();
   app.add_option("--method", method,
                  "Ray method (clipray's ray library): unproject_glm, two_point, inverse_pv, "
@@ -84,11 +87,12 @@ int main(int argc, char** argv) {
   try {
     // Everything the user handed us is checked before any window opens.
     demo::DemoSettings settings;
+    // An -upper-left name draws under glClipControl(GL_UPPER_LEFT, ...); the picks take the
+    // camera as a lower-left origin numbers the rows read back (lowerLeftCameraInputs).
     const auto mode = DepthMode::parse(convention);
-    // The demo's ray methods and its window work in a lower-left origin's clip space.
-    if (!mode || mode->origin != ClipOrigin::LowerLeft) {
+    if (!mode) {
       throw InputError("--convention: unknown value \"" + convention +
-                       "\"; expected one of: no, zo, zo-reversed");
+                       "\"; expected one of: no, zo, zo-reversed (each also with -upper-left)");
     }
     settings.mode = *mode;
     const auto format = parseDepthFormat(depthFormat);

@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "GlfwBackend.hpp"
+#include "PickDemo.hpp"
 #include "PickScript.hpp"
 #include "ThreeWayPick.hpp"
 #include "XvfbServer.hpp"
@@ -388,6 +389,174 @@ TEST_F(PickDemoUnderX, ResizeChangesTheFramebufferAndThePixelUnderTheCursor) {
   EXPECT_EQ(be32(20), 300);
 }
 
+// glClipControl(GL_UPPER_LEFT, ...) with the y-down projection such an app builds shows the same
+// upright picture: a click picks the same object at the same depth as under zo, exactly. O switches
+// the origin in a running demo as --convention zo-upper-left sets it at the start.
+TEST_F(PickDemoUnderX, UpperLeftOriginPicksWhatLowerLeftPicks) {
+  const StandardSceneReference reference;
+  const glm::ivec2 boxCentre{160, 119}, ground{60, 40};
+  ASSERT_EQ(reference.idObjectAt(boxCentre), 1);  // the box
+  ASSERT_EQ(reference.idObjectAt(ground), 0);     // the ground
+  const std::string clicks = clickInside(boxCentre, 240) + clickInside(ground, 240);
+  const std::string options =
+      "'" + kStandard + "' --size 320x240 --depth-format 32f --precision double";
+  const auto lowerThenUpper = run(options + " --convention zo", clicks + "key o\n" + clicks);
+  ASSERT_EQ(lowerThenUpper.status, 0) << lowerThenUpper.err;
+  const auto upper = run(options + " --convention zo-upper-left", clicks);
+  ASSERT_EQ(upper.status, 0) << upper.err;
+  std::vector<nlohmann::json> picks = jsonLines(lowerThenUpper.out);
+  ASSERT_EQ(picks.size(), 4u) << lowerThenUpper.out;
+  for (const nlohmann::json& p : jsonLines(upper.out)) picks.push_back(p);
+  ASSERT_EQ(picks.size(), 6u) << upper.out;
+
+  const char* const objects[] = {"box", "ground"};
+  for (std::size_t k = 0; k < picks.size(); ++k) {
+    const nlohmann::json& p = picks[k];
+    const nlohmann::json& lowerLeft = picks[k % 2];
+    SCOPED_TRACE(p.dump());
+    const bool upperLeft = k >= 2;
+    EXPECT_EQ(p["convention"], upperLeft ? "zo-upper-left" : "zo");
+    EXPECT_EQ(p["clip_origin"], upperLeft ? "upper-left" : "lower-left");
+    EXPECT_EQ(p["clip_planes"], 0);
+    EXPECT_EQ(p["ray"]["object"], objects[k % 2]);
+    EXPECT_EQ(p["id"]["object"], objects[k % 2]);
+    EXPECT_EQ(p["verdict"], "agree");
+    // The same pixel, ray, hit and stored depth as under zo, to the last bit.
+    for (const char* field : {"pixel", "ray", "depth", "id", "gap_world", "ray_offset_px"}) {
+      EXPECT_EQ(p[field], lowerLeft[field]) << field;
+    }
+    const Expected e = reference.at(k % 2 == 0 ? boxCentre : ground);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(p["ray"]["point"][c].get<double>(), e.rayPoint[c], 1e-12);
+    }
+  }
+}
+
+// A raw clipFromWorld is drawn as it is: under an upper-left origin GL puts its NDC y = -1 on the
+// top row, so the picture is upside down, pixel row j showing what row 239 - j shows under a
+// lower-left origin. The picks follow the picture there too.
+TEST_F(PickDemoUnderX, UpperLeftOriginTurnsARawMatrixUpsideDownAndThePicksFollow) {
+  const std::string scene = kSource + "/scenes/water_reflection_clipped.json";
+  const glm::ivec2 pixel{120, 101}, mirrored{120, 239 - 101};
+  const auto result = run(
+      "'" + scene + "' --size 320x240 --convention no --depth-format 32f --precision double",
+      clickInside(pixel, 240) + "key o\n" + clickInside(mirrored, 240) + clickInside(pixel, 240));
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 3u) << result.out;
+  const nlohmann::json &lower = picks[0], &upperMirrored = picks[1], &upperSame = picks[2];
+  EXPECT_EQ(lower["convention"], "no");
+  EXPECT_EQ(upperMirrored["convention"], "no-upper-left");
+  EXPECT_EQ(upperMirrored["clip_origin"], "upper-left");
+  EXPECT_EQ(upperMirrored["pixel"], nlohmann::json::array({mirrored.x, mirrored.y}));
+  EXPECT_EQ(lower["id"]["object"], "tower");
+  EXPECT_EQ(upperMirrored["id"]["object"], lower["id"]["object"]);
+  // The mirrored row's clip y' is the negation of the original's up to its rounding (1 - a is not
+  // always a - 1 negated bit for bit), so the hit agrees to a few ulps, not to the last bit.
+  EXPECT_EQ(upperMirrored["ray"]["object"], lower["ray"]["object"]);
+  for (int c = 0; c < 3; ++c) {
+    EXPECT_NEAR(upperMirrored["ray"]["point"][c].get<double>(),
+                lower["ray"]["point"][c].get<double>(), 1e-12);
+  }
+  EXPECT_EQ(upperMirrored["depth"]["window_depth"], lower["depth"]["window_depth"]);
+  EXPECT_NE(upperSame["id"]["object"], lower["id"]["object"]);
+  for (const nlohmann::json& p : picks) EXPECT_EQ(p["verdict"], "agree") << p.dump();
+}
+
+// The water reflection is drawn with a clip plane at the water (gl_ClipDistance = y): the
+// submerged box and the sea floor, between the mirrored eye and the water, are not in the picture.
+// A click on the tower's reflection must pick the tower, not the submerged box in front of it, and
+// a click below the horizon nothing, not the sea floor; with every method, two_point float too.
+TEST_F(PickDemoUnderX, ClipPlanesCutThePicksWhereTheyCutThePicture) {
+  const std::string path = kSource + "/scenes/water_reflection_clipped.json";
+  const glm::ivec2 tower{120, 101}, belowHorizon{160, 210};
+  {
+    // What the clicks would find without the cut (the library's robust rays, uncut and cut).
+    const Scene scene = loadScene(path);
+    const Camera& camera = scene.cameras[0];
+    const Viewport viewport{320, 240};
+    const glm::dmat4 clipFromWorld = camera.clipFromWorld(kNegativeOneToOne, viewport);
+    const SceneIntersector intersector(scene,
+                                       engine::nearPlaneCentre(clipFromWorld, kNegativeOneToOne));
+    const PrimitiveIdTable ids(scene);
+    auto objectHit = [&](const RobustRayGenerator& rays, glm::ivec2 pixel) -> std::string {
+      const Hit hit = intersector.closestHit(rays.generateForPixel(pixel.x, pixel.y, viewport));
+      return hit.hit()
+                 ? scene.objects[static_cast<std::size_t>(ids.decode(hit.primitiveId).object)].name
+                 : "background";
+    };
+    const RobustRayGenerator uncut(clipFromWorld, kNegativeOneToOne);
+    const RobustRayGenerator cut(clipFromWorld, kNegativeOneToOne, camera.clipPlanes);
+    ASSERT_EQ(objectHit(uncut, tower), "submerged");
+    ASSERT_EQ(objectHit(cut, tower), "tower");
+    ASSERT_EQ(objectHit(uncut, belowHorizon), "sea_floor");
+    ASSERT_EQ(objectHit(cut, belowHorizon), "background");
+  }
+  // robust double, then M twice: unproject_glm float (n/a without a separate view), two_point.
+  const auto result =
+      run("'" + path + "' --size 320x240 --convention no --depth-format 32f --precision double",
+          clickInside(tower, 240) + clickInside(belowHorizon, 240) + "key m\nkey m\n" +
+              clickInside(tower, 240));
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 3u) << result.out;
+  EXPECT_EQ(picks[2]["method"], "two_point");
+  EXPECT_EQ(picks[2]["precision"], "float");
+  for (std::size_t k : {0u, 2u}) {
+    const nlohmann::json& p = picks[k];
+    SCOPED_TRACE(p.dump());
+    EXPECT_EQ(p["clip_planes"], 1);
+    EXPECT_EQ(p["pixel"], nlohmann::json::array({tower.x, tower.y}));
+    EXPECT_EQ(p["ray"]["object"], "tower");
+    EXPECT_EQ(p["id"]["object"], "tower");
+    EXPECT_EQ(p["verdict"], "agree");
+    // The hit lies on the kept side of the water.
+    EXPECT_GT(p["ray"]["point"][1].get<double>(), 0.0);
+    EXPECT_LT(p["gap_px"].get<double>(), 0.5);
+  }
+  const nlohmann::json& below = picks[1];
+  SCOPED_TRACE(below.dump());
+  EXPECT_EQ(below["clip_planes"], 1);
+  EXPECT_TRUE(below["ray"]["object"].is_null());
+  EXPECT_TRUE(below["id"]["object"].is_null());
+  EXPECT_TRUE(below["depth"]["point"].is_null());
+  EXPECT_EQ(below["verdict"], "agree");
+}
+
+// The teleport moves the clip planes with the scene: the standard camera cut at x = 0 (keeping
+// x <= 0) shows the ground through the cut half of the box, at the origin and 1e5 away alike.
+TEST_F(PickDemoUnderX, TeleportMovesTheClipPlanesWithTheScene) {
+  const StandardSceneReference reference;
+  const glm::ivec2 cutBox{175, 128};
+  ASSERT_EQ(reference.at(cutBox).rayObject, 1);  // the box, uncut
+  nlohmann::json scene = nlohmann::json::parse(testing::readText(kStandard));
+  scene["cameras"][0]["clipPlanes"] = nlohmann::json::array({{-1.0, 0.0, 0.0, 0.0}});
+  writeText(folder_.path() / "standard-cut.json", scene.dump());
+  const auto result =
+      run("standard-cut.json --size 320x240 --convention zo --depth-format 32f --precision double "
+          "--vertex-mode camera-relative",
+          clickInside(cutBox, 240) + "key t\n" + clickInside(cutBox, 240));
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 2u) << result.out;
+  for (const nlohmann::json& p : picks) {
+    SCOPED_TRACE(p.dump());
+    EXPECT_EQ(p["clip_planes"], 1);
+    EXPECT_EQ(p["ray"]["object"], "ground");
+    EXPECT_EQ(p["id"]["object"], "ground");
+    EXPECT_EQ(p["verdict"], "agree");
+  }
+  EXPECT_EQ(picks[0]["teleported"], false);
+  EXPECT_EQ(picks[1]["teleported"], true);
+  // The same ground point, moved by the teleport.
+  EXPECT_NEAR(picks[1]["ray"]["point"][0].get<double>(),
+              picks[0]["ray"]["point"][0].get<double>() + demo::kTeleportDistance, 1e-6);
+  for (int c = 1; c < 3; ++c) {
+    EXPECT_NEAR(picks[1]["ray"]["point"][c].get<double>(),
+                picks[0]["ray"]["point"][c].get<double>(), 1e-6);
+  }
+}
+
 // Bad input is reported before any window opens: these run without a display on purpose.
 struct BadPick {
   const char* name;
@@ -425,13 +594,18 @@ INSTANTIATE_TEST_SUITE_P(
         BadPick{"ScriptNumber", "'" + kStandard + "' --script script.txt", "click 1 y\n",
                 "clipray-pick: script.txt:1: y: expected a number, got \"y\"\n"},
         BadPick{"ScriptKey", "'" + kStandard + "' --script script.txt", "key z\n",
-                "clipray-pick: script.txt:1: key: expected one of c, d, m, v, t, r, h, got "
-                "\"z\"\n"},
+                "clipray-pick: script.txt:1: key: expected one of c, o, d, m, v, t, r, h, p, "
+                "got \"z\"\n"},
         BadPick{"MissingScript", "'" + kStandard + "' --script none.txt", "",
                 "clipray-pick: none.txt: cannot open file\n"},
         BadPick{"UnknownConvention", "'" + kStandard + "' --convention xo", "",
                 "clipray-pick: --convention: unknown value \"xo\"; expected one of: no, zo, "
-                "zo-reversed\n"},
+                "zo-reversed (each also with -upper-left)\n"},
+        // Reversed-Z needs ZERO_TO_ONE, under either origin.
+        BadPick{"NoReversedUpperLeft", "'" + kStandard + "' --convention no-reversed-upper-left",
+                "",
+                "clipray-pick: --convention: unknown value \"no-reversed-upper-left\"; expected "
+                "one of: no, zo, zo-reversed (each also with -upper-left)\n"},
         BadPick{"UnknownDepthFormat", "'" + kStandard + "' --depth-format 32", "",
                 "clipray-pick: --depth-format: unknown value \"32\"; expected one of: 16, 24, "
                 "32f\n"},
@@ -574,6 +748,105 @@ TEST(PickJson, AgreeIsTheVerdictAndSameObjectComparesObjects) {
   EXPECT_TRUE(line["agree"].is_null());
   EXPECT_TRUE(line["same_object"].is_null());
   EXPECT_TRUE(line["ray"].is_null());
+}
+
+// The JSON line names the clip origin twice: in the convention's name and on its own.
+TEST(PickJson, NamesTheClipOriginAndTheClipPlanes) {
+  Scene scene;
+  scene.objects.resize(1);
+  scene.objects[0].name = "box";
+  demo::PickResult result;
+  result.mode = kZeroToOne;
+  nlohmann::json line = demo::pickJson(result, scene, false);
+  EXPECT_EQ(line["convention"], "zo");
+  EXPECT_EQ(line["clip_origin"], "lower-left");
+  EXPECT_EQ(line["clip_planes"], 0);
+  result.mode.origin = ClipOrigin::UpperLeft;
+  result.clipPlaneCount = 2;
+  line = demo::pickJson(result, scene, false);
+  EXPECT_EQ(line["convention"], "zo-upper-left");
+  EXPECT_EQ(line["clip_origin"], "upper-left");
+  EXPECT_EQ(line["clip_planes"], 2);
+}
+
+TEST(PickPanel, LabelsFramebufferRowsAndTheClipOrigin) {
+  EXPECT_STREQ(demo::pixelCoordinatesLabel(ClipOrigin::LowerLeft),
+               "framebuffer, GL: origin lower left, y up");
+  EXPECT_STREQ(demo::pixelCoordinatesLabel(ClipOrigin::UpperLeft),
+               "framebuffer, GL: origin lower left, y up; clip y down (GL_UPPER_LEFT)");
+}
+
+// The camera an upper-left app draws (a y-down projection) seen as a lower-left origin numbers the
+// rows is the camera a lower-left app draws, bit for bit: every ray method gets the same inputs.
+TEST(PickRays, TheLowerLeftViewOfAnUpperLeftCameraIsTheLowerLeftCamera) {
+  const Scene scene = loadScene(kStandard);
+  const Camera& camera = scene.cameras[0];
+  const Viewport viewport{320, 240};
+  auto inputs = [&](DepthMode mode) {
+    Camera projection = camera;
+    projection.viewFromWorld = glm::dmat4(1.0);
+    CameraInputs drawn;
+    drawn.mode = mode;
+    drawn.clipFromWorld = camera.clipFromWorld(mode, viewport);
+    drawn.clipFromView = projection.clipFromWorld(mode, viewport);
+    drawn.viewFromWorld = camera.viewFromWorld;
+    return drawn;
+  };
+  DepthMode upperLeft = kZeroToOne;
+  upperLeft.origin = ClipOrigin::UpperLeft;
+  const CameraInputs drawnUpperLeft = inputs(upperLeft);
+  const CameraInputs lowerLeft = inputs(kZeroToOne);
+  // The app's own matrix does flip y ...
+  EXPECT_EQ(drawnUpperLeft.clipFromWorld[1][1], -lowerLeft.clipFromWorld[1][1]);
+  EXPECT_NE(drawnUpperLeft.clipFromWorld[1][1], 0.0);
+  // ... and its lower-left view undoes exactly that.
+  const CameraInputs view = demo::lowerLeftCameraInputs(drawnUpperLeft);
+  EXPECT_EQ(view.mode, kZeroToOne);
+  EXPECT_EQ(view.clipFromWorld, lowerLeft.clipFromWorld);
+  EXPECT_EQ(view.clipFromView, lowerLeft.clipFromView);
+  EXPECT_EQ(view.viewFromWorld, lowerLeft.viewFromWorld);
+  // A lower-left camera is its own view.
+  const CameraInputs same = demo::lowerLeftCameraInputs(lowerLeft);
+  EXPECT_EQ(same.clipFromWorld, lowerLeft.clipFromWorld);
+  EXPECT_EQ(same.clipFromView, lowerLeft.clipFromView);
+}
+
+// The demo cuts every method's ray by the camera's clip planes as clipray cuts its own robust
+// rays: the same bits, on the water reflection whose plane clips the sea floor and the submerged
+// box away.
+TEST(PickRays, ClipPlaneCutIsTheRobustGeneratorsBitForBit) {
+  const Scene scene = loadScene(kSource + "/scenes/water_reflection_clipped.json");
+  const Camera& camera = scene.cameras[0];
+  ASSERT_EQ(camera.clipPlanes.size(), 1u);
+  const Viewport viewport{320, 240};
+  const glm::dmat4 clipFromWorld = camera.clipFromWorld(kNegativeOneToOne, viewport);
+  const RobustRayGenerator uncut(clipFromWorld, kNegativeOneToOne);
+  const RobustRayGenerator cut(clipFromWorld, kNegativeOneToOne, camera.clipPlanes);
+  int moved = 0;
+  for (int j = 0; j < viewport.height; j += 7) {
+    for (int i = 0; i < viewport.width; i += 7) {
+      Ray ray = uncut.generateForPixel(i, j, viewport);
+      const Ray before = ray;
+      demo::cutToClipPlanes(ray, camera.clipPlanes);
+      const Ray expected = cut.generateForPixel(i, j, viewport);
+      ASSERT_EQ(ray.origin, expected.origin) << i << " " << j;
+      ASSERT_EQ(ray.direction, expected.direction) << i << " " << j;
+      ASSERT_EQ(ray.tMax, expected.tMax) << i << " " << j;
+      if (ray.origin != before.origin) ++moved;
+    }
+  }
+  EXPECT_GT(moved, 0);
+  // No clip planes: the ray as it was.
+  Ray ray = uncut.generateForPixel(3, 4, viewport);
+  const Ray before = ray;
+  demo::cutToClipPlanes(ray, {});
+  EXPECT_EQ(ray.origin, before.origin);
+  EXPECT_EQ(ray.tMax, before.tMax);
+  // A plane that keeps nothing of any line of sight (0 x + 0 y + 0 z - 1 >= 0 never holds).
+  const glm::dvec4 nothing{0.0, 0.0, 0.0, -1.0};
+  ray = before;
+  demo::cutToClipPlanes(ray, std::span<const glm::dvec4>(&nothing, 1));
+  EXPECT_EQ(ray.tMax, 0.0);
 }
 
 TEST(PickScript, ParsesEveryCommand) {
