@@ -57,6 +57,12 @@ trace::TraceDepthState readCurrentDepthState(gl::GlLoader loader) {
   state.cullFaceMode = static_cast<std::uint32_t>(value);
   glGetIntegerv(GL_FRONT_FACE, &value);
   state.frontFace = static_cast<std::uint32_t>(value);
+  state.depthClamp = glIsEnabled(GL_DEPTH_CLAMP) == GL_TRUE;
+  for (int i = 0; i < trace::kGlClipDistances; ++i) {
+    if (glIsEnabled(GL_CLIP_DISTANCE0 + static_cast<GLenum>(i)) == GL_TRUE) {
+      state.clipDistances = static_cast<std::uint8_t>(state.clipDistances | (1u << i));
+    }
+  }
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);
   state.viewport = {viewport[2], viewport[3]};

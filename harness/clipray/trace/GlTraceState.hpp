@@ -23,6 +23,7 @@
 
 #include "clipray/Conventions.hpp"
 #include "clipray/trace/DumpLine.hpp"
+#include "clipray/trace/ProjectionStructure.hpp"
 #include "clipray/trace/UniformBuffers.hpp"
 
 namespace clipray::trace {
@@ -38,6 +39,10 @@ inline constexpr std::uint32_t kGlGequal = 0x0206;
 inline constexpr std::uint32_t kGlAlways = 0x0207;
 inline constexpr std::uint32_t kGlDepthTest = 0x0B71;
 inline constexpr std::uint32_t kGlCullFace = 0x0B44;
+inline constexpr std::uint32_t kGlDepthClamp = 0x864F;
+// GL_CLIP_DISTANCE0..7 (GL 3.0; the same values as GL 1.0's GL_CLIP_PLANE0..5).
+inline constexpr std::uint32_t kGlClipDistance0 = 0x3000;
+inline constexpr int kGlClipDistances = 8;
 inline constexpr std::uint32_t kGlFront = 0x0404;
 inline constexpr std::uint32_t kGlBack = 0x0405;
 inline constexpr std::uint32_t kGlFrontAndBack = 0x0408;
@@ -66,6 +71,11 @@ inline constexpr std::uint32_t kGlDepth24Stencil8 = 0x88F0;
 inline constexpr std::uint32_t kGlDepth32FStencil8 = 0x8CAD;
 inline constexpr std::uint32_t kGlTrue = 1;
 inline constexpr std::uint32_t kGlCompile = 0x1300;  // glNewList mode
+// glPushAttrib's groups that hold state followed here (OpenGL 2.1, table 6.3 and on).
+inline constexpr std::uint32_t kGlPolygonBit = 0x00000008;
+inline constexpr std::uint32_t kGlViewportBit = 0x00000800;
+inline constexpr std::uint32_t kGlTransformBit = 0x00001000;
+inline constexpr std::uint32_t kGlEnableBit = 0x00002000;
 
 // The value of an enum argument as apitrace writes it (a name, or a number where apitrace's
 // tables lack the name); nullopt for a name clipray does not know.
@@ -92,9 +102,19 @@ struct TraceDepthState {
   std::uint32_t cullFaceMode = kGlBack;
   std::uint32_t frontFace = kGlCcw;
 
+  // GL_DEPTH_CLAMP (GL 3.2): no clipping at the near and far planes; fragments beyond them get
+  // the depth range's nearer or farther end.
+  bool depthClamp = false;
+  // GL_CLIP_DISTANCE0..7 enabled: bit i for gl_ClipDistance[i].
+  std::uint8_t clipDistances = 0;
+  // The program drawing writes gl_ClipDistance (its shaders' text mentions it).
+  bool writesClipDistance = false;
+
   std::uint64_t clipControlCall = 0, depthFuncCall = 0, depthRangeCall = 0, clearCall = 0;
   // The last glEnable/glDisable(GL_CULL_FACE), glCullFace and glFrontFace.
   std::uint64_t cullFaceCall = 0, cullFaceModeCall = 0, frontFaceCall = 0;
+  // The last glEnable/glDisable of GL_DEPTH_CLAMP, and of any GL_CLIP_DISTANCEi.
+  std::uint64_t depthClampCall = 0, clipDistancesCall = 0;
 
   // The same state, call numbers aside (the key of a distinct (matrix, state) pair).
   std::string key() const;
@@ -112,16 +132,13 @@ struct TracedMatrix {
 struct TraceDraw {
   std::uint64_t frame = 0;
   std::uint64_t call = 0;
+  // The call after which the draw's fragments are all written (the state a replay can dump):
+  // the draw itself, or the glEnd that closes a glBegin.
+  std::uint64_t completedAtCall = 0;
   std::string function;  // "glDrawArrays"
   TraceDepthState depth;
   std::vector<TracedMatrix> matrices;
 };
-
-// Perspective (row 3 has an xyz part, and the matrix is not the transpose of an affine map such
-// as a normal matrix) or orthographic (an affine map whose linear part reverses
-// orientation: GL's clip space is left-handed, so glOrtho and every GL orthographic projection
-// flips z while a model or view matrix does not); finite and invertible either way.
-bool hasProjectionStructure(const glm::dmat4& matrix);
 
 class GlTraceState {
  public:
@@ -133,6 +150,10 @@ class GlTraceState {
   static bool needs(std::string_view function);
 
   std::uint64_t frame() const { return frame_; }
+
+  // Hands over a glBegin's draw whose glEnd the trace never reached (a glBegin's draw waits for
+  // its glEnd, the call a replay can dump the depth buffer at). Called once the trace is read.
+  void finish(const std::function<void(const TraceDraw&)>& onDraw);
 
   // Where `apitrace dump --blobs` writes buffer data (UniformBuffers::setBlobDirectory).
   void setBlobDirectory(std::filesystem::path directory) {
@@ -154,7 +175,10 @@ class GlTraceState {
   bool applyAttachmentState(const DumpCall& call);
   // Fixed function: glMatrixMode, glLoadMatrix*, glFrustum, glPushMatrix, ...
   void applyMatrixStack(const DumpCall& call);
-  void emitDraw(const DumpCall& call, const std::function<void(const TraceDraw&)>& onDraw);
+  // glPushAttrib/glPopAttrib: the followed state of the groups pushed.
+  void applyAttributeStack(const DumpCall& call);
+  // The draw a call makes, with the state and matrices in force.
+  TraceDraw drawAt(const DumpCall& call);
   void setUniformMatrices(std::uint32_t program, const DumpCall& call);
   // The program whose uniforms a draw reads for its vertices: glUseProgram's, which takes
   // precedence, else the bound program pipeline's vertex-stage program (0: fixed function).
@@ -173,6 +197,15 @@ class GlTraceState {
   UniformBuffers uniformBuffers_;
 
   bool compilingList_ = false;  // inside glNewList(..., GL_COMPILE): draws are recorded only
+  struct PushedAttributes {
+    std::uint32_t mask = 0;
+    TraceDepthState depth;
+    double clearDepthValue = 1.0;
+    std::uint32_t matrixMode = 0;
+  };
+  std::vector<PushedAttributes> attributeStack_;
+  // The glBegin draws of the trace whose glEnd has not come yet (GlTraceState::apply).
+  std::optional<TraceDraw> openBegin_;
   std::uint32_t matrixMode_ = kGlModelview;
   std::map<std::uint32_t, std::vector<glm::dmat4>> stacks_;  // mode -> stack, top at the back
 
