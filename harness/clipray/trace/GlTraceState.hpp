@@ -1,15 +1,12 @@
 #pragma once
 // The GL state a trace sets, call by call, as far as `clipray check --trace` needs it: the depth
 // state in force at each draw (glClipControl, depth test and func, depth range, the depth clear,
-// viewport, the depth format of the draw framebuffer's renderbuffer or texture), the 4x4 matrices
+// face culling, depth clamp and clip distances, viewport, the depth format of the draw
+// framebuffer's renderbuffer or texture; glPushAttrib/glPopAttrib of those), the 4x4 matrices
 // uploaded as uniforms (glUniformMatrix4fv, glProgramUniformMatrix4fv, named by
 // glGetUniformLocation) or kept in std140 uniform blocks (UniformBuffers.hpp), and the
 // fixed-function matrix stacks. At each draw it hands over every matrix in force that has a
-// projection's structure.
-//
-// The core has no GL headers: the enum values are written here (from Khronos' gl.xml, the
-// registry glcorearb.h is generated from), and apitrace writes most enums by name, which is
-// mapped to the same values.
+// projection's structure (ProjectionStructure.hpp). The enums: GlEnums.hpp.
 
 #include <cstdint>
 #include <filesystem>
@@ -23,65 +20,11 @@
 
 #include "clipray/Conventions.hpp"
 #include "clipray/trace/DumpLine.hpp"
+#include "clipray/trace/GlEnums.hpp"
 #include "clipray/trace/ProjectionStructure.hpp"
 #include "clipray/trace/UniformBuffers.hpp"
 
 namespace clipray::trace {
-
-// GL enum values (Khronos OpenGL-Registry, xml/gl.xml).
-inline constexpr std::uint32_t kGlNever = 0x0200;
-inline constexpr std::uint32_t kGlLess = 0x0201;
-inline constexpr std::uint32_t kGlEqual = 0x0202;
-inline constexpr std::uint32_t kGlLequal = 0x0203;
-inline constexpr std::uint32_t kGlGreater = 0x0204;
-inline constexpr std::uint32_t kGlNotequal = 0x0205;
-inline constexpr std::uint32_t kGlGequal = 0x0206;
-inline constexpr std::uint32_t kGlAlways = 0x0207;
-inline constexpr std::uint32_t kGlDepthTest = 0x0B71;
-inline constexpr std::uint32_t kGlCullFace = 0x0B44;
-inline constexpr std::uint32_t kGlDepthClamp = 0x864F;
-// GL_CLIP_DISTANCE0..7 (GL 3.0; the same values as GL 1.0's GL_CLIP_PLANE0..5).
-inline constexpr std::uint32_t kGlClipDistance0 = 0x3000;
-inline constexpr int kGlClipDistances = 8;
-inline constexpr std::uint32_t kGlFront = 0x0404;
-inline constexpr std::uint32_t kGlBack = 0x0405;
-inline constexpr std::uint32_t kGlFrontAndBack = 0x0408;
-inline constexpr std::uint32_t kGlCw = 0x0900;
-inline constexpr std::uint32_t kGlCcw = 0x0901;
-inline constexpr std::uint32_t kGlModelview = 0x1700;
-inline constexpr std::uint32_t kGlProjection = 0x1701;
-inline constexpr std::uint32_t kGlTexture = 0x1702;
-inline constexpr std::uint32_t kGlLowerLeft = 0x8CA1;
-inline constexpr std::uint32_t kGlUpperLeft = 0x8CA2;
-inline constexpr std::uint32_t kGlNegativeOneToOne = 0x935E;
-inline constexpr std::uint32_t kGlZeroToOne = 0x935F;
-inline constexpr std::uint32_t kGlDepthBufferBit = 0x00000100;
-inline constexpr std::uint32_t kGlDepth = 0x1801;  // glClearBuffer's buffer
-inline constexpr std::uint32_t kGlDepthStencil = 0x84F9;
-inline constexpr std::uint32_t kGlFramebuffer = 0x8D40;
-inline constexpr std::uint32_t kGlReadFramebuffer = 0x8CA8;
-inline constexpr std::uint32_t kGlDrawFramebuffer = 0x8CA9;
-inline constexpr std::uint32_t kGlDepthAttachment = 0x8D00;
-inline constexpr std::uint32_t kGlDepthStencilAttachment = 0x821A;
-inline constexpr std::uint32_t kGlDepthComponent16 = 0x81A5;
-inline constexpr std::uint32_t kGlDepthComponent24 = 0x81A6;
-inline constexpr std::uint32_t kGlDepthComponent32 = 0x81A7;
-inline constexpr std::uint32_t kGlDepthComponent32F = 0x8CAC;
-inline constexpr std::uint32_t kGlDepth24Stencil8 = 0x88F0;
-inline constexpr std::uint32_t kGlDepth32FStencil8 = 0x8CAD;
-inline constexpr std::uint32_t kGlTrue = 1;
-inline constexpr std::uint32_t kGlCompile = 0x1300;  // glNewList mode
-// glPushAttrib's groups that hold state followed here (OpenGL 2.1, table 6.3 and on).
-inline constexpr std::uint32_t kGlPolygonBit = 0x00000008;
-inline constexpr std::uint32_t kGlViewportBit = 0x00000800;
-inline constexpr std::uint32_t kGlTransformBit = 0x00001000;
-inline constexpr std::uint32_t kGlEnableBit = 0x00002000;
-
-// The value of an enum argument as apitrace writes it (a name, or a number where apitrace's
-// tables lack the name); nullopt for a name clipray does not know.
-std::optional<std::uint32_t> glEnumValue(const DumpValue& value);
-// "GL_LESS" for the values above; the hex value otherwise.
-std::string glEnumName(std::uint32_t value);
 
 // The depth state in force at a draw. Call numbers say where each part was set (0: GL's default).
 struct TraceDepthState {
