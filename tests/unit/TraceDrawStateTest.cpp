@@ -287,5 +287,29 @@ TEST(TraceDrawState, BeginIsCompletedByItsEnd) {
   EXPECT_EQ(open.groups[0].first.frame, 0u);
 }
 
+// Issue 36's orthographic cases as real programs trace them: OpenSCAD's centred
+// glOrtho(..., -D, D) and OpenSceneGraph's pixel HUD (1920 x 1080, near -1, far 1.1), drawn
+// classic GL. Both are found (the HUD's size no longer reads as singular) and neither is an error.
+TEST(TraceDrawState, CentredAndHudOrthosAreFoundAndNoError) {
+  const TraceCheckResult result = checkLines(
+      "1 glMatrixMode(mode = GL_PROJECTION)\n"
+      "2 glOrtho(left = -41.7, right = 41.7, bottom = -23.3, top = 23.3, zNear = -123.4567, "
+      "zFar = 123.4567)\n"
+      "3 glBegin(mode = GL_TRIANGLES)\n4 glEnd()\n"
+      "5 glLoadIdentity()\n"
+      "6 glOrtho(left = 0, right = 1920, bottom = 0, top = 1080, zNear = -1, zFar = 1.1)\n"
+      "7 glBegin(mode = GL_QUADS)\n8 glEnd()\n");
+  // Two matrices (the HUD one no longer dropped as singular) that read alike: one group.
+  EXPECT_EQ(result.distinctPairs, 2u);
+  ASSERT_EQ(result.groups.size(), 1u);
+  const TracePairGroup& group = result.groups[0];
+  EXPECT_EQ(group.distinctMatrices, 2u);
+  EXPECT_EQ(group.draws, 2u);
+  EXPECT_EQ(group.last.call, 7u);
+  EXPECT_EQ(group.report.properties.builtFor, "ambiguous");
+  EXPECT_EQ(codes(group), std::vector<std::string>{"info:depth-convention-ambiguous"});
+  EXPECT_FALSE(result.hasErrors());
+}
+
 }  // namespace
 }  // namespace clipray::trace
