@@ -246,6 +246,16 @@ TEST(TraceDrawState, EqualDepthRangeNamesTheTracedCall) {
             "glDepthRange(1, 1) at call 4: near and far are equal, so every fragment gets the "
             "same depth");
   EXPECT_EQ(traceCheckText(result).find("--depth-range"), std::string::npos);
+  // The matrix check's own refusals name the matrix's source, not its --clip-from-world option:
+  // here a glLoadMatrixf whose w is -1 everywhere (an orthographic structure, but GL clips all).
+  const TraceCheckResult clippingAll = checkLines(
+      "1 glMatrixMode(mode = GL_PROJECTION)\n2 glLoadMatrixf(m = {0.5, 0, 0, 0, 0, 1, "
+      "0, 0, 0, 0, -0.2, 0, 0, 0, 0, -1})\n"
+      "3 glBegin(mode = GL_TRIANGLES)\n4 glEnd()\n");
+  ASSERT_EQ(clippingAll.groups.size(), 1u);
+  EXPECT_EQ(clippingAll.groups[0].unusable,
+            "fixed-function GL_PROJECTION: row 3 (w) is (0, 0, 0, -1): w <= 0 everywhere, so GL "
+            "clips every point");
 }
 
 TEST(TraceDrawState, EvaluatorMeshesAreDraws) {

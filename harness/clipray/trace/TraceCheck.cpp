@@ -202,7 +202,22 @@ CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthSta
   }
   const CheckInput input = checkInputOf(matrix, depth);
   if (inputUsed) *inputUsed = input;
-  CheckReport report = checkConventions(input);
+  CheckReport report;
+  try {
+    report = checkConventions(input);
+  } catch (const InputError& error) {
+    // The matrix check names its own options (--clip-from-world, --projection); a traced matrix
+    // came through none: it is named by its source.
+    std::string message = error.what();
+    for (const std::string option :
+         {"--projection * --view", "--clip-from-world", "--projection"}) {
+      if (message.starts_with(option)) {
+        message = matrix.source + message.substr(option.size());
+        break;
+      }
+    }
+    throw InputError(message);
+  }
   if (!readAsTextureSpace(input, report)) {
     addTraceFindings(depth, report);
     // A transposed upload's winding means nothing either.
