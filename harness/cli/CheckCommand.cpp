@@ -136,6 +136,9 @@ CommandRunner addCheckOptions(CLI::App& app) {
                  "GL_CULL_FACE enabled): checked against the winding the matrix puts on screen");
   app.add_option("--front-face", options->fields.frontFace,
                  "With --cull: the app's glFrontFace, ccw (default) or cw");
+  app.add_flag("--depth-clamp", options->fields.depthClamp,
+               "The app draws with GL_DEPTH_CLAMP enabled (nothing clipped at near and far): "
+               "noted with what it does to picking rays");
   app.add_option("--trace", options->trace,
                  "An apitrace trace of the app (apitrace trace --api egl|glx APP): check every "
                  "projection it draws with under the depth state traced at each draw");
@@ -150,7 +153,7 @@ CommandRunner addCheckOptions(CLI::App& app) {
     for (const char* name :
          {"--clip-from-world", "--projection", "--view", "--layout", "--declared-depth",
           "--reversed", "--depth-range", "--origin", "--viewport", "--depth-bits", "--scene-extent",
-          "--precision", "--near", "--far", "--cull", "--front-face"}) {
+          "--precision", "--near", "--far", "--cull", "--front-face", "--depth-clamp"}) {
       options->optionsGiven += app.count(name);
     }
     return runCheck(*options);

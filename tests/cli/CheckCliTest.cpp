@@ -131,6 +131,40 @@ TEST(CheckCli, AFileAndFieldOptionsTogetherAreRefused) {
   EXPECT_EQ(result.err, "clipray: app.json: give the fields in the file or as options, not both\n");
 }
 
+// --depth-clamp and the file's depthClamp: the declared state and the note; a file's value must
+// be a boolean, and a trace brings its own depth clamp.
+TEST(CheckCli, DepthClampFromTheCommandLineOrAFile) {
+  TempFolder folder;
+  const auto flagged = runClipray(
+      "check --clip-from-world '" + kPerspectiveNo + "' --depth-clamp --json", folder.path());
+  EXPECT_EQ(flagged.status, 0) << flagged.err;
+  const auto report = nlohmann::json::parse(flagged.out);
+  EXPECT_EQ(report["declared"]["depth_clamp"], true);
+  ASSERT_EQ(report["findings"].size(), 2u);
+  EXPECT_EQ(report["findings"][1]["code"], "depth-clamp-near-plane");
+  EXPECT_EQ(report["findings"][1]["severity"], "info");
+  std::ofstream(folder.path() / "app.json")
+      << R"({"clipFromWorld": ")" << kPerspectiveNo << R"(", "depthClamp": true})";
+  const auto filed = runClipray("check app.json --json", folder.path());
+  EXPECT_EQ(filed.status, 0) << filed.err;
+  EXPECT_EQ(nlohmann::json::parse(filed.out)["findings"][1]["message"],
+            report["findings"][1]["message"]);
+  std::ofstream(folder.path() / "bad.json")
+      << R"({"clipFromWorld": ")" << kPerspectiveNo << R"(", "depthClamp": 1})";
+  const auto bad = runClipray("check bad.json", folder.path());
+  EXPECT_EQ(bad.status, 2);
+  EXPECT_EQ(bad.err,
+            "clipray: bad.json: /depthClamp: unknown key or wrong type (1); valid keys: "
+            "clipFromWorld, projection, view, layout, declaredDepth, reversed, depthRange, origin, "
+            "viewport, depthBits, sceneExtent, precision, near, far, cull, frontFace, depthClamp, "
+            "comment\n");
+  const auto traced = runClipray("check --trace app.trace --depth-clamp", folder.path());
+  EXPECT_EQ(traced.status, 2);
+  EXPECT_EQ(traced.err,
+            "clipray: --trace: the depth state and matrices come from the trace; give no check "
+            "file or field options with it\n");
+}
+
 struct BadCheck {
   const char* name;
   std::string arguments;

@@ -158,6 +158,27 @@ TEST(CurrentStateCheck, FaceCullingUnderAnUpperLeftOrigin) {
   EXPECT_TRUE(codes(engine::checkCurrentState(kNoMatrix, context->loader()).report).empty());
 }
 
+TEST(CurrentStateCheck, DepthClampAndClipDistances) {
+  const auto context = testing::createContextForTests();
+  const GlCalls gl(context->loader());
+  gl.bindDepthFramebuffer(trace::kGlDepthComponent24);
+  gl.enable(trace::kGlDepthTest);
+  EXPECT_TRUE(codes(engine::checkCurrentState(kNoMatrix, context->loader()).report).empty());
+  gl.enable(trace::kGlDepthClamp);
+  gl.enable(trace::kGlClipDistance0 + 3);
+  const engine::CurrentStateCheck clamped = engine::checkCurrentState(kNoMatrix, context->loader());
+  EXPECT_TRUE(clamped.state.depthClamp);
+  EXPECT_EQ(clamped.state.clipDistances, 0b1000u);
+  ASSERT_EQ(codes(clamped.report), std::vector<std::string>{"info:depth-clamp-near-plane"});
+  EXPECT_EQ(clamped.report.findings[0].message,
+            "GL_DEPTH_CLAMP is on (glIsEnabled(GL_DEPTH_CLAMP)): nothing is clipped at the near "
+            "plane; a surface between the eye and the near plane (0.0999999) is drawn at window "
+            "depth 0, the near plane's, so a picking ray that starts on the near plane cannot "
+            "hit it and unprojecting the depth buffer there gives a point on the near plane, not "
+            "on the surface; likewise a surface beyond the far plane (100) is drawn at window "
+            "depth 1, past the end of a ray bounded by it");
+}
+
 TEST(CurrentStateCheck, ThePublicEntryPointGivesTheSameFindings) {
   const auto context = testing::createContextForTests();
   drawUnderZeroToOneWithLess(GlCalls(context->loader()));

@@ -227,6 +227,27 @@ TEST(TraceCli, FixedFunctionFrustumUnderZeroToOne) {
   EXPECT_EQ(codes(group), std::vector<std::string>{"error:depth-convention-mismatch"});
 }
 
+// GL_DEPTH_CLAMP on a correct ZO app: recorded in the draw's state, and a note (not an error)
+// on what it does to picking rays.
+TEST(TraceCli, DepthClampIsRecordedAndNoted) {
+  TempFolder folder;
+  const Checked checked = checkTraced("zo-depth-clamp", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err;
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["depth_state"]["depth_clamp"], true);
+  EXPECT_EQ(group["depth_state"]["clip_distances"], nlohmann::json::array());
+  EXPECT_EQ(group["properties"]["built_for"], "zo");
+  EXPECT_EQ(codes(group), std::vector<std::string>{"info:depth-clamp-near-plane"});
+  EXPECT_EQ(group["depth_state"]["calls"]["depth_clamp"], 25);
+  EXPECT_EQ(group["findings"][0]["message"],
+            "GL_DEPTH_CLAMP is on (glEnable(GL_DEPTH_CLAMP) at call 25): nothing is clipped at "
+            "the near plane; a surface between the eye and the near plane (0.1) is drawn at "
+            "window depth 0, the near plane's, so a picking ray that starts on the near plane "
+            "cannot hit it and unprojecting the depth buffer there gives a point on the near "
+            "plane, not on the surface; likewise a surface beyond the far plane (100) is drawn at "
+            "window depth 1, past the end of a ray bounded by it");
+}
+
 // The camera in a std140 uniform block: written with glBufferSubData, bound with
 // glBindBufferBase to the shader's `binding = 0`. The block's view matrix (no projection) and its
 // vec4[4] of the projection's columns (no matrix) give no group.
@@ -346,6 +367,23 @@ TEST(TraceCli, VerifyReplaysTheDepthBuffer) {
             std::string::npos)
       << right.out;
   EXPECT_EQ(right.out.find("read back with"), std::string::npos) << right.out;
+}
+
+// eglretrace cannot dump the state between glBegin and glEnd: a fixed-function group is
+// replayed up to the glEnd that completes its first draw.
+TEST(TraceCli, VerifyReplaysAGlBeginUpToItsGlEnd) {
+  TempFolder folder;
+  ASSERT_EQ(recordTrace("fixed-function-frustum-under-zo", folder), "");
+  const auto checked = runClipray(
+      "check --trace fixed-function-frustum-under-zo.trace --verify --json", folder.path());
+  ASSERT_EQ(checked.status, 1) << checked.err;
+  const nlohmann::json group = nlohmann::json::parse(checked.out)["groups"][0];
+  const nlohmann::json& verify = group["verify"];
+  EXPECT_FALSE(verify.contains("failure")) << verify.dump();
+  EXPECT_EQ(group["first"]["call"], 33);  // glBegin
+  EXPECT_EQ(verify["call"], 37);          // three glVertex3f later, its glEnd
+  EXPECT_EQ(verify["written"], 56);       // the triangle's pixel centres on llvmpipe
+  EXPECT_NEAR(verify["pick_worst_relative_error"].get<double>(), 0.4846, 1e-4);
 }
 
 // Unusable input: one line naming the file, exit 2, nothing on stdout, nothing written.

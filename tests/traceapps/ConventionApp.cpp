@@ -13,7 +13,8 @@
 // (zo into a GL_DEPTH_COMPONENT24 depth texture instead of a 32F renderbuffer);
 // no-under-zo-pipeline (separable programs in a program pipeline, no glUseProgram);
 // d3d-style-culled (a y-down projection under GL_UPPER_LEFT, back faces culled, GL_CW) and its
-// twin d3d-style-culled-ccw (glFrontFace left at GL_CCW: the insides are kept).
+// twin d3d-style-culled-ccw (glFrontFace left at GL_CCW: the insides are kept); zo-depth-clamp
+// (zo with GL_DEPTH_CLAMP enabled).
 // Every matrix is a glm-style camera: perspective fov 60 deg, aspect 4/3, near 0.1, far 100,
 // looking from (0, 2, 5) at the origin, built in float as apps do.
 
@@ -404,6 +405,13 @@ int main(int argc, char** argv) {
   } else if (name == "zo") {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LESS);
+    drawWithShaders(multiply(perspective(true), view), GL_FALSE, frames, context);
+  } else if (name == "zo-depth-clamp") {
+    // Correct ZO drawing with GL_DEPTH_CLAMP on (as for shadow-map pancaking or a sky box): a
+    // note on picking, no error.
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    glEnable(GL_DEPTH_CLAMP);
     drawWithShaders(multiply(perspective(true), view), GL_FALSE, frames, context);
   } else if (name == "zo-depth-texture") {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);

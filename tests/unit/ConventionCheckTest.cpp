@@ -157,33 +157,43 @@ TEST(ConventionCheck, GlmOrthoVariants) {
   EXPECT_EQ(withView.properties.builtFor, "no");
   EXPECT_NEAR(withView.properties.near->value, 0.5, 1e-12);
   EXPECT_NEAR(withView.properties.far->value, 50.0, 1e-12);
-  const CheckReport zoUnderNo =
-      checkConventions(separate(glm::orthoRH_ZO(-2.0, 2.0, -1.0, 1.0, 0.5, 50.0), kViewRH, NO));
+  // Built for ZO with near 0.5, it reads near -49 under NO: round too, and a negative near is
+  // legal in glOrtho, so the matrix alone leaves it open; the stated near plane settles it.
+  CheckInput zoUnderNoInput =
+      separate(glm::orthoRH_ZO(-2.0, 2.0, -1.0, 1.0, 0.5, 50.0), kViewRH, NO);
+  EXPECT_EQ(checkConventions(zoUnderNoInput).properties.builtFor, "ambiguous");
+  zoUnderNoInput.statedNear = 0.5;
+  const CheckReport zoUnderNo = checkConventions(zoUnderNoInput);
   EXPECT_EQ(zoUnderNo.properties.builtFor, "zo");
   EXPECT_EQ(codes(zoUnderNo), std::vector<std::string>{"error:depth-convention-mismatch"});
 }
 
 // gluOrtho2D and glOrtho(..., -1, 1): a view volume centred on the camera. Its NO reading puts
 // the near plane behind the camera (-1) and its ZO reading at 0, the same matrix as
-// glm::orthoRH_ZO(..., 0, 1): neither is evidence, so no mismatch is claimed either way.
+// glm::orthoRH_ZO(..., 0, 1): neither is evidence, so no mismatch is claimed either way. The
+// orthographic rule (BuiltFor.hpp) in full: tests/unit/CheckOrthographicBuildTest.cpp.
 TEST(ConventionCheck, OrthoCentredOnTheCameraIsNotDecidedByTheBehindCameraRule) {
   const glm::dmat4 ui = glm::orthoRH_NO(0.0, 640.0, 0.0, 480.0, -1.0, 1.0);
   for (const DepthConvention declared : {NO, ZO}) {
     const CheckReport r = checkConventions(separate(ui, glm::dmat4(1.0), declared));
     EXPECT_EQ(r.properties.builtFor, "ambiguous");
     EXPECT_EQ(r.properties.builtForReason,
-              "both readings of the near plane are round numbers within their uncertainty (-1 if "
-              "NO, 0 if ZO)");
+              "under NO the near plane reads -1 (-far, a volume centred on the camera), under ZO "
+              "0 (0, a volume starting at the camera): an app sets either, and the matrix is "
+              "that one volume under both; --near settles it");
     EXPECT_EQ(codes(r), std::vector<std::string>{"info:depth-convention-ambiguous"});
   }
   const glm::dmat4 cube = glm::orthoRH_NO(-1.0, 1.0, -1.0, 1.0, -1.0, 1.0);
   EXPECT_EQ(checkConventions(separate(cube, glm::dmat4(1.0), NO)).properties.builtFor, "ambiguous");
-  // Behind the camera but not centred on it: still read as the other convention.
+  // Behind the camera but not centred on it: a negative near is legal in glOrtho, and both
+  // readings (-1 and 4) are round, so this is no evidence either.
   const CheckReport offCentre = checkConventions(
       separate(glm::orthoRH_NO(0.0, 640.0, 0.0, 480.0, -1.0, 9.0), glm::dmat4(1.0), ZO));
-  EXPECT_EQ(offCentre.properties.builtFor, "zo");
+  EXPECT_EQ(offCentre.properties.builtFor, "ambiguous");
   EXPECT_EQ(offCentre.properties.builtForReason,
-            "the NO reading puts the near plane at -1, behind the camera");
+            "under NO the near plane reads -1 (within its uncertainty of the round number -1), "
+            "under ZO 4 (within its uncertainty of the round number 4): an app sets either, and "
+            "the matrix is that one volume under both; --near settles it");
 }
 
 // The reversed-Z infinite projection modern engines use: z_ndc = n / distance under ZERO_TO_ONE.

@@ -3,7 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <stdexcept>
+
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "clipray/trace/DumpLine.hpp"
 #include "clipray/trace/GlTraceState.hpp"
@@ -160,6 +163,24 @@ TEST(TraceDumpLine, ProjectionStructure) {
   EXPECT_FALSE(hasProjectionStructure(shadow));
   EXPECT_FALSE(hasProjectionStructure(perspective * view * shadow));
   EXPECT_FALSE(hasProjectionStructure(glm::dmat4(0.0)));
+}
+
+// Singularity by structure, not by the translation's size: a pixel HUD ortho
+// gluOrtho2D(0, W, 0, H) (osghud, osgscalarbar) is found at any W * H, as glOrtho and glFrustum
+// are at any size: the determinant's sensitivity to the entries' rounding is exactly 4 for them.
+TEST(TraceDumpLine, HudOrthoOfAnySizeIsAProjection) {
+  for (const double width : {640.0, 1920.0, 4096.0, 16384.0}) {
+    const glm::dmat4 hud = glm::orthoRH_NO(0.0, width, 0.0, width * 0.5625, -1.0, 1.0);
+    EXPECT_TRUE(hasProjectionStructure(hud)) << width;
+    EXPECT_EQ(determinantSensitivity(hud), 4.0) << width;
+  }
+  EXPECT_EQ(determinantSensitivity(glm::frustumRH_NO(-1.0, 1.0, -0.75, 0.75, 1.0, 50.0)), 4.0);
+  EXPECT_EQ(determinantSensitivity(glm::dmat4(0.0)), std::numeric_limits<double>::infinity());
+  // A camera 1e4 from the origin with near 0.1: its translation no longer hides it.
+  const glm::dmat4 far = glm::perspectiveRH_NO(1.0, 1.5, 0.1, 100.0) *
+                         glm::lookAtRH(glm::dvec3(1e4, 2e3, -5e3), glm::dvec3(1e4, 2e3, -5e3 - 1.0),
+                                       glm::dvec3(0.0, 1.0, 0.0));
+  EXPECT_TRUE(hasProjectionStructure(far));
 }
 
 }  // namespace

@@ -71,7 +71,7 @@ TEST(TraceReplayDepth, ViewDepthsAndTheBuiltForPick) {
   group.depth.clipZeroToOne = true;
   group.depth.depthTest = true;
   group.depth.clearedDepth = 1.0;
-  group.first = {0, 42};
+  group.first = {0, 42, 42};
   group.report.properties.perspective = true;
   group.report.properties.eye = glm::dvec3(0.0);
   group.report.properties.viewDirection = glm::dvec3(0.0, 0.0, -1.0);

@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 #include "clipray/check/CheckText.hpp"
 
@@ -40,16 +41,91 @@ Roundness roundness(const Uncertain& reading) {
   return tolerance <= spacing / 100.0 ? Roundness::Round : Roundness::Undecided;
 }
 
+// A stated near or far plane agrees with a reading within the reading's uncertainty (plus
+// kStatedPlaneTolerance).
+bool statedMatches(const Uncertain& reading, double stated) {
+  return std::abs(reading.value - stated) <=
+         reading.error + kStatedPlaneTolerance * std::abs(stated);
+}
+
+// The stated near plane settles the reading it matches, when it matches one only; nullopt when it
+// matches both (the readings' rules decide) or neither.
+std::optional<BuildReading> statedBuild(const Uncertain& no, const Uncertain& zo, double stated) {
+  const bool byNo = statedMatches(no, stated), byZo = statedMatches(zo, stated);
+  if (byNo == byZo) return std::nullopt;
+  return BuildReading{byNo ? "no" : "zo", "the stated near plane, " + number(stated), true};
+}
+
+// Why an orthographic reading is a value an app sets (readOrthographicBuild); empty when it is
+// none, or when its uncertainty is too wide to tell (then undecided is set).
+std::string orthographicExplanation(const Uncertain& near, const Uncertain& far, bool& undecided) {
+  if (std::abs(near.value + far.value) <= near.error + far.error &&
+      std::abs(far.value) > far.error) {
+    return "-far, a volume centred on the camera";
+  }
+  switch (roundness(near)) {
+    case Roundness::Round:
+      return std::abs(near.value) <= near.error + 4.0 * std::ldexp(1.0, -53) * std::abs(near.value)
+                 ? std::string("0, a volume starting at the camera")
+                 : "within its uncertainty of the round number " +
+                       number(nearestRoundNumber(near.value));
+    case Roundness::Undecided:
+      undecided = true;
+      return "";
+    case Roundness::NotRound:
+      return "";
+  }
+  return "";
+}
+
 }  // namespace
 
-// behindCamera: readings are offsets from a camera position (orthographic), so a negative one puts
-// the plane behind the camera, which an app rarely means when the other reading does not --
-// except for a view volume centred on the camera (near = -far, with `far` the far plane's
-// offset): gluOrtho2D and glOrtho(..., -1, 1) build exactly that, and its other reading (near 0)
-// is just as natural, so it is left to the rules that follow.
+BuildReading readOrthographicBuild(const Uncertain& no, const Uncertain& zo, const Uncertain& far,
+                                   std::optional<double> stated) {
+  if (stated) {
+    if (std::optional<BuildReading> settled = statedBuild(no, zo, *stated)) return *settled;
+  }
+  BuildReading reading;
+  if (stated && !statedMatches(no, *stated)) reading.statedMatches = false;
+  const std::string both = " (" + shownReading(no) + " if NO, " + shownReading(zo) + " if ZO)";
+  bool undecided = false;
+  const std::string whyNo = orthographicExplanation(no, far, undecided);
+  const std::string whyZo = orthographicExplanation(zo, far, undecided);
+  if (!whyNo.empty() && !whyZo.empty()) {
+    reading.builtFor = "ambiguous";
+    reading.reason = "under NO the near plane reads " + shownReading(no) + " (" + whyNo +
+                     "), under ZO " + shownReading(zo) + " (" + whyZo +
+                     "): an app sets either, and the matrix is that one volume under both; "
+                     "--near settles it";
+  } else if (undecided) {
+    reading.builtFor = "ambiguous";
+    reading.reason =
+        "a reading of the near plane lies within its uncertainty of a round number, but an "
+        "uncertainty that wide (over 1/100 of the spacing of two-digit numbers there) is met by "
+        "chance" +
+        both + "; --near settles it";
+  } else if (whyNo.empty() && whyZo.empty()) {
+    reading.builtFor = "ambiguous";
+    reading.reason =
+        "neither reading of the near plane is a round number or -far (a volume centred on the "
+        "camera)" +
+        both + "; --near settles it";
+  } else {
+    const bool byNo = !whyNo.empty();
+    const Uncertain& other = byNo ? zo : no;
+    reading.builtFor = byNo ? "no" : "zo";
+    reading.reason = std::string("the ") + (byNo ? "NO" : "ZO") + " reading " +
+                     withError(byNo ? no : zo) + " is " + (byNo ? whyNo : whyZo) + "; the " +
+                     (byNo ? "ZO" : "NO") + " reading " + withError(other) + " lies " +
+                     number(std::abs(other.value - nearestRoundNumber(other.value))) +
+                     " from the nearest round number, " + number(nearestRoundNumber(other.value)) +
+                     ", and is not -far";
+  }
+  return reading;
+}
+
 BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<Uncertain>& zo,
-                       std::optional<double> stated, const std::string& what, bool behindCamera,
-                       const std::optional<Uncertain>& far) {
+                       std::optional<double> stated, const std::string& what) {
   // A reading lost to rounding (the eye far from the origin cancels the translation) is no
   // evidence for the other one: only a precise reading may stand alone.
   const auto precise = [](const std::optional<Uncertain>& r) {
@@ -64,29 +140,12 @@ BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<U
             {}};
   }
   if (stated) {
-    const auto matches = [&](const Uncertain& r) {
-      return std::abs(r.value - *stated) <= r.error + kStatedPlaneTolerance * std::abs(*stated);
-    };
-    const bool byNo = matches(*no), byZo = matches(*zo);
-    if (byNo != byZo) {
-      return {byNo ? "no" : "zo", "the stated near plane, " + number(*stated), true};
-    }
-    if (!byNo) {
-      BuildReading fallback = readBuild(no, zo, std::nullopt, what, behindCamera, far);
+    if (std::optional<BuildReading> settled = statedBuild(*no, *zo, *stated)) return *settled;
+    if (!statedMatches(*no, *stated)) {
+      BuildReading fallback = readBuild(no, zo, std::nullopt, what);
       fallback.statedMatches = false;
       return fallback;
     }
-  }
-  const auto centredOnCamera = [&](const Uncertain& near) {
-    return far && std::abs(near.value + far->value) <= near.error + far->error;
-  };
-  if (behindCamera && (no->clearlyNegative() != zo->clearlyNegative()) &&
-      !centredOnCamera(no->clearlyNegative() ? *no : *zo)) {
-    const bool noBehind = no->clearlyNegative();
-    return {noBehind ? "zo" : "no",
-            std::string("the ") + (noBehind ? "NO" : "ZO") + " reading puts the " + what + " at " +
-                shownReading(*(noBehind ? no : zo)) + ", behind the camera",
-            {}};
   }
   const std::string both = " (" + shownReading(*no) + " if NO, " + shownReading(*zo) + " if ZO)";
   const Roundness roundNo = roundness(*no), roundZo = roundness(*zo);

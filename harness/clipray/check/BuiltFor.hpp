@@ -24,14 +24,18 @@ struct BuildReading {
   std::optional<bool> statedMatches;
 };
 
-// behindCamera: readings are offsets from a camera position (orthographic), so a negative one puts
-// the plane behind the camera, which an app rarely means when the other reading does not --
-// except for a view volume centred on the camera (near = -far, with `far` the far plane's
-// offset): gluOrtho2D and glOrtho(..., -1, 1) build exactly that, and its other reading (near 0)
-// is just as natural, so it is left to the rules that follow.
 BuildReading readBuild(const std::optional<Uncertain>& no, const std::optional<Uncertain>& zo,
-                       std::optional<double> stated, const std::string& what,
-                       bool behindCamera = false,
-                       const std::optional<Uncertain>& far = std::nullopt);
+                       std::optional<double> stated, const std::string& what);
+
+// The same for an orthographic volume whose readings are offsets from the camera. There the NO
+// and ZO readings of one matrix share the far plane f and satisfy zo = (no + f) / 2, and any sign
+// is legal (glOrtho takes a negative near; OSG's HUD uses near -1, far 1.1). What an app sets in
+// either convention is a round number (0 included: a volume starting at the camera) or a volume
+// centred on the camera (near = -far: gluOrtho2D, glOrtho(..., -D, D) with any D). A reading is
+// explained when it is one of those, and the matrix is decided only when exactly one reading is
+// explained; so a ZO reading of exactly 0, which is the NO volume centred on the camera, decides
+// nothing, and neither does the sign of a near plane.
+BuildReading readOrthographicBuild(const Uncertain& no, const Uncertain& zo, const Uncertain& far,
+                                   std::optional<double> stated);
 
 }  // namespace clipray::detail

@@ -93,6 +93,8 @@ CheckFields parseCheckFile(const std::string& text, const std::string& file) {
       fields.frontFace = value.get<std::string>();
     else if (key == "reversed" && value.is_boolean())
       fields.reversed = value.get<bool>();
+    else if (key == "depthClamp" && value.is_boolean())
+      fields.depthClamp = value.get<bool>();
     else if (key == "comment")
       continue;
     else {
@@ -101,7 +103,7 @@ CheckFields parseCheckFile(const std::string& text, const std::string& file) {
           "unknown key or wrong type (" + detail::describe(value) +
               "); valid keys: clipFromWorld, projection, view, layout, declaredDepth, reversed, "
               "depthRange, origin, viewport, depthBits, sceneExtent, precision, near, far, cull, "
-              "frontFace, comment");
+              "frontFace, depthClamp, comment");
     }
   }
   return fields;
@@ -171,6 +173,7 @@ CheckInput checkInputFrom(const CheckFields& fields, const std::string& where) {
     input.frontFace =
         *parseFrontFace(requireOneOf(fields.frontFace, where + "--front-face", {"ccw", "cw"}));
   }
+  if (fields.depthClamp) input.depthClampEnabledAt = "--depth-clamp";
   input.viewport = parseViewportOption(fields.viewport, where + "--viewport");
   input.depthFormat = *parseDepthFormat(
       requireOneOf(fields.depthBits, where + "--depth-bits", {"16", "24", "32f"}));

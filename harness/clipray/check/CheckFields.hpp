@@ -21,8 +21,9 @@ struct CheckFields {
   std::string sceneExtent;       // "minx miny minz maxx maxy maxz"
   std::string precision;         // float, double
   std::string nearPlane, farPlane;
-  std::string cull;       // none, back, front (glCullFace with GL_CULL_FACE enabled)
-  std::string frontFace;  // ccw, cw (glFrontFace)
+  std::string cull;         // none, back, front (glCullFace with GL_CULL_FACE enabled)
+  std::string frontFace;    // ccw, cw (glFrontFace)
+  bool depthClamp = false;  // glEnable(GL_DEPTH_CLAMP)
 };
 
 // A check file's JSON text; `file` names it in messages. Unknown keys and wrong types are refused.

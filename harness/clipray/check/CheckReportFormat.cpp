@@ -52,7 +52,11 @@ nlohmann::json checkReportJson(const CheckReport& report, const CheckInput& inpu
       {"y_flipped", p.yFlipped},
       {"likely_transposed", p.likelyTransposed},
   };
-  if (p.eye) {
+  if (p.eyeAtInfinityAlong) {
+    properties["eye"] = nullptr;
+    properties["eye_at_infinity_along"] = {p.eyeAtInfinityAlong->x, p.eyeAtInfinityAlong->y,
+                                           p.eyeAtInfinityAlong->z};
+  } else if (p.eye) {
     properties["eye"] = {p.eye->x, p.eye->y, p.eye->z};
     properties["eye_error"] = {p.eyeError.x, p.eyeError.y, p.eyeError.z};
   }
@@ -92,7 +96,8 @@ nlohmann::json checkReportJson(const CheckReport& report, const CheckInput& inpu
             {"reversed", input.declaredReversed},
             {"depth_range", {input.depthRange.x, input.depthRange.y}},
             {"viewport", {input.viewport.width, input.viewport.height}},
-            {"depth_bits", depthFormatName(input.depthFormat)}}},
+            {"depth_bits", depthFormatName(input.depthFormat)},
+            {"depth_clamp", input.depthClampEnabledAt.has_value()}}},
           {"properties", properties},
           {"ray_methods_float", methods},
           {"findings", findings},
@@ -126,15 +131,27 @@ std::string checkReportText(const CheckReport& report, const CheckInput& input) 
       << (p.offAxis ? ", off-axis" : "") << (p.oblique ? ", oblique near plane" : "") << ", "
       << (p.leftHanded ? "left-handed (mirrored)" : "right-handed")
       << (p.reversed ? ", reversed-Z" : "") << (p.yFlipped ? ", y flipped" : "") << "\n";
-  if (p.eye) out << "  eye " << vec(*p.eye) << ", looking along " << vec(p.viewDirection) << "\n";
-  if (!p.eye) out << "  looking along " << vec(p.viewDirection) << "\n";
+  if (p.eyeAtInfinityAlong) {
+    // No point to print: the rows x = y = w = 0 meet only at infinity.
+    out << "  no eye point: the centre of projection is at infinity along "
+        << vec(*p.eyeAtInfinityAlong)
+        << " (rows x, y and w share no point; a light-space perspective warp such as LiSPSM's), "
+           "looking along "
+        << vec(p.viewDirection) << "\n";
+  } else if (p.eye) {
+    out << "  eye " << vec(*p.eye) << ", looking along " << vec(p.viewDirection) << "\n";
+  } else {
+    out << "  looking along " << vec(p.viewDirection) << "\n";
+  }
   const auto withError = [](const Uncertain& u) { return detail::checkReading(u); };
   out << "  " << (p.perspective ? "near " : "near plane at ")
       << (p.near ? withError(*p.near) : std::string("-")) << ", far "
       << (p.infiniteFar ? std::string("infinite")
           : p.far       ? withError(*p.far)
                         : std::string("-"));
-  if (p.perspective) {
+  if (p.eyeAtInfinityAlong) {
+    out << ", fov - (no eye to measure it from)\n";
+  } else if (p.perspective) {
     out << ", fov " << withError(p.fovYDegrees) << " deg vertical x " << withError(p.fovXDegrees)
         << " deg horizontal\n";
   } else {

@@ -1,6 +1,7 @@
 #include "clipray/check/ConventionCheck.hpp"
 
 #include "clipray/check/CheckText.hpp"
+#include "clipray/check/DepthClampCheck.hpp"
 #include "clipray/check/FacingCheck.hpp"
 
 #include <algorithm>
@@ -23,6 +24,7 @@ namespace clipray {
 using detail::BuildReading;
 using detail::kStatedPlaneTolerance;
 using detail::readBuild;
+using detail::readOrthographicBuild;
 
 namespace {
 
@@ -219,6 +221,24 @@ EntryPrecision readPrecision(const CheckInput& input, MatrixProperties& p) {
   return precision;
 }
 
+// The direction in which rows x, y and w (their xyz parts) meet when they have no common point:
+// their null direction, the largest of their pairwise cross products (rank 2), signed so that its
+// largest component is positive.
+glm::dvec3 centreAtInfinity(const glm::dmat4& m) {
+  const glm::dvec3 x(matrixRow(m, 0)), y(matrixRow(m, 1)), w(matrixRow(m, 3));
+  glm::dvec3 direction = glm::cross(x, y);
+  for (const glm::dvec3& other : {glm::cross(y, w), glm::cross(x, w)}) {
+    if (glm::length(other) > glm::length(direction)) direction = other;
+  }
+  if (!(glm::length(direction) > 0.0)) return glm::dvec3(0.0);
+  direction = glm::normalize(direction);
+  int largest = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (std::abs(direction[k]) > std::abs(direction[largest])) largest = k;
+  }
+  return direction[largest] < 0.0 ? -direction : direction;
+}
+
 // A perspective matrix: its eye, whether it is oblique, off-axis or reversed, its near and far
 // planes, and which convention it was built for.
 void readPerspective(const MatrixReading& reading, const CheckInput& input, MatrixProperties& p) {
@@ -227,6 +247,10 @@ void readPerspective(const MatrixReading& reading, const CheckInput& input, Matr
     return std::isfinite(u.value) ? std::optional<Uncertain>(u) : std::nullopt;
   };
   p.eye = reading.eye;
+  if (!std::isfinite(reading.eye.x) || !std::isfinite(reading.eye.y) ||
+      !std::isfinite(reading.eye.z)) {
+    p.eyeAtInfinityAlong = centreAtInfinity(input.clipFromWorld);
+  }
   p.eyeError = reading.eyeError;
   // The near plane is oblique when the depth row's xyz leaves the w row's line (any convention:
   // every near plane z = z_n w is then tilted with it).
@@ -301,8 +325,8 @@ void readOrthographic(const MatrixReading& reading, const CheckInput& input,
     // Offsets from the world origin are no values an app typed: only a camera position (the
     // view, or a projection given alone) makes the readings comparable with typed planes.
     const BuildReading build =
-        viewOrigin ? readBuild(p.nearIfBuiltForNo, p.nearIfBuiltForZo, input.statedNear,
-                               "near plane", true, p.far)
+        viewOrigin ? readOrthographicBuild(reading.nearIfNo, reading.nearIfZo, reading.far,
+                                           input.statedNear)
                    : BuildReading{"ambiguous",
                                   "an orthographic matrix alone does not fix the camera "
                                   "position its near plane is measured from (give --projection "
@@ -724,6 +748,7 @@ CheckReport checkConventions(const CheckInput& input) {
       report.findings.push_back(std::move(*finding));
     }
   }
+  if (auto finding = depthClampFinding(input, p)) report.findings.push_back(std::move(*finding));
   return report;
 }
 

@@ -40,6 +40,9 @@ struct CheckInput {
   // matrix puts on screen (FacingCheck.hpp); unset: not checked.
   std::optional<CullFace> cull;
   std::optional<FrontFace> frontFace;  // unset: GL's default, GL_CCW
+  // GL_DEPTH_CLAMP enabled, and where ("--depth-clamp", "glEnable(GL_DEPTH_CLAMP) at call 7");
+  // unset: disabled, as by default.
+  std::optional<std::string> depthClampEnabledAt;
   bool predictMethods = true;  // the ray-method table (the slow part: __float128 references)
 };
 
@@ -50,7 +53,10 @@ struct MatrixProperties {
   bool offAxis = false;     // the centre of the image is not on the view direction
   // (right, up, forward) is left-handed once a y flip is undone: a mirrored image in a RH world.
   bool leftHanded = false;
-  std::optional<glm::dvec3> eye;  // perspective only
+  std::optional<glm::dvec3> eye;  // perspective only (non-finite where eyeAtInfinityAlong is set)
+  // Perspective whose rows x, y and w meet in a direction, not a point: the centre of projection
+  // is at infinity along it (a light-space perspective warp such as LiSPSM's); unit length.
+  std::optional<glm::dvec3> eyeAtInfinityAlong;
   glm::dvec3 eyeError{0.0};
   glm::dvec3 viewDirection{0.0};
   double viewDirectionErrorDegrees = 0.0;

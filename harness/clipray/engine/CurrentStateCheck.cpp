@@ -1,5 +1,7 @@
 #include "clipray/engine/CurrentStateCheck.hpp"
 
+#include <algorithm>
+
 #include <glad/gl.h>
 
 #include "clipray/trace/TraceCheck.hpp"
@@ -57,6 +59,16 @@ trace::TraceDepthState readCurrentDepthState(gl::GlLoader loader) {
   state.cullFaceMode = static_cast<std::uint32_t>(value);
   glGetIntegerv(GL_FRONT_FACE, &value);
   state.frontFace = static_cast<std::uint32_t>(value);
+  state.depthClamp = glIsEnabled(GL_DEPTH_CLAMP) == GL_TRUE;
+  // Only the implementation's GL_MAX_CLIP_DISTANCES are enums it takes (at least 8 in GL 3.0 and
+  // on): asking for more would leave a GL_INVALID_ENUM for the checks below to find.
+  GLint clipDistances = 0;
+  glGetIntegerv(GL_MAX_CLIP_DISTANCES, &clipDistances);
+  for (int i = 0; i < std::min(clipDistances, trace::kGlClipDistances); ++i) {
+    if (glIsEnabled(GL_CLIP_DISTANCE0 + static_cast<GLenum>(i)) == GL_TRUE) {
+      state.clipDistances = static_cast<std::uint8_t>(state.clipDistances | (1u << i));
+    }
+  }
   GLint viewport[4] = {0, 0, 0, 0};
   glGetIntegerv(GL_VIEWPORT, viewport);
   state.viewport = {viewport[2], viewport[3]};

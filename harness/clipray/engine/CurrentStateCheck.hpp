@@ -1,7 +1,8 @@
 #pragma once
 // `clipray check` from inside a running app: the depth state of the current GL context, read
 // with glGet* (clip control, depth test and func, depth range, clear value, face culling and front
-// face, viewport, the draw framebuffer's depth format), declared for the matrix the app is about to
+// face, depth clamp and the clip distances enabled, viewport, the draw framebuffer's depth
+// format), declared for the matrix the app is about to
 // draw with. The same analysis and findings as `clipray check --trace` gives for a draw with this
 // state.
 //

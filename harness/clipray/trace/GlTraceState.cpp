@@ -9,10 +9,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <initializer_list>
 #include <stdexcept>
 #include <string_view>
-#include <unordered_map>
 #include <unordered_set>
 
 #include "clipray/trace/DumpArguments.hpp"
@@ -22,80 +20,6 @@ namespace clipray::trace {
 namespace {
 
 using namespace std::string_view_literals;
-
-const std::unordered_map<std::string_view, std::uint32_t>& enumNames() {
-  static const std::unordered_map<std::string_view, std::uint32_t> names = {
-      {"GL_FALSE", 0},
-      {"GL_TRUE", kGlTrue},
-      {"GL_NEVER", kGlNever},
-      {"GL_LESS", kGlLess},
-      {"GL_EQUAL", kGlEqual},
-      {"GL_LEQUAL", kGlLequal},
-      {"GL_GREATER", kGlGreater},
-      {"GL_NOTEQUAL", kGlNotequal},
-      {"GL_GEQUAL", kGlGequal},
-      {"GL_ALWAYS", kGlAlways},
-      {"GL_DEPTH_TEST", kGlDepthTest},
-      {"GL_CULL_FACE", kGlCullFace},
-      {"GL_FRONT", kGlFront},
-      {"GL_BACK", kGlBack},
-      {"GL_FRONT_AND_BACK", kGlFrontAndBack},
-      {"GL_CW", kGlCw},
-      {"GL_CCW", kGlCcw},
-      {"GL_MODELVIEW", kGlModelview},
-      {"GL_PROJECTION", kGlProjection},
-      {"GL_TEXTURE", kGlTexture},
-      {"GL_LOWER_LEFT", kGlLowerLeft},
-      {"GL_UPPER_LEFT", kGlUpperLeft},
-      {"GL_NEGATIVE_ONE_TO_ONE", kGlNegativeOneToOne},
-      {"GL_ZERO_TO_ONE", kGlZeroToOne},
-      {"GL_DEPTH_BUFFER_BIT", kGlDepthBufferBit},
-      {"GL_DEPTH", kGlDepth},
-      {"GL_DEPTH_STENCIL", kGlDepthStencil},
-      {"GL_COMPILE", kGlCompile},
-      {"GL_FRAMEBUFFER", kGlFramebuffer},
-      {"GL_READ_FRAMEBUFFER", kGlReadFramebuffer},
-      {"GL_DRAW_FRAMEBUFFER", kGlDrawFramebuffer},
-      {"GL_DEPTH_ATTACHMENT", kGlDepthAttachment},
-      {"GL_DEPTH_STENCIL_ATTACHMENT", kGlDepthStencilAttachment},
-      {"GL_DEPTH_COMPONENT16", kGlDepthComponent16},
-      {"GL_DEPTH_COMPONENT24", kGlDepthComponent24},
-      {"GL_DEPTH_COMPONENT32", kGlDepthComponent32},
-      {"GL_DEPTH_COMPONENT32F", kGlDepthComponent32F},
-      {"GL_DEPTH24_STENCIL8", kGlDepth24Stencil8},
-      {"GL_DEPTH32F_STENCIL8", kGlDepth32FStencil8},
-  };
-  return names;
-}
-
-std::uint32_t enumArgument(const DumpCall& call, std::string_view name) {
-  const DumpValue& value = argument(call, name);
-  const auto parsed = glEnumValue(value);
-  return parsed ? *parsed : 0xFFFFFFFFu;  // an enum clipray does not know: matches none
-}
-
-// Whether a bitmask as apitrace writes it ("GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT", "0x100")
-// holds `bit`, which the flags named in `names` include.
-bool maskHasBit(const DumpValue& value, std::uint64_t bit,
-                std::initializer_list<std::string_view> names) {
-  std::string_view text = value.text;
-  while (!text.empty()) {
-    const std::size_t bar = text.find(" | ");
-    const std::string_view flag = text.substr(0, bar);
-    if (std::find(names.begin(), names.end(), flag) != names.end()) return true;
-    DumpValue single;
-    single.text = std::string(flag);
-    if (const auto number = single.number()) {
-      if (*number >= 0.0 && *number <= 4294967295.0 &&
-          (static_cast<std::uint64_t>(*number) & bit) != 0) {
-        return true;
-      }
-    }
-    if (bar == std::string_view::npos) break;
-    text.remove_prefix(bar + 3);
-  }
-  return false;
-}
 
 bool maskHasDepthBit(const DumpValue& value) {
   return maskHasBit(value, kGlDepthBufferBit, {"GL_DEPTH_BUFFER_BIT"sv});
@@ -187,8 +111,10 @@ std::string textureTarget(const std::string& target) {
 
 bool isDraw(std::string_view name) {
   if (name.starts_with("glDrawBuffer") || name.starts_with("glDrawPixels")) return false;
+  // glEvalMesh1/2 draw an evaluator's grid (OpenGL 2.1, 5.1), as osgteapot does.
   return name.starts_with("glDraw") || name.starts_with("glMultiDraw") || name == "glBegin" ||
-         name == "glCallList" || name == "glCallLists";
+         name == "glCallList" || name == "glCallLists" || name == "glEvalMesh1" ||
+         name == "glEvalMesh2";
 }
 
 bool endsFrame(std::string_view name) {
@@ -203,6 +129,9 @@ const std::unordered_set<std::string_view>& stateFunctions() {
     std::unordered_set<std::string_view> table;
     for (std::string_view name : {"glNewList",
                                   "glEndList",
+                                  "glEnd",
+                                  "glPushAttrib",
+                                  "glPopAttrib",
                                   "glClipControl",
                                   "glEnable",
                                   "glDisable",
@@ -310,82 +239,14 @@ std::string formatNameOf(std::uint32_t internalFormat) {
 
 }  // namespace
 
-std::optional<std::uint32_t> glEnumValue(const DumpValue& value) {
-  if (value.isList || value.isString) return std::nullopt;
-  const auto& names = enumNames();
-  if (const auto found = names.find(value.text); found != names.end()) return found->second;
-  if (const auto number = value.number()) {
-    if (*number >= 0.0 && *number <= 4294967295.0) return static_cast<std::uint32_t>(*number);
-  }
-  return std::nullopt;
-}
-
-std::string glEnumName(std::uint32_t value) {
-  for (const auto& [name, known] : enumNames()) {
-    if (known == value && value > kGlTrue) return std::string(name);
-  }
-  char hex[16];
-  std::snprintf(hex, sizeof hex, "0x%X", value);
-  return hex;
-}
-
 std::string TraceDepthState::key() const {
   char text[256];
-  std::snprintf(text, sizeof text, "%d%d%d %u %a %a %a %d %dx%d %s %d %u %u", clipZeroToOne,
-                clipUpperLeft, depthTest, depthFunc, depthRange.x, depthRange.y,
+  std::snprintf(text, sizeof text, "%d%d%d %u %a %a %a %d %dx%d %s %d %u %u %d %u %d",
+                clipZeroToOne, clipUpperLeft, depthTest, depthFunc, depthRange.x, depthRange.y,
                 clearedDepth ? *clearedDepth : -1.0, clearedDepth.has_value(), viewport.width,
-                viewport.height, depthFormatName.c_str(), cullFace, cullFaceMode, frontFace);
+                viewport.height, depthFormatName.c_str(), cullFace, cullFaceMode, frontFace,
+                depthClamp, static_cast<unsigned>(clipDistances), writesClipDistance);
   return text;
-}
-
-bool hasProjectionStructure(const glm::dmat4& m) {
-  for (int column = 0; column < 4; ++column) {
-    for (int row = 0; row < 4; ++row) {
-      if (!std::isfinite(m[column][row])) return false;
-    }
-  }
-  // Singular to float precision (|det| against the product of the row lengths, which bounds it):
-  // a planar shadow projection (rank 3, as glmark2's "ideas" scene multiplies into its modelview)
-  // projects onto a plane and is no camera. 64 float roundings: far below any camera's ratio
-  // short of a near plane a million times smaller than the scene's units.
-  double rowLengths = 1.0;
-  for (int row = 0; row < 4; ++row) {
-    rowLengths *= glm::length(glm::dvec4(m[0][row], m[1][row], m[2][row], m[3][row]));
-  }
-  if (!(std::abs(glm::determinant(m)) > 64.0 * 0x1p-24 * rowLengths)) return false;
-  const bool perspective = m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0;
-  const glm::dmat3 linear(m);
-  if (perspective) {
-    // A normal matrix, transpose(inverse(modelView)) as a mat4, has the modelview's translation
-    // in row 3 and none in column 3: the transpose of an orientation-preserving affine map, no
-    // camera. (A perspective projection maps depth through column 3: z_clip = a z + b w, b != 0.)
-    const bool transposedAffine = m[3][0] == 0.0 && m[3][1] == 0.0 && m[3][2] == 0.0 &&
-                                  m[3][3] != 0.0 && glm::determinant(linear) > 0.0;
-    return !transposedAffine;
-  }
-  if (glm::determinant(linear) >= 0.0) return false;
-  // A mirrored model or view matrix (a reflection, scale(1, -1, 1)) also reverses orientation,
-  // but it scales every direction alike: its columns are orthogonal and of one length. An
-  // orthographic projection scales x, y and depth by 2/width, 2/height and 2/depth, which differ
-  // unless its view volume is a cube (glOrtho(-1, 1, -1, 1, -1, 1)). Such a cube volume is told
-  // from a mirror by glOrtho's own shape: on-axis, with z alone flipped (x and y kept), where a
-  // reflection in a floor or wall flips x or y. (A model matrix scale(1, 1, -1) has that shape
-  // too and is taken for a projection; a cube volume times a rotating view is still missed.)
-  const glm::dmat3 gram = glm::transpose(linear) * linear;
-  const double scale = (gram[0][0] + gram[1][1] + gram[2][2]) / 3.0;
-  const double tolerance = 1e-5 * scale;  // 7-digit decimals of the dump
-  bool similarity = true;
-  for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) {
-      if (std::abs(gram[i][j] - (i == j ? scale : 0.0)) > tolerance) similarity = false;
-    }
-  }
-  if (!similarity) return true;
-  const bool onAxis = std::abs(linear[0][1]) + std::abs(linear[0][2]) + std::abs(linear[1][0]) +
-                          std::abs(linear[1][2]) + std::abs(linear[2][0]) +
-                          std::abs(linear[2][1]) <=
-                      1e-5 * std::sqrt(scale);
-  return onAxis && linear[0][0] > 0.0 && linear[1][1] > 0.0 && linear[2][2] < 0.0;
 }
 
 bool GlTraceState::needs(std::string_view function) {
@@ -470,11 +331,11 @@ std::uint32_t GlTraceState::drawProgram() const {
   return stage != pipelineVertexProgram_.end() ? stage->second : 0;
 }
 
-void GlTraceState::emitDraw(const DumpCall& call,
-                            const std::function<void(const TraceDraw&)>& onDraw) {
+TraceDraw GlTraceState::drawAt(const DumpCall& call) {
   TraceDraw draw;
   draw.frame = frame_;
   draw.call = call.number;
+  draw.completedAtCall = call.number;
   draw.function = call.name;
   draw.depth = depth_;
   const std::uint32_t program = drawProgram();
@@ -502,7 +363,13 @@ void GlTraceState::emitDraw(const DumpCall& call,
       draw.matrices.push_back({"fixed-function GL_PROJECTION", true, projection});
     }
   }
-  onDraw(draw);
+  draw.depth.writesClipDistance = program != 0 && uniformBuffers_.writesClipDistance(program);
+  return draw;
+}
+
+void GlTraceState::finish(const std::function<void(const TraceDraw&)>& onDraw) {
+  if (openBegin_) onDraw(*openBegin_);
+  openBegin_.reset();
 }
 
 bool GlTraceState::applyDepthState(const DumpCall& call) {
@@ -518,6 +385,16 @@ bool GlTraceState::applyDepthState(const DumpCall& call) {
       depth_.cullFace = name == "glEnable";
       depth_.cullFaceCall = call.number;
     }
+    if (cap == kGlDepthClamp) {
+      depth_.depthClamp = name == "glEnable";
+      depth_.depthClampCall = call.number;
+    }
+    if (const int index = clipDistanceIndex(cap); index >= 0) {
+      const auto bit = static_cast<std::uint8_t>(1u << index);
+      depth_.clipDistances =
+          name == "glEnable" ? depth_.clipDistances | bit : depth_.clipDistances & ~bit;
+      depth_.clipDistancesCall = call.number;
+    }
   } else if (name == "glCullFace") {
     depth_.cullFaceMode = enumArgument(call, "mode");
     depth_.cullFaceModeCall = call.number;
@@ -530,9 +407,10 @@ bool GlTraceState::applyDepthState(const DumpCall& call) {
   } else if (name == "glDepthRange" || name == "glDepthRangef" ||
              (name == "glDepthRangeIndexed" && numberArgument(call, "index") == 0.0)) {
     // apitrace names the arguments zNear/zFar (glDepthRange) or n/f (glDepthRangef, GLES).
+    // GL clamps both to [0, 1] (OpenGL 4.6, 13.8.1): glDepthRange(-100000, 100000) is (0, 1).
     const bool longNames = call.argument("zNear") != nullptr;
-    depth_.depthRange = {numberArgument(call, longNames ? "zNear" : "n"),
-                         numberArgument(call, longNames ? "zFar" : "f")};
+    depth_.depthRange = {std::clamp(numberArgument(call, longNames ? "zNear" : "n"), 0.0, 1.0),
+                         std::clamp(numberArgument(call, longNames ? "zFar" : "f"), 0.0, 1.0)};
     depth_.depthRangeCall = call.number;
   } else if (name == "glClearDepth" || name == "glClearDepthf") {
     clearDepthValue_ = numberArgument(call, call.argument("depth") ? "depth" : "d");
@@ -561,6 +439,69 @@ bool GlTraceState::applyDepthState(const DumpCall& call) {
     return false;
   }
   return true;
+}
+
+// OpenGL 2.1, 6.1.21 and table 6.3 on (with ARB_depth_clamp's and ARB_clip_control's additions):
+// which attribute group holds each part of the followed state.
+void GlTraceState::applyAttributeStack(const DumpCall& call) {
+  if (call.name == "glPushAttrib") {
+    const DumpValue& mask = argument(call, "mask");
+    const auto has = [&](std::uint32_t bit, std::string_view bitName) {
+      return maskHasBit(mask, bit, {bitName, "GL_ALL_ATTRIB_BITS"sv});
+    };
+    std::uint32_t groups = 0;
+    if (has(kGlDepthBufferBit, "GL_DEPTH_BUFFER_BIT"sv)) groups |= kGlDepthBufferBit;
+    if (has(kGlPolygonBit, "GL_POLYGON_BIT"sv)) groups |= kGlPolygonBit;
+    if (has(kGlViewportBit, "GL_VIEWPORT_BIT"sv)) groups |= kGlViewportBit;
+    if (has(kGlTransformBit, "GL_TRANSFORM_BIT"sv)) groups |= kGlTransformBit;
+    if (has(kGlEnableBit, "GL_ENABLE_BIT"sv)) groups |= kGlEnableBit;
+    // GL's attribute stack is at least 16 deep; a deeper push is GL_STACK_OVERFLOW, no effect.
+    if (attributeStack_.size() < 64) {
+      attributeStack_.push_back({groups, depth_, clearDepthValue_, matrixMode_});
+    }
+    return;
+  }
+  if (attributeStack_.empty()) return;  // a stack underflow is a GL error: no effect
+  const PushedAttributes pushed = attributeStack_.back();
+  attributeStack_.pop_back();
+  const TraceDepthState& saved = pushed.depth;
+  const auto restores = [&](std::uint32_t bit) { return (pushed.mask & bit) != 0; };
+  if (restores(kGlDepthBufferBit)) {
+    depth_.depthTest = saved.depthTest;
+    depth_.depthFunc = saved.depthFunc;
+    depth_.depthFuncCall = saved.depthFuncCall;
+    clearDepthValue_ = pushed.clearDepthValue;
+  }
+  if (restores(kGlEnableBit)) {
+    depth_.depthTest = saved.depthTest;
+    depth_.cullFace = saved.cullFace;
+    depth_.cullFaceCall = saved.cullFaceCall;
+  }
+  if (restores(kGlEnableBit) || restores(kGlTransformBit)) {
+    depth_.depthClamp = saved.depthClamp;
+    depth_.depthClampCall = saved.depthClampCall;
+    depth_.clipDistances = saved.clipDistances;
+    depth_.clipDistancesCall = saved.clipDistancesCall;
+  }
+  if (restores(kGlPolygonBit)) {
+    depth_.cullFace = saved.cullFace;
+    depth_.cullFaceCall = saved.cullFaceCall;
+    depth_.cullFaceMode = saved.cullFaceMode;
+    depth_.cullFaceModeCall = saved.cullFaceModeCall;
+    depth_.frontFace = saved.frontFace;
+    depth_.frontFaceCall = saved.frontFaceCall;
+  }
+  if (restores(kGlViewportBit)) {
+    depth_.viewport = saved.viewport;
+    depth_.depthRange = saved.depthRange;
+    depth_.depthRangeCall = saved.depthRangeCall;
+  }
+  if (restores(kGlTransformBit)) {
+    matrixMode_ = pushed.matrixMode;
+    depth_.clipUpperLeft = saved.clipUpperLeft;
+    depth_.clipZeroToOne = saved.clipZeroToOne;
+    depth_.clipControlCall = saved.clipControlCall;
+  }
 }
 
 bool GlTraceState::applyProgramState(const DumpCall& call) {
@@ -673,6 +614,8 @@ bool GlTraceState::apply(const DumpCall& call,
                          const std::function<void(const TraceDraw&)>& onDraw) {
   const std::string_view name = call.name;
   if (endsFrame(name)) {
+    // A glBegin left open is a GL error; its draw still belongs to the frame it began in.
+    finish(onDraw);
     ++frame_;
     return true;
   }
@@ -689,8 +632,26 @@ bool GlTraceState::apply(const DumpCall& call,
     compilingList_ = false;
     return false;
   }
+  if (name == "glEnd") {
+    // The glBegin's fragments are all written now: a replay can dump the depth buffer here.
+    if (openBegin_) {
+      openBegin_->completedAtCall = call.number;
+      finish(onDraw);
+    }
+    return false;
+  }
   if (isDraw(name)) {
-    if (!compilingList_) emitDraw(call, onDraw);
+    if (compilingList_) return false;
+    if (name == "glBegin") {
+      finish(onDraw);  // a glBegin without its glEnd before it
+      openBegin_ = drawAt(call);
+    } else {
+      onDraw(drawAt(call));
+    }
+    return false;
+  }
+  if (name == "glPushAttrib" || name == "glPopAttrib") {
+    applyAttributeStack(call);
     return false;
   }
   if (!applyDepthState(call) && !applyProgramState(call) && !applyAttachmentState(call)) {

@@ -1,15 +1,12 @@
 #pragma once
 // The GL state a trace sets, call by call, as far as `clipray check --trace` needs it: the depth
 // state in force at each draw (glClipControl, depth test and func, depth range, the depth clear,
-// viewport, the depth format of the draw framebuffer's renderbuffer or texture), the 4x4 matrices
+// face culling, depth clamp and clip distances, viewport, the depth format of the draw
+// framebuffer's renderbuffer or texture; glPushAttrib/glPopAttrib of those), the 4x4 matrices
 // uploaded as uniforms (glUniformMatrix4fv, glProgramUniformMatrix4fv, named by
 // glGetUniformLocation) or kept in std140 uniform blocks (UniformBuffers.hpp), and the
 // fixed-function matrix stacks. At each draw it hands over every matrix in force that has a
-// projection's structure.
-//
-// The core has no GL headers: the enum values are written here (from Khronos' gl.xml, the
-// registry glcorearb.h is generated from), and apitrace writes most enums by name, which is
-// mapped to the same values.
+// projection's structure (ProjectionStructure.hpp). The enums: GlEnums.hpp.
 
 #include <cstdint>
 #include <filesystem>
@@ -23,55 +20,11 @@
 
 #include "clipray/Conventions.hpp"
 #include "clipray/trace/DumpLine.hpp"
+#include "clipray/trace/GlEnums.hpp"
+#include "clipray/trace/ProjectionStructure.hpp"
 #include "clipray/trace/UniformBuffers.hpp"
 
 namespace clipray::trace {
-
-// GL enum values (Khronos OpenGL-Registry, xml/gl.xml).
-inline constexpr std::uint32_t kGlNever = 0x0200;
-inline constexpr std::uint32_t kGlLess = 0x0201;
-inline constexpr std::uint32_t kGlEqual = 0x0202;
-inline constexpr std::uint32_t kGlLequal = 0x0203;
-inline constexpr std::uint32_t kGlGreater = 0x0204;
-inline constexpr std::uint32_t kGlNotequal = 0x0205;
-inline constexpr std::uint32_t kGlGequal = 0x0206;
-inline constexpr std::uint32_t kGlAlways = 0x0207;
-inline constexpr std::uint32_t kGlDepthTest = 0x0B71;
-inline constexpr std::uint32_t kGlCullFace = 0x0B44;
-inline constexpr std::uint32_t kGlFront = 0x0404;
-inline constexpr std::uint32_t kGlBack = 0x0405;
-inline constexpr std::uint32_t kGlFrontAndBack = 0x0408;
-inline constexpr std::uint32_t kGlCw = 0x0900;
-inline constexpr std::uint32_t kGlCcw = 0x0901;
-inline constexpr std::uint32_t kGlModelview = 0x1700;
-inline constexpr std::uint32_t kGlProjection = 0x1701;
-inline constexpr std::uint32_t kGlTexture = 0x1702;
-inline constexpr std::uint32_t kGlLowerLeft = 0x8CA1;
-inline constexpr std::uint32_t kGlUpperLeft = 0x8CA2;
-inline constexpr std::uint32_t kGlNegativeOneToOne = 0x935E;
-inline constexpr std::uint32_t kGlZeroToOne = 0x935F;
-inline constexpr std::uint32_t kGlDepthBufferBit = 0x00000100;
-inline constexpr std::uint32_t kGlDepth = 0x1801;  // glClearBuffer's buffer
-inline constexpr std::uint32_t kGlDepthStencil = 0x84F9;
-inline constexpr std::uint32_t kGlFramebuffer = 0x8D40;
-inline constexpr std::uint32_t kGlReadFramebuffer = 0x8CA8;
-inline constexpr std::uint32_t kGlDrawFramebuffer = 0x8CA9;
-inline constexpr std::uint32_t kGlDepthAttachment = 0x8D00;
-inline constexpr std::uint32_t kGlDepthStencilAttachment = 0x821A;
-inline constexpr std::uint32_t kGlDepthComponent16 = 0x81A5;
-inline constexpr std::uint32_t kGlDepthComponent24 = 0x81A6;
-inline constexpr std::uint32_t kGlDepthComponent32 = 0x81A7;
-inline constexpr std::uint32_t kGlDepthComponent32F = 0x8CAC;
-inline constexpr std::uint32_t kGlDepth24Stencil8 = 0x88F0;
-inline constexpr std::uint32_t kGlDepth32FStencil8 = 0x8CAD;
-inline constexpr std::uint32_t kGlTrue = 1;
-inline constexpr std::uint32_t kGlCompile = 0x1300;  // glNewList mode
-
-// The value of an enum argument as apitrace writes it (a name, or a number where apitrace's
-// tables lack the name); nullopt for a name clipray does not know.
-std::optional<std::uint32_t> glEnumValue(const DumpValue& value);
-// "GL_LESS" for the values above; the hex value otherwise.
-std::string glEnumName(std::uint32_t value);
 
 // The depth state in force at a draw. Call numbers say where each part was set (0: GL's default).
 struct TraceDepthState {
@@ -92,9 +45,19 @@ struct TraceDepthState {
   std::uint32_t cullFaceMode = kGlBack;
   std::uint32_t frontFace = kGlCcw;
 
+  // GL_DEPTH_CLAMP (GL 3.2): no clipping at the near and far planes; fragments beyond them get
+  // the depth range's nearer or farther end.
+  bool depthClamp = false;
+  // GL_CLIP_DISTANCE0..7 enabled: bit i for gl_ClipDistance[i].
+  std::uint8_t clipDistances = 0;
+  // The program drawing writes gl_ClipDistance (its shaders' text mentions it).
+  bool writesClipDistance = false;
+
   std::uint64_t clipControlCall = 0, depthFuncCall = 0, depthRangeCall = 0, clearCall = 0;
   // The last glEnable/glDisable(GL_CULL_FACE), glCullFace and glFrontFace.
   std::uint64_t cullFaceCall = 0, cullFaceModeCall = 0, frontFaceCall = 0;
+  // The last glEnable/glDisable of GL_DEPTH_CLAMP, and of any GL_CLIP_DISTANCEi.
+  std::uint64_t depthClampCall = 0, clipDistancesCall = 0;
 
   // The same state, call numbers aside (the key of a distinct (matrix, state) pair).
   std::string key() const;
@@ -112,16 +75,13 @@ struct TracedMatrix {
 struct TraceDraw {
   std::uint64_t frame = 0;
   std::uint64_t call = 0;
+  // The call after which the draw's fragments are all written (the state a replay can dump):
+  // the draw itself, or the glEnd that closes a glBegin.
+  std::uint64_t completedAtCall = 0;
   std::string function;  // "glDrawArrays"
   TraceDepthState depth;
   std::vector<TracedMatrix> matrices;
 };
-
-// Perspective (row 3 has an xyz part, and the matrix is not the transpose of an affine map such
-// as a normal matrix) or orthographic (an affine map whose linear part reverses
-// orientation: GL's clip space is left-handed, so glOrtho and every GL orthographic projection
-// flips z while a model or view matrix does not); finite and invertible either way.
-bool hasProjectionStructure(const glm::dmat4& matrix);
 
 class GlTraceState {
  public:
@@ -133,6 +93,10 @@ class GlTraceState {
   static bool needs(std::string_view function);
 
   std::uint64_t frame() const { return frame_; }
+
+  // Hands over a glBegin's draw whose glEnd the trace never reached (a glBegin's draw waits for
+  // its glEnd, the call a replay can dump the depth buffer at). Called once the trace is read.
+  void finish(const std::function<void(const TraceDraw&)>& onDraw);
 
   // Where `apitrace dump --blobs` writes buffer data (UniformBuffers::setBlobDirectory).
   void setBlobDirectory(std::filesystem::path directory) {
@@ -154,7 +118,10 @@ class GlTraceState {
   bool applyAttachmentState(const DumpCall& call);
   // Fixed function: glMatrixMode, glLoadMatrix*, glFrustum, glPushMatrix, ...
   void applyMatrixStack(const DumpCall& call);
-  void emitDraw(const DumpCall& call, const std::function<void(const TraceDraw&)>& onDraw);
+  // glPushAttrib/glPopAttrib: the followed state of the groups pushed.
+  void applyAttributeStack(const DumpCall& call);
+  // The draw a call makes, with the state and matrices in force.
+  TraceDraw drawAt(const DumpCall& call);
   void setUniformMatrices(std::uint32_t program, const DumpCall& call);
   // The program whose uniforms a draw reads for its vertices: glUseProgram's, which takes
   // precedence, else the bound program pipeline's vertex-stage program (0: fixed function).
@@ -173,6 +140,15 @@ class GlTraceState {
   UniformBuffers uniformBuffers_;
 
   bool compilingList_ = false;  // inside glNewList(..., GL_COMPILE): draws are recorded only
+  struct PushedAttributes {
+    std::uint32_t mask = 0;
+    TraceDepthState depth;
+    double clearDepthValue = 1.0;
+    std::uint32_t matrixMode = 0;
+  };
+  std::vector<PushedAttributes> attributeStack_;
+  // The glBegin draws of the trace whose glEnd has not come yet (GlTraceState::apply).
+  std::optional<TraceDraw> openBegin_;
   std::uint32_t matrixMode_ = kGlModelview;
   std::map<std::uint32_t, std::vector<glm::dmat4>> stacks_;  // mode -> stack, top at the back
 

@@ -106,7 +106,7 @@ std::optional<DepthImage> depthImageFromState(const std::string& stateJson) {
 
 DepthUse analyseDepthUse(const DepthImage& image, const TracePairGroup& group) {
   DepthUse use;
-  use.call = group.first.call;
+  use.call = group.first.completedAtCall;
   use.frame = group.first.frame;
   use.pixels = image.depth.size();
   const TraceDepthState& state = group.depth;

@@ -382,4 +382,8 @@ std::string_view blockLayoutName(BlockLayout layout) {
   return "shared";
 }
 
+bool mentionsClipDistance(std::string_view source) {
+  return withoutCommentsAndDirectives(source).find("gl_ClipDistance") != std::string::npos;
+}
+
 }  // namespace clipray::trace

@@ -49,4 +49,8 @@ std::vector<UniformBlockDeclaration> parseUniformBlocks(std::string_view source)
 // "std140", "std430", "shared", "packed".
 std::string_view blockLayoutName(BlockLayout layout);
 
+// Whether the GLSL source names gl_ClipDistance outside comments and preprocessor lines (a vertex
+// or geometry shader that writes it clips with the planes GL_CLIP_DISTANCEi enables).
+bool mentionsClipDistance(std::string_view source);
+
 }  // namespace clipray::trace

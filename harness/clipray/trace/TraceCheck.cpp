@@ -37,6 +37,10 @@ bool isLessTest(std::uint32_t func) {
   return func == kGlLess || func == kGlLequal;
 }
 
+std::string callNote(std::uint64_t call) {
+  return call == 0 ? "GL's default" : "call " + std::to_string(call);
+}
+
 CheckInput checkInputOf(const TracedMatrix& matrix, const TraceDepthState& depth) {
   CheckInput input;
   input.clipFromWorld = matrix.matrix;
@@ -52,12 +56,15 @@ CheckInput checkInputOf(const TracedMatrix& matrix, const TraceDepthState& depth
   input.origin = depth.clipUpperLeft ? WindowOrigin::UpperLeft : WindowOrigin::LowerLeft;
   if (depth.viewport.width > 0 && depth.viewport.height > 0) input.viewport = depth.viewport;
   if (depth.depthFormat) input.depthFormat = *depth.depthFormat;
+  if (depth.depthClamp) {
+    // Call 0: read from a live context (engine::checkCurrentState), GL's default being off.
+    input.depthClampEnabledAt =
+        depth.depthClampCall != 0
+            ? "glEnable(GL_DEPTH_CLAMP) at call " + std::to_string(depth.depthClampCall)
+            : std::string("glIsEnabled(GL_DEPTH_CLAMP)");
+  }
   input.predictMethods = false;
   return input;
-}
-
-std::string callNote(std::uint64_t call) {
-  return call == 0 ? "GL's default" : "call " + std::to_string(call);
 }
 
 // What only the traced state shows, beyond the matrix check's findings.
@@ -185,9 +192,32 @@ std::string groupKey(const TracedPair& pair, const CheckReport* report,
 
 CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthState& depth,
                                  CheckInput* inputUsed) {
+  if (depth.depthRange.x == depth.depthRange.y) {
+    // Named as the app set it: the matrix check's own message names its --depth-range option.
+    throw InputError("glDepthRange(" + number(depth.depthRange.x) + ", " +
+                     number(depth.depthRange.y) + ")" +
+                     (depth.depthRangeCall != 0 ? " at call " + std::to_string(depth.depthRangeCall)
+                                                : std::string()) +
+                     ": near and far are equal, so every fragment gets the same depth");
+  }
   const CheckInput input = checkInputOf(matrix, depth);
   if (inputUsed) *inputUsed = input;
-  CheckReport report = checkConventions(input);
+  CheckReport report;
+  try {
+    report = checkConventions(input);
+  } catch (const InputError& error) {
+    // The matrix check names its own options (--clip-from-world, --projection); a traced matrix
+    // came through none: it is named by its source.
+    std::string message = error.what();
+    for (const std::string option :
+         {"--projection * --view", "--clip-from-world", "--projection"}) {
+      if (message.starts_with(option)) {
+        message = matrix.source + message.substr(option.size());
+        break;
+      }
+    }
+    throw InputError(message);
+  }
   if (!readAsTextureSpace(input, report)) {
     addTraceFindings(depth, report);
     // A transposed upload's winding means nothing either.
@@ -281,11 +311,12 @@ void TraceCheckCollector::onDraw(const TraceDraw& draw) {
       }
       ++ofSource;
       pairIndex_.emplace(key, pairs_.size());
-      pairs_.push_back({matrix, draw.depth, {draw.frame, draw.call}, {draw.frame, draw.call}, 1});
+      const Occurrence occurrence{draw.frame, draw.call, draw.completedAtCall};
+      pairs_.push_back({matrix, draw.depth, occurrence, occurrence, 1});
       continue;
     }
     TracedPair& pair = pairs_[found->second];
-    pair.last = {draw.frame, draw.call};
+    pair.last = {draw.frame, draw.call, draw.completedAtCall};
     ++pair.draws;
   }
   // Only this frame's entries matter from here on.
@@ -297,6 +328,7 @@ void TraceCheckCollector::onDraw(const TraceDraw& draw) {
 }
 
 TraceCheckResult TraceCheckCollector::finish() {
+  state_.finish([this](const TraceDraw& draw) { onDraw(draw); });
   if (!apitraceErrors_.empty()) throw InputError(traceName_ + ": apitrace: " + apitraceErrors_[0]);
   if (truncated_) {
     throw InputError(traceName_ +

@@ -45,6 +45,8 @@ FrameRange parseFrameRange(const std::string& text);
 struct Occurrence {
   std::uint64_t frame = 0;
   std::uint64_t call = 0;
+  // Where a replay dumps the draw's depth: the draw, or the glEnd closing a glBegin.
+  std::uint64_t completedAtCall = 0;
 };
 
 // One distinct (matrix, depth state) pair as drawn.

@@ -237,8 +237,10 @@ void verifyTrace(const std::string& tracePath, TraceCheckResult& result) {
     }
     ++replayed;
     // The state after the group's first draw, replayed headlessly on Mesa's surfaceless EGL.
-    DumpProcess replay({retrace, "-D", std::to_string(group.first.call), "--", tracePath}, false,
-                       "surfaceless_egl");
+    // (A glBegin's fragments are written by its glEnd: eglretrace cannot dump inside the pair.)
+    DumpProcess replay(
+        {retrace, "-D", std::to_string(group.first.completedAtCall), "--", tracePath}, false,
+        "surfaceless_egl");
     std::string state;
     std::vector<char> buffer(1 << 16);
     bool tooLarge = false;
@@ -269,7 +271,7 @@ void verifyTrace(const std::string& tracePath, TraceCheckResult& result) {
     }
     if (!failure.empty()) {
       group.verifyObservations.push_back("not verified: " + failure);
-      group.verify = {{"call", group.first.call}, {"failure", failure}};
+      group.verify = {{"call", group.first.completedAtCall}, {"failure", failure}};
       continue;
     }
     const trace::DepthUse use = trace::analyseDepthUse(*image, group);

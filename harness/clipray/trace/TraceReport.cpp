@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <sstream>
+#include <vector>
 
 #include "clipray/check/CheckText.hpp"
 #include "clipray/trace/TraceCheck.hpp"
@@ -14,6 +15,15 @@ std::string number(double value) {
   return detail::checkNumber(value);
 }
 
+// The i of each GL_CLIP_DISTANCEi enabled.
+std::vector<int> enabledClipDistances(const TraceDepthState& d) {
+  std::vector<int> enabled;
+  for (int i = 0; i < kGlClipDistances; ++i) {
+    if ((d.clipDistances >> i) & 1u) enabled.push_back(i);
+  }
+  return enabled;
+}
+
 std::string depthStateText(const TraceDepthState& d) {
   std::ostringstream out;
   out << "clip control " << (d.clipUpperLeft ? "upper-left" : "lower-left") << ", "
@@ -24,6 +34,17 @@ std::string depthStateText(const TraceDepthState& d) {
       << d.viewport.width << "x" << d.viewport.height << "; depth buffer " << d.depthFormatName;
   if (d.cullFace) {
     out << "; culls " << glEnumName(d.cullFaceMode) << ", front face " << glEnumName(d.frontFace);
+  }
+  if (d.depthClamp) out << "; depth clamp on";
+  const std::vector<int> clipDistances = enabledClipDistances(d);
+  if (!clipDistances.empty()) {
+    out << "; clip distance" << (clipDistances.size() == 1 ? " " : "s ");
+    for (std::size_t k = 0; k < clipDistances.size(); ++k) {
+      out << (k == 0 ? "" : ", ") << clipDistances[k];
+    }
+    out << " enabled" << (d.writesClipDistance ? " (the program writes gl_ClipDistance)" : "");
+  } else if (d.writesClipDistance) {
+    out << "; the program writes gl_ClipDistance, but no GL_CLIP_DISTANCEi is enabled";
   }
   return out.str();
 }
@@ -39,13 +60,18 @@ nlohmann::json depthStateJson(const TraceDepthState& d) {
           {"depth_format", d.depthFormatName},
           {"cull_face", d.cullFace ? nlohmann::json(glEnumName(d.cullFaceMode)) : nullptr},
           {"front_face", glEnumName(d.frontFace)},
+          {"depth_clamp", d.depthClamp},
+          {"clip_distances", enabledClipDistances(d)},
+          {"writes_clip_distance", d.writesClipDistance},
           {"calls",
            {{"clip_control", d.clipControlCall},
             {"depth_func", d.depthFuncCall},
             {"depth_range", d.depthRangeCall},
             {"clear", d.clearCall},
             {"cull_face", std::max(d.cullFaceCall, d.cullFaceModeCall)},
-            {"front_face", d.frontFaceCall}}}};
+            {"front_face", d.frontFaceCall},
+            {"depth_clamp", d.depthClampCall},
+            {"clip_distances", d.clipDistancesCall}}}};
 }
 
 std::string framesText(const TraceCheckResult& r) {

@@ -184,9 +184,11 @@ void UniformBuffers::link(std::uint32_t program) {
   std::vector<LinkedBlock>& blocks = programBlocks_[program];
   blocks.clear();
   std::erase_if(blockIndexNames_, [&](const auto& entry) { return entry.first.first == program; });
+  programsWritingClipDistance_.erase(program);
   for (const std::uint32_t shader : attachedShaders_[program]) {
     const auto source = shaderSources_.find(shader);
     if (source == shaderSources_.end()) continue;
+    if (mentionsClipDistance(source->second)) programsWritingClipDistance_.insert(program);
     for (UniformBlockDeclaration& declaration : parseUniformBlocks(source->second)) {
       // One block seen by several stages is one block of the program.
       const bool known = std::any_of(blocks.begin(), blocks.end(), [&](const LinkedBlock& b) {

@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <map>
 #include <optional>
+#include <set>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -73,6 +74,12 @@ class UniformBuffers {
   // The mat4 members of the program's std140 uniform blocks, read from the buffer ranges bound
   // to their bindings now; members that cannot be read are noted (unreadNotes) and left out.
   std::vector<UniformBlockMatrix> matrices(std::uint32_t program, std::uint64_t drawCall);
+
+  // Whether the program's shaders write gl_ClipDistance (their text, comments and preprocessor
+  // lines left out, names it): kept here beside the shader text the blocks are read from.
+  bool writesClipDistance(std::uint32_t program) const {
+    return programsWritingClipDistance_.contains(program);
+  }
 
   // Why blocks or their matrices were not read: one line per distinct reason, the first call
   // where it applied, at most kMaxUnreadNotes.
@@ -154,6 +161,7 @@ class UniformBuffers {
   std::map<std::uint32_t, std::string> shaderSources_;
   std::map<std::uint32_t, std::vector<std::uint32_t>> attachedShaders_;
   std::map<std::uint32_t, std::vector<LinkedBlock>> programBlocks_;
+  std::set<std::uint32_t> programsWritingClipDistance_;
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::string> blockIndexNames_;
 
   std::map<std::string, std::size_t> notedKeys_;
