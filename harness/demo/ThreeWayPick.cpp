@@ -115,31 +115,6 @@ CameraInputs lowerLeftCameraInputs(const CameraInputs& drawn) {
   return view;
 }
 
-void cutToClipPlanes(Ray& ray, std::span<const glm::dvec4> clipPlanes) {
-  if (clipPlanes.empty() || ray.tMax < 0.0) return;
-  // Along the ray each plane's value is s0 + s1 t: it keeps t >= -s0 / s1 where s1 > 0, t <=
-  // -s0 / s1 where s1 < 0, and everything or nothing where s1 = 0 (a plane parallel to it).
-  double low = 0.0;
-  double high = ray.tMax;
-  for (const glm::dvec4& plane : clipPlanes) {
-    const double s0 = glm::dot(glm::dvec3(plane), ray.origin) + plane.w;
-    const double s1 = glm::dot(glm::dvec3(plane), ray.direction);
-    if (s1 > 0.0) {
-      low = std::max(low, -s0 / s1);
-    } else if (s1 < 0.0) {
-      high = std::min(high, -s0 / s1);
-    } else if (s0 < 0.0) {
-      high = -1.0;
-    }
-  }
-  if (!(low < high)) {
-    ray.tMax = 0.0;  // the planes leave nothing of this line of sight
-    return;
-  }
-  if (low > 0.0) ray.origin += low * ray.direction;
-  ray.tMax = high - low;  // +inf stays +inf
-}
-
 const char* pixelCoordinatesLabel(ClipOrigin origin) {
   return origin == ClipOrigin::UpperLeft
              ? "framebuffer, GL: origin lower left, y up; clip y down (GL_UPPER_LEFT)"
@@ -199,6 +174,7 @@ PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
 
   // 1. The analytic ray through the pixel centre, cut where the picture is.
   PickRay analytic = pickRay(ray, view.camera, viewport, pixel);
+  // The picture shows nothing a plane clips, so no method's pick may find it either.
   if (analytic.ray) cutToClipPlanes(*analytic.ray, view.clipPlanes);
   std::uint32_t rayPrimitive = 0;
   double rayHitT = 0.0;

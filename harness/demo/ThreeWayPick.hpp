@@ -63,14 +63,6 @@ PickRay pickRay(RayChoice choice, const CameraInputs& camera, Viewport viewport,
 // built, upright, and stay as they are.
 CameraInputs lowerLeftCameraInputs(const CameraInputs& drawn);
 
-// Cuts a pick's ray to the part of its interval that every user clip plane keeps (world space,
-// kept where dot(plane, (p, 1)) >= 0, Camera::clipPlanes): the origin moves forward along the same
-// line, tMax shortens, and a line of sight the planes leave nothing of gets tMax 0 (it hits
-// nothing). The picture shows nothing a plane clips, so the picks must not find it either. The
-// same arithmetic as the cut RobustRayGenerator makes to clipray's own rays (a test pins them
-// bit for bit), applied here to every method's ray, widened to double.
-void cutToClipPlanes(Ray& ray, std::span<const glm::dvec4> clipPlanes);
-
 // How the panel names the coordinates of `pixel (i, j)`: the framebuffer's, rows counted from the
 // bottom as glReadPixels and gl_FragCoord count them under either clip origin; for GL_UPPER_LEFT
 // it adds that clip space's y runs down those rows.

@@ -827,7 +827,7 @@ TEST(PickRays, ClipPlaneCutIsTheRobustGeneratorsBitForBit) {
     for (int i = 0; i < viewport.width; i += 7) {
       Ray ray = uncut.generateForPixel(i, j, viewport);
       const Ray before = ray;
-      demo::cutToClipPlanes(ray, camera.clipPlanes);
+      cutToClipPlanes(ray, camera.clipPlanes);
       const Ray expected = cut.generateForPixel(i, j, viewport);
       ASSERT_EQ(ray.origin, expected.origin) << i << " " << j;
       ASSERT_EQ(ray.direction, expected.direction) << i << " " << j;
@@ -839,13 +839,13 @@ TEST(PickRays, ClipPlaneCutIsTheRobustGeneratorsBitForBit) {
   // No clip planes: the ray as it was.
   Ray ray = uncut.generateForPixel(3, 4, viewport);
   const Ray before = ray;
-  demo::cutToClipPlanes(ray, {});
+  cutToClipPlanes(ray, {});
   EXPECT_EQ(ray.origin, before.origin);
   EXPECT_EQ(ray.tMax, before.tMax);
   // A plane that keeps nothing of any line of sight (0 x + 0 y + 0 z - 1 >= 0 never holds).
   const glm::dvec4 nothing{0.0, 0.0, 0.0, -1.0};
   ray = before;
-  demo::cutToClipPlanes(ray, std::span<const glm::dvec4>(&nothing, 1));
+  cutToClipPlanes(ray, std::span<const glm::dvec4>(&nothing, 1));
   EXPECT_EQ(ray.tMax, 0.0);
 }
 

@@ -19,6 +19,31 @@
 
 namespace clipray {
 
+void cutToClipPlanes(Ray& ray, std::span<const glm::dvec4> clipPlanes) noexcept {
+  if (clipPlanes.empty() || ray.tMax < 0.0) return;
+  // Along the ray each plane's value is s0 + s1 t: it keeps t >= -s0 / s1 where s1 > 0, t <=
+  // -s0 / s1 where s1 < 0, and everything or nothing where s1 = 0 (a plane parallel to it).
+  double low = 0.0;
+  double high = ray.tMax;
+  for (const glm::dvec4& plane : clipPlanes) {
+    const double s0 = glm::dot(glm::dvec3(plane), ray.origin) + plane.w;
+    const double s1 = glm::dot(glm::dvec3(plane), ray.direction);
+    if (s1 > 0.0) {
+      low = std::max(low, -s0 / s1);
+    } else if (s1 < 0.0) {
+      high = std::min(high, -s0 / s1);
+    } else if (s0 < 0.0) {
+      high = -1.0;
+    }
+  }
+  if (!(low < high)) {
+    ray.tMax = 0.0;  // the planes leave nothing of this line of sight
+    return;
+  }
+  if (low > 0.0) ray.origin += low * ray.direction;
+  ray.tMax = high - low;  // +inf stays +inf
+}
+
 RobustRayGenerator::RobustRayGenerator(const glm::dmat4& drawnClipFromWorld, DepthMode drawnMode,
                                        std::span<const glm::dvec4> clipPlanes,
                                        DepthClampRays depthClamp)
@@ -317,31 +342,6 @@ void RobustRayGenerator::reachForDepthClamp(Ray& ray) const noexcept {
   const double denominator = glm::dot(glm::dvec3(farPlane_), ray.direction);
   const double t = -glm::dot(farPlane_, glm::dvec4(ray.origin, 1.0)) / denominator;
   if (denominator != 0.0 && t > 0.0 && std::isfinite(t)) ray.tMax = t;
-}
-
-void RobustRayGenerator::clipToPlanes(Ray& ray) const noexcept {
-  if (clipPlanes_.empty() || ray.tMax < 0.0) return;
-  // Along the ray each plane's value is s0 + s1 t: it keeps t >= -s0 / s1 where s1 > 0, t <=
-  // -s0 / s1 where s1 < 0, and everything or nothing where s1 = 0 (a plane parallel to it).
-  double low = 0.0;
-  double high = ray.tMax;
-  for (const glm::dvec4& plane : clipPlanes_) {
-    const double s0 = glm::dot(glm::dvec3(plane), ray.origin) + plane.w;
-    const double s1 = glm::dot(glm::dvec3(plane), ray.direction);
-    if (s1 > 0.0) {
-      low = std::max(low, -s0 / s1);
-    } else if (s1 < 0.0) {
-      high = std::min(high, -s0 / s1);
-    } else if (s0 < 0.0) {
-      high = -1.0;
-    }
-  }
-  if (!(low < high)) {
-    ray.tMax = 0.0;  // the planes leave nothing of this line of sight
-    return;
-  }
-  if (low > 0.0) ray.origin += low * ray.direction;
-  ray.tMax = high - low;  // +inf stays +inf
 }
 
 PixelCentreRays::PixelCentreRays(const glm::dmat4& clipFromWorld, DepthMode mode, Viewport viewport,

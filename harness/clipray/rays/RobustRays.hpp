@@ -32,6 +32,13 @@ struct DepthClampRays {
   bool beyondFar = false;
 };
 
+// Cuts a ray to the part of its interval that every user clip plane keeps (world space, kept where
+// dot(plane, (p, 1)) >= 0, Camera::clipPlanes): the origin moves forward along the same line,
+// tMax shortens, and a line of sight the planes leave nothing of gets tMax 0 (it hits nothing).
+// A ray without a ray (tMax < 0) or no planes: unchanged. What RobustRayGenerator does to its
+// rays; any other picking ray gets the same cut from it.
+void cutToClipPlanes(Ray& ray, std::span<const glm::dvec4> clipPlanes) noexcept;
+
 class RobustRayGenerator {
  public:
   // Precomputes per camera. The matrix and mode as the frame is drawn, under either clip origin;
@@ -79,14 +86,12 @@ class RobustRayGenerator {
   // The rest of generate() once the direction d and the near point in world space (homogeneous)
   // are known.
   Ray finishRay(glm::dvec3 d, const glm::dvec4& nearPointWorld) const noexcept;
-  // The clip planes' cut of a finished ray (see the constructor).
-  void clipToPlanes(Ray& ray) const noexcept;
   // A finished ray moved back to where depth clamp's drawing starts (DepthClampRays).
   void reachForDepthClamp(Ray& ray) const noexcept;
   // What finishRay does after the near-plane ray: depth clamp's reach, then the planes' cut.
   void finishInterval(Ray& ray) const noexcept {
     if (depthClamp_.enabled) reachForDepthClamp(ray);
-    clipToPlanes(ray);
+    cutToClipPlanes(ray, clipPlanes_);
   }
   std::vector<glm::dvec4> clipPlanes_;
   DepthClampRays depthClamp_;
