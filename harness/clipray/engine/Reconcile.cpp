@@ -48,7 +48,7 @@ void checkOptions(const ReconcileOptions& options) {
 }
 
 engine::ReconcilePlan planOf(const Scene& scene, const PickRayFunction& pick,
-                             const ReconcileOptions& options) {
+                             const PickHitFunction& pickHits, const ReconcileOptions& options) {
   engine::ReconcilePlan plan;
   plan.scenes = {{scene.path, &scene}};
   // In the order named; a name given twice runs its camera once.
@@ -62,6 +62,7 @@ engine::ReconcilePlan planOf(const Scene& scene, const PickRayFunction& pick,
   plan.appIds = options.appIds;
   plan.window = options.window;
   plan.pickRays = pick;
+  plan.pickHits = pickHits;
   plan.memory = engine::machineMemoryBudget();
   plan.threads = options.threads;
   plan.worstPixelsPerRun = options.worstPixels;
@@ -107,12 +108,15 @@ RunResult runResult(const RunRecord& run, const std::string& summaryLine, bool a
 
 }  // namespace
 
-ReconcileResult reconcile(const TestScene& testScene, const PickRayFunction& pick,
-                          const ReconcileOptions& options) {
+namespace {
+
+ReconcileResult reconcilePicks(const TestScene& testScene, const PickRayFunction& pick,
+                               const PickHitFunction& pickHits, const ReconcileOptions& options) {
   checkOptions(options);
   const Scene& scene = testScene.model();
   checkCameras(scene, options);
-  engine::ReconcileOutcome outcome = engine::runReconcilePlan(planOf(scene, pick, options));
+  engine::ReconcileOutcome outcome =
+      engine::runReconcilePlan(planOf(scene, pick, pickHits, options));
 
   ReconcileResult result;
   // The runs' summary lines in one set of columns, as ReconcileResult::text prints them together.
@@ -132,6 +136,18 @@ ReconcileResult reconcile(const TestScene& testScene, const PickRayFunction& pic
   }
   result.reportDirectory = options.reportDirectory;
   return result;
+}
+
+}  // namespace
+
+ReconcileResult reconcile(const TestScene& scene, const PickRayFunction& pick,
+                          const ReconcileOptions& options) {
+  return reconcilePicks(scene, pick, {}, options);
+}
+
+ReconcileResult reconcile(const TestScene& scene, const PickHitFunction& pick,
+                          const ReconcileOptions& options) {
+  return reconcilePicks(scene, {}, pick, options);
 }
 
 bool ReconcileResult::consistent() const {

@@ -64,8 +64,10 @@ struct ReconcilePlan {
   // described pixels are named in its coordinates too.
   std::optional<AppWindow> window;
 
-  // The ray side: the app's picking function; empty: clipray's robust rays.
+  // The ray side: the app's picking function; empty: clipray's robust rays. Or the app's picking
+  // with its own hits (pickHits, when set, in place of both).
   PickRayFunction pickRays;
+  PickHitFunction pickHits;
 
   // How.
   MemoryBudget memory;                  // what the runs may take (MemoryBudget.hpp)

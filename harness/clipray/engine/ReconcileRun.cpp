@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "clipray/engine/AppPickHits.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/util/PhaseClock.hpp"
 
@@ -48,7 +49,7 @@ namespace {
 
 AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
                           Viewport viewport, const PickRayFunction* rayFunction,
-                          unsigned threadCount) {
+                          const PickHitFunction* hitFunction, unsigned threadCount) {
   AnalyticPass pass;
   pass.scene = &scene;
   pass.cameraName = camera.name;
@@ -69,6 +70,17 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
   pass.camera.depthClampReach = pass.drawnCamera.depthClampReach;
   pass.reference = nearPlaneCentre(pass.camera.clipFromWorld, pass.camera.mode);
 
+  if (hitFunction) {
+    // The app's picking with its own hits: its rays and hits are the ray side, nothing is traced.
+    const PhaseClock raysClock;
+    pass.intersector = std::make_unique<SceneIntersector>(
+        scene, pass.reference, SceneIntersector::BvhBuild::WhenFirstNeeded,
+        pass.drawnCamera.clipFromWorld);
+    takeAppPickHits(pass, *hitFunction, threadCount);
+    pass.raysMilliseconds = raysClock.wallMilliseconds();
+    pass.raysCpuMilliseconds = raysClock.cpuMilliseconds();
+    return pass;
+  }
   const PhaseClock raysClock;
   // An app's ray function is asked once per pixel and its rays stored; clipray's own rays are
   // computed where the intersection and the compare use them (their cost lands in those two
@@ -94,13 +106,19 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
 
 AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
                              Viewport viewport, unsigned threadCount) {
-  return analyticPass(scene, camera, mode, viewport, nullptr, threadCount);
+  return analyticPass(scene, camera, mode, viewport, nullptr, nullptr, threadCount);
 }
 
 AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
                              Viewport viewport, const PickRayFunction& rayFunction,
                              unsigned threadCount) {
-  return analyticPass(scene, camera, mode, viewport, &rayFunction, threadCount);
+  return analyticPass(scene, camera, mode, viewport, &rayFunction, nullptr, threadCount);
+}
+
+AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
+                             Viewport viewport, const PickHitFunction& hitFunction,
+                             unsigned threadCount) {
+  return analyticPass(scene, camera, mode, viewport, nullptr, &hitFunction, threadCount);
 }
 
 RunRecord rasterAndCompare(gl::Renderer& renderer, const AnalyticPass& pass,

@@ -13,6 +13,8 @@
 // column-major, p_clip = clipFromWorld * p_world, built for the DepthMode passed beside it.
 
 #include <memory>
+#include <string>
+#include <vector>
 
 #include "clipray/compare/Reconcile.hpp"
 #include "clipray/gl/Renderer.hpp"
@@ -38,6 +40,8 @@ struct AnalyticPass {
   // Behind a pointer: the tolerance model below refers to it, and the pass may move.
   std::unique_ptr<SceneIntersector> intersector;
   AnalyticFrame frame;
+  // What the app's own picking hits say beyond the pixels (AppPickHits.hpp): one line each.
+  std::vector<std::string> pickNotes;
   // The tolerance model of the pass's last compare: the next run reuses it when only the depth
   // format differs (the screen polygons do not depend on it), else it is replaced (one model at
   // a time, as memory was planned). Kept by compareRasterFrame, one compare at a time.
@@ -55,6 +59,10 @@ AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode
 // With the caller's own ray function (e.g. the app's picking code).
 AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
                              Viewport viewport, const PickRayFunction& rayFunction,
+                             unsigned threadCount = 0);
+// With the caller's picking and its own hits (takeAppPickHits): nothing is traced.
+AnalyticPass runAnalyticPass(const Scene& scene, const Camera& camera, DepthMode mode,
+                             Viewport viewport, const PickHitFunction& hitFunction,
                              unsigned threadCount = 0);
 
 // What clipray's renderer draws for the pass in that depth format and vertex mode: the drawn

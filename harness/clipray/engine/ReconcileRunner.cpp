@@ -242,7 +242,9 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
     step_ = "tracing " + scene.name + "/" + camera.name + " " + mode.name() + " at " +
             sizeText(viewport);
     const engine::AnalyticPass pass =
-        plan_.pickRays
+        plan_.pickHits
+            ? engine::runAnalyticPass(scene, camera, mode, viewport, plan_.pickHits, plan_.threads)
+        : plan_.pickRays
             ? engine::runAnalyticPass(scene, camera, mode, viewport, plan_.pickRays, plan_.threads)
             : engine::runAnalyticPass(scene, camera, mode, viewport, plan_.threads);
     for (const DepthFormat format : plan_.depthFormats) {
@@ -267,6 +269,8 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
         engine::ComparedRun compared = engine::compareRasterFrame(
             pass, raster, format, vertexMode, renderer.info().subpixelBits, timings, plan_.threads);
         compared.run.notes = std::move(notes);
+        compared.run.notes.insert(compared.run.notes.end(), pass.pickNotes.begin(),
+                                  pass.pickNotes.end());
         describeHits(pass, raster, compared.pixels, compared.run);
         if (lastRound) {
           worstPixels_.push_back(

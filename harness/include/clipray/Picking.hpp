@@ -6,6 +6,8 @@
 // app's function exactly as the app's mouse handler does. PickingCamera::clipFromWorld is
 // column-major, p_clip = clipFromWorld * p_world, built for PickingCamera::mode.
 
+#include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <vector>
@@ -46,6 +48,22 @@ using PickRayFunction = std::function<std::optional<Ray>(int x, int y, const Pic
 
 // The project's own picking rays: RobustRayGenerator through each pixel centre.
 PickRayFunction robustPickRays();
+
+// What an app's own picking found under a pixel: its ray and what its intersection code hit along
+// it, so that the code itself is tested (its culling policy included), not only the ray.
+struct PickHit {
+  Ray ray;  // as a PickRayFunction returns it (normalized by clipray)
+  // The mesh it hit, in the order the scene added them (AppFrame::firstIds' order); nullopt: it
+  // hit nothing.
+  std::optional<std::size_t> mesh;
+  // The triangle of that mesh (its index order); nullopt: clipray takes the mesh's triangle that
+  // the ray meets nearest to t (a scan of the mesh: slow for big meshes).
+  std::optional<std::uint32_t> triangle;
+  double t = 0.0;  // how far along the ray (in units of its direction's length) it hit
+};
+// The app's pick at pixel (x, y) (lower-left origin, integer pixel indices), or nullopt for "no
+// ray".
+using PickHitFunction = std::function<std::optional<PickHit>(int x, int y, const PickingCamera&)>;
 
 // The app's window, as its mouse handler sees it.
 struct AppWindow {

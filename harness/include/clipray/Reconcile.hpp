@@ -132,5 +132,11 @@ struct ReconcileResult {
 // has its own GL context makes it current again afterwards.
 ReconcileResult reconcile(const TestScene& scene, const PickRayFunction& pick,
                           const ReconcileOptions& options = {});
+// The same with the app's picking and its own hits (PickHit): what its intersection code hits is
+// compared with the picture, where `reconcile` with rays intersects them itself. A hit on a face
+// the picture culls is an id mismatch, and the run's notes say so. Throws InputError too for a
+// hit on a mesh or triangle the scene lacks, or at a t that is not finite and positive.
+ReconcileResult reconcile(const TestScene& scene, const PickHitFunction& pick,
+                          const ReconcileOptions& options = {});
 
 }  // namespace clipray

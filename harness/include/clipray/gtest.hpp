@@ -1,7 +1,8 @@
 #pragma once
 // GoogleTest assertions for a project's own tests (header-only: clipray does not link GoogleTest).
 //
-//   EXPECT_PICKING_CONSISTENT(scene, pick, options);   // clipray::TestScene, PickRayFunction,
+//   EXPECT_PICKING_CONSISTENT(scene, pick, options);   // clipray::TestScene, PickRayFunction or
+//                                                      // PickHitFunction,
 //   ASSERT_PICKING_CONSISTENT(scene, pick, options);   // clipray::ReconcileOptions
 //
 // A failure prints every run's summary line, the worst pixels of each inconsistent run with what
@@ -14,9 +15,13 @@
 
 namespace clipray::testing {
 
-inline ::testing::AssertionResult pickingConsistent(
-    const char* sceneExpression, const char* pickExpression, const char* /*optionsExpression*/,
-    const TestScene& scene, const PickRayFunction& pick, const ReconcileOptions& options) {
+// Pick: a PickRayFunction or a PickHitFunction (or what converts to one).
+template <class Pick>
+::testing::AssertionResult pickingConsistent(const char* sceneExpression,
+                                             const char* pickExpression,
+                                             const char* /*optionsExpression*/,
+                                             const TestScene& scene, const Pick& pick,
+                                             const ReconcileOptions& options) {
   const ReconcileResult result = reconcile(scene, pick, options);
   if (result.consistent()) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure()
