@@ -385,11 +385,11 @@ void TraceCheckCollector::onDraw(const TraceDraw& draw) {
     const std::string key = matrix.source + "|" + bits + "|" + depthKey;
     const auto found = pairIndex_.find(key);
     if (found == pairIndex_.end()) {
-      const std::string groupKey = matrix.source + "|" + depthKey;
-      std::size_t& ofGroup = pairsPerGroup_[groupKey];
+      const std::string sourceAndDepth = matrix.source + "|" + depthKey;
+      std::size_t& ofGroup = pairsPerGroup_[sourceAndDepth];
       if (pairs_.size() >= kMaxDistinctPairs || ofGroup >= kMaxPairsPerGroup) {
         ++drawsNotKept_;
-        noteLeftOut(groupKey, bits, draw);
+        noteLeftOut(sourceAndDepth, bits, draw);
         continue;
       }
       ++ofGroup;
@@ -410,19 +410,20 @@ void TraceCheckCollector::onDraw(const TraceDraw& draw) {
   }
 }
 
-void TraceCheckCollector::noteLeftOut(const std::string& groupKey, const std::string& matrixBits,
-                                      const TraceDraw& draw) {
+void TraceCheckCollector::noteLeftOut(const std::string& sourceAndDepth,
+                                      const std::string& matrixBits, const TraceDraw& draw) {
   const Occurrence occurrence{draw.frame, draw.call, draw.completedAtCall};
-  auto found = leftOut_.find(groupKey);
+  auto found = leftOut_.find(sourceAndDepth);
   if (found == leftOut_.end()) {
     // As many groups as pairs at most: past that, the draws are counted in drawsNotKept only.
     if (leftOut_.size() >= kMaxDistinctPairs) return;
-    found = leftOut_.emplace(groupKey, LeftOutDraws{0, 0, false, occurrence, occurrence}).first;
+    found =
+        leftOut_.emplace(sourceAndDepth, LeftOutDraws{0, 0, false, occurrence, occurrence}).first;
   }
   LeftOutDraws& left = found->second;
   ++left.draws;
   left.last = occurrence;
-  std::unordered_set<std::size_t>& seen = leftOutMatrices_[groupKey];
+  std::unordered_set<std::size_t>& seen = leftOutMatrices_[sourceAndDepth];
   if (seen.size() < kMaxLeftOutMatricesCounted) {
     seen.insert(std::hash<std::string>{}(matrixBits));
     left.distinctMatrices = seen.size();

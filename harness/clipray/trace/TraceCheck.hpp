@@ -174,7 +174,7 @@ class TraceCheckCollector {
   // Multi-pass techniques: per (source, matrix), the depth test directions drawn in the frame
   // passesFrame_, and the first frame where both were (OppositeDepthPasses).
   void notePassDirection(const std::string& matrixKey, const TraceDraw& draw);
-  void noteLeftOut(const std::string& groupKey, const std::string& matrixBits,
+  void noteLeftOut(const std::string& sourceAndDepth, const std::string& matrixBits,
                    const TraceDraw& draw);
   std::uint64_t passesFrame_ = UINT64_MAX;
   std::unordered_map<std::string, OppositeDepthPasses> passesInFrame_;
