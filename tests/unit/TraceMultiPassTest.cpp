@@ -59,7 +59,9 @@ const std::string kSwap = "glXSwapBuffers(dpy = 0x1, drawable = 0x2)\n";
 // OpenCSG's frame as `openscad --preview` draws it, on GL 2.1's fixed-function stack: the nearest
 // surfaces with GL_LESS into depth cleared to 1, the far surfaces of a subtracted volume with
 // GL_GREATER into depth cleared to 0, then the nearest again; two frames.
-std::string openCsgFrames() {
+std::string openCsgFrames(const std::string& projection =
+                              "glFrustum(left = -1, right = 1, bottom = -0.75, top = 0.75, "
+                              "zNear = 1, zFar = 50)\n") {
   const std::string frame =
       "glClearDepth(depth = 1)\n"
       "glClear(mask = GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT)\n"
@@ -76,11 +78,8 @@ std::string openCsgFrames() {
   return numbered(
       "glViewport(x = 0, y = 0, width = 64, height = 48)\n"
       "glEnable(cap = GL_DEPTH_TEST)\n"
-      "glMatrixMode(mode = GL_PROJECTION)\n"
-      "glFrustum(left = -1, right = 1, bottom = -0.75, top = 0.75, zNear = 1, "
-      "zFar = 50)\n"
-      "glMatrixMode(mode = GL_MODELVIEW)\n" +
-      frame + frame);
+      "glMatrixMode(mode = GL_PROJECTION)\n" +
+      projection + "glMatrixMode(mode = GL_MODELVIEW)\n" + frame + frame);
 }
 
 TEST(TraceMultiPass, OpenCsgFarSurfacePassIsAnInfo) {
@@ -136,6 +135,23 @@ TEST(TraceMultiPass, OpenCsgFarSurfacePassIsAnInfo) {
   EXPECT_EQ(json["verdict"], "ok");
   EXPECT_EQ(json["groups"][1]["findings"][0]["code"], "multi-pass-far-surfaces");
   EXPECT_EQ(json["groups"][1]["depth_state"]["depth_func"], "GL_GREATER");
+}
+
+TEST(TraceMultiPass, OpenCsgUnderACentredOrthoIsAnInfo) {
+  // `openscad --preview --projection=o`: a centred glOrtho(..., -D, D) with a non-round D. An
+  // orthographic matrix shows no reversal of its own: the GL_LESS pass says it is classic.
+  const TraceCheckResult result = checkLines(
+      openCsgFrames("glOrtho(left = -4.8, right = 4.8, bottom = -3.6, top = 3.6, zNear = "
+                    "-137.3, zFar = 137.3)\n"));
+  EXPECT_FALSE(result.hasErrors());
+  ASSERT_EQ(result.groups.size(), 2u);
+  EXPECT_FALSE(result.groups[1].report.properties.perspective);
+  EXPECT_FALSE(result.groups[1].report.properties.reversed);
+  // A centred volume reads alike under NO and ZO (an info of its own); the far-surface pass adds
+  // its technique's info and nothing else.
+  EXPECT_EQ(codes(result.groups[0]), std::vector<std::string>{"info:depth-convention-ambiguous"});
+  EXPECT_EQ(codes(result.groups[1]), (std::vector<std::string>{"info:depth-convention-ambiguous",
+                                                               "info:multi-pass-far-surfaces"}));
 }
 
 TEST(TraceMultiPass, GreaterWithoutALessPassStaysAnError) {
