@@ -227,6 +227,40 @@ TEST(TraceCli, FixedFunctionFrustumUnderZeroToOne) {
   EXPECT_EQ(codes(group), std::vector<std::string>{"error:depth-convention-mismatch"});
 }
 
+// OpenCSG's passes: the same glFrustum drawn with GL_LESS into depth cleared to 1 and with
+// GL_GREATER into depth cleared to 0 in every frame. The far-surface pass is an info, never a
+// reversed-Z error.
+TEST(TraceCli, OpenCsgPassesAreNoError) {
+  TempFolder folder;
+  const Checked checked = checkTraced("opencsg-passes", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err << checked.report.dump(2);
+  ASSERT_EQ(checked.report["groups"].size(), 2u) << checked.report.dump(2);
+  const nlohmann::json& nearest = checked.report["groups"][0];
+  EXPECT_EQ(nearest["depth_state"]["depth_func"], "GL_LESS");
+  EXPECT_EQ(nearest["depth_state"]["cleared_depth"], 1.0);
+  EXPECT_TRUE(codes(nearest).empty());
+  const nlohmann::json& farthest = checked.report["groups"][1];
+  EXPECT_EQ(farthest["depth_state"]["depth_func"], "GL_GREATER");
+  EXPECT_EQ(farthest["depth_state"]["cleared_depth"], 0.0);
+  EXPECT_EQ(farthest["properties"]["built_for"], "no");
+  EXPECT_EQ(codes(farthest), std::vector<std::string>{"info:multi-pass-far-surfaces"});
+  EXPECT_EQ(checked.report["verdict"], "ok");
+}
+
+// A GLSL 1.20 program calling ftransform() draws through glFrustum's GL_PROJECTION: read as the
+// camera, under the program's name.
+TEST(TraceCli, FtransformProgramReadsTheProjectionStack) {
+  TempFolder folder;
+  const Checked checked = checkTraced("ftransform-program", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err << checked.report.dump(2);
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["source"],
+            "fixed-function GL_PROJECTION (program 1: its vertex shader calls ftransform())");
+  EXPECT_EQ(group["properties"]["built_for"], "no");
+  EXPECT_NEAR(group["properties"]["near"].get<double>(), 0.1, 2e-5);
+  EXPECT_TRUE(codes(group).empty());
+}
+
 // GL_DEPTH_CLAMP on a correct ZO app: recorded in the draw's state, and a note (not an error)
 // on what it does to picking rays.
 TEST(TraceCli, DepthClampIsRecordedAndNoted) {

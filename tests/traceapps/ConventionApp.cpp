@@ -387,6 +387,57 @@ void drawFixedFunction(int frames, Context context) {
   }
 }
 
+// One triangle at view z = -1 through glFrustum for the same camera as drawFixedFunction's.
+void drawFrustumTriangle() {
+  const double top = kNear * std::tan(kFovY / 2.0);
+  const double right = top * kAspect;
+  glMatrixMode(GL_PROJECTION);
+  glLoadIdentity();
+  glFrustum(-right, right, -top, top, kNear, kFar);
+  glMatrixMode(GL_MODELVIEW);
+  glLoadMatrixf(viewFromWorld().data());
+  glBegin(GL_TRIANGLES);
+  glVertex3f(-1.0f, 0.0f, 0.0f);
+  glVertex3f(1.0f, 0.0f, 0.0f);
+  glVertex3f(0.0f, 1.0f, 0.0f);
+  glEnd();
+}
+
+// OpenCSG's passes as `openscad --preview` draws them (compatibility profile): the nearest
+// surfaces with GL_LESS into depth cleared to 1, then the far surfaces of a subtracted volume with
+// GL_GREATER into depth cleared to 0, the same matrix in both. Correct: no error.
+void drawOpenCsgPasses(int frames, Context context) {
+  for (int frame = 0; frame < frames; ++frame) {
+    glClearDepth(1.0);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glDepthFunc(GL_LESS);
+    drawFrustumTriangle();
+    glClearDepth(0.0);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glDepthFunc(GL_GREATER);
+    drawFrustumTriangle();
+    eglSwapBuffers(context.display, context.surface);
+  }
+}
+
+// A GLSL 1.20 program that transforms with ftransform(): through the fixed-function matrix stack
+// the app sets with glFrustum, as osgtext's and osgshadow's programs do.
+void drawWithFtransformProgram(int frames, Context context) {
+  const GLuint program = glCreateProgram();
+  glAttachShader(program, compile(GL_VERTEX_SHADER,
+                                  "#version 120\nvoid main() { gl_Position = ftransform(); }\n"));
+  glAttachShader(program, compile(GL_FRAGMENT_SHADER,
+                                  "#version 120\nvoid main() { gl_FragColor = vec4(1.0); }\n"));
+  glLinkProgram(program);
+  glUseProgram(program);
+  glDepthFunc(GL_LESS);
+  for (int frame = 0; frame < frames; ++frame) {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    drawFrustumTriangle();
+    eglSwapBuffers(context.display, context.surface);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -395,7 +446,8 @@ int main(int argc, char** argv) {
   const int frames = argc == 3 ? std::atoi(argv[2]) : 3;
   if (frames < 1) fail("FRAMES must be a positive number");
   const bool fixedFunction = name == "fixed-function-frustum-under-zo";
-  const Context context = createContext(fixedFunction);
+  const Context context =
+      createContext(fixedFunction || name == "opencsg-passes" || name == "ftransform-program");
   bindDepthFramebuffer(name == "zo-depth-texture");
   glEnable(GL_DEPTH_TEST);
   const Matrix view = viewFromWorld();
@@ -475,6 +527,10 @@ int main(int argc, char** argv) {
       glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
       eglSwapBuffers(context.display, context.surface);
     }
+  } else if (name == "opencsg-passes") {
+    drawOpenCsgPasses(frames, context);
+  } else if (name == "ftransform-program") {
+    drawWithFtransformProgram(frames, context);
   } else if (fixedFunction) {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LEQUAL);

@@ -51,6 +51,7 @@ const std::unordered_map<std::string_view, std::uint32_t>& enumNames() {
       {"GL_DEPTH", kGlDepth},
       {"GL_DEPTH_STENCIL", kGlDepthStencil},
       {"GL_COMPILE", kGlCompile},
+      {"GL_VERTEX_SHADER", kGlVertexShader},
       {"GL_FRAMEBUFFER", kGlFramebuffer},
       {"GL_READ_FRAMEBUFFER", kGlReadFramebuffer},
       {"GL_DRAW_FRAMEBUFFER", kGlDrawFramebuffer},

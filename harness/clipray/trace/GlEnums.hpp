@@ -55,7 +55,8 @@ inline constexpr std::uint32_t kGlDepthComponent32F = 0x8CAC;
 inline constexpr std::uint32_t kGlDepth24Stencil8 = 0x88F0;
 inline constexpr std::uint32_t kGlDepth32FStencil8 = 0x8CAD;
 inline constexpr std::uint32_t kGlTrue = 1;
-inline constexpr std::uint32_t kGlCompile = 0x1300;  // glNewList mode
+inline constexpr std::uint32_t kGlCompile = 0x1300;       // glNewList mode
+inline constexpr std::uint32_t kGlVertexShader = 0x8B31;  // glCreateShader type
 // glPushAttrib's groups that hold state followed here (OpenGL 2.1, table 6.3 and on).
 inline constexpr std::uint32_t kGlPolygonBit = 0x00000008;
 inline constexpr std::uint32_t kGlViewportBit = 0x00000800;

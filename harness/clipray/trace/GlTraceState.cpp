@@ -355,6 +355,16 @@ TraceDraw GlTraceState::drawAt(const DumpCall& call) {
         draw.matrices.push_back({std::move(read.source), false, read.matrix});
       }
     }
+    // The compatibility profile's built-ins: such a program transforms through the
+    // fixed-function stacks as a draw without a program does.
+    if (const std::string why = uniformBuffers_.fixedFunctionTransform(program); !why.empty()) {
+      const glm::dmat4 projection = stackTop(kGlProjection);
+      if (hasProjectionStructure(projection)) {
+        draw.matrices.push_back(
+            {"fixed-function GL_PROJECTION (program " + std::to_string(program) + ": " + why + ")",
+             true, projection});
+      }
+    }
   } else {
     // Fixed function: the projection stack is the projection; the modelview moves the camera
     // and cannot change the depth convention, so it is left out of the analysis.

@@ -382,6 +382,32 @@ std::string_view blockLayoutName(BlockLayout layout) {
   return "shared";
 }
 
+std::string fixedFunctionTransformRead(std::string_view source) {
+  const std::string code = withoutCommentsAndDirectives(source);
+  const auto isNameChar = [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+  };
+  // Whole names only: gl_ProjectionMatrixInverse, say, maps no vertex to clip space.
+  std::size_t first = std::string::npos;
+  std::string found;
+  for (const std::string_view name :
+       {"ftransform", "gl_ModelViewProjectionMatrix", "gl_ModelViewProjectionMatrixTranspose",
+        "gl_ProjectionMatrix", "gl_ProjectionMatrixTranspose"}) {
+    for (std::size_t at = code.find(name); at != std::string::npos; at = code.find(name, at + 1)) {
+      const std::size_t end = at + name.size();
+      if ((at > 0 && isNameChar(code[at - 1])) || (end < code.size() && isNameChar(code[end]))) {
+        continue;
+      }
+      if (at < first) {
+        first = at;
+        found = name == "ftransform" ? std::string("ftransform()") : std::string(name);
+      }
+      break;
+    }
+  }
+  return found;
+}
+
 bool mentionsClipDistance(std::string_view source) {
   return withoutCommentsAndDirectives(source).find("gl_ClipDistance") != std::string::npos;
 }

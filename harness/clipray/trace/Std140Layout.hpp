@@ -53,4 +53,10 @@ std::string_view blockLayoutName(BlockLayout layout);
 // or geometry shader that writes it clips with the planes GL_CLIP_DISTANCEi enables).
 bool mentionsClipDistance(std::string_view source);
 
+// The first built-in of the compatibility profile's fixed-function transform the GLSL source
+// reads outside comments and preprocessor lines: "ftransform()", "gl_ModelViewProjectionMatrix",
+// "gl_ProjectionMatrix" (or their Transpose forms); "" for none. A vertex shader that reads one
+// transforms through GL_PROJECTION (and GL_MODELVIEW), not through a uniform of its own.
+std::string fixedFunctionTransformRead(std::string_view source);
+
 }  // namespace clipray::trace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <charconv>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -67,8 +68,22 @@ CheckInput checkInputOf(const TracedMatrix& matrix, const TraceDepthState& depth
   return input;
 }
 
-// What only the traced state shows, beyond the matrix check's findings.
-void addTraceFindings(const TraceDepthState& depth, CheckReport& report) {
+// What only the traced state shows, beyond the matrix check's findings. A far-surface pass
+// (OppositeDepthPasses) clears to the near end on purpose: its clear is not checked.
+void addTraceFindings(const TraceDepthState& depth, bool farSurfacePass, CheckReport& report) {
+  if (depth.writesClipDistance && depth.clipDistances == 0) {
+    // Where the same program clips with them enabled in other draws, the collector makes this
+    // an info (a pass that does not clip on purpose, such as the main view of a water reflection).
+    report.findings.push_back(
+        {"warning", "clip-distance-not-enabled",
+         "the program writes gl_ClipDistance but no GL_CLIP_DISTANCEi is enabled (" +
+             (depth.clipDistancesCall != 0 ? "last glEnable/glDisable of one at call " +
+                                                 std::to_string(depth.clipDistancesCall)
+                                           : std::string("none enabled in the trace")) +
+             "): GL ignores the values written (OpenGL 4.6, 13.7), so they clip nothing",
+         "glEnable(GL_CLIP_DISTANCE0 + i) before the draw for each gl_ClipDistance[i] the shader "
+         "writes"});
+  }
   const MatrixProperties& p = report.properties;
   // A transposed upload reads as any convention: its depth readings mean nothing.
   if (!depth.depthTest || !p.reversedDecided || p.likelyTransposed) return;
@@ -90,7 +105,8 @@ void addTraceFindings(const TraceDepthState& depth, CheckReport& report) {
                                      : std::max(depth.depthRange.x, depth.depthRange.y);
   const double otherFar = nearIsDeeper ? std::max(depth.depthRange.x, depth.depthRange.y)
                                        : std::min(depth.depthRange.x, depth.depthRange.y);
-  if (depth.clearedDepth && *depth.clearedDepth == otherFar && otherFar != ownFar) {
+  if (!farSurfacePass && depth.clearedDepth && *depth.clearedDepth == otherFar &&
+      otherFar != ownFar) {
     report.findings.push_back(
         {"error", "clear-depth-mismatch",
          "the depth buffer is cleared to " + number(*depth.clearedDepth) + " (" +
@@ -103,6 +119,12 @@ void addTraceFindings(const TraceDepthState& depth, CheckReport& report) {
          "glClearDepth(" + number(ownFar) + ") before glClear(GL_DEPTH_BUFFER_BIT)"});
   }
   if (rangeReversed && !p.reversed) {
+    // One cause, one finding (osgfpdepth's osg::Depth(GEQUAL, 1, 0) under NEGATIVE_ONE_TO_ONE):
+    // the matrix check's reversed-z-without-zero-to-one says the same of this depth range without
+    // the call that set it.
+    std::erase_if(report.findings, [](const Finding& finding) {
+      return finding.code == "reversed-z-without-zero-to-one";
+    });
     report.findings.push_back(
         {"warning", "depth-range-reversed",
          "glDepthRange(" + number(depth.depthRange.x) + ", " + number(depth.depthRange.y) + ") (" +
@@ -113,6 +135,29 @@ void addTraceFindings(const TraceDepthState& depth, CheckReport& report) {
          "build the projection reversed-Z, keep glDepthRange(0, 1), and draw under "
          "glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE)"});
   }
+}
+
+std::string clearedText(const std::optional<double>& cleared) {
+  return cleared ? "depth cleared to " + number(*cleared) : std::string("depth never cleared");
+}
+
+// The info a far-surface pass gets in place of the reversed-Z findings: what this pass does and
+// the opposite pass of the same matrix that shows it is a technique.
+Finding farSurfacePassFinding(const TraceDepthState& depth, const OppositeDepthPasses& passes) {
+  return {"info", "multi-pass-far-surfaces",
+          "this pass draws with glDepthFunc(" + glEnumName(depth.depthFunc) + ") (" +
+              callNote(depth.depthFuncCall) + ") into " + clearedText(depth.clearedDepth) +
+              (depth.clearedDepth ? " (" + callNote(depth.clearCall) + ")" : std::string()) +
+              ", and frame " + std::to_string(passes.frame) +
+              " draws the same matrix with glDepthFunc(" + glEnumName(passes.lessFunc) +
+              ") (first at call " + std::to_string(passes.lessCall) + ") into " +
+              clearedText(passes.lessCleared) +
+              ": a pass that keeps the farthest surface, the signature of a multi-pass technique "
+              "(OpenCSG's CSG passes, depth peeling, shadow volumes), not reversed-Z; the matrix "
+              "maps near to the smaller depth, as the " +
+              glEnumName(passes.lessFunc) + " pass expects",
+          "nothing, if the technique is intended; picking reads the nearest surface, as the " +
+              glEnumName(passes.lessFunc) + " pass draws it"};
 }
 
 // The culling state at the draw, as the facing check reads it; GL_FRONT_AND_BACK (nothing drawn)
@@ -191,7 +236,7 @@ std::string groupKey(const TracedPair& pair, const CheckReport* report,
 }  // namespace
 
 CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthState& depth,
-                                 CheckInput* inputUsed) {
+                                 CheckInput* inputUsed, const OppositeDepthPasses* passes) {
   if (depth.depthRange.x == depth.depthRange.y) {
     // Named as the app set it: the matrix check's own message names its --depth-range option.
     throw InputError("glDepthRange(" + number(depth.depthRange.x) + ", " +
@@ -200,8 +245,7 @@ CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthSta
                                                 : std::string()) +
                      ": near and far are equal, so every fragment gets the same depth");
   }
-  const CheckInput input = checkInputOf(matrix, depth);
-  if (inputUsed) *inputUsed = input;
+  CheckInput input = checkInputOf(matrix, depth);
   CheckReport report;
   try {
     report = checkConventions(input);
@@ -218,8 +262,22 @@ CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthSta
     }
     throw InputError(message);
   }
+  // A GREATER pass beside a LESS pass of the same matrix declares no convention: unless the matrix
+  // itself is reversed (near maps to 1), it is read as the classic matrix the LESS pass draws it
+  // as. A reversed depth range is a convention of its own and left to the checks above.
+  const MatrixProperties& read = report.properties;
+  const bool matrixReversed = read.perspective && read.reversedDecided && read.reversed;
+  const bool farSurfacePass = passes != nullptr && passes->lessCall != 0 &&
+                              input.declaredReversed && !matrixReversed && !read.likelyTransposed &&
+                              depth.depthRange.x <= depth.depthRange.y;
+  if (farSurfacePass) {
+    input.declaredReversed = false;
+    report = checkConventions(input);  // the same matrix, accepted above
+  }
+  if (inputUsed) *inputUsed = input;
   if (!readAsTextureSpace(input, report)) {
-    addTraceFindings(depth, report);
+    addTraceFindings(depth, farSurfacePass, report);
+    if (farSurfacePass) report.findings.push_back(farSurfacePassFinding(depth, *passes));
     // A transposed upload's winding means nothing either.
     if (!report.properties.likelyTransposed) {
       if (auto finding = faceCullingFinding(input.clipFromWorld, cullingStateOf(depth))) {
@@ -247,6 +305,28 @@ FrameRange parseFrameRange(const std::string& text) {
                      "\"");
   }
   return range;
+}
+
+void GroupRanges::include(const MatrixProperties& properties) {
+  const auto widen = [](std::optional<ValueRange>& range, double value) {
+    if (!std::isfinite(value)) return;
+    if (!range) {
+      range = ValueRange{value, value};
+    } else {
+      range->min = std::min(range->min, value);
+      range->max = std::max(range->max, value);
+    }
+  };
+  if (properties.near) widen(near, properties.near->value);
+  if (properties.far) widen(far, properties.far->value);
+  if (properties.perspective && !properties.eyeAtInfinityAlong) {
+    widen(fovYDegrees, properties.fovYDegrees.value);
+  }
+  if (properties.eye && !properties.eyeAtInfinityAlong) {
+    widen(eyeX, properties.eye->x);
+    widen(eyeY, properties.eye->y);
+    widen(eyeZ, properties.eye->z);
+  }
 }
 
 bool TraceCheckResult::hasErrors() const {
@@ -301,15 +381,18 @@ void TraceCheckCollector::onDraw(const TraceDraw& draw) {
       }
       previous->second = bits;
     }
+    notePassDirection(matrix.source + "|" + bits, draw);
     const std::string key = matrix.source + "|" + bits + "|" + depthKey;
     const auto found = pairIndex_.find(key);
     if (found == pairIndex_.end()) {
-      std::size_t& ofSource = pairsPerSource_[matrix.source];
-      if (pairs_.size() >= kMaxDistinctPairs || ofSource >= kMaxPairsPerSource) {
+      const std::string sourceAndDepth = matrix.source + "|" + depthKey;
+      std::size_t& ofGroup = pairsPerGroup_[sourceAndDepth];
+      if (pairs_.size() >= kMaxDistinctPairs || ofGroup >= kMaxPairsPerGroup) {
         ++drawsNotKept_;
+        noteLeftOut(sourceAndDepth, bits, draw);
         continue;
       }
-      ++ofSource;
+      ++ofGroup;
       pairIndex_.emplace(key, pairs_.size());
       const Occurrence occurrence{draw.frame, draw.call, draw.completedAtCall};
       pairs_.push_back({matrix, draw.depth, occurrence, occurrence, 1});
@@ -324,6 +407,61 @@ void TraceCheckCollector::onDraw(const TraceDraw& draw) {
     std::erase_if(lastInFrame_, [&](const auto& entry) {
       return !entry.first.starts_with(std::to_string(draw.frame) + "|");
     });
+  }
+}
+
+void TraceCheckCollector::noteLeftOut(const std::string& sourceAndDepth,
+                                      const std::string& matrixBits, const TraceDraw& draw) {
+  const Occurrence occurrence{draw.frame, draw.call, draw.completedAtCall};
+  auto found = leftOut_.find(sourceAndDepth);
+  if (found == leftOut_.end()) {
+    // As many groups as pairs at most: past that, the draws are counted in drawsNotKept only.
+    if (leftOut_.size() >= kMaxDistinctPairs) return;
+    found =
+        leftOut_.emplace(sourceAndDepth, LeftOutDraws{0, 0, false, occurrence, occurrence}).first;
+  }
+  LeftOutDraws& left = found->second;
+  ++left.draws;
+  left.last = occurrence;
+  std::unordered_set<std::size_t>& seen = leftOutMatrices_[sourceAndDepth];
+  if (seen.size() < kMaxLeftOutMatricesCounted) {
+    seen.insert(std::hash<std::string>{}(matrixBits));
+    left.distinctMatrices = seen.size();
+  } else if (!seen.contains(std::hash<std::string>{}(matrixBits))) {
+    left.distinctCapped = true;
+  }
+}
+
+void TraceCheckCollector::notePassDirection(const std::string& matrixKey, const TraceDraw& draw) {
+  const TraceDepthState& depth = draw.depth;
+  const bool less = isLessTest(depth.depthFunc), greater = isGreaterTest(depth.depthFunc);
+  if (!depth.depthTest || (!less && !greater)) return;
+  if (draw.frame != passesFrame_) {
+    passesInFrame_.clear();
+    passesFrame_ = draw.frame;
+  }
+  auto found = passesInFrame_.find(matrixKey);
+  if (found == passesInFrame_.end()) {
+    // Bounded as the pairs are: a frame of more distinct matrices is not searched further.
+    if (passesInFrame_.size() >= kMaxDistinctPairs) return;
+    OppositeDepthPasses inThisFrame;
+    inThisFrame.frame = draw.frame;
+    found = passesInFrame_.emplace(matrixKey, inThisFrame).first;
+  }
+  OppositeDepthPasses& passes = found->second;
+  if (less && passes.lessCall == 0) {
+    passes.lessFunc = depth.depthFunc;
+    passes.lessCall = draw.call;
+    passes.lessCleared = depth.clearedDepth;
+  }
+  if (greater && passes.greaterCall == 0) {
+    passes.greaterFunc = depth.depthFunc;
+    passes.greaterCall = draw.call;
+    passes.greaterCleared = depth.clearedDepth;
+  }
+  if (passes.lessCall != 0 && passes.greaterCall != 0 &&
+      oppositePasses_.size() < kMaxDistinctPairs) {
+    oppositePasses_.try_emplace(matrixKey, passes);
   }
 }
 
@@ -363,15 +501,37 @@ TraceCheckResult TraceCheckCollector::finish() {
         "block mat4 or fixed-function GL_PROJECTION)" +
         (unreadBlocks.empty() ? std::string() : "; not read: " + unreadBlocks.front()));
   }
+  // The first draw of each source whose program writes gl_ClipDistance with a plane enabled.
+  std::map<std::string, std::uint64_t> clipsElsewhere;
+  for (const TracedPair& pair : pairs_) {
+    if (pair.depth.writesClipDistance && pair.depth.clipDistances != 0) {
+      clipsElsewhere.try_emplace(pair.matrix.source, pair.first.call);
+    }
+  }
   std::map<std::string, std::size_t> groupIndex;
   for (const TracedPair& pair : pairs_) {
     CheckInput input;
     std::optional<CheckReport> report;
     std::string unusable;
     try {
-      report = checkUnderDepthState(pair.matrix, pair.depth, &input);
+      const auto passes =
+          oppositePasses_.find(pair.matrix.source + "|" + matrixKey(pair.matrix.matrix));
+      report = checkUnderDepthState(pair.matrix, pair.depth, &input,
+                                    passes != oppositePasses_.end() ? &passes->second : nullptr);
     } catch (const InputError& error) {
       unusable = error.what();
+    }
+    const auto clips = clipsElsewhere.find(pair.matrix.source);
+    if (report && clips != clipsElsewhere.end()) {
+      for (Finding& finding : report->findings) {
+        if (finding.code != "clip-distance-not-enabled") continue;
+        finding.severity = "info";
+        finding.message +=
+            "; the same program draws with a clip distance enabled elsewhere (first "
+            "at call " +
+            std::to_string(clips->second) + "): a pass that does not clip on purpose";
+        finding.fix = "nothing, if this pass should not clip";
+      }
     }
     const std::string key = groupKey(pair, report ? &*report : nullptr, unusable);
     const auto [found, inserted] = groupIndex.try_emplace(key, result.groups.size());
@@ -385,9 +545,16 @@ TraceCheckResult TraceCheckCollector::finish() {
       group.unusable = unusable;
       group.first = pair.first;
       group.last = pair.last;
+      // The first group of its source and depth state carries the draws left out of them.
+      const auto left = leftOut_.find(pair.matrix.source + "|" + pair.depth.key());
+      if (left != leftOut_.end()) {
+        group.leftOut = left->second;
+        leftOut_.erase(left);
+      }
       result.groups.push_back(std::move(group));
     }
     TracePairGroup& group = result.groups[found->second];
+    if (report) group.ranges.include(report->properties);
     ++group.distinctMatrices;
     group.draws += pair.draws;
     if (pair.first.call < group.first.call) group.first = pair.first;

@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -23,12 +24,27 @@ namespace clipray::trace {
 // At most this many distinct (matrix, depth state) pairs are kept; draws with further new pairs
 // are counted, not analysed. Each pair costs a few hundred bytes and one matrix analysis.
 inline constexpr std::size_t kMaxDistinctPairs = 20000;
-// And at most this many per source (one animated uniform must not crowd out the others).
-inline constexpr std::size_t kMaxPairsPerSource = 1000;
+// And at most this many per source and depth state, the matrices of one group (one animated
+// uniform must not crowd out the others); the draws past it are counted per group.
+inline constexpr std::size_t kMaxPairsPerGroup = 1000;
+// Of the matrices left out of one group, at most this many are told apart to count them.
+inline constexpr std::size_t kMaxLeftOutMatricesCounted = 100000;
 
 struct FrameRange {
   std::uint64_t first = 0;
   std::uint64_t last = UINT64_MAX;
+};
+
+// The same matrix (of one source) drawn in one frame under depth tests of both directions, a
+// LESS/LEQUAL pass and a GREATER/GEQUAL pass: the signature of a multi-pass technique that finds
+// far surfaces on purpose (OpenCSG's CSG passes in `openscad --preview`, depth peeling, shadow
+// volumes), not a statement of the depth convention. The first such frame, with the first draw
+// of each direction in it and the depth each found cleared.
+struct OppositeDepthPasses {
+  std::uint64_t frame = 0;
+  std::uint32_t lessFunc = kGlLess, greaterFunc = kGlGreater;
+  std::uint64_t lessCall = 0, greaterCall = 0;  // 0: no draw of that direction (yet)
+  std::optional<double> lessCleared, greaterCleared;
 };
 
 // The matrix check on one matrix with this depth state as the declared state (declaredDepth from
@@ -36,8 +52,13 @@ struct FrameRange {
 // depth format), the texture-space reading of a biased projection, and the findings only a depth
 // state gives (clear depth, reversed depth range, the depth func's call). Throws InputError where
 // the matrix check refuses the matrix. Used by the trace checker and engine::checkCurrentState.
+// With passes (the same matrix also drawn with the opposite depth test in one frame), a
+// GREATER/GEQUAL pass of a matrix that is not itself reversed is that technique's far-surface
+// pass: an info, not a reversed-Z or clear-depth error. A reversed matrix drawn with LESS stays an
+// error whatever other passes do: reversed-Z is read from the matrix, never from a depth test.
 CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthState& depth,
-                                 CheckInput* inputUsed = nullptr);
+                                 CheckInput* inputUsed = nullptr,
+                                 const OppositeDepthPasses* passes = nullptr);
 
 // "A-B" or "A" (frames count from 0, as apitrace's). Throws InputError naming --frames.
 FrameRange parseFrameRange(const std::string& text);
@@ -57,8 +78,30 @@ struct TracedPair {
   std::uint64_t draws = 0;
 };
 
+// The smallest and largest value of one property over a group's matrices.
+struct ValueRange {
+  double min = 0.0, max = 0.0;
+};
+
+// Each property over the matrices of a group, as the matrix check reads each: a camera whose
+// near and far change every frame (OpenSceneGraph computes them per frame) reads as one group,
+// and these say how far they moved. Unset where no matrix of the group has the property.
+struct GroupRanges {
+  std::optional<ValueRange> near, far, fovYDegrees;
+  std::optional<ValueRange> eyeX, eyeY, eyeZ;
+  void include(const MatrixProperties& properties);
+};
+
+// The draws of a group's source and depth state whose matrices came after kMaxPairsPerGroup.
+struct LeftOutDraws {
+  std::uint64_t draws = 0;
+  std::size_t distinctMatrices = 0;  // told apart up to kMaxLeftOutMatricesCounted
+  bool distinctCapped = false;       // more than that: distinctMatrices is a lower bound
+  Occurrence first, last;
+};
+
 // Pairs whose analysis reads alike, reported once: the first pair's matrix and report stand for
-// the group.
+// the group, the ranges for all of its matrices.
 struct TracePairGroup {
   std::string source;
   TraceDepthState depth;
@@ -69,6 +112,10 @@ struct TracePairGroup {
   std::size_t distinctMatrices = 0;
   std::uint64_t draws = 0;
   Occurrence first, last;
+  GroupRanges ranges;
+  // Draws of the group's source and depth state not analysed (the first group of that source and
+  // depth state carries them).
+  std::optional<LeftOutDraws> leftOut;
   // --verify: the replayed depth buffer at the group's first draw (ReplayDepth.hpp).
   nlohmann::json verify;  // null when not verified
   std::vector<std::string> verifyObservations;
@@ -80,7 +127,7 @@ struct TraceCheckResult {
   std::uint64_t framesSeen = 0;  // frames of the trace read (up to the range's end)
   std::uint64_t draws = 0;       // draws in the frame range
   std::uint64_t drawsWithProjection = 0;
-  std::uint64_t drawsNotKept = 0;  // their pair came after kMaxDistinctPairs/kMaxPairsPerSource
+  std::uint64_t drawsNotKept = 0;  // their pair came after kMaxDistinctPairs/kMaxPairsPerGroup
   std::size_t distinctPairs = 0;
   std::vector<TracePairGroup> groups;
   std::vector<Finding> findings;  // about the trace as a whole
@@ -117,9 +164,21 @@ class TraceCheckCollector {
   std::uint64_t draws_ = 0, drawsWithProjection_ = 0, drawsNotKept_ = 0;
   std::unordered_map<std::string, std::size_t> pairIndex_;
   std::vector<TracedPair> pairs_;
-  std::unordered_map<std::string, std::size_t> pairsPerSource_;
+  // Per source and depth state (a group's matrices): pairs kept, and the draws left out with
+  // the hashes of their matrices' bits (to count them).
+  std::unordered_map<std::string, std::size_t> pairsPerGroup_;
+  std::unordered_map<std::string, LeftOutDraws> leftOut_;
+  std::unordered_map<std::string, std::unordered_set<std::size_t>> leftOutMatrices_;
   // Projection changes inside a frame: the matrix each source last drew with in this frame.
   std::unordered_map<std::string, std::string> lastInFrame_;
+  // Multi-pass techniques: per (source, matrix), the depth test directions drawn in the frame
+  // passesFrame_, and the first frame where both were (OppositeDepthPasses).
+  void notePassDirection(const std::string& matrixKey, const TraceDraw& draw);
+  void noteLeftOut(const std::string& sourceAndDepth, const std::string& matrixBits,
+                   const TraceDraw& draw);
+  std::uint64_t passesFrame_ = UINT64_MAX;
+  std::unordered_map<std::string, OppositeDepthPasses> passesInFrame_;
+  std::unordered_map<std::string, OppositeDepthPasses> oppositePasses_;
   std::uint64_t framesWithChanges_ = 0;
   std::optional<std::uint64_t> lastChangedFrame_;
   std::string firstChange_;

@@ -74,6 +74,48 @@ nlohmann::json depthStateJson(const TraceDepthState& d) {
             {"clip_distances", d.clipDistancesCall}}}};
 }
 
+nlohmann::json rangeJson(const std::optional<ValueRange>& range) {
+  return range ? nlohmann::json{{"min", range->min}, {"max", range->max}} : nlohmann::json(nullptr);
+}
+
+nlohmann::json rangesJson(const GroupRanges& ranges) {
+  nlohmann::json eye = nullptr;
+  if (ranges.eyeX && ranges.eyeY && ranges.eyeZ) {
+    eye = {{"min", {ranges.eyeX->min, ranges.eyeY->min, ranges.eyeZ->min}},
+           {"max", {ranges.eyeX->max, ranges.eyeY->max, ranges.eyeZ->max}}};
+  }
+  return {{"near", rangeJson(ranges.near)},
+          {"far", rangeJson(ranges.far)},
+          {"fov_y_degrees", rangeJson(ranges.fovYDegrees)},
+          {"eye", eye}};
+}
+
+nlohmann::json occurrenceJson(const Occurrence& occurrence) {
+  return {{"frame", occurrence.frame}, {"call", occurrence.call}};
+}
+
+std::string rangeText(const ValueRange& range) {
+  return range.min == range.max ? number(range.min)
+                                : number(range.min) + " to " + number(range.max);
+}
+
+// "near 0.1 to 0.5, far 100, fov 60 deg vertical, eye x -1 to 1, y 2, z 5 to 7": each property
+// over a group's matrices, a single value where it did not move.
+std::string rangesText(const GroupRanges& ranges) {
+  std::vector<std::string> parts;
+  if (ranges.near) parts.push_back("near " + rangeText(*ranges.near));
+  if (ranges.far) parts.push_back("far " + rangeText(*ranges.far));
+  if (ranges.fovYDegrees)
+    parts.push_back("fov " + rangeText(*ranges.fovYDegrees) + " deg vertical");
+  if (ranges.eyeX && ranges.eyeY && ranges.eyeZ) {
+    parts.push_back("eye x " + rangeText(*ranges.eyeX) + ", y " + rangeText(*ranges.eyeY) + ", z " +
+                    rangeText(*ranges.eyeZ));
+  }
+  std::string text;
+  for (const std::string& part : parts) text += (text.empty() ? "" : ", ") + part;
+  return text;
+}
+
 std::string framesText(const TraceCheckResult& r) {
   if (r.frames.first == 0 && r.frames.last == UINT64_MAX) {
     return std::to_string(r.framesSeen) + " frames";
@@ -106,10 +148,18 @@ nlohmann::json traceCheckJson(const TraceCheckResult& r) {
     nlohmann::json group = {{"source", g.source},
                             {"distinct_matrices", g.distinctMatrices},
                             {"draws", g.draws},
-                            {"first", {{"frame", g.first.frame}, {"call", g.first.call}}},
-                            {"last", {{"frame", g.last.frame}, {"call", g.last.call}}},
+                            {"first", occurrenceJson(g.first)},
+                            {"last", occurrenceJson(g.last)},
                             {"depth_state", depthStateJson(g.depth)},
                             {"matrix_column_major", matrix}};
+    group["left_out"] = nullptr;
+    if (g.leftOut) {
+      group["left_out"] = {{"draws", g.leftOut->draws},
+                           {"distinct_matrices", g.leftOut->distinctMatrices},
+                           {"distinct_matrices_at_least", g.leftOut->distinctCapped},
+                           {"first", occurrenceJson(g.leftOut->first)},
+                           {"last", occurrenceJson(g.leftOut->last)}};
+    }
     if (!g.verify.is_null()) group["verify"] = g.verify;
     if (!g.unusable.empty()) {
       group["unusable"] = g.unusable;
@@ -118,6 +168,7 @@ nlohmann::json traceCheckJson(const TraceCheckResult& r) {
       group["properties"] = check["properties"];
       group["findings"] = check["findings"];
       group["verdict"] = check["verdict"];
+      group["ranges"] = rangesJson(g.ranges);
     }
     groups.push_back(std::move(group));
   }
@@ -149,7 +200,8 @@ std::string traceCheckText(const TraceCheckResult& r) {
       << " distinct (matrix, depth state) pairs in " << r.groups.size() << " groups\n";
   if (r.drawsNotKept > 0) {
     out << "  " << r.drawsNotKept << " draws with further new pairs not analysed (more than "
-        << kMaxPairsPerSource << " pairs of one source, or " << kMaxDistinctPairs << " in all)\n";
+        << kMaxPairsPerGroup << " matrices of one source and depth state, or " << kMaxDistinctPairs
+        << " pairs in all)\n";
   }
   std::size_t index = 0;
   for (const TracePairGroup& g : r.groups) {
@@ -158,6 +210,14 @@ std::string traceCheckText(const TraceCheckResult& r) {
         << " draws, first frame " << g.first.frame << " call " << g.first.call << ", last frame "
         << g.last.frame << " call " << g.last.call << "\n";
     out << "  depth state: " << depthStateText(g.depth) << "\n";
+    if (g.leftOut) {
+      const LeftOutDraws& left = *g.leftOut;
+      out << "  left out: " << left.draws << " further draws of this source and depth state ("
+          << (left.distinctCapped ? "at least " : "") << left.distinctMatrices
+          << " more distinct matrices, frame " << left.first.frame << " call " << left.first.call
+          << " to frame " << left.last.frame << " call " << left.last.call << "), past the "
+          << kMaxPairsPerGroup << " matrices a group keeps\n";
+    }
     if (!g.unusable.empty()) {
       out << "  not analysed: " << g.unusable << "\n";
       continue;
@@ -168,6 +228,12 @@ std::string traceCheckText(const TraceCheckResult& r) {
     while (std::getline(lines, line)) {
       if (line.find(" errors, ") != std::string::npos && line.ends_with(" notes")) continue;
       out << "  " << line << "\n";
+      // The matrix report reads the group's first matrix: the range over all of them follows
+      // its property lines.
+      if (line.starts_with("matrix: ") && g.distinctMatrices > 1) {
+        out << "  over its " << g.distinctMatrices << " matrices: " << rangesText(g.ranges)
+            << " (the lines below read the first)\n";
+      }
     }
     if (!g.verifyObservations.empty()) out << "  verify (replayed by eglretrace):\n";
     for (const std::string& observation : g.verifyObservations) {

@@ -11,6 +11,7 @@
 #include <unordered_set>
 
 #include "clipray/trace/DumpArguments.hpp"
+#include "clipray/trace/GlEnums.hpp"
 
 namespace clipray::trace {
 
@@ -45,34 +46,17 @@ std::string joinedStrings(const DumpValue& value) {
 }  // namespace
 
 bool UniformBuffers::needs(std::string_view function) {
-  static const std::unordered_set<std::string_view> functions = {"glBindBuffer",
-                                                                 "glBindBufferBase",
-                                                                 "glBindBufferRange",
-                                                                 "glBindBuffersBase",
-                                                                 "glBindBuffersRange",
-                                                                 "glDeleteBuffers",
-                                                                 "glBufferData",
-                                                                 "glNamedBufferData",
-                                                                 "glBufferStorage",
-                                                                 "glNamedBufferStorage",
-                                                                 "glBufferSubData",
-                                                                 "glNamedBufferSubData",
-                                                                 "glCopyBufferSubData",
-                                                                 "glCopyNamedBufferSubData",
-                                                                 "glMapBuffer",
-                                                                 "glMapBufferRange",
-                                                                 "glMapNamedBuffer",
-                                                                 "glMapNamedBufferRange",
-                                                                 "glUnmapBuffer",
-                                                                 "glUnmapNamedBuffer",
-                                                                 "memcpy",
-                                                                 "glShaderSource",
-                                                                 "glCreateShaderProgramv",
-                                                                 "glAttachShader",
-                                                                 "glDetachShader",
-                                                                 "glLinkProgram",
-                                                                 "glGetUniformBlockIndex",
-                                                                 "glUniformBlockBinding"};
+  static const std::unordered_set<std::string_view> functions = {
+      "glBindBuffer",           "glBindBufferBase",         "glBindBufferRange",
+      "glBindBuffersBase",      "glBindBuffersRange",       "glDeleteBuffers",
+      "glBufferData",           "glNamedBufferData",        "glBufferStorage",
+      "glNamedBufferStorage",   "glBufferSubData",          "glNamedBufferSubData",
+      "glCopyBufferSubData",    "glCopyNamedBufferSubData", "glMapBuffer",
+      "glMapBufferRange",       "glMapNamedBuffer",         "glMapNamedBufferRange",
+      "glUnmapBuffer",          "glUnmapNamedBuffer",       "memcpy",
+      "glShaderSource",         "glCreateShaderProgramv",   "glCreateShader",
+      "glAttachShader",         "glDetachShader",           "glLinkProgram",
+      "glGetUniformBlockIndex", "glUniformBlockBinding"};
   return functions.contains(function);
 }
 
@@ -185,10 +169,28 @@ void UniformBuffers::link(std::uint32_t program) {
   blocks.clear();
   std::erase_if(blockIndexNames_, [&](const auto& entry) { return entry.first.first == program; });
   programsWritingClipDistance_.erase(program);
-  for (const std::uint32_t shader : attachedShaders_[program]) {
+  programsFixedFunction_.erase(program);
+  const std::vector<std::uint32_t>& attached = attachedShaders_[program];
+  bool typesKnown = !attached.empty(), hasVertexShader = false;
+  for (const std::uint32_t shader : attached) {
+    const auto type = shaderTypes_.find(shader);
+    typesKnown = typesKnown && type != shaderTypes_.end();
+    hasVertexShader =
+        hasVertexShader || (type != shaderTypes_.end() && type->second == kGlVertexShader);
+  }
+  if (typesKnown && !hasVertexShader) programsFixedFunction_[program] = "it has no vertex shader";
+  for (const std::uint32_t shader : attached) {
     const auto source = shaderSources_.find(shader);
     if (source == shaderSources_.end()) continue;
     if (mentionsClipDistance(source->second)) programsWritingClipDistance_.insert(program);
+    const auto type = shaderTypes_.find(shader);
+    const bool vertexStage = type == shaderTypes_.end() || type->second == kGlVertexShader;
+    if (const std::string read = fixedFunctionTransformRead(source->second);
+        vertexStage && !read.empty() && !programsFixedFunction_.contains(program)) {
+      programsFixedFunction_[program] = read == "ftransform()"
+                                            ? "its vertex shader calls ftransform()"
+                                            : "its vertex shader reads " + read;
+    }
     for (UniformBlockDeclaration& declaration : parseUniformBlocks(source->second)) {
       // One block seen by several stages is one block of the program.
       const bool known = std::any_of(blocks.begin(), blocks.end(), [&](const LinkedBlock& b) {
@@ -346,6 +348,7 @@ void UniformBuffers::createShaderProgram(const DumpCall& call) {
   // A separable program of one shader: keyed apart from glCreateShader's names.
   const std::uint32_t shader = 0xFFFFFFFFu - id;
   shaderSources_[shader] = joinedStrings(argument(call, "strings"));
+  shaderTypes_[shader] = enumArgument(call, "type");
   attachedShaders_[id] = {shader};
   link(id);
 }
@@ -409,6 +412,11 @@ void UniformBuffers::apply(const DumpCall& call) {
     shaderSources_[objectArgument(call, "shader")] = joinedStrings(argument(call, "string"));
   } else if (name == "glCreateShaderProgramv") {
     createShaderProgram(call);
+  } else if (name == "glCreateShader") {
+    const auto shader = call.result ? call.result->number() : std::nullopt;
+    if (shader && *shader > 0.0 && *shader <= 4294967295.0) {
+      shaderTypes_[static_cast<std::uint32_t>(*shader)] = enumArgument(call, "type");
+    }
   } else if (name == "glAttachShader") {
     attachedShaders_[objectArgument(call, "program")].push_back(objectArgument(call, "shader"));
   } else if (name == "glDetachShader") {

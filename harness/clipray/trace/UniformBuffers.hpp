@@ -81,6 +81,15 @@ class UniformBuffers {
     return programsWritingClipDistance_.contains(program);
   }
 
+  // Why the program's vertices go through the fixed-function GL_PROJECTION: "its vertex shader
+  // calls ftransform()", "its vertex shader reads gl_ProjectionMatrix", "it has no vertex
+  // shader" (every attached shader's glCreateShader type known, none a vertex shader); "" when
+  // its vertex shader reads none of them, or what it links is not in the trace.
+  std::string fixedFunctionTransform(std::uint32_t program) const {
+    const auto found = programsFixedFunction_.find(program);
+    return found != programsFixedFunction_.end() ? found->second : std::string();
+  }
+
   // Why blocks or their matrices were not read: one line per distinct reason, the first call
   // where it applied, at most kMaxUnreadNotes.
   const std::vector<std::string>& unreadNotes() const { return notes_; }
@@ -162,6 +171,8 @@ class UniformBuffers {
   std::map<std::uint32_t, std::vector<std::uint32_t>> attachedShaders_;
   std::map<std::uint32_t, std::vector<LinkedBlock>> programBlocks_;
   std::set<std::uint32_t> programsWritingClipDistance_;
+  std::map<std::uint32_t, std::uint32_t> shaderTypes_;  // glCreateShader's result -> its type
+  std::map<std::uint32_t, std::string> programsFixedFunction_;
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::string> blockIndexNames_;
 
   std::map<std::string, std::size_t> notedKeys_;
