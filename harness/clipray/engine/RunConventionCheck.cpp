@@ -1,6 +1,7 @@
 #include "clipray/engine/RunConventionCheck.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <utility>
 
 #include "clipray/InputError.hpp"
@@ -82,7 +83,7 @@ std::vector<RunFinding> runConventionFindings(const Scene& scene, const Camera& 
     // The scene loader accepted the matrix; the check reads matrices an app can build and may not
     // take every one a scene can (then the run still reconciles, unchecked).
     return {{"warning", "matrix-not-checked", error.what(),
-             "nothing in the scene: the run's pixels are reconciled all the same"}};
+             "nothing in the scene: the run's pixels are reconciled all the same", false}};
   }
   // A transposed upload's winding means nothing (as in a trace).
   if (!report.properties.likelyTransposed) {
