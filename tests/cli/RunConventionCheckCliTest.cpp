@@ -18,7 +18,6 @@ using testing::runClipray;
 using testing::TempFolder;
 
 const std::string kSource = CLIPRAY_SOURCE_DIR;
-constexpr const char* kExpectedNote = " check error:depth-convention-mismatch (expected)";
 
 // The summary line of the run named "<scene>/<camera> <convention> ..." in `out`.
 std::string lineOf(const std::string& out, const std::string& sceneCamera,
@@ -37,34 +36,45 @@ std::string lineOf(const std::string& out, const std::string& sceneCamera,
 
 TEST(RunConventionCheckCli, TheShippedNoUnderZoRunsDeclareTheirMistakeAndStayGreen) {
   TempFolder folder;
-  const auto result =
-      runClipray("reconcile '" + kSource + "/scenes/no_matrix_under_zo.json' '" + kSource +
-                     "/scenes/water_reflection.json' --depth-formats 24 --size "
-                     "64x48 --out out --junit junit.xml",
-                 folder.path());
+  const auto result = runClipray(
+      "reconcile '" + kSource + "/scenes/no_matrix_under_zo.json' '" + kSource +
+          "/scenes/water_reflection.json' '" + kSource +
+          "/scenes/water_reflection_clipped.json' --depth-formats 24 --size 64x48 --out out "
+          "--junit junit.xml",
+      folder.path());
   ASSERT_EQ(result.status, 0) << result.out << result.err;
-  for (const std::string& run : {"no_matrix_under_zo/main", "water_reflection/reflection_no"}) {
-    const std::string zo = lineOf(result.out, run, "zo ");
-    EXPECT_TRUE(zo.starts_with("consistent ")) << zo;
-    EXPECT_TRUE(zo.ends_with(kExpectedNote)) << zo;
-    // Drawn under the convention it is built for, the matrix has nothing to say.
-    const std::string no = lineOf(result.out, run, "no ");
-    EXPECT_EQ(no.find(" check "), std::string::npos) << no;
-  }
+  const std::string mismatch = " check error:depth-convention-mismatch (expected)";
+  EXPECT_TRUE(lineOf(result.out, "no_matrix_under_zo/main", "zo ").starts_with("consistent "));
+  EXPECT_TRUE(lineOf(result.out, "no_matrix_under_zo/main", "zo ").ends_with(mismatch))
+      << result.out;
+  // The plain NO projection of the clipped reflection, mirrored.
+  EXPECT_TRUE(lineOf(result.out, "water_reflection_clipped/clipped_no", "zo ")
+                  .ends_with(mismatch + ", warning:y-flipped (expected)"))
+      << result.out;
+  // Lengyel's oblique near plane reads as NO or ZO alike (clipray check: ambiguous), so drawn
+  // under ZO it shows only its mirror.
+  EXPECT_TRUE(lineOf(result.out, "water_reflection/reflection_no", "zo ")
+                  .ends_with(" check warning:y-flipped (expected)"))
+      << result.out;
+  // Drawn under the convention it is built for, the matrix has nothing to say.
+  EXPECT_EQ(lineOf(result.out, "no_matrix_under_zo/main", "no ").find(" check "), std::string::npos)
+      << result.out;
   const auto report = nlohmann::json::parse(testing::readText(folder.path() / "out/report.json"));
   EXPECT_EQ(report["summary"]["verdict"], "consistent");
   EXPECT_EQ(report["summary"]["convention_error"], 0);
-  int expectedFindings = 0;
+  int mismatches = 0;
   for (const auto& run : report["runs"]) {
     EXPECT_EQ(run["verdict"], "consistent") << run["scene"] << "/" << run["camera"];
     for (const auto& finding : run["convention_check"]) {
-      EXPECT_EQ(finding["code"], "depth-convention-mismatch");
       EXPECT_EQ(finding["expected"], true);
-      EXPECT_EQ(run["convention"], "zo");
-      ++expectedFindings;
+      if (finding["code"] != "depth-convention-mismatch") continue;
+      ++mismatches;
+      // Each matrix drawn under the convention it is not built for.
+      EXPECT_EQ(run["camera"] == "clipped_zo" ? "no" : "zo", run["convention"])
+          << run["scene"] << "/" << run["camera"];
     }
   }
-  EXPECT_EQ(expectedFindings, 2);
+  EXPECT_EQ(mismatches, 3);  // no_matrix_under_zo/main, clipped_no and clipped_zo
   const std::string junit = testing::readText(folder.path() / "junit.xml");
   EXPECT_NE(junit.find("failures=\"0\""), std::string::npos);
   EXPECT_NE(junit.find("(expected by the scene)\n"), std::string::npos) << junit;
@@ -92,7 +102,15 @@ TEST(RunConventionCheckCli, AnUndeclaredMistakeIsAConventionErrorAndExitsOne) {
                             "run's camera under the state it is drawn with):\n"
                             "  undeclared/main zo 24 world\n"
                             "    error [depth-convention-mismatch] built for NEGATIVE_ONE_TO_ONE "
-                            "(near 1"),
+                            "(near 1) but drawn under ZERO_TO_ONE: the rasterizer clips at z_ndc "
+                            "= 0, so the effective near plane moves to 1.9802 (1.9802x) and NDC "
+                            "[-1, 0), half the depth range, is never used (read as built for no: "
+                            "the NO reading 1 +-7.5e-15 lies within its uncertainty of the round "
+                            "number 1, the ZO reading 1.9802 +-1.5e-14 lies 0.019802 from the "
+                            "nearest one, 2)\n"
+                            "      fix: build the projection for ZO (glm::perspectiveRH_ZO; in any "
+                            "engine, the depth row z replaced by (z + w) / 2) or draw with "
+                            "glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE)\n"),
             std::string::npos)
       << result.out;
   const auto report = nlohmann::json::parse(testing::readText(folder.path() / "out/report.json"));
