@@ -126,12 +126,13 @@ TEST(RunConventionCheckCli, AnUndeclaredMistakeIsAConventionErrorAndExitsOne) {
   // index.html: the verdict and the finding's row under the run.
   const std::string html = testing::readText(folder.path() / "out/index.html");
   EXPECT_NE(html.find("<td class=\"verdict\">CONVENTION ERROR</td>"), std::string::npos);
-  EXPECT_NE(html.find("<tr class=\"check\" data-run=\"undeclared/main-zo-24-world\"><td></td><td "
-                      "colspan=\"6\">convention check (clipray check on the camera under the "
-                      "run&apos;s state):<br><span class=\"error\" "
-                      "data-code=\"depth-convention-mismatch\">error "
-                      "[depth-convention-mismatch]</span> built for NEGATIVE_ONE_TO_ONE (near 1"),
-            std::string::npos)
+  EXPECT_NE(
+      html.find("<tr class=\"check\" data-for-run=\"undeclared/main-zo-24-world\"><td></td><td "
+                "colspan=\"6\">convention check (clipray check on the camera under the "
+                "run&apos;s state):<br><span class=\"error\" "
+                "data-code=\"depth-convention-mismatch\">error "
+                "[depth-convention-mismatch]</span> built for NEGATIVE_ONE_TO_ONE (near 1"),
+      std::string::npos)
       << html;
 }
 

@@ -2,7 +2,9 @@
 // and data- attributes: #verdict, #summary, #runs (tr.run, data-run = the run's folder), #legend-
 // classes (tr data-class = pixelClassName), #legend-heatmap, #legend-depth, #no-images, and per
 // inconsistent run section.clusters (p.worst-pixel and tr.cluster with data-gl-x/-y, tr.cluster
-// also with data-image-x/-y and td.hit: what the raster and the rays hit).
+// also with data-image-x/-y and td.hit: what the raster and the rays hit), and tr.check under a
+// run whose camera's convention check has findings (data-for-run = the run's folder; span
+// data-code).
 
 #include "clipray/report/HtmlReport.hpp"
 
@@ -197,7 +199,7 @@ std::string linksCell(const RunRecord& run, std::size_t rank) {
 // The row under a run with findings of its camera's convention check: each finding, its message
 // and fix, and whether the scene expects it.
 std::string checkRow(const RunRecord& run, std::size_t columns) {
-  std::string out = "<tr class=\"check\" data-run=\"" + escaped(runFolderName(run)) +
+  std::string out = "<tr class=\"check\" data-for-run=\"" + escaped(runFolderName(run)) +
                     "\"><td></td><td colspan=\"" + std::to_string(columns - 1) +
                     "\">convention check (clipray check on the camera under the run's state):";
   for (const RunFinding& f : run.conventionFindings) {
