@@ -129,9 +129,10 @@ TEST(RunConventionCheckCli, AnUndeclaredMistakeIsAConventionErrorAndExitsOne) {
   EXPECT_NE(
       html.find("<tr class=\"check\" data-for-run=\"undeclared/main-zo-24-world\"><td></td><td "
                 "colspan=\"6\">convention check (clipray check on the camera under the "
-                "run's state):<br><span class=\"error\" "
-                "data-code=\"depth-convention-mismatch\">error "
-                "[depth-convention-mismatch]</span> built for NEGATIVE_ONE_TO_ONE (near 1"),
+                "run's state):<details data-code=\"depth-convention-mismatch\" "
+                "open><summary><span class=\"error\">error "
+                "[depth-convention-mismatch]</span></summary>built for NEGATIVE_ONE_TO_ONE "
+                "(near 1"),
       std::string::npos)
       << html;
 }

@@ -3,7 +3,7 @@
 // classes (tr data-class = pixelClassName), #legend-heatmap, #legend-depth, #no-images, and per
 // inconsistent run section.clusters (p.worst-pixel and tr.cluster with data-gl-x/-y, tr.cluster
 // also with data-image-x/-y and td.hit: what the raster and the rays hit), and tr.check under a
-// run whose camera's convention check has findings (data-for-run = the run's folder; span
+// run whose camera's convention check has findings (data-for-run = the run's folder; details
 // data-code).
 
 #include "clipray/report/HtmlReport.hpp"
@@ -196,17 +196,24 @@ std::string linksCell(const RunRecord& run, std::size_t rank) {
   return out + "</td>";
 }
 
-// The row under a run with findings of its camera's convention check: each finding, its message
-// and fix, and whether the scene expects it.
+// The row under a run with findings of its camera's convention check: one line per finding (its
+// severity, code and whether the scene expects it) that opens to its message and fix. Those that
+// make the run's verdict convention-error are open; the others stay one line, so the runs below
+// stay in view.
 std::string checkRow(const RunRecord& run, std::size_t columns) {
+  const bool conventionError = runVerdict(run) == RunVerdict::ConventionError;
   std::string out = "<tr class=\"check\" data-for-run=\"" + escaped(runFolderName(run)) +
                     "\"><td></td><td colspan=\"" + std::to_string(columns - 1) +
                     "\">convention check (clipray check on the camera under the run's state):";
   for (const RunFinding& f : run.conventionFindings) {
-    out += "<br><span class=\"" + escaped(f.severity) + "\" data-code=\"" + escaped(f.code) +
-           "\">" + escaped(f.severity) + " [" + escaped(f.code) + "]</span> " + escaped(f.message);
-    if (f.expected) out += " <span class=\"expected\">(expected by the scene)</span>";
-    if (!f.fix.empty()) out += "<br>&nbsp;&nbsp;fix: " + escaped(f.fix);
+    const bool open = conventionError && f.severity == "error" && !f.expected;
+    out += "<details data-code=\"" + escaped(f.code) + "\"" + (open ? " open" : "") +
+           "><summary><span class=\"" + escaped(f.severity) + "\">" + escaped(f.severity) + " [" +
+           escaped(f.code) + "]</span>" +
+           (f.expected ? " <span class=\"expected\">(expected by the scene)</span>" : "") +
+           "</summary>" + escaped(f.message);
+    if (!f.fix.empty()) out += "<br>fix: " + escaped(f.fix);
+    out += "</details>";
   }
   return out + "</td></tr>\n";
 }
