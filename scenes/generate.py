@@ -68,7 +68,8 @@ def icosphere(name, centre, radius, level):
             "transform": {"translate": list(centre)}}
 
 
-def perspective(name, eye, target, fov, near, far=None, viewport=(320, 240), up=(0, 1, 0), built_for=None):
+def perspective(name, eye, target, fov, near, far=None, viewport=(320, 240), up=(0, 1, 0), built_for=None,
+                expected_findings=None):
     cam = {"name": name, "viewport": list(viewport),
            "view": {"eye": list(eye), "target": list(target), "up": list(up)},
            "projection": {"type": "perspective", "fovYDegrees": fov, "near": near}}
@@ -76,6 +77,10 @@ def perspective(name, eye, target, fov, near, far=None, viewport=(320, 240), up=
         cam["projection"]["far"] = far
     if built_for:
         cam["builtFor"] = built_for
+    if expected_findings:
+        # The clipray check findings the scene shows on purpose: each reconcile run notes them as
+        # expected instead of failing with the verdict convention-error.
+        cam["expectedFindings"] = expected_findings
     return cam
 
 
@@ -198,7 +203,7 @@ def main():
     write("infinite_far",
           "Perspective with no far plane (t_max = +inf): the far-plane sign fix of seed 002 listing 4 fails here. "
           "A ground quad and a distant wall 1e5 units away.",
-          [perspective("main", (0, 2, 6), (0, 1.5, 0), 50, 0.1, None)],
+          [perspective("main", (0, 2, 6), (0, 1.5, 0), 50, 0.1, None, expected_findings=["infinite-far-plane"])],
           [quad("ground", (-1e3, 0, -1e5), (-1e3, 0, 10), (1e3, 0, 10), (1e3, 0, -1e5)),
            quad("far_wall", (-5e4, -10, -1e5), (5e4, -10, -1e5), (5e4, 3e4, -1e5), (-5e4, 3e4, -1e5)),
            box("box", (0, 0.5, 0), (1, 1, 1), ((0, 1, 0), 30))])
@@ -206,7 +211,7 @@ def main():
     write("reversed_z",
           "Reversed-Z with an infinite far plane (near -> 1, far -> 0, depth test GREATER, clear 0), as modern "
           "engines draw. Only meaningful with glClipControl ZERO_TO_ONE, so it runs under zo-reversed only.",
-          [perspective("main", (3, 2.5, 5), (0, 0.5, 0), 60, 0.05, None)],
+          [perspective("main", (3, 2.5, 5), (0, 0.5, 0), 60, 0.05, None, expected_findings=["infinite-far-plane"])],
           [quad("ground", (-400, 0, -400), (-400, 0, 400), (400, 0, 400), (400, 0, -400)),
            box("box", (0, 0.5, 0), (1, 1, 1), ((0, 1, 0), 30)), icosphere("ball", (-1.5, 0.7, -1), 0.7, 2),
            box("distant", (-40, 10, -300), (30, 20, 30))],
@@ -267,7 +272,8 @@ def main():
           "through it. Under zo-upper-left the projection clipray builds flips y, which reverses every winding "
           "on screen: the box shows its inside and the mirrored one its outside, as in a Direct3D-style app that "
           "keeps GL_CCW. The rays cull what the picture culls under both.",
-          [perspective("main", (0.5, 2.5, 5), (0, 0.5, 0), 55, 0.1, 100)],
+          [perspective("main", (0.5, 2.5, 5), (0, 0.5, 0), 55, 0.1, 100,
+                       expected_findings=["face-culling-keeps-insides"])],
           [ground, culled_box, mirrored_box, card], conventions=["zo", "zo-upper-left"])
 
     barrel = box("barrel", (0.25, 1.3, 3.2), (0.24, 0.24, 2.8))
@@ -287,7 +293,8 @@ def main():
           "A projection built for NO (z_n = -1, near 1, far 100) drawn under both conventions. Under ZO the "
           "rasterizer clips at z_ndc = 0, about 2 units away, so the effective near plane moves: the slanted quad "
           "between 1 and 3 units is cut further out, and the rays must start there too.",
-          [perspective("main", (0, 0, 0), (0, 0, -1), 60, 1.0, 100, built_for="no")],
+          [perspective("main", (0, 0, 0), (0, 0, -1), 60, 1.0, 100, built_for="no",
+                       expected_findings=["depth-convention-mismatch"])],
           [quad("slanted", (-0.6, -0.6, -1.2), (0.6, -0.6, -1.2), (0.6, 0.6, -3.0), (-0.6, 0.6, -3.0)),
            box("back", (0, 0, -6), (3, 3, 0.5))])
 
@@ -308,9 +315,12 @@ def main():
     for convention in ("no", "zo"):
         projection = lengyel_oblique(perspective_rh(60, 320 / 240, 0.1, 1000, convention), water_in_view,
                                      convention)
+        # The mirrored view reads as y-flipped. Its oblique near plane leaves NO and ZO readings
+        # alike (clipray check: ambiguous), so drawing it under the other convention is no finding.
         reflection_cameras.append({"name": "reflection_" + convention, "viewport": [320, 240],
                                    "clipFromWorld": [float("%.17g" % x) for x in
-                                                     column_major(mat_mul(projection, reflected_view))]})
+                                                     column_major(mat_mul(projection, reflected_view))],
+                                   "expectedFindings": ["y-flipped"]})
     write("water_reflection",
           "A water reflection: the view from (0, 3, 12) mirrored in the water plane y = 0, with Lengyel's oblique "
           "near plane at the water level (camera reflection_no built for NO, reflection_zo for ZO), the horizon "
@@ -335,7 +345,10 @@ def main():
         clipped_cameras.append({"name": "clipped_" + convention, "viewport": [320, 240],
                                 "clipFromWorld": [float("%.17g" % x) for x in
                                                   column_major(mat_mul(projection, reflected_view))],
-                                "clipPlanes": [[0.0, 1.0, 0.0, 0.0]]})
+                                "clipPlanes": [[0.0, 1.0, 0.0, 0.0]],
+                                # Mirrored (y-flipped), and drawn under both conventions: the plain
+                                # projection is a NO or ZO build the check tells apart.
+                                "expectedFindings": ["depth-convention-mismatch", "y-flipped"]})
     write("water_reflection_clipped",
           "water_reflection's mirrored view clipped by a user clip plane at the water (clipPlanes [0, 1, 0, 0]: "
           "gl_ClipDistance = y, kept where y >= 0) instead of Lengyel's oblique near plane; the near plane stays at "

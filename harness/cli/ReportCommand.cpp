@@ -46,7 +46,7 @@ int runMerge(const MergeOptions& options) {
   std::cout << "report: " << (std::filesystem::path(options.out) / "index.html").string()
             << " (report.json beside it; merged from " << reports.size() << " reports)\n";
   for (const RunRecord& run : runs) {
-    if (!run.metrics.consistent()) return 1;
+    if (!runPasses(run)) return 1;
   }
   return 0;
 }

@@ -118,7 +118,8 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
       "subpixel_bits": 8})json");
   EXPECT_EQ(j["gl"], gl);
   const nlohmann::json summary = nlohmann::json::parse(
-      R"({"runs": 1, "consistent": 0, "inconsistent": 1, "verdict": "inconsistent"})");
+      R"({"runs": 1, "consistent": 0, "inconsistent": 1, "convention_error": 0,
+          "verdict": "inconsistent"})");
   EXPECT_EQ(j["summary"], summary);
   EXPECT_EQ(j["clipray_version"], versionNumber());
   EXPECT_EQ(j["git_commit"], gitCommit());
@@ -144,7 +145,7 @@ TEST(ReportJson, WritesEveryFieldOfARun) {
                            "depth_error_quanta": {"max": 3.0, "p50": 1.5, "p99": 2.5},
                            "distance_rel_error": {"max": 2e-5, "p50": 1e-6, "p99": 1.5e-5},
                            "tolerance_ratio": {"max": 0.25, "p99": 0.125}}},
-    "verdict": "inconsistent",
+    "verdict": "inconsistent", "convention_check": [],
     "timings_ms": {"raster": 1.5, "readback": 2.5, "rays": 3.25, "intersect": 40.0, "compare": 5.0},
     "cpu_ms": {"raster": 2.75, "readback": 2.5, "rays": 3.0, "intersect": 78.5, "compare": 9.75},
     "analytic_over_raster": 32.5,

@@ -79,7 +79,7 @@ TEST(SceneLoaderErrors, UnknownKeys) {
   EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "veiwport": [640, 480]})")),
             "scenes/a.json: /cameras/0/veiwport: unknown key \"veiwport\"; valid keys are "
             "\"name\", \"viewport\", \"clipFromWorld\", \"view\", \"viewFromWorld\", "
-            "\"projection\", \"builtFor\", \"clipPlanes\"");
+            "\"projection\", \"builtFor\", \"clipPlanes\", \"expectedFindings\"");
   EXPECT_EQ(errorOf(withProjection(R"({"type": "perspective", "fovY": 60, "near": 0.1})")),
             "scenes/a.json: /cameras/0/projection/fovY: unknown key \"fovY\"; valid keys are "
             "\"type\", \"fovYDegrees\", \"aspect\", \"near\", \"far\"");

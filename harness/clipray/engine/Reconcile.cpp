@@ -88,7 +88,12 @@ RunResult runResult(const RunRecord& run, const std::string& summaryLine, bool a
   result.appRender = appRender;
   result.size = run.size;
   const RunMetrics& m = run.metrics;
-  result.consistent = m.consistent();
+  result.verdict = runVerdictName(runVerdict(run));
+  result.consistent = runPasses(run);
+  for (const RunFinding& f : run.conventionFindings) {
+    result.conventionFindings.push_back(f.severity + " [" + f.code + "] " + f.message +
+                                        (f.expected ? " (expected by the scene)" : ""));
+  }
   result.pixels = m.pixels;
   result.rasterHits = m.rasterHits;
   result.rayHits = m.rayHits;
@@ -168,10 +173,17 @@ std::string PixelReport::text() const {
 
 std::string ReconcileResult::text() const {
   std::string out;
-  std::size_t inconsistent = 0;
+  std::size_t inconsistent = 0, conventionErrors = 0;
   for (const RunResult& run : runs) {
     out += run.summaryLine + "\n";
-    inconsistent += run.consistent ? 0 : 1;
+    inconsistent += run.verdict == "inconsistent" ? 1 : 0;
+    conventionErrors += run.verdict == "convention-error" ? 1 : 0;
+  }
+  for (const RunResult& run : runs) {
+    if (run.conventionFindings.empty()) continue;
+    out += run.scene + "/" + run.camera + " " + run.convention + " " + run.depthFormat +
+           ": the convention check of the camera under the run's state\n";
+    for (const std::string& finding : run.conventionFindings) out += "  " + finding + "\n";
   }
   for (const RunResult& run : runs) {
     if (run.notes.empty()) continue;
@@ -180,14 +192,16 @@ std::string ReconcileResult::text() const {
     for (const std::string& note : run.notes) out += "  " + note + "\n";
   }
   for (const RunResult& run : runs) {
-    if (run.consistent) continue;
+    if (run.verdict != "inconsistent") continue;
     out += run.scene + "/" + run.camera + " " + run.convention + " " + run.depthFormat +
            ": worst pixels\n";
     for (const PixelReport& pixel : run.worstPixels) out += "  " + pixel.text() + "\n";
     for (const std::string& image : run.images) out += "  image " + image + "\n";
   }
-  out += std::to_string(runs.size()) + " runs: " + std::to_string(runs.size() - inconsistent) +
+  out += std::to_string(runs.size()) +
+         " runs: " + std::to_string(runs.size() - inconsistent - conventionErrors) +
          " consistent, " + std::to_string(inconsistent) + " inconsistent";
+  if (conventionErrors > 0) out += ", " + std::to_string(conventionErrors) + " convention errors";
   if (!reportDirectory.empty()) out += "; report " + reportDirectory + "/index.html";
   return out + "\n";
 }

@@ -15,6 +15,7 @@
 #include "clipray/compare/DrawCallIds.hpp"
 #include "clipray/engine/AppStateNotes.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
+#include "clipray/engine/RunConventionCheck.hpp"
 #include "clipray/engine/WorstPixels.hpp"
 #include "clipray/gl/AppRender.hpp"
 #include "clipray/gl/GlContext.hpp"
@@ -26,8 +27,7 @@
 namespace clipray::engine {
 
 bool ReconcileOutcome::consistent() const {
-  return std::all_of(runs.begin(), runs.end(),
-                     [](const RunRecord& r) { return r.metrics.consistent(); });
+  return std::all_of(runs.begin(), runs.end(), runPasses);
 }
 
 int shardOf(const std::string& scene, const std::string& camera, int count) {
@@ -248,6 +248,10 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
             ? engine::runAnalyticPass(scene, camera, mode, viewport, plan_.pickRays, plan_.threads)
             : engine::runAnalyticPass(scene, camera, mode, viewport, plan_.threads);
     for (const DepthFormat format : plan_.depthFormats) {
+      // The camera's matrix under the state these runs are drawn with (the vertex mode changes
+      // what is uploaded, not the matrix the app means).
+      const std::vector<RunFinding> conventionFindings = runConventionFindings(
+          scene, camera, pass.drawnCamera.clipFromWorld, mode, viewport, format);
       for (const VertexMode vertexMode : plan_.vertexModes) {
         if (plan_.progress) {
           std::cerr << "clipray: ";
@@ -271,6 +275,7 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
         compared.run.notes = std::move(notes);
         compared.run.notes.insert(compared.run.notes.end(), pass.pickNotes.begin(),
                                   pass.pickNotes.end());
+        compared.run.conventionFindings = conventionFindings;
         describeHits(pass, raster, compared.pixels, compared.run);
         if (lastRound) {
           worstPixels_.push_back(

@@ -2,7 +2,9 @@
 // and data- attributes: #verdict, #summary, #runs (tr.run, data-run = the run's folder), #legend-
 // classes (tr data-class = pixelClassName), #legend-heatmap, #legend-depth, #no-images, and per
 // inconsistent run section.clusters (p.worst-pixel and tr.cluster with data-gl-x/-y, tr.cluster
-// also with data-image-x/-y and td.hit: what the raster and the rays hit).
+// also with data-image-x/-y and td.hit: what the raster and the rays hit), and tr.check under a
+// run whose camera's convention check has findings (data-for-run = the run's folder; details
+// data-code).
 
 #include "clipray/report/HtmlReport.hpp"
 
@@ -37,6 +39,11 @@ tr:nth-child(even) td { background: #f0f0f0; }
 .verdict { font-weight: 700; }
 .consistent .verdict, p.verdict.consistent { color: #1b7d2c; }
 .inconsistent .verdict, p.verdict.inconsistent { color: #c01818; }
+.convention-error .verdict, p.verdict.convention-error { color: #b04a00; }
+tr.check td { font-size: 13px; }
+tr.check .error { color: #c01818; font-weight: 600; }
+tr.check .warning { color: #8a6d00; font-weight: 600; }
+tr.check .expected { color: #555; }
 p.verdict { font-size: 18px; margin: 4px 0 12px; }
 img.thumb { image-rendering: pixelated; border: 1px solid #888; }
 img.crop { image-rendering: pixelated; border: 1px solid #888; }
@@ -96,15 +103,24 @@ std::string factRow(const std::string& name, const std::string& value, bool mono
 
 std::string summarySection(const std::vector<RunRecord>& runs, const GlInfo& gl,
                            const ReportProvenance& provenance) {
-  std::size_t consistent = 0;
-  for (const RunRecord& run : runs) consistent += run.metrics.consistent() ? 1 : 0;
-  const bool allConsistent = consistent == runs.size();
+  std::size_t consistent = 0, conventionErrors = 0;
+  for (const RunRecord& run : runs) {
+    const RunVerdict verdict = runVerdict(run);
+    consistent += verdict == RunVerdict::Consistent ? 1 : 0;
+    conventionErrors += verdict == RunVerdict::ConventionError ? 1 : 0;
+  }
+  const std::size_t inconsistent = runs.size() - consistent - conventionErrors;
+  const char* overall = inconsistent > 0       ? "inconsistent"
+                        : conventionErrors > 0 ? "convention-error"
+                                               : "consistent";
   std::string out;
-  out += "<p id=\"verdict\" class=\"verdict " +
-         std::string(allConsistent ? "consistent" : "inconsistent") + "\">" +
-         (allConsistent ? "consistent" : "inconsistent") + ": " + std::to_string(runs.size()) +
-         " runs, " + std::to_string(consistent) + " consistent, " +
-         std::to_string(runs.size() - consistent) + " inconsistent</p>\n";
+  out += "<p id=\"verdict\" class=\"verdict " + std::string(overall) + "\">" + overall + ": " +
+         std::to_string(runs.size()) + " runs, " + std::to_string(consistent) + " consistent, " +
+         std::to_string(inconsistent) + " inconsistent" +
+         (conventionErrors > 0 ? ", " + std::to_string(conventionErrors) + " convention error" +
+                                     (conventionErrors == 1 ? "" : "s")
+                               : std::string()) +
+         "</p>\n";
   out += "<table class=\"facts\" id=\"summary\">\n";
   const std::string commit = gitCommit();
   out += factRow("clipray", versionNumber() + (commit.empty() ? "" : " (git " + commit + ")"));
@@ -180,14 +196,39 @@ std::string linksCell(const RunRecord& run, std::size_t rank) {
   return out + "</td>";
 }
 
+// The row under a run with findings of its camera's convention check: one line per finding (its
+// severity, code and whether the scene expects it) that opens to its message and fix. Those that
+// make the run's verdict convention-error are open; the others stay one line, so the runs below
+// stay in view.
+std::string checkRow(const RunRecord& run, std::size_t columns) {
+  const bool conventionError = runVerdict(run) == RunVerdict::ConventionError;
+  std::string out = "<tr class=\"check\" data-for-run=\"" + escaped(runFolderName(run)) +
+                    "\"><td></td><td colspan=\"" + std::to_string(columns - 1) +
+                    "\">convention check (clipray check on the camera under the run's state):";
+  for (const RunFinding& f : run.conventionFindings) {
+    const bool open = conventionError && f.severity == "error" && !f.expected;
+    out += "<details data-code=\"" + escaped(f.code) + "\"" + (open ? " open" : "") +
+           "><summary><span class=\"" + escaped(f.severity) + "\">" + escaped(f.severity) + " [" +
+           escaped(f.code) + "]</span>" +
+           (f.expected ? " <span class=\"expected\">(expected by the scene)</span>" : "") +
+           "</summary>" + escaped(f.message);
+    if (!f.fix.empty()) out += "<br>fix: " + escaped(f.fix);
+    out += "</details>";
+  }
+  return out + "</td></tr>\n";
+}
+
 std::string runRow(const RunRecord& run, std::size_t rank, bool anyImages) {
   const RunMetrics& m = run.metrics;
-  const bool ok = m.consistent();
-  std::string out = "<tr class=\"run " + std::string(ok ? "consistent" : "inconsistent") +
-                    "\" id=\"run-" + std::to_string(rank) + "\" data-run=\"" +
-                    escaped(runFolderName(run)) + "\">";
+  const RunVerdict verdict = runVerdict(run);
+  std::string out = "<tr class=\"run " + std::string(runVerdictName(verdict)) + "\" id=\"run-" +
+                    std::to_string(rank) + "\" data-run=\"" + escaped(runFolderName(run)) + "\">";
   out += "<td>" + std::to_string(rank) + "</td>";
-  out += "<td class=\"verdict\">" + std::string(ok ? "consistent" : "INCONSISTENT") + "</td>";
+  out += "<td class=\"verdict\">" +
+         std::string(verdict == RunVerdict::Consistent     ? "consistent"
+                     : verdict == RunVerdict::Inconsistent ? "INCONSISTENT"
+                                                           : "CONVENTION ERROR") +
+         "</td>";
   out += "<td class=\"name\">" + escaped(run.scene + "/" + run.camera) + "<br><span>" +
          escaped(run.convention.name()) + " " + escaped(depthFormatName(run.depthFormat)) + " " +
          escaped(vertexModeName(run.vertexMode)) + " " + std::to_string(run.size.width) + "x" +
@@ -206,6 +247,7 @@ std::string runRow(const RunRecord& run, std::size_t rank, bool anyImages) {
   }
   if (anyImages) out += linksCell(run, rank);
   out += "</tr>\n";
+  if (!run.conventionFindings.empty()) out += checkRow(run, anyImages ? 7 : 5);
   return out;
 }
 
@@ -218,7 +260,9 @@ std::string runsSection(const std::vector<RunRecord>& runs, const std::vector<st
       "(z depth-ambiguous, e edge-ambiguous, u unexplained); &gt;tol: depths beyond tolerance; "
       "tol: depth error / predicted tolerance, max/p99 (above 1: beyond it); rel: p99 distance "
       "error / eye distance; n/a (0 compared): no pixel where both sides hit the same "
-      "primitive.";
+      "primitive. Under a run, the errors and warnings of clipray check on its camera under the "
+      "state it is drawn with; an error the scene does not expect fails the run as CONVENTION "
+      "ERROR.";
   if (anyImages) {
     out +=
         " Thumbnails: each pixel the most severe class (or largest error / tolerance) of its "
@@ -408,11 +452,11 @@ std::string reportHtml(const std::vector<RunRecord>& runs, const GlInfo& gl,
   bool anyImages = false;
   for (const RunRecord& run : runs) anyImages = anyImages || !run.images.empty();
   const std::vector<std::size_t> order = worstFirst(runs);
-  std::size_t inconsistent = 0;
-  for (const RunRecord& run : runs) inconsistent += run.metrics.consistent() ? 0 : 1;
+  std::size_t failing = 0;
+  for (const RunRecord& run : runs) failing += runPasses(run) ? 0 : 1;
   std::string out = "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n";
-  out += "<title>clipray reconcile: " + std::to_string(inconsistent) + " of " +
-         std::to_string(runs.size()) + " runs inconsistent</title>\n";
+  out += "<title>clipray reconcile: " + std::to_string(failing) + " of " +
+         std::to_string(runs.size()) + " runs failing</title>\n";
   out += "<style>" + std::string(kStyle) + "</style>\n</head>\n<body>\n";
   out += "<h1>clipray reconcile</h1>\n";
   out += summarySection(runs, gl, provenance);

@@ -18,6 +18,21 @@ std::string seconds(const RunTimings& t) {
   return buffer;
 }
 
+// The convention check's findings on the run's camera, for a failure's text or a passing run's
+// output; empty without findings.
+std::string conventionText(const RunRecord& run) {
+  if (run.conventionFindings.empty()) return "";
+  return "convention check (clipray check on the camera under the run's state):\n" +
+         conventionFindingsText(run, "  ");
+}
+
+// A run that fails only for its camera's convention check: the findings first, then its line.
+std::string conventionFailureText(const RunRecord& run) {
+  return std::to_string(unexpectedConventionErrors(run)) +
+         " convention error(s) the scene does not expect (raster and rays agree)\n" +
+         runSummaryLine(run) + "\n" + conventionText(run);
+}
+
 // What a person reading the CI log needs first: which pixels are wrong, how many, how badly.
 std::string failureText(const RunRecord& run, const std::filesystem::path& outDir) {
   const RunMetrics& m = run.metrics;
@@ -64,6 +79,11 @@ std::string failureText(const RunRecord& run, const std::filesystem::path& outDi
       text.append(" ").append((outDir / image.relativePath).string());
     }
   }
+  const std::string convention = conventionText(run);
+  if (!convention.empty()) {
+    text += "\n" + convention;
+    text.pop_back();  // the last line's newline
+  }
   return text;
 }
 
@@ -73,7 +93,7 @@ std::string junitXml(const std::vector<RunRecord>& runs, const std::filesystem::
   std::size_t failures = 0;
   RunTimings total;
   for (const RunRecord& run : runs) {
-    failures += run.metrics.consistent() ? 0 : 1;
+    failures += runPasses(run) ? 0 : 1;
     total.raster += run.timings.raster;
     total.readback += run.timings.readback;
     total.rays += run.timings.rays;
@@ -105,12 +125,26 @@ std::string junitXml(const std::vector<RunRecord>& runs, const std::filesystem::
         .append("\" time=\"")
         .append(seconds(run.timings))
         .append("\"");
-    if (run.metrics.consistent()) {
-      out += "/>\n";
+    const RunVerdict verdict = runVerdict(run);
+    if (verdict == RunVerdict::Consistent) {
+      // Expected findings and warnings: shown, not failed.
+      const std::string convention = conventionText(run);
+      if (convention.empty()) {
+        out += "/>\n";
+        continue;
+      }
+      out.append(">\n      <system-out>")
+          .append(xmlEscaped(convention))
+          .append("</system-out>\n    </testcase>\n");
       continue;
     }
-    out.append(">\n      <failure message=\"inconsistent\" type=\"inconsistent\">")
-        .append(xmlEscaped(failureText(run, outDir)))
+    const bool conventionError = verdict == RunVerdict::ConventionError;
+    out.append(">\n      <failure message=\"")
+        .append(conventionError ? "convention error" : "inconsistent")
+        .append("\" type=\"")
+        .append(runVerdictName(verdict))
+        .append("\">")
+        .append(xmlEscaped(conventionError ? conventionFailureText(run) : failureText(run, outDir)))
         .append("</failure>\n    </testcase>\n");
   }
   out += "  </testsuite>\n</testsuites>\n";

@@ -146,6 +146,20 @@ nlohmann::json timingsJson(const RunTimings& t) {
           {"compare", number(t.compare)}};
 }
 
+// The convention check's findings on the run's camera (RunFinding): always an array, empty
+// without findings, so a reader tells "checked, nothing found" from an older report.
+nlohmann::json conventionCheckJson(const RunRecord& run) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const RunFinding& f : run.conventionFindings) {
+    list.push_back({{"severity", f.severity},
+                    {"code", f.code},
+                    {"message", f.message},
+                    {"fix", f.fix},
+                    {"expected", f.expected}});
+  }
+  return list;
+}
+
 nlohmann::json runJson(const RunRecord& run) {
   const RunMetrics& m = run.metrics;
   nlohmann::json json = {
@@ -173,7 +187,8 @@ nlohmann::json runJson(const RunRecord& run) {
       {"distance_rel_error", distribution(m.distanceRelError, true)},
       {"tolerance_ratio", distribution(m.toleranceRatio, false)},
       {"by_kind", byKindJson(m)},
-      {"verdict", m.consistent() ? "consistent" : "inconsistent"},
+      {"verdict", runVerdictName(runVerdict(run))},
+      {"convention_check", conventionCheckJson(run)},
       {"timings_ms", timingsJson(run.timings)},
       {"cpu_ms", timingsJson(run.cpu)},
       {"analytic_over_raster", number(run.analyticOverRaster)},
@@ -227,7 +242,7 @@ std::string twoDigits(double value) {
 // column is as wide as its widest entry over the runs shown together (and its header); the
 // figures' header spans the four figure columns: cov, id, >tol and the depth figures.
 constexpr std::size_t kWhichColumns = 6;
-constexpr std::size_t kSummaryColumns = kWhichColumns + 4;
+constexpr std::size_t kSummaryColumns = kWhichColumns + 5;
 using SummaryCells = std::array<std::string, kSummaryColumns>;
 constexpr std::array<const char*, kWhichColumns + 1> kSummaryHeader{"verdict",
                                                                     "scene/camera",
@@ -244,6 +259,12 @@ constexpr const char* kSummaryLegend =
     "error / eye distance\n"
     "  n/a (0 compared): no pixel where both sides hit the same primitive\n";
 
+// Only under a summary that shows a run with findings of the convention check.
+constexpr const char* kConventionLegend =
+    "  check: clipray check on the run's camera under the state it is drawn with, its errors and "
+    "warnings (expected: the scene declares it, expectedFindings); an error the scene does not "
+    "expect is the verdict CONVENTION-ERROR\n";
+
 // Only under a summary that shows a run drawn with depth clamp.
 constexpr const char* kDepthClampLegend =
     "  front: pixels in front of the near plane, drawn by depth clamp at the near depth: out of "
@@ -257,7 +278,10 @@ SummaryCells summaryCells(const RunRecord& run) {
   const RunMetrics& m = run.metrics;
   const auto& c = m.coverageMismatch;
   const auto& i = m.idMismatch;
-  return {m.consistent() ? "consistent" : "INCONSISTENT",
+  const RunVerdict verdict = runVerdict(run);
+  return {verdict == RunVerdict::Consistent     ? "consistent"
+          : verdict == RunVerdict::Inconsistent ? "INCONSISTENT"
+                                                : "CONVENTION-ERROR",
           run.scene + "/" + run.camera,
           run.convention.name(),
           depthFormatName(run.depthFormat),
@@ -269,7 +293,8 @@ SummaryCells summaryCells(const RunRecord& run) {
               countText(i.edgeAmbiguous) + " u" + countText(i.unexplained) + ")",
           ">tol " + countText(m.depthBeyondTolerance),
           depthFiguresText(m) +
-              (run.depthClamp ? " front " + countText(m.inFrontOfNear) : std::string())};
+              (run.depthClamp ? " front " + countText(m.inFrontOfNear) : std::string()),
+          conventionNoteText(run)};
 }
 
 // The cells joined, each padded to its column's width, without trailing spaces.
@@ -325,6 +350,22 @@ std::string hitsSection(const std::vector<const RunRecord*>& runs) {
   return out;
 }
 
+// The findings of each run that fails for them (in the order given), whole, with their fixes.
+std::string conventionErrorsSection(const std::vector<const RunRecord*>& runs) {
+  std::string out;
+  for (const RunRecord* run : runs) {
+    if (runVerdict(*run) != RunVerdict::ConventionError) continue;
+    if (out.empty()) {
+      out =
+          "convention errors the scenes do not expect (clipray check on the run's camera under "
+          "the state it is drawn with):\n";
+    }
+    out += "  " + runTitleText(*run) + "\n";
+    out += conventionFindingsText(*run, "    ");
+  }
+  return out;
+}
+
 std::string errnoText(int error) {
   return std::strerror(error);
 }
@@ -353,6 +394,48 @@ std::string PixelHits::text() const {
 std::string runTitleText(const RunRecord& run) {
   return run.scene + "/" + run.camera + " " + run.convention.name() + " " +
          depthFormatName(run.depthFormat) + " " + vertexModeName(run.vertexMode);
+}
+
+RunVerdict runVerdict(const RunRecord& run) {
+  if (!run.metrics.consistent()) return RunVerdict::Inconsistent;
+  return unexpectedConventionErrors(run) > 0 ? RunVerdict::ConventionError : RunVerdict::Consistent;
+}
+
+const char* runVerdictName(RunVerdict verdict) {
+  switch (verdict) {
+    case RunVerdict::Consistent:
+      return "consistent";
+    case RunVerdict::Inconsistent:
+      return "inconsistent";
+    case RunVerdict::ConventionError:
+      return "convention-error";
+  }
+  return "inconsistent";
+}
+
+std::size_t unexpectedConventionErrors(const RunRecord& run) {
+  return static_cast<std::size_t>(
+      std::count_if(run.conventionFindings.begin(), run.conventionFindings.end(),
+                    [](const RunFinding& f) { return f.severity == "error" && !f.expected; }));
+}
+
+std::string conventionNoteText(const RunRecord& run) {
+  std::string out;
+  for (const RunFinding& f : run.conventionFindings) {
+    out += (out.empty() ? "check " : ", ") + f.severity + ":" + f.code +
+           (f.expected ? " (expected)" : "");
+  }
+  return out;
+}
+
+std::string conventionFindingsText(const RunRecord& run, const std::string& indent) {
+  std::string out;
+  for (const RunFinding& f : run.conventionFindings) {
+    out += indent + f.severity + " [" + f.code + "] " + f.message +
+           (f.expected ? " (expected by the scene)" : "") + "\n";
+    if (!f.fix.empty()) out += indent + "  fix: " + f.fix + "\n";
+  }
+  return out;
 }
 
 std::string runHitsText(const RunRecord& run, const std::string& indent) {
@@ -440,10 +523,12 @@ std::string runFolderName(const RunRecord& run) {
 nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl,
                           const ReportProvenance& provenance) {
   nlohmann::json runList = nlohmann::json::array();
-  std::int64_t consistent = 0;
+  std::int64_t consistent = 0, conventionErrors = 0;
   for (const RunRecord& run : runs) {
     runList.push_back(runJson(run));
-    if (run.metrics.consistent()) ++consistent;
+    const RunVerdict verdict = runVerdict(run);
+    if (verdict == RunVerdict::Consistent) ++consistent;
+    if (verdict == RunVerdict::ConventionError) ++conventionErrors;
   }
   const auto total = static_cast<std::int64_t>(runs.size());
   nlohmann::json report = {
@@ -460,8 +545,11 @@ nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl,
       {"summary",
        {{"runs", total},
         {"consistent", consistent},
-        {"inconsistent", total - consistent},
-        {"verdict", consistent == total ? "consistent" : "inconsistent"}}},
+        {"inconsistent", total - consistent - conventionErrors},
+        {"convention_error", conventionErrors},
+        {"verdict", consistent == total                      ? "consistent"
+                    : consistent + conventionErrors == total ? "convention-error"
+                                                             : "inconsistent"}}},
       {"runs", std::move(runList)},
   };
   if (!provenance.commandLine.empty()) report["command_line"] = provenance.commandLine;
@@ -562,6 +650,10 @@ std::vector<std::size_t> worstFirst(const std::vector<RunRecord>& runs) {
     const RunMetrics& ma = runs[a].metrics;
     const RunMetrics& mb = runs[b].metrics;
     if (ma.consistent() != mb.consistent()) return !ma.consistent();
+    // Then the runs that fail for their camera's convention check.
+    const bool ea = runVerdict(runs[a]) == RunVerdict::ConventionError;
+    const bool eb = runVerdict(runs[b]) == RunVerdict::ConventionError;
+    if (ea != eb) return ea;
     const std::int64_t ua = unexplainedCount(ma), ub = unexplainedCount(mb);
     if (ua != ub) return ua > ub;
     return sortKey(ma.toleranceRatio.max) > sortKey(mb.toleranceRatio.max);
@@ -571,19 +663,32 @@ std::vector<std::size_t> worstFirst(const std::vector<RunRecord>& runs) {
 
 std::string textSummary(const std::vector<RunRecord>& runs) {
   std::vector<const RunRecord*> shown;
-  std::size_t consistent = 0;
+  std::size_t consistent = 0, conventionErrors = 0;
   for (const std::size_t i : worstFirst(runs)) {
     shown.push_back(&runs[i]);
-    if (runs[i].metrics.consistent()) ++consistent;
+    const RunVerdict verdict = runVerdict(runs[i]);
+    if (verdict == RunVerdict::Consistent) ++consistent;
+    if (verdict == RunVerdict::ConventionError) ++conventionErrors;
   }
   std::string out;
   if (!runs.empty()) {
     for (const std::string& line : summaryTable(shown)) out += line + "\n";
   }
   out += std::to_string(runs.size()) + " runs: " + std::to_string(consistent) + " consistent, " +
-         std::to_string(runs.size() - consistent) + " inconsistent\n";
+         std::to_string(runs.size() - consistent - conventionErrors) + " inconsistent";
+  // Only where there are any: a summary without them reads as before.
+  if (conventionErrors > 0) {
+    out += ", " + std::to_string(conventionErrors) + " convention error" +
+           (conventionErrors == 1 ? "" : "s");
+  }
+  out += "\n";
   out += hitsSection(shown);
+  out += conventionErrorsSection(shown);
   if (!runs.empty()) out += kSummaryLegend;
+  if (std::any_of(runs.begin(), runs.end(),
+                  [](const RunRecord& r) { return !r.conventionFindings.empty(); })) {
+    out += kConventionLegend;
+  }
   if (std::any_of(runs.begin(), runs.end(), [](const RunRecord& r) { return r.depthClamp; })) {
     out += kDepthClampLegend;
   }

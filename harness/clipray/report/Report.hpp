@@ -65,6 +65,18 @@ struct PixelHits {
   std::string text() const;
 };
 
+// A finding of `clipray check` on the run's camera under the state the run is drawn with (its
+// clip control, reversed-Z, depth range, face culling, depth clamp; engine/RunConventionCheck):
+// errors and warnings only.
+struct RunFinding {
+  std::string severity;  // "error" or "warning"
+  std::string code;      // the check's code: "depth-convention-mismatch", ...
+  std::string message;
+  std::string fix;
+  bool expected = false;  // the scene declares it (its camera's expectedFindings)
+  friend bool operator==(const RunFinding&, const RunFinding&) = default;
+};
+
 struct RunRecord {
   std::string scene;
   std::string camera;
@@ -93,6 +105,9 @@ struct RunRecord {
   // Where the app's render function drew with other state than the run says (its clip control,
   // depth range, depth test, face culling, depth clamp): one line each (engine/AppStateNotes).
   std::vector<std::string> notes;
+  // The convention check of the run's camera under the run's state: an error the scene does not
+  // expect fails the run (RunVerdict::ConventionError).
+  std::vector<RunFinding> conventionFindings;
   // What each side hit at each of clusters.largest's pixels, in its order (or nothing, for a
   // record made without the scene at hand).
   std::vector<PixelHits> clusterHits;
@@ -102,6 +117,26 @@ struct RunRecord {
   // Filled by encodeRunImages (the four full-size PNGs), encodeThumbnails and encodeClusterCrops.
   std::vector<EncodedImage> images;
 };
+
+// A run's verdict: inconsistent where raster and rays disagree beyond what is explained (whatever
+// the check says), else convention-error where the check on its camera found an error the scene
+// does not expect, else consistent.
+enum class RunVerdict { Consistent, Inconsistent, ConventionError };
+RunVerdict runVerdict(const RunRecord& run);
+// "consistent", "inconsistent", "convention-error" (report.json, JUnit's failure type).
+const char* runVerdictName(RunVerdict verdict);
+// Only consistent runs pass: the others fail a reconcile (exit status 1).
+inline bool runPasses(const RunRecord& run) {
+  return runVerdict(run) == RunVerdict::Consistent;
+}
+// The errors the scene does not expect (what makes a convention-error).
+std::size_t unexpectedConventionErrors(const RunRecord& run);
+// The summary line's note on the run's findings: "check error:depth-convention-mismatch
+// (expected), warning:y-flipped"; empty without findings.
+std::string conventionNoteText(const RunRecord& run);
+// Each finding on its lines after `indent`: "error [code] message (expected by the scene)" and
+// "  fix: ...".
+std::string conventionFindingsText(const RunRecord& run, const std::string& indent);
 
 // How many of a run's largest unexplained clusters are reported.
 inline constexpr std::size_t kReportedClusters = 5;

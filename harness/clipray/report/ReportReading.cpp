@@ -145,6 +145,32 @@ class ReportReader {
     return out;
   }
 
+  // The convention check's findings (conventionCheckJson): errors and warnings.
+  std::vector<RunFinding> conventionFindings(const json& value, const Pointer& at) const {
+    if (!value.is_array()) fail(at, "expected an array, got " + detail::describe(value));
+    std::vector<RunFinding> findings;
+    for (std::size_t k = 0; k < value.size(); ++k) {
+      const json& f = value[k];
+      const Pointer fAt = at / k;
+      RunFinding finding;
+      finding.severity = text(f, fAt, "severity");
+      if (finding.severity != "error" && finding.severity != "warning") {
+        fail(fAt / "severity",
+             "expected \"error\" or \"warning\", got " + detail::describe(f["severity"]));
+      }
+      finding.code = text(f, fAt, "code");
+      finding.message = text(f, fAt, "message");
+      finding.fix = text(f, fAt, "fix");
+      const json& expected = field(f, fAt, "expected");
+      if (!expected.is_boolean()) {
+        fail(fAt / "expected", "expected true or false, got " + detail::describe(expected));
+      }
+      finding.expected = expected.get<bool>();
+      findings.push_back(std::move(finding));
+    }
+    return findings;
+  }
+
   DepthMode convention(const json& object, const Pointer& at) const {
     const std::string name = text(object, at, "convention");
     const std::optional<DepthMode> mode = DepthMode::parse(name);
@@ -228,9 +254,15 @@ class ReportReader {
       k.toleranceRatio = distribution(figures, kAt, "tolerance_ratio", false);
       m.byKind.push_back(std::move(k));
     }
+    // Reports written before runs carried their camera's check have none.
+    if (value.contains("convention_check")) {
+      run.conventionFindings =
+          conventionFindings(value["convention_check"], at / "convention_check");
+    }
     const std::string verdict = text(value, at, "verdict");
-    if (verdict != (m.consistent() ? "consistent" : "inconsistent")) {
-      fail(at / "verdict", "\"" + verdict + "\" does not follow from the run's counts");
+    if (verdict != runVerdictName(runVerdict(run))) {
+      fail(at / "verdict",
+           "\"" + verdict + "\" does not follow from the run's counts and convention check");
     }
 
     run.timings = timings(value, at, "timings_ms");

@@ -46,6 +46,10 @@ struct Camera {
   // most kMaxClipPlanes; each normal (xyz) non-zero.
   std::vector<glm::dvec4> clipPlanes;
   static constexpr std::size_t kMaxClipPlanes = 8;  // GL's minimum GL_MAX_CLIP_DISTANCES
+  // Codes of `clipray check` findings (errors and warnings) the scene shows on purpose with this
+  // camera ("depth-convention-mismatch" for a matrix built for NO drawn under ZO): a reconcile run
+  // notes them as expected instead of failing with the verdict convention-error.
+  std::vector<std::string> expectedFindings;
 
   // The matrix the app would hand GL when drawing under `drawnUnder` at `viewport`.
   glm::dmat4 clipFromWorld(DepthMode drawnUnder, Viewport viewport) const;

@@ -105,6 +105,16 @@ SceneBuilder& SceneBuilder::clipPlanes(std::vector<glm::dvec4> planes) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::expectedFindings(std::vector<std::string> codes) {
+  if (document_->cameras().empty()) {
+    throw InputError(
+        "SceneBuilder " + detail::jsonString(name_) +
+        ": expectedFindings() applies to the camera added last, and no camera was added yet");
+  }
+  document_->cameras().back()["expectedFindings"] = std::move(codes);
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::conventions(std::vector<DepthMode> modes) {
   Json names = Json::array();
   for (const DepthMode& mode : modes) names.push_back(mode.name());

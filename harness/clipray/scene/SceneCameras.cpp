@@ -1,12 +1,14 @@
 // The cameras of a scene file: a raw clipFromWorld, or a projection with a view ("view": look-at,
 // or "viewFromWorld"), each checked to stay finite under every convention it may be drawn under.
 
+#include <algorithm>
 #include <cmath>
 #include <string_view>
 #include <tuple>
 #include <utility>
 
 #include "clipray/math/Projections.hpp"
+#include "clipray/scene/ExpectedFindings.hpp"
 #include "clipray/scene/SceneReader.hpp"
 
 namespace clipray::detail {
@@ -16,12 +18,15 @@ Camera SceneReader::camera(const json& value, const Pointer& at,
   expectObject(value, at);
   expectKnownKeys(value, at,
                   {"name", "viewport", "clipFromWorld", "view", "viewFromWorld", "projection",
-                   "builtFor", "clipPlanes"});
+                   "builtFor", "clipPlanes", "expectedFindings"});
   Camera camera;
   camera.name = name(value, at, "camera", names);
   camera.viewport = viewport(required(value, at, "viewport"), at / "viewport");
   if (const json* planes = optional(value, "clipPlanes")) {
     camera.clipPlanes = clipPlanes(*planes, at / "clipPlanes");
+  }
+  if (const json* expected = optional(value, "expectedFindings")) {
+    camera.expectedFindings = expectedFindings(*expected, at / "expectedFindings");
   }
 
   const json* raw = optional(value, "clipFromWorld");
@@ -162,6 +167,31 @@ std::vector<glm::dvec4> SceneReader::clipPlanes(const json& value, const Pointer
     planes.push_back(p);
   }
   return planes;
+}
+
+std::vector<std::string> SceneReader::expectedFindings(const json& value, const Pointer& at) const {
+  if (!value.is_array()) {
+    fail(at,
+         "expected an array of clipray check finding codes (e.g. [\"depth-convention-mismatch\"]), "
+         "got " +
+             describe(value));
+  }
+  std::vector<std::string> codes;
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    const std::string code = string(value[i], at / i);
+    if (std::find(kDeclarableFindingCodes.begin(), kDeclarableFindingCodes.end(), code) ==
+        kDeclarableFindingCodes.end()) {
+      fail(at / i,
+           "expected the code of a clipray check error or warning (" +
+               quotedList({kDeclarableFindingCodes.begin(), kDeclarableFindingCodes.end()}) +
+               "), got " + describe(value[i]));
+    }
+    if (std::find(codes.begin(), codes.end(), code) != codes.end()) {
+      fail(at / i, "expected each code once, got " + describe(value[i]) + " again");
+    }
+    codes.push_back(code);
+  }
+  return codes;
 }
 
 }  // namespace clipray::detail

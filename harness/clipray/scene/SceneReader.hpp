@@ -48,6 +48,7 @@ class SceneReader : public SceneValidator {
   Camera camera(const json& value, const Pointer& at, std::map<std::string, Pointer>& names) const;
   glm::dmat4 lookAt(const json& value, const Pointer& at) const;
   std::vector<glm::dvec4> clipPlanes(const json& value, const Pointer& at) const;
+  std::vector<std::string> expectedFindings(const json& value, const Pointer& at) const;
   std::variant<PerspectiveProjection, OrthographicProjection, std::monostate> projection(
       const json& value, const Pointer& at) const;
   // One object: its type's reader with its placement (SceneLoader.cpp).

@@ -95,7 +95,15 @@ struct RunResult {
   std::string scene, camera, convention, depthFormat, vertexMode;  // "zo", "32f", "world"
   bool appRender = false;  // the raster side is the app's render function
   Viewport size;
+  // The run passes: verdict "consistent". It fails as "inconsistent" where raster and rays
+  // disagree beyond what is explained, else as "convention-error" where `clipray check` on the
+  // camera under the run's state (clip control, depth range, face culling, depth clamp) finds an
+  // error the scene does not declare (SceneBuilder::expectedFindings).
   bool consistent = false;
+  std::string verdict;  // "consistent", "inconsistent" or "convention-error"
+  // That check's errors and warnings, one line each: "error [depth-convention-mismatch] built for
+  // ... (expected by the scene)".
+  std::vector<std::string> conventionFindings;
   std::int64_t pixels = 0, rasterHits = 0, rayHits = 0;
   std::int64_t coverageMismatches = 0, coverageUnexplained = 0;
   std::int64_t idMismatches = 0, idUnexplained = 0;

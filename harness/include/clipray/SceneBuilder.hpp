@@ -111,6 +111,10 @@ class SceneBuilder {
   // (a, b, c, d), gl_ClipDistance[i] = a x + b y + c z + d, kept where >= 0 (at most 8). Meshes
   // only: build() refuses them in a scene with analytic surfaces.
   SceneBuilder& clipPlanes(std::vector<glm::dvec4> planes);
+  // `clipray check` findings (errors or warnings, by code: "depth-convention-mismatch") the camera
+  // added last shows on purpose: a reconcile notes them as expected instead of failing the run
+  // with the verdict convention-error (docs/scene-format.md, expectedFindings).
+  SceneBuilder& expectedFindings(std::vector<std::string> codes);
   // Without any camera, the scene is seen from four automatic ones framed on its geometry.
 
   // Validates and builds; throws InputError.
