@@ -11,19 +11,13 @@
 #include "clipray/InputError.hpp"
 #include "clipray/trace/TraceCheck.hpp"
 #include "clipray/util/Check.hpp"
+#include "support/TraceLines.hpp"
 
 namespace clipray::trace {
 namespace {
 
-TraceCheckResult checkLines(const std::string& text, FrameRange frames = {}) {
-  TraceCheckCollector collector("app.trace", frames);
-  std::istringstream lines(text);
-  std::string line;
-  while (std::getline(lines, line)) {
-    if (!collector.addLine(line)) break;
-  }
-  return collector.finish();
-}
+using testing::checkLines;
+using testing::codes;
 
 std::string captured(const std::string& name) {
   std::ifstream file(std::string(CLIPRAY_SOURCE_DIR) + "/tests/data/trace/" + name);
@@ -39,12 +33,6 @@ std::string refusal(const std::string& text, FrameRange frames = {}) {
     return error.what();
   }
   return "(accepted)";
-}
-
-std::vector<std::string> codes(const TracePairGroup& group) {
-  std::vector<std::string> result;
-  for (const Finding& f : group.report.findings) result.push_back(f.severity + ":" + f.code);
-  return result;
 }
 
 // glm::perspectiveRH_NO(60 deg, 4/3, 0.1, 100) * lookAtRH((0, 2, 5), 0, +Y) in float, as

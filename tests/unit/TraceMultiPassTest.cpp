@@ -10,25 +10,13 @@
 #include <string>
 
 #include "clipray/trace/TraceCheck.hpp"
+#include "support/TraceLines.hpp"
 
 namespace clipray::trace {
 namespace {
 
-TraceCheckResult checkLines(const std::string& text) {
-  TraceCheckCollector collector("app.trace", {});
-  std::istringstream lines(text);
-  std::string line;
-  while (std::getline(lines, line)) {
-    if (!collector.addLine(line)) break;
-  }
-  return collector.finish();
-}
-
-std::vector<std::string> codes(const TracePairGroup& group) {
-  std::vector<std::string> result;
-  for (const Finding& f : group.report.findings) result.push_back(f.severity + ":" + f.code);
-  return result;
-}
+using testing::checkLines;
+using testing::codes;
 
 // The lines of the text report from the group's header ("[N] ...") to the next blank line.
 std::string groupText(const TraceCheckResult& result, std::size_t group) {

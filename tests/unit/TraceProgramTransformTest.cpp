@@ -12,19 +12,13 @@
 #include "clipray/InputError.hpp"
 #include "clipray/trace/Std140Layout.hpp"
 #include "clipray/trace/TraceCheck.hpp"
+#include "support/TraceLines.hpp"
 
 namespace clipray::trace {
 namespace {
 
-TraceCheckResult checkLines(const std::string& text) {
-  TraceCheckCollector collector("app.trace", {});
-  std::istringstream lines(text);
-  std::string line;
-  while (std::getline(lines, line)) {
-    if (!collector.addLine(line)) break;
-  }
-  return collector.finish();
-}
+using testing::checkLines;
+using testing::codes;
 
 std::string refusal(const std::string& text) {
   try {
@@ -33,12 +27,6 @@ std::string refusal(const std::string& text) {
     return error.what();
   }
   return "(accepted)";
-}
-
-std::vector<std::string> codes(const TracePairGroup& group) {
-  std::vector<std::string> result;
-  for (const Finding& f : group.report.findings) result.push_back(f.severity + ":" + f.code);
-  return result;
 }
 
 // Numbered call lines from a list of calls, one per line, starting at call 1.
