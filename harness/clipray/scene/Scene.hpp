@@ -64,6 +64,12 @@ struct MeshObject {
   // through the drawn clipFromWorld (math/Facing.hpp), so mirrored transforms already count.
   CullFace cull = CullFace::None;
   FrontFace frontFace = FrontFace::Ccw;
+  // glDepthRange(n, f) this object is drawn with; nullopt: the scene's (Scene::depthRange). A
+  // first-person weapon in [0, 0.1] in front of a world in [0.1, 1]: what the frame shows is the
+  // smallest window depth over the objects' own mappings, not the nearest surface. It runs the
+  // way the scene's range does (one depth test for the frame).
+  std::optional<glm::dvec2> depthRange;
+  glm::dvec2 depthRangeOr(glm::dvec2 sceneRange) const { return depthRange.value_or(sceneRange); }
 };
 
 // An analytic surface: a canonical shape in its own local frame, placed by an affine

@@ -191,9 +191,14 @@ void SceneReader::object(const json& value, const Pointer& at,
   }
   std::vector<std::string_view> keys = commonObjectKeys();
   keys.insert(keys.end(), kind->keys.begin(), kind->keys.end());
-  for (const std::string_view key : {"cull", "frontFace"}) {
+  for (const std::string_view key : {"cull", "frontFace", "depthRange"}) {
     if (kind->triangles) {
       keys.push_back(key);
+    } else if (key == "depthRange" && optional(value, key)) {
+      fail(at / std::string(key),
+           "a depth range per object applies to triangle meshes (mesh, meshFile, terrain); a " +
+               std::string(kind->name) +
+               " is drawn with the scene's (its fragment shader writes its depth)");
     } else if (optional(value, key)) {
       fail(at / std::string(key),
            "face culling applies to triangle meshes (mesh, meshFile, "
@@ -211,6 +216,20 @@ void SceneReader::object(const json& value, const Pointer& at,
     for (std::size_t k = firstObject; k < scene.objects.size(); ++k) {
       scene.objects[k].cull = culling.cull;
       scene.objects[k].frontFace = culling.frontFace;
+    }
+    if (const json* range = optional(value, "depthRange")) {
+      const glm::dvec2 objectRange = depthRange(*range, at / "depthRange");
+      // One depth test for the frame: whether the nearer surface has the greater depth must not
+      // change from object to object.
+      if ((objectRange.x > objectRange.y) != (scene.depthRange.x > scene.depthRange.y)) {
+        fail(at / "depthRange",
+             "expected a range that runs the way the scene's [" +
+                 describe(json(scene.depthRange.x)) + ", " + describe(json(scene.depthRange.y)) +
+                 "] does (one depth test for the frame), got " + describe(*range));
+      }
+      for (std::size_t k = firstObject; k < scene.objects.size(); ++k) {
+        scene.objects[k].depthRange = objectRange;
+      }
     }
   }
 }
