@@ -84,10 +84,12 @@ def perspective(name, eye, target, fov, near, far=None, viewport=(320, 240), up=
     return cam
 
 
-def write(name, comment, cameras, objects, conventions=None, depth_clamp=False):
+def write(name, comment, cameras, objects, conventions=None, depth_clamp=False, depth_range=None):
     scene = {"version": 1, "comment": comment}
     if conventions:
         scene["conventions"] = conventions
+    if depth_range:
+        scene["depthRange"] = list(depth_range)
     if depth_clamp:
         scene["depthClamp"] = True
     scene["cameras"] = cameras
@@ -288,6 +290,19 @@ def main():
           [ground, box("crate", (-1, 0.5, -1), (1, 1, 1), ((0, 1, 0), 25)), barrel,
            box("beyond_far", (3, 2, -45), (4, 4, 4))],
           conventions=["no", "zo", "zo-reversed", "zo-upper-left"], depth_clamp=True)
+
+    weapon = box("weapon", (0.25, 1.3, 3.1), (0.12, 0.12, 1.4))
+    weapon["depthRange"] = [0, 0.1]
+    write("object_depth_range",
+          "A depth range per object: a first-person weapon drawn with glDepthRange(0, 0.1), the world with "
+          "(0.1, 1). The player stands 0.6 in front of a wall that the weapon (0.2 to 1.6 from the eye) reaches "
+          "through; the weapon shows whole, its far part in front of the nearer wall, because the depth test "
+          "compares window depths and every weapon depth is below every world depth. The rays trace the weapon "
+          "and the world apart and keep, per pixel, the hit with the smaller window depth.",
+          [perspective("main", (0, 1.5, 4), (0, 1, 0), 60, 0.05, 100)],
+          [ground, quad("wall", (-0.3, 0, 3.4), (2, 0, 3.4), (2, 3, 3.4), (-0.3, 3, 3.4)),
+           box("crate", (-1, 0.5, -1), (1, 1, 1), ((0, 1, 0), 25)), weapon],
+          conventions=["no", "zo", "zo-upper-left"], depth_range=(0.1, 1))
 
     write("no_matrix_under_zo",
           "A projection built for NO (z_n = -1, near 1, far 100) drawn under both conventions. Under ZO the "

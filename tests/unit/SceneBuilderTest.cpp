@@ -156,6 +156,26 @@ TEST(SceneBuilder, DepthClampIsTheScenes) {
   EXPECT_FALSE(builder.build().model().depthClamp);
 }
 
+TEST(SceneBuilder, ObjectDepthRangeIsTheLastMeshs) {
+  SceneBuilder builder("weapon");
+  EXPECT_THROW(builder.objectDepthRange(0.0, 0.1), InputError);
+  builder.depthRange(0.1, 1.0)
+      .mesh("world", kQuadPositions, kQuadIndices)
+      .mesh("weapon", kQuadPositions, kQuadIndices)
+      .objectDepthRange(0.0, 0.1)
+      .camera("main", cameraMatrix(), {64, 48});
+  const Scene& model = builder.build().model();
+  ASSERT_EQ(model.objects.size(), 2u);
+  EXPECT_FALSE(model.objects[0].depthRange.has_value());
+  EXPECT_EQ(model.objects[1].depthRange, glm::dvec2(0.0, 0.1));
+  EXPECT_EQ(model.objects[0].depthRangeOr(model.depthRange), glm::dvec2(0.1, 1.0));
+  EXPECT_EQ(parseScene(builder.json(), "weapon.json").objects[1].depthRange, glm::dvec2(0.0, 0.1));
+  builder.objectDepthRange(0.2, 0.0);
+  EXPECT_EQ(messageOf(builder),
+            "SceneBuilder \"weapon\": /objects/1/depthRange: expected a range that runs the way "
+            "the scene's [0.1,1.0] does (one depth test for the frame), got [0.2,0.0]");
+}
+
 TEST(SceneBuilder, WithoutCamerasUsesTheAutomaticOnes) {
   const TestScene scene = SceneBuilder("auto").mesh("quad", kQuadPositions, kQuadIndices).build();
   EXPECT_EQ(scene.cameraNames().size(), 4u);

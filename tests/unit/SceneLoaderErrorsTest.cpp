@@ -89,7 +89,7 @@ TEST(SceneLoaderErrors, UnknownKeys) {
   EXPECT_EQ(errorOf(withPlacement(R"("color": [1, 0, 0])")),
             "scenes/a.json: /objects/0/color: unknown key \"color\"; valid keys are \"name\", "
             "\"type\", \"transform\", \"worldFromObject\", \"positions\", \"indices\", "
-            "\"cull\", \"frontFace\"");
+            "\"cull\", \"frontFace\", \"depthRange\"");
 }
 
 TEST(SceneLoaderErrors, WrongTypes) {
@@ -307,6 +307,36 @@ TEST(SceneLoaderErrors, DepthRange) {
   EXPECT_EQ(withRange("[\"0\", 1]"), "scenes/a.json: /depthRange/0: expected a number, got \"0\"");
   EXPECT_EQ(withRange("[0.3, 0.3]"),
             "scenes/a.json: /depthRange: near and far are both 0.3; every depth would be equal");
+}
+
+TEST(SceneLoaderErrors, ObjectDepthRange) {
+  const auto mesh = [](const std::string& sceneKeys, const std::string& keys) {
+    std::string text = withObject(R"({"name": "weapon", "type": "mesh",
+      "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], )" +
+                                  keys + "}");
+    text.insert(text.find('{') + 1, sceneKeys);
+    return errorOf(text);
+  };
+  EXPECT_EQ(mesh("", R"("depthRange": [0, 1.5])"),
+            "scenes/a.json: /objects/0/depthRange/1: expected a number in [0, 1] (GL clamps "
+            "glDepthRange to it), got 1.5");
+  EXPECT_EQ(mesh("", R"("depthRange": 0.1)"),
+            "scenes/a.json: /objects/0/depthRange: expected [near, far] of glDepthRange, got 0.1");
+  EXPECT_EQ(mesh("", R"("depthRange": [0.1, 0])"),
+            "scenes/a.json: /objects/0/depthRange: expected a range that runs the way the scene's "
+            "[0.0,1.0] does (one depth test for the frame), got [0.1,0]");
+  EXPECT_EQ(mesh(R"("depthRange": [1, 0.1], )", R"("depthRange": [0, 0.1])"),
+            "scenes/a.json: /objects/0/depthRange: expected a range that runs the way the scene's "
+            "[1.0,0.1] does (one depth test for the frame), got [0,0.1]");
+  EXPECT_EQ(mesh(R"("depthClamp": true, )", R"("depthRange": [0, 0.1])"),
+            "scenes/a.json: /depthClamp: depth clamp with an object drawn in a depth range of its "
+            "own (\"weapon\") is not modelled: use the scene's depthRange for every object");
+  EXPECT_EQ(errorOf(withObject(
+                R"({"name": "ball", "type": "sphere", "centre": [0, 0, 0], "radius": 1,
+                    "depthRange": [0, 0.1]})")),
+            "scenes/a.json: /objects/0/depthRange: a depth range per object applies to triangle "
+            "meshes (mesh, meshFile, terrain); a sphere is drawn with the scene's (its fragment "
+            "shader writes its depth)");
 }
 
 TEST(SceneLoaderErrors, FaceCulling) {

@@ -330,10 +330,10 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
   eye_ = glm::dvec3(eyeHomogeneous) / eyeHomogeneous.w;
 #if CLIPRAY_COMPARE_AVX2
   const DepthConvention convention = setup.mode.convention;
-  // The four-pixel kernels map NDC z to window depth for the default depth range only, and never
-  // clamp it.
-  fourAtOnce_ =
-      cpuHasAvx2() && simdKernelsChosen() && setup.defaultDepthRange() && !setup.depthClamp.enabled;
+  // The four-pixel kernels map NDC z to window depth for the default depth range only (one for
+  // every primitive), and never clamp it.
+  fourAtOnce_ = cpuHasAvx2() && simdKernelsChosen() && setup.defaultDepthRange() &&
+                setup.oneDepthRange() && !setup.depthClamp.enabled;
   fourInput_ = {
       setup.clipFromWorld,
       rowZ_,
@@ -394,13 +394,14 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
     const glm::dvec3 hitPoint = ray.origin + hit.t * ray.direction;
     hitClip = setup_.clipFromWorld * glm::dvec4(hitPoint, 1.0);
     zNdc = hitClip.z / hitClip.w;
+    const DepthMapping mapping = setup_.depthMappingOf(rayId);
     if (setup_.depthClamp.enabled) {
-      const double mapped = setup_.mappedWindowDepth(zNdc);
-      rayDepth = setup_.clampToDepthRange(mapped);
+      const double mapped = mapping.mappedWindowDepth(zNdc);
+      rayDepth = mapping.clampToDepthRange(mapped);
       clamped = rayDepth != mapped;
-      inFrontOfNear = clamped && setup_.inFrontOfNear(mapped);
+      inFrontOfNear = clamped && mapping.inFrontOfNear(mapped);
     } else {
-      rayDepth = setup_.windowDepth(zNdc);
+      rayDepth = mapping.windowDepth(zNdc);
     }
     pixels_.analyticDepth[i] = rayDepth;
   }
@@ -426,8 +427,10 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
     } else {
       // depthToleranceAtClip, sharing the hit's depth and quantum.
       tolerance = triangleDepthTolerance(model_.pixelTerms(rayId), hitClip, zNdc, rayDepth, quantum,
-                                         model_.windowFromNdcScale_, model_.subpixelStep_,
-                                         raster_.viewport);
+                                         setup_.oneDepthRange()
+                                             ? model_.windowFromNdcScale_
+                                             : setup_.depthMappingOf(rayId).windowFromNdcScale(),
+                                         model_.subpixelStep_, raster_.viewport);
     }
     if (analyticSurface && !(error <= tolerance) && model_.analyticEdgeAmbiguous(rayId, centre)) {
       // The same sphere or box, but one side entered the surface where the other
@@ -449,7 +452,7 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
       return;
     }
     // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1 t).
-    const double zRaster = setup_.ndcOfWindowDepth(rasterDepth);
+    const double zRaster = setup_.depthMappingOf(rayId).ndcOfWindowDepth(rasterDepth);
     const double z0 = glm::dot(rowZ_, glm::dvec4(ray.origin, 1.0));
     const double z1 = glm::dot(glm::dvec3(rowZ_), ray.direction);
     const double w0 = glm::dot(rowW_, glm::dvec4(ray.origin, 1.0));

@@ -119,6 +119,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                     modelSetup.vertexMode == setup.vertexMode &&
                     modelSetup.vertexReference == setup.vertexReference &&
                     modelSetup.subpixelBits == setup.subpixelBits &&
+                    modelSetup.objectDepthRanges == setup.objectDepthRanges &&
                     model.viewport() == raster.viewport,
                 "compareFrames: the tolerance model answers for another setup");
   requireComparableFrames(raster, analytic);

@@ -50,6 +50,7 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
   }
   const glm::dmat4& m = setup_.clipFromWorld;
   const double zn = setup_.mode.clipVolumeMinZ();
+  const DepthMapping mapping = setup_.depthMappingOf(primitiveId);
   // The clip volume z_n w <= z <= w, -w <= x, y <= w as six planes (>= 0 inside).
   // Then the camera's user clip planes in clip space: dot(P, p_world) = dot(W^T P, p_clip) with W
   // = worldFromClip (gl_ClipDistance is interpolated linearly in clip space, so the cut is
@@ -147,7 +148,7 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
     const double w = c.w;
     polygon.vertices[k] = {(c.x / w + 1.0) * 0.5 * viewport_.width,
                            (c.y / w + 1.0) * 0.5 * viewport_.height,
-                           setup_.mappedWindowDepth(c.z / w)};
+                           mapping.mappedWindowDepth(c.z / w)};
     polygon.maxDepth = std::max(polygon.maxDepth, std::abs(polygon.vertices[k].z));
     // Vertex xy error in pixels: (dx + |x_ndc| dw) / w, scaled to the viewport.
     const double ex = (error.x + std::abs(c.x / w) * error.w) / w * 0.5 * viewport_.width;
@@ -211,7 +212,8 @@ double ToleranceModel::edgeEpsilonPixels(std::uint32_t primitiveId) const {
 double ToleranceModel::planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel) const {
   const glm::dvec3& plane = polygon(primitiveId).depthPlane;
   const double depth = plane.x * pixel.x + plane.y * pixel.y + plane.z;
-  return setup_.depthClamp.enabled ? setup_.clampToDepthRange(depth) : depth;
+  return setup_.depthClamp.enabled ? setup_.depthMappingOf(primitiveId).clampToDepthRange(depth)
+                                   : depth;
 }
 bool ToleranceModel::onClipPlane(std::uint32_t primitiveId) const {
   if (setup_.clipPlanes.empty() || primitiveId == 0 ||

@@ -169,9 +169,9 @@ double ToleranceModel::surfaceToleranceAt(std::uint32_t primitiveId, glm::dvec2 
     const Hit hit = intersector_.intersectOne(primitiveId, ray);
     return hit.hit() ? analyticDepthTolerance(primitiveId, ray, hit.t) : 0.0;
   }
-  const glm::dvec4 pointClip(2.0 * pixel.x / viewport_.width - 1.0,
-                             2.0 * pixel.y / viewport_.height - 1.0,
-                             setup_.ndcOfWindowDepth(planeDepthAt(primitiveId, pixel)), 1.0);
+  const glm::dvec4 pointClip(
+      2.0 * pixel.x / viewport_.width - 1.0, 2.0 * pixel.y / viewport_.height - 1.0,
+      setup_.depthMappingOf(primitiveId).ndcOfWindowDepth(planeDepthAt(primitiveId, pixel)), 1.0);
   const glm::dvec4 pointWorld = rays_.worldFromClip() * pointClip;
   return depthTolerance(primitiveId, glm::dvec3(pointWorld) / pointWorld.w);
 }
@@ -188,7 +188,7 @@ double ToleranceModel::surfaceDepthAt(std::uint32_t primitiveId, glm::dvec2 pixe
   const Hit hit = intersector_.intersectOne(primitiveId, ray);
   if (!hit.hit()) return kNaN;
   const glm::dvec4 c = setup_.clipFromWorld * glm::dvec4(ray.origin + hit.t * ray.direction, 1.0);
-  return setup_.windowDepth(c.z / c.w);
+  return setup_.depthMappingOf(primitiveId).windowDepth(c.z / c.w);
 }
 
 double ToleranceModel::depthTolerance(std::uint32_t primitiveId, const glm::dvec3& hitWorld) const {
@@ -198,10 +198,12 @@ double ToleranceModel::depthTolerance(std::uint32_t primitiveId, const glm::dvec
 double ToleranceModel::depthToleranceAtClip(std::uint32_t primitiveId,
                                             const glm::dvec4& hitClip) const {
   const double zNdc = hitClip.z / hitClip.w;
-  const double depth = setup_.windowDepth(zNdc);
-  return triangleDepthTolerance(pixelTerms(primitiveId), hitClip, zNdc, depth,
-                                quantumAt(setup_.depthFormat, depth), windowFromNdcScale_,
-                                subpixelStep_, viewport_);
+  const DepthMapping mapping = setup_.depthMappingOf(primitiveId);
+  const double depth = mapping.windowDepth(zNdc);
+  return triangleDepthTolerance(
+      pixelTerms(primitiveId), hitClip, zNdc, depth, quantumAt(setup_.depthFormat, depth),
+      setup_.oneDepthRange() ? windowFromNdcScale_ : mapping.windowFromNdcScale(), subpixelStep_,
+      viewport_);
 }
 
 }  // namespace clipray

@@ -16,6 +16,7 @@
 #include <glm/glm.hpp>
 
 #include "clipray/Conventions.hpp"
+#include "clipray/compare/DepthMapping.hpp"
 #include "clipray/compare/Frames.hpp"
 #include "clipray/rays/RobustRays.hpp"
 
@@ -24,21 +25,6 @@ namespace clipray {
 namespace detail {
 class FrameClassifier;
 }  // namespace detail
-
-// Whether the depth test keeps the greater window depth (GL_GREATER, clear 0): reversed-Z maps the
-// near plane to 1, and a reversed depth range (n > f) turns window depth around once more.
-inline bool nearerIsGreater(DepthMode mode, glm::dvec2 depthRange) {
-  return mode.reversed != (depthRange.x > depthRange.y);
-}
-
-// Under depth clamp, whether what lies beyond the far plane is drawn (at the far end of the depth
-// range): not where that end is the clear value (1 for GL_LESS, 0 for GL_GREATER), which the
-// strict depth test never passes.
-inline bool clampedFarIsDrawn(DepthMode mode, glm::dvec2 depthRange) {
-  const double farEnd = mode.reversed ? depthRange.x : depthRange.y;
-  const double clearValue = nearerIsGreater(mode, depthRange) ? 0.0 : 1.0;
-  return farEnd != clearValue;
-}
 
 // What the raster side was: needed to predict what it may legitimately differ by.
 struct RasterSetup {
@@ -51,50 +37,39 @@ struct RasterSetup {
   // glDepthRange(n, f) (Scene::depthRange): window depth n + (f - n) d, d what (0, 1) gives.
   glm::dvec2 depthRange{0.0, 1.0};
 
-  bool defaultDepthRange() const { return depthRange == glm::dvec2(0.0, 1.0); }
+  // Objects drawn with their own glDepthRange (MeshObject::depthRange), by primitive id.
+  PrimitiveDepthRanges objectDepthRanges{};
   // The camera's user clip planes (world space, Camera::clipPlanes): the screen polygons are cut by
   // them as the rasterizer cuts the triangles, the rays as the rays are cut.
   std::vector<glm::dvec4> clipPlanes{};
   // GL_DEPTH_CLAMP (Scene::depthClamp): no near and far clipping, window depth clamped to the depth
   // range; the rays reach in front of the near plane (DepthClampRays).
   DepthClampRays depthClamp{};
-  // The window depth the raster stores for NDC z (windowDepthFromNdc, then the depth range; the
-  // default range maps nothing, so its bits are windowDepthFromNdc's), clamped to the range under
-  // depth clamp.
-  double windowDepth(double zNdc) const {
-    const double mapped = mappedWindowDepth(zNdc);
-    return depthClamp.enabled ? clampToDepthRange(mapped) : mapped;
+
+  bool defaultDepthRange() const { return depthRange == glm::dvec2(0.0, 1.0); }
+  // Every primitive drawn with the scene's depth range (no object has its own).
+  bool oneDepthRange() const { return objectDepthRanges.empty(); }
+  // The scene's mapping of NDC z to window depth (what the analytic primitives and every object
+  // without its own range are drawn with).
+  DepthMapping depthMapping() const { return {mode, depthRange, depthClamp.enabled}; }
+  // The mapping of the primitive with that id.
+  DepthMapping depthMappingOf(std::uint32_t primitiveId) const {
+    return {mode, objectDepthRanges.rangeOf(primitiveId, depthRange), depthClamp.enabled};
   }
-  // The depth range's mapping of NDC z before depth clamp's clamp (linear in NDC z).
-  double mappedWindowDepth(double zNdc) const {
-    const double d = windowDepthFromNdc(zNdc, mode.convention);
-    return defaultDepthRange() ? d : depthRange.x + (depthRange.y - depthRange.x) * d;
-  }
-  // GL 4.6 13.8.1: with depth clamp, z_w is clamped to [min(n, f), max(n, f)].
+  // The scene's mapping's (DepthMapping).
+  double windowDepth(double zNdc) const { return depthMapping().windowDepth(zNdc); }
+  double mappedWindowDepth(double zNdc) const { return depthMapping().mappedWindowDepth(zNdc); }
   double clampToDepthRange(double windowDepth) const {
-    return std::clamp(windowDepth, std::min(depthRange.x, depthRange.y),
-                      std::max(depthRange.x, depthRange.y));
+    return depthMapping().clampToDepthRange(windowDepth);
   }
-  // Whether a window depth (as mapped, before the clamp) lies in front of the near plane: on the
-  // near end's side of the range (the nearer side is the greater one for a reversed mapping).
   bool inFrontOfNear(double unclampedWindowDepth) const {
-    return nearerIsGreater(mode, depthRange) ? unclampedWindowDepth > nearWindowDepth()
-                                             : unclampedWindowDepth < nearWindowDepth();
+    return depthMapping().inFrontOfNear(unclampedWindowDepth);
   }
-  // The window depth of the near plane: n, or f for reversed-Z (whose near plane has d = 1).
-  double nearWindowDepth() const { return mode.reversed ? depthRange.y : depthRange.x; }
-  // Its inverse.
+  double nearWindowDepth() const { return depthMapping().nearWindowDepth(); }
   double ndcOfWindowDepth(double windowDepth) const {
-    const double d = defaultDepthRange()
-                         ? windowDepth
-                         : (windowDepth - depthRange.x) / (depthRange.y - depthRange.x);
-    return ndcFromWindowDepth(d, mode.convention);
+    return depthMapping().ndcOfWindowDepth(windowDepth);
   }
-  // d(window depth) / d(NDC z): 1 / (1 - z_n) scaled by |f - n|.
-  double windowFromNdcScale() const {
-    const double scale = 1.0 / (1.0 - mode.clipVolumeMinZ());
-    return defaultDepthRange() ? scale : scale * std::abs(depthRange.y - depthRange.x);
-  }
+  double windowFromNdcScale() const { return depthMapping().windowFromNdcScale(); }
 };
 
 // The predicted tolerance model, exposed for tests: window-depth tolerance at a pixel whose

@@ -69,13 +69,21 @@ std::vector<std::string> appStateNotes(const std::vector<gl::AppDrawState>& draw
       note(k, "glClipControl(" + clipControlText(d.origin, d.convention) + "), but the run is " +
                   mode.name() + " (" + clipControlText(mode.origin, mode.convention) + ")");
     }
-    // glDepthRange is stored in float by some implementations: equal within float rounding.
-    const glm::dvec2 declared = scene.depthRange;
+    // glDepthRange is stored in float by some implementations: equal within float rounding. A
+    // draw of a mesh with a range of its own is held to that one.
+    const MeshObject* drawnMesh =
+        drawPerMesh && k < scene.objects.size() ? &scene.objects[k] : nullptr;
+    const bool ownRange = drawnMesh && drawnMesh->depthRange.has_value();
+    const glm::dvec2 declared = ownRange ? *drawnMesh->depthRange : scene.depthRange;
     if (std::abs(d.depthRange.x - declared.x) > 1e-6 ||
         std::abs(d.depthRange.y - declared.y) > 1e-6) {
       note(k, "glDepthRange(" + sixDigits(d.depthRange.x) + ", " + sixDigits(d.depthRange.y) +
-                  "), but the scene declares (" + sixDigits(declared.x) + ", " +
-                  sixDigits(declared.y) + ") (depthRange, SceneBuilder::depthRange)");
+                  "), but " +
+                  (ownRange ? "the scene declares mesh \"" + drawnMesh->name + "\"'s "
+                            : std::string("the scene declares ")) +
+                  "(" + sixDigits(declared.x) + ", " + sixDigits(declared.y) + ") " +
+                  (ownRange ? "(the object's depthRange, SceneBuilder::objectDepthRange)"
+                            : "(depthRange, SceneBuilder::depthRange)"));
     }
     if (!d.depthTest) {
       note(k, std::string("the depth test is off; the run expects ") +

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "clipray/engine/AppPickHits.hpp"
+#include "clipray/engine/DepthRangeGroups.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/util/PhaseClock.hpp"
 
@@ -96,7 +97,8 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
   pass.intersector = std::make_unique<SceneIntersector>(scene, pass.reference,
                                                         SceneIntersector::BvhBuild::WhenFirstNeeded,
                                                         pass.drawnCamera.clipFromWorld);
-  intersectFrame(pass.frame, *pass.intersector, pass.camera, threadCount);
+  intersectByDepthRange(pass.frame, *pass.intersector, scene, pass.drawnCamera.clipFromWorld,
+                        pass.camera, threadCount);
   pass.intersectMilliseconds = intersectClock.wallMilliseconds();
   pass.intersectCpuMilliseconds = intersectClock.cpuMilliseconds();
   return pass;
@@ -167,6 +169,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   setup.vertexReference = pass.reference;
   setup.subpixelBits = subpixelBits;
   setup.depthRange = pass.scene->depthRange;
+  setup.objectDepthRanges = PrimitiveDepthRanges(*pass.scene);
   setup.clipPlanes = pass.camera.clipPlanes;
   setup.depthClamp = depthClampRays(pass.camera);
   const PhaseClock compareClock;

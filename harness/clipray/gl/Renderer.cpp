@@ -132,6 +132,7 @@ struct MeshDraw {
   GLint baseVertex;
   CullFace cull;
   FrontFace frontFace;
+  glm::dvec2 depthRange;  // glDepthRange(n, f) the object is drawn with (MeshObject::depthRange)
 };
 
 // One analytic primitive's draw: its id and kind, clipFromLocal for the shader's rays, and where
@@ -204,9 +205,10 @@ void appendMeshes(const RenderRequest& request, const PrimitiveIdTable& ids,
         input = clipFromWorld * glm::dvec4(p, 1.0);
       for (int c = 0; c < 4; ++c) vertices.push_back(static_cast<float>(input[c]));
     }
-    geometry.draws.push_back(
-        {ids.firstIdOfObject[k], static_cast<GLsizei>(object.triangles.size() * 3),
-         indices.size() * sizeof(std::uint32_t), baseVertex, object.cull, object.frontFace});
+    geometry.draws.push_back({ids.firstIdOfObject[k],
+                              static_cast<GLsizei>(object.triangles.size() * 3),
+                              indices.size() * sizeof(std::uint32_t), baseVertex, object.cull,
+                              object.frontFace, object.depthRangeOr(request.depthRange)});
     for (const glm::u32vec3& t : object.triangles) {
       indices.insert(indices.end(), {t.x, t.y, t.z});
     }
@@ -322,7 +324,7 @@ struct Renderer::State {
   // depth test, no culling, blending or multisampling; clears ids to 0 and depth to the far value.
   void beginFrame(const RenderRequest& request);
   void drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput,
-                  const std::vector<glm::dvec4>& inputClipPlanes);
+                  const std::vector<glm::dvec4>& inputClipPlanes, glm::dvec2 sceneDepthRange);
   void drawPrimitives(const RenderRequest& request, const std::vector<PrimitiveDraw>& draws);
   // Depth (GL_FLOAT) and ids of the viewport, then the default framebuffer bound again.
   RasterFrame readBack(Viewport viewport);
@@ -466,7 +468,8 @@ void Renderer::State::beginFrame(const RenderRequest& request) {
 }
 
 void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput,
-                                 const std::vector<glm::dvec4>& inputClipPlanes) {
+                                 const std::vector<glm::dvec4>& inputClipPlanes,
+                                 glm::dvec2 sceneDepthRange) {
   glUseProgram(program);
   const glm::mat4 uniformMatrix(clipFromInput);  // rounded to float, as an app's uniform is
   glUniformMatrix4fv(clipFromInputLocation, 1, GL_FALSE, &uniformMatrix[0][0]);
@@ -482,6 +485,7 @@ void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat
   for (const MeshDraw& draw : geometry.draws) {
     if (draw.indexCount == 0) continue;
     glUniform1ui(firstIdLocation, draw.firstId);
+    glDepthRange(draw.depthRange.x, draw.depthRange.y);
     if (draw.cull == CullFace::None) {
       glDisable(GL_CULL_FACE);
     } else {
@@ -493,6 +497,8 @@ void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat
                              reinterpret_cast<const void*>(draw.indexOffset), draw.baseVertex);
   }
   glDisable(GL_CULL_FACE);  // the primitives' proxies are drawn whole
+  // The primitives' shader writes the scene's range itself; glDepthRange back to the scene's.
+  glDepthRange(sceneDepthRange.x, sceneDepthRange.y);
   for (std::size_t i = 0; i < inputClipPlanes.size(); ++i) {
     glDisable(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
   }
@@ -560,7 +566,8 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
   state_->upload(geometry);
   state_->createTarget(viewport, request.depthFormat);
   state_->beginFrame(request);
-  state_->drawMeshes(geometry, clipFromInputOf(request), inputClipPlanesOf(request));
+  state_->drawMeshes(geometry, clipFromInputOf(request), inputClipPlanesOf(request),
+                     request.depthRange);
   if (!geometry.primitiveDraws.empty()) state_->drawPrimitives(request, geometry.primitiveDraws);
   glFinish();
   checkGl("drawing");

@@ -93,6 +93,16 @@ SceneBuilder& SceneBuilder::faceCulling(CullFace cull, FrontFace frontFace) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::objectDepthRange(double nearDepth, double farDepth) {
+  if (document_->objects().empty()) {
+    throw InputError(
+        "SceneBuilder " + detail::jsonString(name_) +
+        ": objectDepthRange() applies to the mesh added last, and no object was added yet");
+  }
+  document_->objects().back()["depthRange"] = Json::array({nearDepth, farDepth});
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::clipPlanes(std::vector<glm::dvec4> planes) {
   if (document_->cameras().empty()) {
     throw InputError(

@@ -169,6 +169,13 @@ Scene SceneReader::read(const json& root) {
              "\") is not modelled: their fragment shader traces the ray from the near plane, "
              "and depth clamp draws what lies in front of it; use triangle meshes");
   }
+  const auto ownRange = std::find_if(scene.objects.begin(), scene.objects.end(),
+                                     [](const MeshObject& o) { return o.depthRange.has_value(); });
+  if (scene.depthClamp && ownRange != scene.objects.end()) {
+    fail(top / "depthClamp",
+         "depth clamp with an object drawn in a depth range of its own (\"" + ownRange->name +
+             "\") is not modelled: use the scene's depthRange for every object");
+  }
   if (scene.triangleCount() + scene.primitives.size() > PrimitiveIdTable::kMaxPrimitives) {
     fail(top / "objects", "too many primitives for 32-bit primitive ids: " +
                               std::to_string(scene.triangleCount() + scene.primitives.size()));
@@ -223,9 +230,9 @@ void SceneReader::object(const json& value, const Pointer& at,
       // change from object to object.
       if ((objectRange.x > objectRange.y) != (scene.depthRange.x > scene.depthRange.y)) {
         fail(at / "depthRange",
-             "expected a range that runs the way the scene's [" +
-                 describe(json(scene.depthRange.x)) + ", " + describe(json(scene.depthRange.y)) +
-                 "] does (one depth test for the frame), got " + describe(*range));
+             "expected a range that runs the way the scene's " +
+                 describe(json::array({scene.depthRange.x, scene.depthRange.y})) +
+                 " does (one depth test for the frame), got " + describe(*range));
       }
       for (std::size_t k = firstObject; k < scene.objects.size(); ++k) {
         scene.objects[k].depthRange = objectRange;

@@ -84,6 +84,11 @@ class SceneBuilder {
   // winding is the triangles' index order seen through the matrix each run draws with
   // (docs/reconcile.md, Face culling). Analytic surfaces have no winding: build() refuses it there.
   SceneBuilder& faceCulling(CullFace cull, FrontFace frontFace = FrontFace::Ccw);
+  // glDepthRange(nearDepth, farDepth) for the mesh added last (default: the scene's depthRange):
+  // a first-person weapon drawn in [0, 0.1] in front of a world in [0.1, 1]. It runs the way the
+  // scene's range does (one depth test for the frame); build() refuses it on analytic surfaces and
+  // beside depth clamp.
+  SceneBuilder& objectDepthRange(double nearDepth, double farDepth);
 
   // Analytic surfaces, rasterized exactly (docs/scene-format.md): placed by worldFromObject.
   SceneBuilder& sphere(std::string name, glm::dvec3 centre, double radius,
