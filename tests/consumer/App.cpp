@@ -29,10 +29,27 @@ Mesh boxMesh(glm::vec3 min, glm::vec3 max) {
 
 }  // namespace
 
-App::App(Style appStyle, bool culling) : style(appStyle), cullBackFaces(culling) {
+App::App(Style appStyle, bool culling, bool withSign) : style(appStyle), cullBackFaces(culling) {
   floor.positions = {-4, 0, -4, 4, 0, -4, 4, 0, 4, -4, 0, 4};
   floor.indices = {0, 2, 1, 0, 3, 2};
   box = boxMesh({-0.7f, 0.0f, -0.7f}, {0.7f, 1.4f, 0.7f});
+  if (withSign) {
+    // Square to the line of sight, halfway to the box; counter-clockwise seen from the box, so
+    // the camera sees its back.
+    const glm::vec3 eye(3.0f, 2.5f, 4.0f), target(0.0f, 0.5f, 0.0f);
+    const glm::vec3 forward = glm::normalize(target - eye);
+    const glm::vec3 right = glm::normalize(glm::cross(forward, glm::vec3(0.0f, 1.0f, 0.0f)));
+    const glm::vec3 up = glm::cross(right, forward);
+    const glm::vec3 centre = eye + 2.5f * forward + 0.3f * right;
+    Mesh board;
+    for (const glm::vec2 corner :
+         {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
+      const glm::vec3 p = centre + 0.6f * corner.x * right + 0.4f * corner.y * up;
+      board.positions.insert(board.positions.end(), {p.x, p.y, p.z});
+    }
+    board.indices = {0, 2, 1, 0, 3, 2};
+    sign = board;
+  }
   // A 3D view beside an 80-pixel side panel: the viewport starts right of it.
   const int panel = 80;
   camera.viewport = {panel, 0, window.framebufferWidth() - panel, window.framebufferHeight()};
@@ -75,6 +92,44 @@ std::optional<PickRay> App::pick(glm::dvec2 mouse, PickingBug bug) const {
                                 viewport);
   }
   return PickRay{nearPoint, farPoint - nearPoint};
+}
+
+std::vector<const Mesh*> App::meshes() const {
+  std::vector<const Mesh*> all = {&floor, &box};
+  if (sign) all.push_back(&*sign);
+  return all;
+}
+
+std::optional<PickedTriangle> App::pickHit(glm::dvec2 mouse, PickingBug bug) const {
+  const std::optional<PickRay> ray = pick(mouse, bug);
+  if (!ray) return std::nullopt;
+  const bool cull = cullBackFaces && bug != PickingBug::HitsCulledFaces;
+  std::optional<PickedTriangle> nearest;
+  const std::vector<const Mesh*> all = meshes();
+  for (std::size_t m = 0; m < all.size(); ++m) {
+    const Mesh& mesh = *all[m];
+    const auto vertex = [&](std::uint32_t i) {
+      return glm::dvec3(mesh.positions[3 * i], mesh.positions[3 * i + 1],
+                        mesh.positions[3 * i + 2]);
+    };
+    for (std::uint32_t k = 0; 3 * k < mesh.indices.size(); ++k) {
+      const glm::dvec3 a = vertex(mesh.indices[3 * k]), b = vertex(mesh.indices[3 * k + 1]),
+                       c = vertex(mesh.indices[3 * k + 2]);
+      // Moller-Trumbore; a counter-clockwise triangle seen from the ray's side has det > 0.
+      const glm::dvec3 e1 = b - a, e2 = c - a;
+      const glm::dvec3 p = glm::cross(ray->direction, e2);
+      const double det = glm::dot(e1, p);
+      if (cull ? det <= 0.0 : det == 0.0) continue;
+      const glm::dvec3 s = ray->origin - a;
+      const double u = glm::dot(s, p) / det;
+      const glm::dvec3 q = glm::cross(s, e1);
+      const double v = glm::dot(ray->direction, q) / det;
+      const double t = glm::dot(e2, q) / det;
+      if (u < 0.0 || v < 0.0 || u + v > 1.0 || t <= 0.0 || t > 1.0) continue;
+      if (!nearest || t < nearest->t) nearest = PickedTriangle{*ray, m, k, t};
+    }
+  }
+  return nearest;
 }
 
 namespace {
@@ -246,8 +301,8 @@ void render(const App& app, GetProcAddress getProcAddress,
   GLuint vertexArray = 0;
   gl.GenVertexArrays(1, &vertexArray);
   gl.BindVertexArray(vertexArray);
-  const Mesh* meshes[2] = {&app.floor, &app.box};
-  for (std::size_t m = 0; m < 2; ++m) {
+  const std::vector<const Mesh*> meshes = app.meshes();
+  for (std::size_t m = 0; m < meshes.size(); ++m) {
     GLuint buffers[2] = {0, 0};
     gl.GenBuffers(2, buffers);
     gl.BindBuffer(GL_ARRAY_BUFFER, buffers[0]);

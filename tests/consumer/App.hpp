@@ -9,9 +9,12 @@
 // (Style::ReversedDepthRange) does reversed-Z as it was done before clip control: a NO projection,
 // glDepthRange(1, 0), GL_GREATER, depth cleared to 0. Any of them may cull back faces (its meshes
 // are wound counter-clockwise seen from outside; the Direct3D-style app's y-down projection
-// reverses that on screen, so it sets glFrontFace(GL_CW)). Each has a knob for a classic bug, so
-// the tests can show that clipray catches it.
+// reverses that on screen, so it sets glFrontFace(GL_CW)). An app may also hang a one-sided sign
+// between the camera and the box, its back to the camera: culling leaves it out of the picture,
+// and the app's own picking (pickHit: its own ray-triangle test) must leave it out too. Each has
+// a knob for a classic bug, so the tests can show that clipray catches it.
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -46,7 +49,17 @@ struct PickRay {
   glm::dvec3 origin{0.0}, direction{0.0};
 };
 
-enum class PickingBug { None, MouseYNotFlipped, UnprojectsNegativeOneToOne };
+// HitsCulledFaces: pickHit tests every triangle, the back faces the draw culls included.
+enum class PickingBug { None, MouseYNotFlipped, UnprojectsNegativeOneToOne, HitsCulledFaces };
+
+// What pickHit found: the mesh (0 floor, 1 box, 2 sign) and triangle, and where along the ray
+// (in units of its direction's length).
+struct PickedTriangle {
+  PickRay ray;
+  std::size_t mesh = 0;
+  std::uint32_t triangle = 0;
+  double t = 0.0;
+};
 // NoClipControl: no glClipControl at all. LowerLeftOrigin (Direct3D style): GL_ZERO_TO_ONE set
 // but the origin left at GL_LOWER_LEFT, so the y-down projection draws the picture upside down.
 // DepthFuncLess (reversed depth range): glDepthRange(1, 0) with the depth test left at GL_LESS.
@@ -67,10 +80,16 @@ struct App {
   Window window;
   Camera camera;
   Mesh floor, box;
+  std::optional<Mesh> sign;  // drawn third, wound counter-clockwise seen from the box
 
-  explicit App(Style style = Style::OpenGl, bool cullBackFaces = false);
+  explicit App(Style style = Style::OpenGl, bool cullBackFaces = false, bool withSign = false);
   // The ray under the mouse at (x, y) window units, origin upper left.
   std::optional<PickRay> pick(glm::dvec2 mouse, PickingBug bug = PickingBug::None) const;
+  // The nearest triangle under the mouse, culling back faces as the draw does (cullBackFaces);
+  // nullopt where the ray hits nothing.
+  std::optional<PickedTriangle> pickHit(glm::dvec2 mouse, PickingBug bug = PickingBug::None) const;
+  // The meshes in draw order.
+  std::vector<const Mesh*> meshes() const;
 };
 
 // GL entry points, loaded through the function the context gives (as glad or epoxy would).

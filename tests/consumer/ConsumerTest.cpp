@@ -33,6 +33,7 @@ const app::App theApp;
 const app::App theDirect3dApp(app::Style::Direct3D);
 const app::App theReversedRangeApp(app::Style::ReversedDepthRange);
 const app::App theCulledDirect3dApp(app::Style::Direct3D, true);
+const app::App theSignApp(app::Style::OpenGl, true, true);
 
 // What the Direct3D-style app draws under: glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE).
 constexpr clipray::DepthMode kZeroToOneUpperLeft{clipray::DepthConvention::ZeroToOne, false,
@@ -58,6 +59,11 @@ clipray::TestScene appScene(const app::App& app = theApp) {
   builder.mesh("box", std::span<const float>(app.box.positions),
                std::span<const std::uint32_t>(app.box.indices));
   culling();
+  if (app.sign) {
+    builder.mesh("sign", std::span<const float>(app.sign->positions),
+                 std::span<const std::uint32_t>(app.sign->indices));
+    culling();
+  }
   builder.camera("main", app.camera.viewFromWorld, app.camera.clipFromView, viewport);
   if (direct3d) {
     builder.conventions({kZeroToOneUpperLeft});
@@ -92,6 +98,26 @@ clipray::PickRayFunction appPicking(app::PickingBug bug = app::PickingBug::None,
         result.origin = ray->origin;
         result.direction = ray->direction;  // tMax 0: to the far plane
         return result;
+      });
+}
+
+// The app's picking with its own hits (App::pickHit), through the same window as its rays.
+clipray::PickHitFunction appPickHits(app::PickingBug bug, const app::App& app) {
+  return clipray::pickHitsInWindow(
+      appWindow(),
+      [bug, &app](glm::dvec2 mouse,
+                  const clipray::PickingCamera&) -> std::optional<clipray::PickHit> {
+        const std::optional<app::PickRay> ray = app.pick(mouse, bug);
+        if (!ray) return std::nullopt;
+        clipray::PickHit hit;
+        hit.ray.origin = ray->origin;
+        hit.ray.direction = ray->direction;  // tMax 0: to the far plane
+        if (const std::optional<app::PickedTriangle> picked = app.pickHit(mouse, bug)) {
+          hit.mesh = picked->mesh;
+          hit.triangle = picked->triangle;
+          hit.t = picked->t;
+        }
+        return hit;
       });
 }
 
@@ -204,6 +230,35 @@ TEST(TestOfTheTest, Direct3dStyleCullingWithTheFrontFaceLeftAtCcwFails) {
                                     "\"floor\" (cull and frontFace, SceneBuilder::faceCulling)",
                                 "draw 2: glCullFace(GL_BACK) with glFrontFace(GL_CCW)" + declared +
                                     "\"box\" (cull and frontFace, SceneBuilder::faceCulling)"}));
+}
+
+// The app's own picking, its intersection code and culling policy included: a sign hangs between
+// the camera and the box with its back to the camera. The draw culls it and so does the app's
+// ray-triangle test: the picks agree with the picture.
+TEST(AppPickingWithItsOwnHits, CullsWhatThePictureCulls) {
+  const clipray::ReconcileResult result =
+      clipray::reconcile(appScene(theSignApp), appPickHits(app::PickingBug::None, theSignApp),
+                         options(app::RenderBug::None, true, clipray::AppIds::Written, theSignApp));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_TRUE(result.runs[0].consistent) << result.text();
+  EXPECT_GT(result.runs[0].depthCompared, result.runs[0].pixels / 2) << result.text();
+  EXPECT_TRUE(result.runs[0].notes.empty()) << result.text();
+}
+
+// Its buggy twin tests every triangle: it picks the sign the picture does not show.
+TEST(TestOfTheTest, PickingThroughCulledBackFacesFails) {
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(theSignApp), appPickHits(app::PickingBug::HitsCulledFaces, theSignApp),
+      options(app::RenderBug::None, true, clipray::AppIds::Written, theSignApp));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_FALSE(result.runs[0].consistent) << result.text();
+  EXPECT_GT(result.runs[0].idUnexplained, 10000) << result.text();
+  ASSERT_EQ(result.runs[0].notes.size(), 1u) << result.text();
+  EXPECT_EQ(result.runs[0].notes[0].rfind("the app's picking hit faces the picture culls at ", 0),
+            0u)
+      << result.runs[0].notes[0];
+  EXPECT_NE(result.runs[0].notes[0].find(": \"sign\" triangle "), std::string::npos)
+      << result.runs[0].notes[0];
 }
 
 // Reversed-Z as it was done before clip control: a NO projection, glDepthRange(1, 0), GL_GREATER,

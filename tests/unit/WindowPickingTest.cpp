@@ -72,6 +72,50 @@ TEST(WindowPicking, TheAppsRayIsNormalizedAndEndsAtTheFarPlane) {
   EXPECT_EQ(pick(0, 0, camera)->tMax, std::numeric_limits<double>::infinity());
 }
 
+TEST(WindowPicking, TheAppsHitIsAskedTheSameWayAndItsTScaledToTheUnitRay) {
+  PickingCamera camera;
+  camera.mode = kZeroToOne;
+  camera.viewport = {640, 600};
+  camera.clipFromWorld = perspectiveClipFromView(glm::radians(60.0), 1.0, 1.0, 10.0, kZeroToOne);
+  glm::dvec2 asked{-1.0};
+  const PickHitFunction pick =
+      pickHitsInWindow(hiDpiWindowWithPanel(), [&asked](glm::dvec2 window, const PickingCamera&) {
+        asked = window;
+        PickHit answer;
+        answer.ray.origin = {0.0, 0.0, -1.0};
+        answer.ray.direction = {0.0, 0.0, -4.0};  // not unit length; tMax 0: to the far plane
+        answer.mesh = 1;
+        answer.triangle = 7;
+        answer.t = 0.5;  // z = -3, 2 units along the unit ray
+        return std::optional<PickHit>(answer);
+      });
+  const std::optional<PickHit> hit = pick(0, 0, camera);
+  ASSERT_TRUE(hit);
+  EXPECT_EQ(asked, glm::dvec2(40.25, 299.75));
+  EXPECT_EQ(hit->ray.direction, glm::dvec3(0.0, 0.0, -1.0));
+  EXPECT_NEAR(hit->ray.tMax, 9.0, 1e-12);
+  EXPECT_EQ(hit->t, 2.0);
+  EXPECT_EQ(hit->mesh, std::optional<std::size_t>(1));
+  EXPECT_EQ(hit->triangle, std::optional<std::uint32_t>(7));
+
+  // No hit, or a ray without a direction: nothing.
+  const PickHitFunction none = pickHitsInWindow(
+      AppWindow{}, [](glm::dvec2, const PickingCamera&) { return std::optional<PickHit>(); });
+  EXPECT_FALSE(none(0, 0, camera));
+  const PickHitFunction zero = pickHitsInWindow(AppWindow{}, [](glm::dvec2, const PickingCamera&) {
+    PickHit directionless;
+    directionless.ray.direction = glm::dvec3(0.0);
+    return std::optional<PickHit>(directionless);
+  });
+  EXPECT_FALSE(zero(0, 0, camera));
+  // The same refusal of a window that cannot hold the viewport.
+  AppWindow small = hiDpiWindowWithPanel();
+  small.framebufferHeight = 100;
+  const PickHitFunction tooSmall = pickHitsInWindow(
+      small, [](glm::dvec2, const PickingCamera&) { return std::optional<PickHit>(); });
+  EXPECT_THROW(tooSmall(0, 0, camera), InputError);
+}
+
 TEST(WindowPicking, NoRayOrNoDirectionIsNoRay) {
   PickingCamera camera;
   camera.viewport = {4, 4};

@@ -63,24 +63,51 @@ glm::dvec2 windowPositionOfPixel(const AppWindow& window, int x, int y, Viewport
   return {framebufferX / window.pixelRatio, windowY / window.pixelRatio};
 }
 
+namespace {
+
+void requireViewportInWindow(const AppWindow& window, Viewport viewport) {
+  if (framebufferHeightOf(window, viewport) < window.viewportY + viewport.height) {
+    throw InputError("AppWindow: framebufferHeight: " + std::to_string(window.framebufferHeight) +
+                     " pixels cannot hold a viewport of height " + std::to_string(viewport.height) +
+                     " at y " + std::to_string(window.viewportY));
+  }
+}
+
+// The app's ray with a unit direction, ended at the far clip plane where its tMax is 0; returns
+// the direction's length it had (0 where it has no usable direction: the ray is left as it was).
+double normalizeAppRay(Ray& ray, const PickingCamera& camera) {
+  const double length = glm::length(ray.direction);
+  if (!(length > 0.0 && std::isfinite(length))) return 0.0;
+  const bool toFarPlane = ray.tMax == 0.0;
+  ray.direction /= length;
+  ray.tMax = toFarPlane ? farPlaneDistance(ray, camera) : ray.tMax * length;
+  return length;
+}
+
+}  // namespace
+
 PickRayFunction pickingInWindow(const AppWindow& window, AppPickFunction pick) {
   validateWindow(window);
   return [window, pick = std::move(pick)](int x, int y,
                                           const PickingCamera& camera) -> std::optional<Ray> {
-    if (framebufferHeightOf(window, camera.viewport) < window.viewportY + camera.viewport.height) {
-      throw InputError("AppWindow: framebufferHeight: " + std::to_string(window.framebufferHeight) +
-                       " pixels cannot hold a viewport of height " +
-                       std::to_string(camera.viewport.height) + " at y " +
-                       std::to_string(window.viewportY));
-    }
+    requireViewportInWindow(window, camera.viewport);
     std::optional<Ray> ray = pick(windowPositionOfPixel(window, x, y, camera.viewport), camera);
-    if (!ray) return std::nullopt;
-    const double length = glm::length(ray->direction);
-    if (!(length > 0.0 && std::isfinite(length))) return std::nullopt;  // no usable direction
-    const bool toFarPlane = ray->tMax == 0.0;
-    ray->direction /= length;
-    ray->tMax = toFarPlane ? farPlaneDistance(*ray, camera) : ray->tMax * length;
+    if (!ray || normalizeAppRay(*ray, camera) == 0.0) return std::nullopt;
     return ray;
+  };
+}
+
+PickHitFunction pickHitsInWindow(const AppWindow& window, AppPickHitFunction pick) {
+  validateWindow(window);
+  return [window, pick = std::move(pick)](int x, int y,
+                                          const PickingCamera& camera) -> std::optional<PickHit> {
+    requireViewportInWindow(window, camera.viewport);
+    std::optional<PickHit> hit = pick(windowPositionOfPixel(window, x, y, camera.viewport), camera);
+    if (!hit) return std::nullopt;
+    const double length = normalizeAppRay(hit->ray, camera);
+    if (length == 0.0) return std::nullopt;
+    hit->t *= length;
+    return hit;
   };
 }
 

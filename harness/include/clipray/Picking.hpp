@@ -93,4 +93,13 @@ glm::dvec2 windowPositionOfPixel(const AppWindow& window, int x, int y, Viewport
 // positive and finite, framebufferHeight below viewportY + the viewport's height).
 PickRayFunction pickingInWindow(const AppWindow& window, AppPickFunction pick);
 
+// The app's picking with its own hits, in its own terms: what it hit under the mouse at `window`
+// (as AppPickFunction), its ray's tMax 0 meaning "to the far plane".
+using AppPickHitFunction =
+    std::function<std::optional<PickHit>(glm::dvec2 window, const PickingCamera&)>;
+// A PickHitFunction that calls `pick` at each pixel centre's window position, normalizes its
+// ray as pickingInWindow does and scales its t to the unit direction. Throws InputError as
+// pickingInWindow does.
+PickHitFunction pickHitsInWindow(const AppWindow& window, AppPickHitFunction pick);
+
 }  // namespace clipray
