@@ -1,13 +1,13 @@
 // `clipray check --trace` on recordings of unmodified Debian 12 programs (OpenSCAD 2021.01,
-// OpenSceneGraph 3.6.5's osgviewer and examples, glmark2 2023.01) drawn with Mesa's llvmpipe
-// under Xvfb: tests/data/trace/real/*.dump.txt, their `apitrace dump` listings trimmed to the
-// first frames and to the calls that can change a reading (record.sh re-records them and checks
-// that the trimmed listing reads as the whole trace does). The clipray binary reads each listing
-// through tests/data/trace/real/apitrace-cat.sh standing in for apitrace (CLIPRAY_APITRACE), so
-// neither the programs nor apitrace are needed here. Pinned per program: the counts, each group's
-// source, draws, matrices, reading (projection, convention, near, far, fov and their ranges) and
-// findings, and the trace-wide findings. Every one of these programs draws correctly: none may
-// read with an error.
+// OpenSceneGraph 3.6.5's osgviewer and examples, glmark2 2023.01, f3d 1.3.1 on VTK 9.1) drawn with
+// Mesa's llvmpipe under Xvfb: tests/data/trace/real/*.dump.txt, their `apitrace dump` listings
+// trimmed to the first frames and to the calls that can change a reading (record.sh re-records them
+// and checks that the trimmed listing reads as the whole trace does). The clipray binary reads each
+// listing through tests/data/trace/real/apitrace-cat.sh standing in for apitrace
+// (CLIPRAY_APITRACE), so neither the programs nor apitrace are needed here. Pinned per program: the
+// counts, each group's source, draws, matrices, reading (projection, convention, near, far, fov and
+// their ranges) and findings, and the trace-wide findings. Every one of these programs draws
+// correctly: none may read with an error.
 
 #include <gtest/gtest.h>
 
@@ -275,6 +275,11 @@ const std::vector<Program> kPrograms = {
      "3 frames, 3 draws (3 with a projection), 3 pairs in 1 groups, verdict ok",
      {"uniform ModelViewProjectionMatrix (program 1): 3 draws, 3 matrices, GL_LEQUAL; perspective, "
       "built for no, near 2, far 4.25224, fov 39.6211; []"},
+     {}},
+    {"f3d",
+     "1 frames, 2 draws (1 with a projection), 1 pairs in 1 groups, verdict ok",
+     {"uniform MCDCMatrix (program 3): 1 draws, 1 matrices, GL_LEQUAL; perspective, built for "
+      "ambiguous, near 28.176, far 38.8453, fov 30; [info:depth-convention-ambiguous]"},
      {}}};
 
 class RealPrograms : public ::testing::TestWithParam<Program> {};

@@ -11,8 +11,9 @@
 # script fails naming the program.
 #
 # Recorded with: apitrace 11.1+repack-1.1+b2, openscad 2021.01-6, openscenegraph
-# 3.6.5+dfsg1-8+b2, glmark2-x11 2023.01+dfsg-1, Mesa llvmpipe (libgl1-mesa-dri 22.3.6-1+deb12u1),
-# xvfb 2:21.1.7-3+deb12u*.
+# 3.6.5+dfsg1-8+b2, glmark2-x11 2023.01+dfsg-1, f3d 1.3.1+dfsg-5 (libvtk9.1
+# 9.1.0+really9.1.0+dfsg2-5+deb12u1), Mesa llvmpipe (libgl1-mesa-dri 22.3.6-1+deb12u2), xvfb
+# 2:21.1.7-3+deb12u13; each listing's header names its program's package version.
 # The programs draw into a 320x240 window (OSG_WINDOW, --imgsize, -s) on a 1024x768 screen. OSG
 # runs single-threaded (OSG_THREADING) for 3 frames (OSG_RUN_FRAME_COUNT; osgshadow runs its
 # own loop: stopped by timeout, then trimmed to 3 frames).
@@ -21,7 +22,7 @@ here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-need=(apitrace apitrace-tracers xvfb xauth openscad openscenegraph glmark2-x11)
+need=(apitrace apitrace-tracers xvfb xauth openscad openscenegraph glmark2-x11 f3d)
 missing=()
 for p in "${need[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
@@ -54,6 +55,7 @@ programs=(
   "osgdepthpartition|3|60|osgdepthpartition"
   "osgreflect|3|60|osgreflect model.stl"
   "glmark2-build|3|20|glmark2 -s 320x240 -b build:use-vbo=true:duration=1"
+  "f3d|0|60|f3d --output=out.png --resolution=320,240 model.stl"
 )
 
 version() { dpkg-query -W -f='${Package} ${Version}' "$1"; }
@@ -63,6 +65,7 @@ for entry in "${programs[@]}"; do
   case "$name" in
     openscad-*) package=openscad ;;
     glmark2-*) package=glmark2-x11 ;;
+    f3d) package=f3d ;;
     *) package=openscenegraph ;;
   esac
   rm -f "$work/$name.trace"
