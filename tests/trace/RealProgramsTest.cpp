@@ -1,6 +1,6 @@
 // `clipray check --trace` on recordings of unmodified Debian 12 programs (OpenSCAD 2021.01,
-// OpenSceneGraph 3.6.5's osgviewer and examples, glmark2 2023.01, f3d 1.3.1 on VTK 9.1) drawn with
-// Mesa's llvmpipe under Xvfb: tests/data/trace/real/*.dump.txt, their `apitrace dump` listings
+// OpenSceneGraph 3.6.5's osgviewer and 11 examples, glmark2 2023.01, f3d 1.3.1 on VTK 9.1) drawn
+// with Mesa's llvmpipe under Xvfb: tests/data/trace/real/*.dump.txt, their `apitrace dump` listings
 // trimmed to the first frames and to the calls that can change a reading (record.sh re-records them
 // and checks that the trimmed listing reads as the whole trace does). The clipray binary reads each
 // listing through tests/data/trace/real/apitrace-cat.sh standing in for apitrace
@@ -280,7 +280,47 @@ const std::vector<Program> kPrograms = {
      "1 frames, 2 draws (1 with a projection), 1 pairs in 1 groups, verdict ok",
      {"uniform MCDCMatrix (program 3): 1 draws, 1 matrices, GL_LEQUAL; perspective, built for "
       "ambiguous, near 28.176, far 38.8453, fov 30; [info:depth-convention-ambiguous]"},
-     {}}};
+     {}},
+    {"osgmultiplerendertargets",
+     "3 frames, 6 draws (6 with a projection), 2 pairs in 2 groups, verdict ok",
+     {"fixed-function GL_PROJECTION (program 4: it has no vertex shader): 3 draws, 1 matrices, "
+      "GL_LESS; orthographic, built for ambiguous, near -1.01328e-06, far 2; "
+      "[info:depth-convention-ambiguous]",
+      "fixed-function GL_PROJECTION (program 2: it has no vertex shader): 3 draws, 1 matrices, "
+      "GL_LESS; perspective, built for ambiguous, near 2.75386, far 2.86626, fov 29.1484; "
+      "[info:depth-convention-ambiguous]"},
+     {}},
+    {"osgscalarbar",
+     "1 frames, 150 draws (78 with a projection), 4 pairs in 4 groups, verdict ok",
+     {"fixed-function GL_PROJECTION: 4 draws, 1 matrices, GL_LESS; perspective, built for "
+      "ambiguous, near 4.00897, far 4.17261, fov 29.1484; [info:depth-convention-ambiguous]",
+      "fixed-function GL_PROJECTION (program 4: its vertex shader reads "
+      "gl_ModelViewProjectionMatrix): 48 draws, 1 matrices, GL_LESS; perspective, built for "
+      "ambiguous, near 4.00897, far 4.17261, fov 29.1484; [info:depth-convention-ambiguous]",
+      "fixed-function GL_PROJECTION: 2 draws, 1 matrices, GL_LESS; orthographic, built for "
+      "ambiguous, near -1, far 1; [info:depth-convention-ambiguous]",
+      "fixed-function GL_PROJECTION (program 4: its vertex shader reads "
+      "gl_ModelViewProjectionMatrix): 24 draws, 1 matrices, GL_LESS; orthographic, built for "
+      "ambiguous, near -1, far 1; [info:depth-convention-ambiguous]"},
+     {"info:projection-changes-within-frame"}},
+    {"osgdistortion",
+     "3 frames, 150 draws (150 with a projection), 2 pairs in 2 groups, verdict ok",
+     {"fixed-function GL_PROJECTION: 3 draws, 1 matrices, GL_LESS; perspective, built for "
+      "ambiguous, near 28.8278, far 40.2044, fov 29.1484; [info:depth-convention-ambiguous]",
+      "fixed-function GL_PROJECTION: 147 draws, 1 matrices, GL_LESS; orthographic, built for "
+      "ambiguous, near -1, far 1; [info:depth-convention-ambiguous]"},
+     {"info:projection-changes-within-frame"}},
+    {"osgfpdepth",
+     "3 frames, 30 draws (24 with a projection), 3 pairs in 3 groups, verdict ok",
+     {"fixed-function GL_PROJECTION: 3 draws, 1 matrices, GL_GEQUAL; perspective, built for "
+      "ambiguous, near 0.03125, far 499.829, fov 40; [info:depth-convention-ambiguous, "
+      "warning:depth-range-reversed]",
+      "fixed-function GL_PROJECTION: 3 draws, 1 matrices, GL_LESS; orthographic, built for "
+      "ambiguous, near -1, far 1; [info:depth-convention-ambiguous]",
+      "fixed-function GL_PROJECTION (program 4: its vertex shader reads "
+      "gl_ModelViewProjectionMatrix): 18 draws, 1 matrices, GL_LESS; orthographic, built for "
+      "ambiguous, near -1, far 1; [info:depth-convention-ambiguous]"},
+     {"info:projection-changes-within-frame"}}};
 
 class RealPrograms : public ::testing::TestWithParam<Program> {};
 

@@ -54,6 +54,10 @@ programs=(
   "osgteapot|3|60|osgteapot"
   "osgdepthpartition|3|60|osgdepthpartition"
   "osgreflect|3|60|osgreflect model.stl"
+  "osgmultiplerendertargets|3|60|osgmultiplerendertargets"
+  "osgscalarbar|1|60|osgscalarbar"
+  "osgdistortion|3|60|osgdistortion model.stl"
+  "osgfpdepth|3|60|osgfpdepth model.stl"
   "glmark2-build|3|20|glmark2 -s 320x240 -b build:use-vbo=true:duration=1"
   "f3d|0|60|f3d --output=out.png --resolution=320,240 model.stl"
 )
