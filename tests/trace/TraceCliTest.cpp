@@ -261,6 +261,21 @@ TEST(TraceCli, FtransformProgramReadsTheProjectionStack) {
   EXPECT_TRUE(codes(group).empty());
 }
 
+// The camera set through the ARB_shader_objects entry points (glUniformMatrix4fvARB into a
+// program from glCreateProgramObjectARB, glLinkProgramARB, glUseProgramObjectARB): read as the
+// core calls are.
+TEST(TraceCli, ArbShaderObjectsProgram) {
+  TempFolder folder;
+  const Checked checked = checkTraced("arb-shader-objects", folder);
+  ASSERT_EQ(checked.status, 0) << checked.err << checked.report.dump(2);
+  const nlohmann::json& group = onlyGroup(checked);
+  EXPECT_EQ(group["source"], "uniform clipFromWorld (program 1)");
+  EXPECT_EQ(group["properties"]["built_for"], "no");
+  EXPECT_NEAR(group["properties"]["near"].get<double>(), 0.1, 2e-5);
+  EXPECT_NEAR(group["properties"]["fov_y_degrees"].get<double>(), 60.0, 2e-4);
+  EXPECT_TRUE(codes(group).empty());
+}
+
 // GL_DEPTH_CLAMP on a correct ZO app: recorded in the draw's state, and a note (not an error)
 // on what it does to picking rays.
 TEST(TraceCli, DepthClampIsRecordedAndNoted) {

@@ -14,7 +14,8 @@
 // no-under-zo-pipeline (separable programs in a program pipeline, no glUseProgram);
 // d3d-style-culled (a y-down projection under GL_UPPER_LEFT, back faces culled, GL_CW) and its
 // twin d3d-style-culled-ccw (glFrontFace left at GL_CCW: the insides are kept); zo-depth-clamp
-// (zo with GL_DEPTH_CLAMP enabled).
+// (zo with GL_DEPTH_CLAMP enabled); arb-shader-objects (no, the camera a GLSL 1.10 uniform set
+// through the ARB_shader_objects entry points).
 // Every matrix is a glm-style camera: perspective fov 60 deg, aspect 4/3, near 0.1, far 100,
 // looking from (0, 2, 5) at the origin, built in float as apps do.
 
@@ -438,6 +439,59 @@ void drawWithFtransformProgram(int frames, Context context) {
   }
 }
 
+// The camera as a GLSL 1.10 uniform through the ARB_shader_objects entry points (GL 1.5 era code;
+// OpenSceneGraph and others still call them on drivers without GL 2.0): glCreateShaderObjectARB,
+// glShaderSourceARB, glAttachObjectARB, glLinkProgramARB, glUseProgramObjectARB,
+// glGetUniformLocationARB, glUniformMatrix4fvARB. libOpenGL exports none of them: they come from
+// eglGetProcAddress, as apitrace's tracer hands them out.
+template <typename Function>
+Function arbEntryPoint(const char* name) {
+  const auto address = eglGetProcAddress(name);
+  if (!address) fail(std::string("no ") + name);
+  return reinterpret_cast<Function>(address);
+}
+
+void drawWithArbShaderObjects(const Matrix& uploaded, int frames, Context context) {
+  const auto createShader =
+      arbEntryPoint<PFNGLCREATESHADEROBJECTARBPROC>("glCreateShaderObjectARB");
+  const auto shaderSource = arbEntryPoint<PFNGLSHADERSOURCEARBPROC>("glShaderSourceARB");
+  const auto compileShader = arbEntryPoint<PFNGLCOMPILESHADERARBPROC>("glCompileShaderARB");
+  const auto createProgram =
+      arbEntryPoint<PFNGLCREATEPROGRAMOBJECTARBPROC>("glCreateProgramObjectARB");
+  const auto attach = arbEntryPoint<PFNGLATTACHOBJECTARBPROC>("glAttachObjectARB");
+  const auto link = arbEntryPoint<PFNGLLINKPROGRAMARBPROC>("glLinkProgramARB");
+  const auto use = arbEntryPoint<PFNGLUSEPROGRAMOBJECTARBPROC>("glUseProgramObjectARB");
+  const auto location = arbEntryPoint<PFNGLGETUNIFORMLOCATIONARBPROC>("glGetUniformLocationARB");
+  const auto uniformMatrix = arbEntryPoint<PFNGLUNIFORMMATRIX4FVARBPROC>("glUniformMatrix4fvARB");
+  const GLcharARB* sources[2] = {
+      "#version 110\nuniform mat4 clipFromWorld;\n"
+      "void main() { gl_Position = clipFromWorld * gl_Vertex; }\n",
+      "#version 110\nvoid main() { gl_FragColor = vec4(1.0); }\n"};
+  const GLenum stages[2] = {GL_VERTEX_SHADER_ARB, GL_FRAGMENT_SHADER_ARB};
+  const GLhandleARB program = createProgram();
+  for (int k = 0; k < 2; ++k) {
+    const GLhandleARB shader = createShader(stages[k]);
+    shaderSource(shader, 1, &sources[k], nullptr);
+    compileShader(shader);
+    attach(program, shader);
+  }
+  link(program);
+  use(program);
+  const GLint camera = location(program, "clipFromWorld");
+  if (camera < 0) fail("the ARB program does not link");
+  glDepthFunc(GL_LESS);
+  for (int frame = 0; frame < frames; ++frame) {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    uniformMatrix(camera, 1, GL_FALSE, uploaded.data());
+    glBegin(GL_TRIANGLES);
+    glVertex3f(-1.0f, 0.0f, 0.0f);
+    glVertex3f(1.0f, 0.0f, 0.0f);
+    glVertex3f(0.0f, 1.0f, 0.0f);
+    glEnd();
+    eglSwapBuffers(context.display, context.surface);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -447,7 +501,8 @@ int main(int argc, char** argv) {
   if (frames < 1) fail("FRAMES must be a positive number");
   const bool fixedFunction = name == "fixed-function-frustum-under-zo";
   const Context context =
-      createContext(fixedFunction || name == "opencsg-passes" || name == "ftransform-program");
+      createContext(fixedFunction || name == "opencsg-passes" || name == "ftransform-program" ||
+                    name == "arb-shader-objects");
   bindDepthFramebuffer(name == "zo-depth-texture");
   glEnable(GL_DEPTH_TEST);
   const Matrix view = viewFromWorld();
@@ -531,6 +586,8 @@ int main(int argc, char** argv) {
     drawOpenCsgPasses(frames, context);
   } else if (name == "ftransform-program") {
     drawWithFtransformProgram(frames, context);
+  } else if (name == "arb-shader-objects") {
+    drawWithArbShaderObjects(multiply(perspective(false), view), frames, context);
   } else if (fixedFunction) {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LEQUAL);

@@ -166,6 +166,67 @@ TEST(TraceMultiPass, GreaterWithoutALessPassStaysAnError) {
                                       "error:reversed-z-mismatch", "error:clear-depth-mismatch"}));
 }
 
+// OpenCSG's SCS passes as OpenSCAD 2021.01's `--preview` records them (tests/data/trace/real/):
+// depth cleared to 0, the farthest front faces with GL_GREATER, then GL_LESS tested against what
+// that pass wrote (floriankirsch/OpenCSG, src/renderSCS.cpp), then OpenSCAD's shading with
+// GL_EQUAL against the result; two frames. lessFirst: the GL_LESS draw comes before the
+// GL_GREATER one in the same clear.
+std::string scsFrames(bool lessFirst) {
+  const std::string greater = "glDepthFunc(func = GL_GREATER)\n" + kDraw;
+  const std::string less =
+      "glDepthFunc(func = GL_LESS)\n"
+      "glDepthMask(flag = GL_FALSE)\n" +
+      kDraw;
+  const std::string frame =
+      "glClearDepth(depth = 0)\n"
+      "glClear(mask = GL_DEPTH_BUFFER_BIT | GL_STENCIL_BUFFER_BIT)\n" +
+      (lessFirst ? less + greater : greater + less) + "glDepthFunc(func = GL_EQUAL)\n" + kDraw +
+      kSwap;
+  return numbered(
+      "glViewport(x = 0, y = 0, width = 64, height = 48)\n"
+      "glEnable(cap = GL_DEPTH_TEST)\n"
+      "glMatrixMode(mode = GL_PROJECTION)\n"
+      "glFrustum(left = -1, right = 1, bottom = -0.75, top = 0.75, zNear = 1, zFar = 50)\n"
+      "glMatrixMode(mode = GL_MODELVIEW)\n" +
+      frame + frame);
+}
+
+TEST(TraceMultiPass, LessPassOverTheFarPassIsNotAClearMismatch) {
+  // The GL_LESS pass draws into depth cleared to 0, but after the GL_GREATER pass wrote the far
+  // surfaces into it: it tests against those (OpenSCAD's preview got six clear-depth errors).
+  const TraceCheckResult result = checkLines(scsFrames(false));
+  EXPECT_FALSE(result.hasErrors());
+  ASSERT_EQ(result.groups.size(), 3u);
+  EXPECT_EQ(codes(result.groups[0]), std::vector<std::string>{"info:multi-pass-far-surfaces"});
+  const TracePairGroup& over = result.groups[1];
+  EXPECT_EQ(over.depth.depthFunc, kGlLess);
+  EXPECT_EQ(over.draws, 2u);
+  ASSERT_EQ(codes(over), std::vector<std::string>{"info:multi-pass-over-far-surfaces"});
+  EXPECT_EQ(over.report.findings[0].message,
+            "this pass draws with glDepthFunc(GL_LESS) (call 10) into depth cleared to 0 (call 7) "
+            "after frame 0 drew the same matrix into that clear with glDepthFunc(GL_GREATER) "
+            "(first at call 9): it tests against the depth that pass wrote, not against the "
+            "clear, a step of a multi-pass technique (OpenCSG's CSG passes, depth peeling), not "
+            "a clear-depth mismatch");
+  EXPECT_EQ(over.report.findings[0].fix, "nothing, if the technique is intended");
+  // The GL_EQUAL shading pass tests against that depth too.
+  EXPECT_EQ(result.groups[2].depth.depthFunc, kGlEqual);
+  EXPECT_EQ(codes(result.groups[2]), std::vector<std::string>{"info:multi-pass-over-far-surfaces"});
+  EXPECT_EQ(traceCheckJson(result)["verdict"], "ok");
+}
+
+TEST(TraceMultiPass, LessPassBeforeTheFarPassStaysAClearMismatch) {
+  // The same passes the other way round: the GL_LESS draw meets the clear value 0 itself, and
+  // nothing passes the test.
+  const TraceCheckResult result = checkLines(scsFrames(true));
+  ASSERT_EQ(result.groups.size(), 3u);
+  EXPECT_EQ(result.groups[0].depth.depthFunc, kGlLess);
+  EXPECT_EQ(codes(result.groups[0]), std::vector<std::string>{"error:clear-depth-mismatch"});
+  EXPECT_EQ(codes(result.groups[1]), std::vector<std::string>{"info:multi-pass-far-surfaces"});
+  EXPECT_EQ(codes(result.groups[2]), std::vector<std::string>{"info:multi-pass-over-far-surfaces"});
+  EXPECT_TRUE(result.hasErrors());
+}
+
 // Reversed-Z, infinite far (near 0.1) under ZERO_TO_ONE: z_clip = 0.1, w_clip = -z_view.
 const std::string kReversedMatrix =
     "{1.299038, 0, 0, 0, 0, 1.732051, 0, 0, 0, 0, 0, -1, 0, 0, 0.1, 0}";

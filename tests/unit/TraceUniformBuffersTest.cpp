@@ -111,6 +111,28 @@ TEST(TraceUniformBuffers, MappedWriteGivesTheBlocksMat4sNotItsVec4Array) {
   EXPECT_EQ(buffers.matrices(2, 57).size(), 0u);  // another program: no blocks
 }
 
+TEST(TraceUniformBuffers, BlockNamedByGlGetActiveUniformBlockName) {
+  // OpenSceneGraph's osg::Program enumerates its blocks (glGetActiveUniformBlockName for index 0
+  // to GL_ACTIVE_UNIFORM_BLOCKS - 1) instead of asking glGetUniformBlockIndex for a name
+  // (osguniformbuffer): the index is the argument, the name the result.
+  TempFolder folder;
+  writeBlob(folder, "blob_call46.bin", cameraBlock(), 208);
+  UniformBuffers buffers;
+  buffers.setBlobDirectory(folder.path());
+  std::vector<std::string> calls = cameraProgram();
+  calls[5] =
+      "42 glGetActiveUniformBlockName(program = 1, uniformBlockIndex = 0, bufSize = 7, length = "
+      "&6, uniformBlockName = \"Camera\")";
+  feed(buffers, calls);
+  feed(buffers, {"46 glBufferSubData(target = GL_UNIFORM_BUFFER, offset = 256, size = 208, data = "
+                 "blob(\"blob_call46.bin\"))"});
+  const std::vector<UniformBlockMatrix> matrices = buffers.matrices(1, 50);
+  ASSERT_EQ(sources(matrices), (std::vector<std::string>{"ubo Camera.viewFromWorld (program 1)",
+                                                         "ubo Camera.clipFromWorld (program 1)"}));
+  EXPECT_EQ(matrices[1].matrix[0][0], 300.0);
+  EXPECT_EQ(buffers.unreadNotes(), std::vector<std::string>{});
+}
+
 TEST(TraceUniformBuffers, RowMajorMatrixAtBindingFromTheShader) {
   TempFolder folder;
   const std::vector<float> values = sequence(1.0f);
@@ -250,8 +272,9 @@ TEST(TraceUniformBuffers, SharedLayoutAndUnknownOffsetsAreNotGuessed) {
   EXPECT_EQ(buffers.matrices(1, 9).size(), 0u);
   EXPECT_EQ(buffers.unreadNotes(),
             (std::vector<std::string>{
-                "glUniformBlockBinding at call 6: block index 1 of program 1 was not queried with "
-                "glGetUniformBlockIndex in the trace: that block's binding is unknown",
+                "glUniformBlockBinding at call 6: block index 1 of program 1 was not named by "
+                "glGetUniformBlockIndex or glGetActiveUniformBlockName in the trace: that "
+                "block's binding is unknown",
                 "ubo Shared (program 1): shared layout: its offsets are the implementation's "
                 "(apitrace records an app's GL_UNIFORM_OFFSET query without its result), so its "
                 "matrices are not read (first at the draw at call 9)",

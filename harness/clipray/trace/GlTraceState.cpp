@@ -631,7 +631,8 @@ bool GlTraceState::apply(const DumpCall& call,
   }
   if (UniformBuffers::needs(name)) {
     uniformBuffers_.apply(call);
-    if (name != "glLinkProgram") return false;  // which resets the program's uniforms below too
+    // Linking also resets the program's uniforms (applyProgramState).
+    if (name != "glLinkProgram" && name != "glLinkProgramARB") return false;
   }
   if (name == "glNewList") {
     // GL_COMPILE (0x1300) records without drawing; GL_COMPILE_AND_EXECUTE draws as well.

@@ -4,7 +4,8 @@
 // face culling, depth clamp and clip distances, viewport, the depth format of the draw
 // framebuffer's renderbuffer or texture; glPushAttrib/glPopAttrib of those), the 4x4 matrices
 // uploaded as uniforms (glUniformMatrix4fv, glProgramUniformMatrix4fv, named by
-// glGetUniformLocation) or kept in std140 uniform blocks (UniformBuffers.hpp), and the
+// glGetUniformLocation; ARB_shader_objects' twins of these and of the program calls alike) or
+// kept in std140 uniform blocks (UniformBuffers.hpp), and the
 // fixed-function matrix stacks. At each draw it hands over every matrix in force that has a
 // projection's structure (ProjectionStructure.hpp). The enums: GlEnums.hpp.
 

@@ -68,9 +68,28 @@ CheckInput checkInputOf(const TracedMatrix& matrix, const TraceDepthState& depth
   return input;
 }
 
+// The info a LESS (EQUAL, ...) pass gets in place of clear-depth-mismatch where it tests against
+// the depth a GREATER pass of the same matrix wrote into that clear (OppositeDepthPasses).
+Finding nearOverFarPassFinding(const TraceDepthState& depth, const OppositeDepthPasses& passes) {
+  return {"info", "multi-pass-over-far-surfaces",
+          "this pass draws with glDepthFunc(" + glEnumName(depth.depthFunc) + ") (" +
+              callNote(depth.depthFuncCall) + ") into depth cleared to " +
+              number(depth.clearedDepth.value_or(0.0)) + " (" + callNote(depth.clearCall) +
+              ") after frame " + std::to_string(passes.frame) +
+              " drew the same matrix into that clear with glDepthFunc(" +
+              glEnumName(passes.greaterFunc) + ") (first at call " +
+              std::to_string(passes.greaterCall) +
+              "): it tests against the depth that pass wrote, not against the clear, a step of "
+              "a multi-pass technique (OpenCSG's CSG passes, depth peeling), not a clear-depth "
+              "mismatch",
+          "nothing, if the technique is intended"};
+}
+
 // What only the traced state shows, beyond the matrix check's findings. A far-surface pass
-// (OppositeDepthPasses) clears to the near end on purpose: its clear is not checked.
-void addTraceFindings(const TraceDepthState& depth, bool farSurfacePass, CheckReport& report) {
+// (OppositeDepthPasses) clears to the near end on purpose: its clear is not checked; nor is the
+// clear of a near pass drawn over what a far pass of the same matrix wrote into it (overFarPass).
+void addTraceFindings(const TraceDepthState& depth, bool farSurfacePass,
+                      const OppositeDepthPasses* overFarPass, CheckReport& report) {
   if (depth.writesClipDistance && depth.clipDistances == 0) {
     // Where the same program clips with them enabled in other draws, the collector makes this
     // an info (a pass that does not clip on purpose, such as the main view of a water reflection).
@@ -106,7 +125,10 @@ void addTraceFindings(const TraceDepthState& depth, bool farSurfacePass, CheckRe
   const double otherFar = nearIsDeeper ? std::max(depth.depthRange.x, depth.depthRange.y)
                                        : std::min(depth.depthRange.x, depth.depthRange.y);
   if (!farSurfacePass && depth.clearedDepth && *depth.clearedDepth == otherFar &&
-      otherFar != ownFar) {
+      otherFar != ownFar && overFarPass && !nearIsDeeper) {
+    report.findings.push_back(nearOverFarPassFinding(depth, *overFarPass));
+  } else if (!farSurfacePass && depth.clearedDepth && *depth.clearedDepth == otherFar &&
+             otherFar != ownFar) {
     report.findings.push_back(
         {"error", "clear-depth-mismatch",
          "the depth buffer is cleared to " + number(*depth.clearedDepth) + " (" +
@@ -236,7 +258,8 @@ std::string groupKey(const TracedPair& pair, const CheckReport* report,
 }  // namespace
 
 CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthState& depth,
-                                 CheckInput* inputUsed, const OppositeDepthPasses* passes) {
+                                 CheckInput* inputUsed, const OppositeDepthPasses* passes,
+                                 bool overFarPass) {
   if (depth.depthRange.x == depth.depthRange.y) {
     // Named as the app set it: the matrix check's own message names its --depth-range option.
     throw InputError("glDepthRange(" + number(depth.depthRange.x) + ", " +
@@ -275,8 +298,13 @@ CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthSta
     report = checkConventions(input);  // the same matrix, accepted above
   }
   if (inputUsed) *inputUsed = input;
+  // A LESS (EQUAL, ...) pass into the clear a GREATER pass of the same matrix drew into before,
+  // in a technique's frame (both a LESS and a GREATER pass of the matrix).
+  const bool overFar = overFarPass && passes != nullptr && passes->lessCall != 0 &&
+                       passes->greaterCall != 0 && depth.depthTest &&
+                       !isGreaterTest(depth.depthFunc);
   if (!readAsTextureSpace(input, report)) {
-    addTraceFindings(depth, farSurfacePass, report);
+    addTraceFindings(depth, farSurfacePass, overFar ? passes : nullptr, report);
     if (farSurfacePass) report.findings.push_back(farSurfacePassFinding(depth, *passes));
     // A transposed upload's winding means nothing either.
     if (!report.properties.likelyTransposed) {
@@ -381,8 +409,9 @@ void TraceCheckCollector::onDraw(const TraceDraw& draw) {
       }
       previous->second = bits;
     }
-    notePassDirection(matrix.source + "|" + bits, draw);
-    const std::string key = matrix.source + "|" + bits + "|" + depthKey;
+    const bool overFar = notePassDirection(matrix.source + "|" + bits, draw);
+    const std::string key =
+        matrix.source + "|" + bits + "|" + depthKey + (overFar ? "|over-far" : "");
     const auto found = pairIndex_.find(key);
     if (found == pairIndex_.end()) {
       const std::string sourceAndDepth = matrix.source + "|" + depthKey;
@@ -395,7 +424,7 @@ void TraceCheckCollector::onDraw(const TraceDraw& draw) {
       ++ofGroup;
       pairIndex_.emplace(key, pairs_.size());
       const Occurrence occurrence{draw.frame, draw.call, draw.completedAtCall};
-      pairs_.push_back({matrix, draw.depth, occurrence, occurrence, 1});
+      pairs_.push_back({matrix, draw.depth, occurrence, occurrence, 1, overFar});
       continue;
     }
     TracedPair& pair = pairs_[found->second];
@@ -432,18 +461,19 @@ void TraceCheckCollector::noteLeftOut(const std::string& sourceAndDepth,
   }
 }
 
-void TraceCheckCollector::notePassDirection(const std::string& matrixKey, const TraceDraw& draw) {
+bool TraceCheckCollector::notePassDirection(const std::string& matrixKey, const TraceDraw& draw) {
   const TraceDepthState& depth = draw.depth;
   const bool less = isLessTest(depth.depthFunc), greater = isGreaterTest(depth.depthFunc);
-  if (!depth.depthTest || (!less && !greater)) return;
+  if (!depth.depthTest) return false;
   if (draw.frame != passesFrame_) {
     passesInFrame_.clear();
     passesFrame_ = draw.frame;
   }
   auto found = passesInFrame_.find(matrixKey);
+  if (!less && !greater && found == passesInFrame_.end()) return false;
   if (found == passesInFrame_.end()) {
     // Bounded as the pairs are: a frame of more distinct matrices is not searched further.
-    if (passesInFrame_.size() >= kMaxDistinctPairs) return;
+    if (passesInFrame_.size() >= kMaxDistinctPairs) return false;
     OppositeDepthPasses inThisFrame;
     inThisFrame.frame = draw.frame;
     found = passesInFrame_.emplace(matrixKey, inThisFrame).first;
@@ -459,10 +489,19 @@ void TraceCheckCollector::notePassDirection(const std::string& matrixKey, const 
     passes.greaterCall = draw.call;
     passes.greaterCleared = depth.clearedDepth;
   }
-  if (passes.lessCall != 0 && passes.greaterCall != 0 &&
-      oppositePasses_.size() < kMaxDistinctPairs) {
-    oppositePasses_.try_emplace(matrixKey, passes);
+  if (greater) passes.lastGreaterClearCall = depth.clearCall;
+  const bool overFar =
+      !greater && passes.greaterCall != 0 && passes.lastGreaterClearCall == depth.clearCall;
+  if (passes.lessCall != 0 && passes.greaterCall != 0) {
+    // The first frame with both passes, kept up to date while that frame lasts.
+    const auto kept = oppositePasses_.find(matrixKey);
+    if (kept == oppositePasses_.end()) {
+      if (oppositePasses_.size() < kMaxDistinctPairs) oppositePasses_.emplace(matrixKey, passes);
+    } else if (kept->second.frame == passes.frame) {
+      kept->second = passes;
+    }
   }
+  return overFar;
 }
 
 TraceCheckResult TraceCheckCollector::finish() {
@@ -517,7 +556,8 @@ TraceCheckResult TraceCheckCollector::finish() {
       const auto passes =
           oppositePasses_.find(pair.matrix.source + "|" + matrixKey(pair.matrix.matrix));
       report = checkUnderDepthState(pair.matrix, pair.depth, &input,
-                                    passes != oppositePasses_.end() ? &passes->second : nullptr);
+                                    passes != oppositePasses_.end() ? &passes->second : nullptr,
+                                    pair.overFarPass);
     } catch (const InputError& error) {
       unusable = error.what();
     }

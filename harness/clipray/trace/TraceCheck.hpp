@@ -45,6 +45,9 @@ struct OppositeDepthPasses {
   std::uint32_t lessFunc = kGlLess, greaterFunc = kGlGreater;
   std::uint64_t lessCall = 0, greaterCall = 0;  // 0: no draw of that direction (yet)
   std::optional<double> lessCleared, greaterCleared;
+  // The depth clear the last GREATER/GEQUAL draw of the frame drew into (0: none yet): a later
+  // draw into that clear is drawn over the far pass (TracedPair::overFarPass).
+  std::uint64_t lastGreaterClearCall = 0;
 };
 
 // The matrix check on one matrix with this depth state as the declared state (declaredDepth from
@@ -56,9 +59,12 @@ struct OppositeDepthPasses {
 // GREATER/GEQUAL pass of a matrix that is not itself reversed is that technique's far-surface
 // pass: an info, not a reversed-Z or clear-depth error. A reversed matrix drawn with LESS stays an
 // error whatever other passes do: reversed-Z is read from the matrix, never from a depth test.
+// overFarPass: the draw tests against what a GREATER pass of that technique wrote into the same
+// depth clear before it (TracedPair::overFarPass): its clear is not checked, an info says why.
 CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthState& depth,
                                  CheckInput* inputUsed = nullptr,
-                                 const OppositeDepthPasses* passes = nullptr);
+                                 const OppositeDepthPasses* passes = nullptr,
+                                 bool overFarPass = false);
 
 // "A-B" or "A" (frames count from 0, as apitrace's). Throws InputError naming --frames.
 FrameRange parseFrameRange(const std::string& text);
@@ -76,6 +82,15 @@ struct TracedPair {
   TraceDepthState depth;
   Occurrence first, last;
   std::uint64_t draws = 0;
+  // Drawn with another depth test (LESS, LEQUAL, EQUAL, ...) into a depth clear a GREATER/GEQUAL
+  // draw of the same matrix drew into before it in the frame. OpenCSG's SCS algorithm clears
+  // depth to 0, keeps the farthest front faces with GL_GREATER, then tests faces against those
+  // with GL_LESS (floriankirsch/OpenCSG, src/renderSCS.cpp: renderSCS, renderIntersectedFront,
+  // subtractPrimitives, renderIntersectedBack), and OpenSCAD shades the result with GL_EQUAL:
+  // such a pass tests against the depth the far pass wrote, not against the clear. (The depth
+  // write mask is not followed: a far pass drawn with glDepthMask(GL_FALSE) counts too.) Part of
+  // the pair's key: the same state before and after the far pass are two pairs.
+  bool overFarPass = false;
 };
 
 // The smallest and largest value of one property over a group's matrices.
@@ -173,7 +188,8 @@ class TraceCheckCollector {
   std::unordered_map<std::string, std::string> lastInFrame_;
   // Multi-pass techniques: per (source, matrix), the depth test directions drawn in the frame
   // passesFrame_, and the first frame where both were (OppositeDepthPasses).
-  void notePassDirection(const std::string& matrixKey, const TraceDraw& draw);
+  // Returns whether the draw is drawn over a far pass of the matrix (TracedPair::overFarPass).
+  bool notePassDirection(const std::string& matrixKey, const TraceDraw& draw);
   void noteLeftOut(const std::string& sourceAndDepth, const std::string& matrixBits,
                    const TraceDraw& draw);
   std::uint64_t passesFrame_ = UINT64_MAX;

@@ -46,6 +46,8 @@ std::string joinedStrings(const DumpValue& value) {
 }  // namespace
 
 bool UniformBuffers::needs(std::string_view function) {
+  // The ARB_shader_objects entry points at the end (GL 1.5 programs, and OpenSceneGraph's on
+  // drivers without GL 2.0) are followed as their core twins, with the extension's argument names.
   static const std::unordered_set<std::string_view> functions = {
       "glBindBuffer",           "glBindBufferBase",         "glBindBufferRange",
       "glBindBuffersBase",      "glBindBuffersRange",       "glDeleteBuffers",
@@ -56,7 +58,9 @@ bool UniformBuffers::needs(std::string_view function) {
       "glUnmapBuffer",          "glUnmapNamedBuffer",       "memcpy",
       "glShaderSource",         "glCreateShaderProgramv",   "glCreateShader",
       "glAttachShader",         "glDetachShader",           "glLinkProgram",
-      "glGetUniformBlockIndex", "glUniformBlockBinding"};
+      "glGetUniformBlockIndex", "glUniformBlockBinding",    "glGetActiveUniformBlockName",
+      "glShaderSourceARB",      "glCreateShaderObjectARB",  "glAttachObjectARB",
+      "glDetachObjectARB",      "glLinkProgramARB"};
   return functions.contains(function);
 }
 
@@ -354,6 +358,13 @@ void UniformBuffers::createShaderProgram(const DumpCall& call) {
 }
 
 void UniformBuffers::nameBlockIndex(const DumpCall& call) {
+  if (call.name == "glGetActiveUniformBlockName") {
+    // The name behind an index the app enumerated (0 to GL_ACTIVE_UNIFORM_BLOCKS - 1), as
+    // OpenSceneGraph's osg::Program does: the index is the argument, the name the result.
+    blockIndexNames_[{objectArgument(call, "program"), objectArgument(call, "uniformBlockIndex")}] =
+        argument(call, "uniformBlockName").text;
+    return;
+  }
   const auto index = call.result ? call.result->number() : std::nullopt;
   if (!index || *index < 0.0 || *index >= 4294967295.0) return;  // GL_INVALID_INDEX
   blockIndexNames_[{objectArgument(call, "program"), static_cast<std::uint32_t>(*index)}] =
@@ -369,8 +380,8 @@ void UniformBuffers::bindUniformBlock(const DumpCall& call) {
     note("unknown-block-index-" + std::to_string(program),
          "glUniformBlockBinding at call " + std::to_string(call.number) + ": block index " +
              std::to_string(index) + " of program " + std::to_string(program) +
-             " was not queried with glGetUniformBlockIndex in the trace: that block's binding "
-             "is unknown");
+             " was not named by glGetUniformBlockIndex or glGetActiveUniformBlockName in the "
+             "trace: that block's binding is unknown");
     return;
   }
   for (LinkedBlock& block : programBlocks_[program]) {
@@ -380,6 +391,9 @@ void UniformBuffers::bindUniformBlock(const DumpCall& call) {
 
 void UniformBuffers::apply(const DumpCall& call) {
   const std::string_view name = call.name;
+  // ARB_shader_objects names its arguments after GLhandleARB objects (apitrace's glapi.py, after
+  // the extension's specification): shaderObj, containerObj, obj, programObj.
+  const bool arb = name.ends_with("ARB");
   if (name == "glBindBuffer") {
     bindBuffer(call);
   } else if (name == "glBindBufferBase" || name == "glBindBufferRange") {
@@ -408,22 +422,26 @@ void UniformBuffers::apply(const DumpCall& call) {
     unmapBuffer(call);
   } else if (name == "memcpy") {
     writeMapped(call);
-  } else if (name == "glShaderSource") {
-    shaderSources_[objectArgument(call, "shader")] = joinedStrings(argument(call, "string"));
+  } else if (name == "glShaderSource" || name == "glShaderSourceARB") {
+    shaderSources_[objectArgument(call, arb ? "shaderObj" : "shader")] =
+        joinedStrings(argument(call, "string"));
   } else if (name == "glCreateShaderProgramv") {
     createShaderProgram(call);
-  } else if (name == "glCreateShader") {
+  } else if (name == "glCreateShader" || name == "glCreateShaderObjectARB") {
     const auto shader = call.result ? call.result->number() : std::nullopt;
     if (shader && *shader > 0.0 && *shader <= 4294967295.0) {
-      shaderTypes_[static_cast<std::uint32_t>(*shader)] = enumArgument(call, "type");
+      shaderTypes_[static_cast<std::uint32_t>(*shader)] =
+          enumArgument(call, arb ? "shaderType" : "type");
     }
-  } else if (name == "glAttachShader") {
-    attachedShaders_[objectArgument(call, "program")].push_back(objectArgument(call, "shader"));
-  } else if (name == "glDetachShader") {
-    std::erase(attachedShaders_[objectArgument(call, "program")], objectArgument(call, "shader"));
-  } else if (name == "glLinkProgram") {
-    link(objectArgument(call, "program"));
-  } else if (name == "glGetUniformBlockIndex") {
+  } else if (name == "glAttachShader" || name == "glAttachObjectARB") {
+    attachedShaders_[objectArgument(call, arb ? "containerObj" : "program")].push_back(
+        objectArgument(call, arb ? "obj" : "shader"));
+  } else if (name == "glDetachShader" || name == "glDetachObjectARB") {
+    std::erase(attachedShaders_[objectArgument(call, arb ? "containerObj" : "program")],
+               objectArgument(call, arb ? "attachedObj" : "shader"));
+  } else if (name == "glLinkProgram" || name == "glLinkProgramARB") {
+    link(objectArgument(call, arb ? "programObj" : "program"));
+  } else if (name == "glGetUniformBlockIndex" || name == "glGetActiveUniformBlockName") {
     nameBlockIndex(call);
   } else if (name == "glUniformBlockBinding") {
     bindUniformBlock(call);

@@ -151,7 +151,8 @@ class UniformBuffers {
   void writeMapped(const DumpCall& call);
   // glCreateShaderProgramv: a program linked from one shader's source.
   void createShaderProgram(const DumpCall& call);
-  // glGetUniformBlockIndex: the block name behind an index, for glUniformBlockBinding.
+  // glGetUniformBlockIndex, glGetActiveUniformBlockName: the block name behind an index, for
+  // glUniformBlockBinding.
   void nameBlockIndex(const DumpCall& call);
   // glUniformBlockBinding.
   void bindUniformBlock(const DumpCall& call);
