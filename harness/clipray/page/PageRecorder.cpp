@@ -1,0 +1,219 @@
+// The recorder script (PageRecorder.hpp). It runs before any of the page's scripts, so every
+// context the page creates is made through the wrapped HTMLCanvasElement.prototype.getContext and
+// every call goes through the wrapped prototype methods. Calls of contexts it did not see created
+// (an OffscreenCanvas's) are not kept.
+//
+// Each kept call is [context index, name, arguments...] with WebGL objects replaced by a number
+// of their own (WeakMap): programs, uniform locations, framebuffers, renderbuffers and textures.
+// A frame is one requestAnimationFrame tick: the recorder's own callback, registered first, runs
+// first in each tick (HTML, "run the animation frame callbacks": in the order registered) and
+// records the end of the previous frame, [-1, "frame"], before any of the page's callbacks draws.
+//
+// Memory is bounded: past kMaxCalls the calls are counted, not kept.
+
+#include "clipray/page/PageRecorder.hpp"
+
+namespace clipray::page {
+
+namespace {
+
+// Called with the number of frames to record (PageRecorder.hpp).
+constexpr std::string_view kScript = R"js(
+((frameLimit) => {
+  'use strict';
+  if (window.__clipray) return;
+  const kMaxCalls = 500000;
+  // done: frameLimit frames are recorded; nothing more is kept.
+  const rec = {calls: [], frames: 0, draws: 0, dropped: 0, done: false, contexts: [], errors: []};
+  const canvases = [];
+  Object.defineProperty(window, '__clipray', {value: rec});
+
+  const ids = new WeakMap();
+  let nextId = 1;
+  const idOf = (object) => {
+    if (object === null || object === undefined) return 0;
+    let id = ids.get(object);
+    if (id === undefined) {
+      id = nextId++;
+      ids.set(object, id);
+    }
+    return id;
+  };
+  const contextIndex = new WeakMap();  // context or extension object -> index in rec.contexts
+  const keep = (owner, name, args) => {
+    const index = contextIndex.get(owner);
+    if (index === undefined || rec.done) return false;
+    if (rec.calls.length >= kMaxCalls) {
+      rec.dropped++;
+      return false;
+    }
+    rec.calls.push([index, name, ...args]);
+    return true;
+  };
+  const wrap = (target, name, record) => {
+    const original = target[name];
+    if (typeof original !== 'function') return;
+    target[name] = function(...args) {
+      const result = original.apply(this, args);
+      try {
+        record(this, args, result);
+      } catch (error) {
+        if (rec.errors.length < 10) rec.errors.push(name + ': ' + error);
+      }
+      return result;
+    };
+  };
+  // WebGL2's *fv calls take (data, srcOffset, srcLength) (WebGL 2.0, 3.7.8).
+  const values = (data, offset, length) => {
+    const all = Array.from(data, Number);
+    const from = offset || 0;
+    return all.slice(from, length ? from + length : undefined);
+  };
+
+  const kDepthTest = 0x0B71, kCullFace = 0x0B44, kPolygonOffsetFill = 0x8037;
+  const kDepth = 0x1801, kDepthStencil = 0x84F9;
+  const draw = (name) => (owner) => {
+    if (keep(owner, name, [])) rec.draws++;
+  };
+  const prototypes = [];
+  if (typeof WebGLRenderingContext !== 'undefined') prototypes.push(WebGLRenderingContext.prototype);
+  if (typeof WebGL2RenderingContext !== 'undefined') {
+    prototypes.push(WebGL2RenderingContext.prototype);
+  }
+  for (const proto of prototypes) {
+    const capability = (name) => (gl, [cap]) => {
+      if (cap === kDepthTest || cap === kCullFace || cap === kPolygonOffsetFill) keep(gl, name, [cap]);
+    };
+    wrap(proto, 'enable', capability('enable'));
+    wrap(proto, 'disable', capability('disable'));
+    for (const name of ['depthFunc', 'clearDepth', 'depthRange', 'viewport', 'cullFace',
+                        'frontFace', 'depthMask', 'polygonOffset', 'clear']) {
+      wrap(proto, name, (gl, args) => keep(gl, name, args.map(Number)));
+    }
+    wrap(proto, 'clearBufferfv', (gl, [buffer, drawBuffer, data, offset]) => {
+      if (buffer === kDepth) keep(gl, 'clearBufferfv', [buffer, drawBuffer, values(data, offset)[0]]);
+    });
+    wrap(proto, 'clearBufferfi', (gl, [buffer, drawBuffer, depth, stencil]) => {
+      if (buffer === kDepthStencil) keep(gl, 'clearBufferfi', [buffer, drawBuffer, depth, stencil]);
+    });
+    wrap(proto, 'useProgram', (gl, [program]) => keep(gl, 'useProgram', [idOf(program)]));
+    wrap(proto, 'linkProgram', (gl, [program]) => keep(gl, 'linkProgram', [idOf(program)]));
+    wrap(proto, 'getUniformLocation', (gl, [program, name], location) => {
+      if (location) keep(gl, 'getUniformLocation', [idOf(program), String(name), idOf(location)]);
+    });
+    wrap(proto, 'uniformMatrix4fv', (gl, [location, transpose, data, offset, length]) => {
+      if (!location) return;
+      // WebGL 1.0, 5.14.10: transpose must be false (INVALID_VALUE, nothing set); WebGL 2.0 allows
+      // true as ES 3.0 does.
+      if (transpose && !(gl instanceof WebGL2RenderingContext)) return;
+      keep(gl, 'uniformMatrix4fv', [idOf(location), transpose ? 1 : 0, values(data, offset, length)]);
+    });
+    for (const name of ['drawArrays', 'drawElements', 'drawArraysInstanced',
+                        'drawElementsInstanced', 'drawRangeElements']) {
+      wrap(proto, name, draw(name));
+    }
+    wrap(proto, 'bindFramebuffer', (gl, [target, framebuffer]) =>
+      keep(gl, 'bindFramebuffer', [target, idOf(framebuffer)]));
+    wrap(proto, 'bindRenderbuffer', (gl, [target, renderbuffer]) =>
+      keep(gl, 'bindRenderbuffer', [target, idOf(renderbuffer)]));
+    wrap(proto, 'renderbufferStorage', (gl, [target, format]) =>
+      keep(gl, 'renderbufferStorage', [target, format]));
+    wrap(proto, 'renderbufferStorageMultisample', (gl, [target, samples, format]) =>
+      keep(gl, 'renderbufferStorage', [target, format]));
+    wrap(proto, 'framebufferRenderbuffer', (gl, [target, attachment, rbTarget, renderbuffer]) =>
+      keep(gl, 'framebufferRenderbuffer', [target, attachment, rbTarget, idOf(renderbuffer)]));
+    wrap(proto, 'framebufferTexture2D', (gl, [target, attachment, texTarget, texture, level]) =>
+      keep(gl, 'framebufferTexture2D', [target, attachment, texTarget, idOf(texture), level]));
+    wrap(proto, 'activeTexture', (gl, [unit]) => keep(gl, 'activeTexture', [unit]));
+    wrap(proto, 'bindTexture', (gl, [target, texture]) =>
+      keep(gl, 'bindTexture', [target, idOf(texture)]));
+    wrap(proto, 'texImage2D', (gl, [target, level, format]) =>
+      keep(gl, 'texImage2D', [target, level, format]));
+    wrap(proto, 'texStorage2D', (gl, [target, levels, format]) =>
+      keep(gl, 'texStorage2D', [target, levels, format]));
+    // Extensions: EXT_clip_control's clipControlEXT (the only way a WebGL page gets a zero-to-one
+    // clip volume), ANGLE_instanced_arrays' draws (WebGL 1).
+    wrap(proto, 'getExtension', (gl, [name], extension) => {
+      if (!extension || !contextIndex.has(gl) || contextIndex.has(extension)) return;
+      contextIndex.set(extension, contextIndex.get(gl));
+      const lower = String(name).toLowerCase();
+      if (lower === 'ext_clip_control') {
+        wrap(extension, 'clipControlEXT', (ext, [origin, depth]) =>
+          keep(ext, 'clipControl', [origin, depth]));
+      } else if (lower === 'angle_instanced_arrays') {
+        wrap(extension, 'drawArraysInstancedANGLE', draw('drawArraysInstanced'));
+        wrap(extension, 'drawElementsInstancedANGLE', draw('drawElementsInstanced'));
+      }
+    });
+  }
+
+  const getContext = HTMLCanvasElement.prototype.getContext;
+  HTMLCanvasElement.prototype.getContext = function(type, ...rest) {
+    const gl = getContext.call(this, type, ...rest);
+    const kind = String(type);
+    if (gl && (kind === 'webgl' || kind === 'webgl2' || kind === 'experimental-webgl') &&
+        !contextIndex.has(gl)) {
+      const index = rec.contexts.length;
+      contextIndex.set(gl, index);
+      canvases.push({canvas: this, gl});
+      const attributes = gl.getContextAttributes() || {};
+      rec.contexts.push({
+        name: this.id ? 'canvas#' + this.id : 'canvas ' + (index + 1),
+        type: kind,
+        depth: !!attributes.depth,
+        preserveDrawingBuffer: !!attributes.preserveDrawingBuffer,
+        depthBits: attributes.depth ? gl.getParameter(gl.DEPTH_BITS) : 0,
+      });
+      // WebGL 1.0, 5.13.4: the viewport starts as the drawing buffer's size.
+      keep(gl, 'context', [gl.drawingBufferWidth, gl.drawingBufferHeight]);
+    }
+    return gl;
+  };
+
+  // The frames are counted from the page's first draw: frame 0 is everything up to the end of the
+  // animation frame that drew first, frame k the k-th animation frame after it. Each frame's end
+  // is recorded as [-1, "frame"], at the start of the next tick; after frameLimit frames the
+  // recording is done.
+  const tick = () => {
+    if (rec.draws > 0 && !rec.done) {
+      rec.frames++;
+      if (rec.calls.length < kMaxCalls) rec.calls.push([-1, 'frame']);
+      if (rec.frames >= frameLimit) {
+        rec.done = true;
+        return;
+      }
+    }
+    requestAnimationFrame(tick);
+  };
+  requestAnimationFrame(tick);
+
+  rec.progress = () => rec.frames + ' ' + rec.draws + ' ' + rec.contexts.length + ' ' + rec.done;
+  rec.snapshot = () => {
+    // The canvas as it is now: its buffer's size, its size on the page, the pixel ratio.
+    canvases.forEach(({canvas, gl}, index) => {
+      Object.assign(rec.contexts[index], {
+        canvasWidth: canvas.width, canvasHeight: canvas.height,
+        clientWidth: canvas.clientWidth, clientHeight: canvas.clientHeight,
+        drawingBufferWidth: gl.drawingBufferWidth, drawingBufferHeight: gl.drawingBufferHeight,
+      });
+    });
+    return JSON.stringify({
+      url: String(location.href), devicePixelRatio: window.devicePixelRatio, frames: rec.frames,
+      draws: rec.draws, dropped: rec.dropped, contexts: rec.contexts, errors: rec.errors,
+      calls: rec.calls,
+    });
+  };
+})
+)js";
+
+}  // namespace
+
+std::string pageRecorderScript(std::uint64_t frames) {
+  std::string script(kScript);
+  script += "(";
+  script += std::to_string(frames);
+  script += ");\n";
+  return script;
+}
+
+}  // namespace clipray::page
