@@ -211,6 +211,18 @@ struct ContextLines {
   void add(const std::string& text) {
     if (!text.empty()) collector.addLine(text);
   }
+  // The drawing buffer's depth format, from the context's DEPTH_BITS: the state model reads the
+  // depth format from the draw framebuffer's attachment, and framebuffer 0's is set as a
+  // renderbuffer 0 attached to it (a renderbuffer the page cannot name: WebGL has no object 0).
+  void describeDrawingBuffer(std::uint64_t call, int depthBits) {
+    const std::uint32_t format = depthBits == 16 ? 0x81A5u : depthBits == 24 ? 0x81A6u : 0u;
+    if (format == 0) return;
+    add(line(call, "glBindRenderbuffer", "target = 36161, renderbuffer = 0"));
+    add(line(call, "glRenderbufferStorage",
+             "target = 36161, internalformat = " + std::to_string(format)));
+    add(line(call, "glFramebufferRenderbuffer",
+             "target = 36160, attachment = 36096, renderbuffertarget = 36161, renderbuffer = 0"));
+  }
   // The drawing buffer as WebGL hands it to a frame: depth cleared to 1.0.
   void clearDrawingBuffer(std::uint64_t call) {
     if (!implicitClear || drawFramebuffer != 0) return;
@@ -239,11 +251,13 @@ PageCheckResult checkRecording(const std::string& page, const json& recording) {
   }
   std::vector<ContextLines> lines;
   lines.reserve(contexts.size());
+  std::vector<int> depthBits;
   for (const json& context : contexts) {
     const std::string name = context.value("name", "canvas");
     lines.push_back({trace::TraceCheckCollector(name, trace::FrameRange{})});
     lines.back().implicitClear =
         context.value("depth", false) && !context.value("preserveDrawingBuffer", false);
+    depthBits.push_back(context.value("depth", false) ? context.value("depthBits", 0) : 0);
   }
   const json calls = recording.value("calls", json::array());
   std::uint64_t number = 0;
@@ -271,6 +285,7 @@ PageCheckResult checkRecording(const std::string& page, const json& recording) {
                          "x = 0, y = 0, width = " + std::to_string(*width) +
                              ", height = " + std::to_string(*height)));
       }
+      context.describeDrawingBuffer(number, depthBits[static_cast<std::size_t>(*index)]);
       context.clearDrawingBuffer(number);
       continue;
     }

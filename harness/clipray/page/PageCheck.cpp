@@ -28,6 +28,7 @@ namespace fs = std::filesystem;
 // After the timeout, fetching the recording may take this much longer (a large recording).
 constexpr auto kFetchGrace = std::chrono::seconds(15);
 constexpr auto kPollInterval = std::chrono::milliseconds(100);
+constexpr auto kStartupTimeout = std::chrono::seconds(60);
 
 std::string lowercase(std::string text) {
   for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -154,10 +155,10 @@ PageCheckResult checkPage(const PageOptions& options) {
     throw InputError("--frames: expected a number of frames from 1 to 100000 with --page");
   }
   const std::string browser = findChromium();
-  const auto started = Clock::now();
-  const auto deadline = started + std::chrono::duration_cast<Clock::duration>(
-                                      std::chrono::duration<double>(options.timeoutSeconds));
   const std::string timeout = seconds(options.timeoutSeconds);
+  // The browser's start has its own allowance: --timeout is the page's (a loaded machine takes
+  // seconds to start chromium).
+  const auto startDeadline = Clock::now() + kStartupTimeout;
   // Software GL: SwiftShader through ANGLE exposes WebGL2 and EXT_clip_control without a GPU or
   // a display. --no-sandbox: chromium's sandbox refuses to run as root (CI's containers).
   DevToolsPipe browserPipe(
@@ -167,7 +168,7 @@ PageCheckResult checkPage(const PageOptions& options) {
        "--disable-extensions", "--mute-audio", "--hide-scrollbars", "--window-size=800,600"});
   std::string session;
   try {
-    const nlohmann::json targets = browserPipe.call("Target.getTargets", {}, "", deadline);
+    const nlohmann::json targets = browserPipe.call("Target.getTargets", {}, "", startDeadline);
     std::string pageTarget;
     for (const nlohmann::json& info : targets.value("targetInfos", nlohmann::json::array())) {
       if (info.value("type", "") == "page") {
@@ -176,22 +177,26 @@ PageCheckResult checkPage(const PageOptions& options) {
       }
     }
     if (pageTarget.empty()) {
-      pageTarget = browserPipe.call("Target.createTarget", {{"url", "about:blank"}}, "", deadline)
-                       .value("targetId", "");
+      pageTarget =
+          browserPipe.call("Target.createTarget", {{"url", "about:blank"}}, "", startDeadline)
+              .value("targetId", "");
     }
     session = browserPipe
                   .call("Target.attachToTarget", {{"targetId", pageTarget}, {"flatten", true}}, "",
-                        deadline)
+                        startDeadline)
                   .value("sessionId", "");
-    browserPipe.call("Page.enable", nlohmann::json::object(), session, deadline);
-    browserPipe.call("Page.bringToFront", nlohmann::json::object(), session, deadline);
+    browserPipe.call("Page.enable", nlohmann::json::object(), session, startDeadline);
+    browserPipe.call("Page.bringToFront", nlohmann::json::object(), session, startDeadline);
     browserPipe.call("Page.addScriptToEvaluateOnNewDocument",
-                     {{"source", pageRecorderScript(options.frames)}}, session, deadline);
+                     {{"source", pageRecorderScript(options.frames)}}, session, startDeadline);
   } catch (const DevToolsPipe::TimedOut&) {
     const std::string tail = browserPipe.stderrTail();
-    throw InputError("chromium did not answer on the DevTools pipe in " + timeout +
+    throw InputError("chromium did not answer on the DevTools pipe in " +
+                     std::to_string(kStartupTimeout.count()) + " s" +
                      (tail.empty() ? std::string() : "; its stderr ends:\n" + tail));
   }
+  const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                           std::chrono::duration<double>(options.timeoutSeconds));
   try {
     const nlohmann::json navigated =
         browserPipe.call("Page.navigate", {{"url", url}}, session, deadline);
