@@ -144,7 +144,13 @@ std::string DevToolsPipe::stderrTail(std::size_t maxBytes) const {
 void DevToolsPipe::browserGone(const std::string& what) const {
   int status = 0;
   std::string how;
-  if (waitpid(pid_, &status, WNOHANG) == pid_) {
+  // The pipe closes as the browser exits: its exit status follows within moments.
+  bool exited = false;
+  for (int wait = 0; wait < 20 && !exited; ++wait) {
+    exited = waitpid(pid_, &status, WNOHANG) == pid_;
+    if (!exited) std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  if (exited) {
     if (WIFEXITED(status) && WEXITSTATUS(status) == kExecFailed) {
       how = " (could not be run)";
     } else if (WIFEXITED(status)) {
