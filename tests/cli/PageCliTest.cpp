@@ -38,7 +38,8 @@ struct PageReading {
   nlohmann::json report, canvas, group;
 };
 
-PageReading checkPage(const std::string& name, const fs::path& folder) {
+PageReading checkPage(const std::string& name, const fs::path& folder,
+                      const std::string& source = "uniform clipFromWorld (program 1)") {
   const auto result = runClipray("check --page '" + page(name) + "' --json", folder);
   PageReading reading;
   reading.status = result.status;
@@ -60,7 +61,7 @@ PageReading checkPage(const std::string& name, const fs::path& folder) {
   EXPECT_EQ(check["draws_with_projection"], 6);
   EXPECT_EQ(check["groups"].size(), 1u);
   reading.group = check["groups"][0];
-  EXPECT_EQ(reading.group["source"], "uniform clipFromWorld (program 1)");
+  EXPECT_EQ(reading.group["source"], source);
   EXPECT_EQ(reading.group["distinct_matrices"], 1);
   EXPECT_EQ(reading.group["draws"], 6);
   const nlohmann::json& depth = reading.group["depth_state"];
@@ -152,6 +153,53 @@ TEST(PageCli, ReversedProjectionWithLessIsAMismatchInTextToo) {
   }
 }
 
+// The classic NO-under-ZO mistake with the camera in a std140 uniform block: the matrix is read
+// from the bytes bufferSubData wrote (exact float32, not 7-digit decimals).
+TEST(PageCli, UniformBlockMatrixUnderClipControlIsAMismatch) {
+  TempFolder folder;
+  const PageReading r =
+      checkPage("ubo-no-under-zo.html", folder.path(), "ubo Camera.clipFromWorld (program 1)");
+  ASSERT_EQ(r.status, 1);
+  EXPECT_EQ(r.group["depth_state"]["clip_depth"], "zero-to-one");
+  EXPECT_EQ(r.group["properties"]["built_for"], "no");
+  EXPECT_EQ(r.group["properties"]["precision"], "float32");
+  // Under [0, 1] the rasterizer clips at z_ndc = 0: the near plane moves to 0.1998.
+  EXPECT_NEAR(r.group["properties"]["near"].get<double>(), 0.1998, 2e-6);
+  EXPECT_NEAR(r.group["properties"]["near_if_built_for_no"].get<double>(), 0.1, 2e-6);
+  EXPECT_EQ(codes(r.group), std::vector<std::string>{"error:depth-convention-mismatch"});
+}
+
+// Several canvases: each named (its id, else its order) and checked on its own; a WebGL 1
+// context is recorded as a WebGL 2 one is.
+TEST(PageCli, EachCanvasIsCheckedOnItsOwnWebGl1Included) {
+  TempFolder folder;
+  const auto result =
+      runClipray("check --page '" + page("two-canvases.html") + "' --json", folder.path());
+  ASSERT_EQ(result.status, 1) << result.err;
+  const auto report = nlohmann::json::parse(result.out);
+  EXPECT_EQ(report["draws"], 12);
+  ASSERT_EQ(report["canvases"].size(), 2u);
+  const nlohmann::json& main = report["canvases"][0];
+  EXPECT_EQ(main["name"], "canvas#main");
+  EXPECT_EQ(main["type"], "webgl2");
+  EXPECT_EQ(main["check"]["verdict"], "ok");
+  const nlohmann::json& mainGroup = main["check"]["groups"][0];
+  EXPECT_EQ(mainGroup["source"], "uniform clipFromWorld (program 1)");
+  EXPECT_EQ(mainGroup["properties"]["built_for"], "zo-reversed");
+  EXPECT_EQ(codes(mainGroup), std::vector<std::string>{});
+
+  const nlohmann::json& second = report["canvases"][1];
+  EXPECT_EQ(second["name"], "canvas 2");
+  EXPECT_EQ(second["type"], "webgl");
+  EXPECT_EQ(second["canvas"]["drawingBufferWidth"], 160);
+  EXPECT_EQ(second["check"]["verdict"], "errors");
+  const nlohmann::json& secondGroup = second["check"]["groups"][0];
+  EXPECT_EQ(secondGroup["source"], "uniform clipFromWorld (program 2)");
+  EXPECT_EQ(secondGroup["depth_state"]["viewport"], nlohmann::json::array({160, 120}));
+  EXPECT_EQ(codes(secondGroup), std::vector<std::string>{"error:depth-convention-mismatch"});
+  EXPECT_EQ(report["verdict"], "errors");
+}
+
 // Bad input: one line naming the value, exit 2, nothing on stdout.
 void expectBadInput(const std::string& arguments, const std::string& line,
                     const std::string& environment = "") {
@@ -192,6 +240,13 @@ TEST(PageCli, ABrowserThatDiesSaysWhatItWrote) {
                  "chromium closed the DevTools pipe (exit status 3); its stderr ends:\n"
                  "cannot open display",
                  "CLIPRAY_CHROMIUM='" + fake.string() + "'");
+}
+
+// Chromium refuses the discard port (net/base/port_util.cc's restricted ports) without any
+// network: the page's navigation fails, and its errorText is the reason given.
+TEST(PageCli, APageThatDoesNotLoadSaysWhy) {
+  expectBadInput("check --page http://127.0.0.1:9/page.html",
+                 "http://127.0.0.1:9/page.html: does not load (net::ERR_UNSAFE_PORT)");
 }
 
 TEST(PageCli, PagesWithoutWebGlOrDrawsEndAtTheTimeout) {

@@ -1,16 +1,17 @@
 // The scene every test page draws (tests/webgl/*.html): two triangles at different depths seen
 // through one world-to-clip matrix, uploaded as the uniform clipFromWorld, drawn every animation
-// frame. The page sets window.PAGE before loading this:
+// frame: drawScene(canvas, options); a page that sets window.PAGE before loading this has it drawn
+// on its canvas#view. The options:
 //   projection: 'no' (GL's [-1, 1] depth), 'zo' ([0, 1]) or 'zo-reversed' (near at 1, far at 0)
 //   clipControl: true to call EXT_clip_control's clipControlEXT(LOWER_LEFT, ZERO_TO_ONE)
 //   depthFunc: 'LESS', 'GREATER', ...; clearDepth: the depth clear value
 //   near, far: the projection's planes
+//   ubo: true to keep clipFromWorld in a std140 uniform block Camera (bufferSubData each frame)
+//   webgl1: true for a WebGL 1 context (GLSL ES 1.00)
 'use strict';
-(() => {
-  const page = window.PAGE;
-  const canvas = document.getElementById('view');
-  const gl = canvas.getContext('webgl2');
-  if (!gl) throw new Error('no WebGL2');
+window.drawScene = (canvas, page) => {
+  const gl = canvas.getContext(page.webgl1 ? 'webgl' : 'webgl2');
+  if (!gl) throw new Error('no WebGL');
   if (page.clipControl) {
     const ext = gl.getExtension('EXT_clip_control');
     if (!ext) throw new Error('no EXT_clip_control');
@@ -63,18 +64,37 @@
     return shader;
   };
   const program = gl.createProgram();
-  gl.attachShader(program, compile(gl.VERTEX_SHADER, `#version 300 es
-    uniform mat4 clipFromWorld;
-    in vec3 position;
-    void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }`));
-  gl.attachShader(program, compile(gl.FRAGMENT_SHADER, `#version 300 es
-    precision highp float;
-    uniform vec3 color;
-    out vec4 fragColor;
-    void main() { fragColor = vec4(color, 1.0); }`));
+  if (page.webgl1) {
+    gl.attachShader(program, compile(gl.VERTEX_SHADER, `
+      uniform mat4 clipFromWorld;
+      attribute vec3 position;
+      void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }`));
+    gl.attachShader(program, compile(gl.FRAGMENT_SHADER, `
+      precision highp float;
+      uniform vec3 color;
+      void main() { gl_FragColor = vec4(color, 1.0); }`));
+  } else {
+    gl.attachShader(program, compile(gl.VERTEX_SHADER, `#version 300 es
+      ${page.ubo ? 'layout(std140) uniform Camera { mat4 clipFromWorld; };'
+                 : 'uniform mat4 clipFromWorld;'}
+      in vec3 position;
+      void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }`));
+    gl.attachShader(program, compile(gl.FRAGMENT_SHADER, `#version 300 es
+      precision highp float;
+      uniform vec3 color;
+      out vec4 fragColor;
+      void main() { fragColor = vec4(color, 1.0); }`));
+  }
   gl.linkProgram(program);
   if (!gl.getProgramParameter(program, gl.LINK_STATUS)) throw new Error(gl.getProgramInfoLog(program));
-  const clipFromWorld = gl.getUniformLocation(program, 'clipFromWorld');
+  const clipFromWorld = page.ubo ? null : gl.getUniformLocation(program, 'clipFromWorld');
+  const camera = page.ubo ? gl.createBuffer() : null;
+  if (page.ubo) {
+    gl.uniformBlockBinding(program, gl.getUniformBlockIndex(program, 'Camera'), 0);
+    gl.bindBuffer(gl.UNIFORM_BUFFER, camera);
+    gl.bufferData(gl.UNIFORM_BUFFER, 64, gl.DYNAMIC_DRAW);
+    gl.bindBufferBase(gl.UNIFORM_BUFFER, 0, camera);
+  }
   const color = gl.getUniformLocation(program, 'color');
 
   // A large far triangle at z = -2 and a small near one at z = 1.
@@ -97,7 +117,12 @@
     gl.clearColor(0.1, 0.1, 0.1, 1);
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT);
     gl.useProgram(program);
-    gl.uniformMatrix4fv(clipFromWorld, false, new Float32Array(matrix));
+    if (page.ubo) {
+      gl.bindBuffer(gl.UNIFORM_BUFFER, camera);
+      gl.bufferSubData(gl.UNIFORM_BUFFER, 0, new Float32Array(matrix));
+    } else {
+      gl.uniformMatrix4fv(clipFromWorld, false, new Float32Array(matrix));
+    }
     gl.uniform3f(color, 0.2, 0.4, 0.9);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     gl.uniform3f(color, 0.9, 0.5, 0.1);
@@ -105,4 +130,5 @@
     requestAnimationFrame(frame);
   };
   requestAnimationFrame(frame);
-})();
+};
+if (window.PAGE) window.drawScene(document.getElementById('view'), window.PAGE);

@@ -5,6 +5,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/prctl.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -54,11 +55,15 @@ DevToolsPipe::DevToolsPipe(const std::string& executable, const std::vector<std:
   std::vector<char*> argv;
   for (std::string& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
+  const pid_t parent = getpid();
   pid_ = fork();
   if (pid_ == 0) {
     // Only async-signal-safe calls from here to exec. A group of its own: the browser's helper
-    // processes (zygote, GPU, renderers) are ended with it.
+    // processes (zygote, GPU, renderers) are ended with it. And killed with clipray, however
+    // clipray ends (a signal gives it no chance to run the destructor): prctl(2),
+    // PR_SET_PDEATHSIG, which the exec keeps; the helpers follow the browser.
     setpgid(0, 0);
+    if (prctl(PR_SET_PDEATHSIG, SIGKILL) != 0 || getppid() != parent) _exit(kExecFailed);
     // Above 4 first, so that dup2 onto 3 and 4 cannot close what the other needs.
     const int high = fcntl(fds[1], F_DUPFD, 10);
     if (high < 0 || dup2(high, 3) < 0 || dup2(high, 4) < 0) _exit(kExecFailed);

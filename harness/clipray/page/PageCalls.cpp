@@ -8,9 +8,15 @@
 #include "clipray/page/PageCalls.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
 #include <map>
+#include <memory>
 
 #include "clipray/InputError.hpp"
 
@@ -21,6 +27,9 @@ namespace {
 using nlohmann::json;
 
 constexpr std::uint32_t kGlDepthBufferBit = 0x100;
+// A bufferData(target, size) larger than this is not written out as zeros (the recorder keeps
+// no buffer data past 1 MiB either).
+constexpr long long kMaxZeroFilledBytes = 1 << 20;
 
 // An integer argument; nullopt for anything else (a NaN the page passed, a string).
 std::optional<long long> integerAt(const json& record, std::size_t index) {
@@ -96,6 +105,13 @@ const std::map<std::string, std::pair<std::string, std::vector<const char*>>>& i
       {"texImage2D", {"glTexImage2D", {"target", "level", "internalformat"}}},
       {"texStorage2D", {"glTexStorage2D", {"target", "levels", "internalformat"}}},
       {"viewport", {"glViewport", {"x", "y", "width", "height"}}},
+      {"attachShader", {"glAttachShader", {"program", "shader"}}},
+      {"detachShader", {"glDetachShader", {"program", "shader"}}},
+      {"bindBuffer", {"glBindBuffer", {"target", "buffer"}}},
+      {"bindBufferBase", {"glBindBufferBase", {"target", "index", "buffer"}}},
+      {"bindBufferRange", {"glBindBufferRange", {"target", "index", "buffer", "offset", "size"}}},
+      {"uniformBlockBinding",
+       {"glUniformBlockBinding", {"program", "uniformBlockIndex", "uniformBlockBinding"}}},
       {"drawArrays", {"glDrawArrays", {}}},
       {"drawElements", {"glDrawElements", {}}},
       {"drawArraysInstanced", {"glDrawArraysInstanced", {}}},
@@ -170,6 +186,29 @@ std::string dumpLineFor(const json& record, std::uint64_t call) {
                     ", name = " + quoted(record[3].get<std::string>())) +
            " = " + std::to_string(*location);
   }
+  if (name == "createShader") {
+    const auto type = integerAt(record, 2);
+    const auto shader = integerAt(record, 3);
+    if (!type || !shader) return "";
+    return line(call, "glCreateShader", "type = " + std::to_string(*type)) + " = " +
+           std::to_string(*shader);
+  }
+  if (name == "shaderSource") {
+    const auto shader = integerAt(record, 2);
+    if (!shader || record.size() < 4 || !record[3].is_string()) return "";
+    return line(call, "glShaderSource",
+                "shader = " + std::to_string(*shader) + ", count = 1, string = {" +
+                    quoted(record[3].get<std::string>()) + "}, length = NULL");
+  }
+  if (name == "getUniformBlockIndex") {
+    const auto program = integerAt(record, 2);
+    const auto index = integerAt(record, 4);
+    if (!program || !index || record.size() < 5 || !record[3].is_string()) return "";
+    return line(call, "glGetUniformBlockIndex",
+                "program = " + std::to_string(*program) +
+                    ", uniformBlockName = " + quoted(record[3].get<std::string>())) +
+           " = " + std::to_string(*index);
+  }
   if (name == "uniformMatrix4fv") {
     const auto location = integerAt(record, 2);
     const auto transpose = integerAt(record, 3);
@@ -190,6 +229,93 @@ std::string dumpLineFor(const json& record, std::uint64_t call) {
   }
   return "";
 }
+
+namespace {
+
+std::optional<std::string> base64Decoded(const std::string& text) {
+  std::string out;
+  unsigned value = 0;
+  int bits = 0;
+  for (const char c : text) {
+    int digit = -1;
+    if (c >= 'A' && c <= 'Z') digit = c - 'A';
+    if (c >= 'a' && c <= 'z') digit = c - 'a' + 26;
+    if (c >= '0' && c <= '9') digit = c - '0' + 52;
+    if (c == '+') digit = 62;
+    if (c == '/') digit = 63;
+    if (c == '=') break;
+    if (digit < 0) return std::nullopt;
+    value = (value << 6) | static_cast<unsigned>(digit);
+    bits += 6;
+    if (bits >= 8) {
+      bits -= 8;
+      out += static_cast<char>((value >> bits) & 0xFFu);
+    }
+  }
+  return out;
+}
+
+// The folder the buffers' bytes are written to as apitrace's blob files (blob_call<N>.bin), which
+// the state model reads (UniformBuffers.hpp); removed with its files.
+class BlobFolder {
+ public:
+  BlobFolder() {
+    std::string pattern =
+        (std::filesystem::temp_directory_path() / "clipray-page-blobs-XXXXXX").string();
+    if (!mkdtemp(pattern.data())) {
+      throw InputError("cannot create a temporary folder for the page's buffer data: " +
+                       std::string(std::strerror(errno)));
+    }
+    path_ = pattern;
+  }
+  ~BlobFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  BlobFolder(const BlobFolder&) = delete;
+  BlobFolder& operator=(const BlobFolder&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+  // The data argument for these bytes of the call: blob("blob_call<N>.bin").
+  std::string write(std::uint64_t call, const std::string& bytes) {
+    const std::string name = "blob_call" + std::to_string(call) + ".bin";
+    std::ofstream file(path_ / name, std::ios::binary);
+    file.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    if (!file) throw InputError("cannot write the page's buffer data to " + path_.string());
+    return "blob(\"" + name + "\")";
+  }
+
+ private:
+  std::filesystem::path path_;
+};
+
+// bufferData and bufferSubData of UNIFORM_BUFFER: their bytes go to a blob file (NULL data where
+// the recorder kept none: the state model then notes the block as not read).
+std::string bufferLine(const json& record, std::uint64_t call, BlobFolder& blobs) {
+  const bool sub = record[1] == "bufferSubData";
+  const auto target = integerAt(record, 2);
+  const auto offset = sub ? integerAt(record, 3) : std::optional<long long>(0);
+  const auto size = integerAt(record, sub ? 4 : 3);
+  const std::size_t dataAt = sub ? 5 : 4;
+  if (!target || !offset || !size || *size < 0 || *offset < 0 || record.size() <= dataAt) {
+    return "";
+  }
+  std::string data = "NULL";
+  if (record[dataAt].is_string()) {
+    if (const auto bytes = base64Decoded(record[dataAt].get<std::string>())) {
+      data = blobs.write(call, *bytes);
+    }
+  } else if (!sub && *size <= kMaxZeroFilledBytes) {
+    // bufferData(target, size): the store is zero-filled (WebGL 1.0, 5.14.5).
+    data = blobs.write(call, std::string(static_cast<std::size_t>(*size), '\0'));
+  }
+  std::string arguments = "target = " + std::to_string(*target);
+  if (sub) arguments += ", offset = " + std::to_string(*offset);
+  arguments += ", size = " + std::to_string(*size) + ", data = " + data;
+  return line(call, sub ? "glBufferSubData" : "glBufferData", arguments);
+}
+
+}  // namespace
 
 bool PageCheckResult::hasErrors() const {
   for (const CanvasCheck& canvas : canvases) {
@@ -260,6 +386,7 @@ PageCheckResult checkRecording(const std::string& page, const json& recording) {
     depthBits.push_back(context.value("depth", false) ? context.value("depthBits", 0) : 0);
   }
   const json calls = recording.value("calls", json::array());
+  std::unique_ptr<BlobFolder> blobs;  // made at the first buffer data
   std::uint64_t number = 0;
   for (const json& record : calls) {
     ++number;  // calls count from 1: 0 is the state a context starts with
@@ -296,6 +423,13 @@ PageCheckResult checkRecording(const std::string& page, const json& recording) {
       if (const auto text = floatText(record[2])) context.clearDepth = *text;
     } else if (name.starts_with("draw")) {
       ++context.draws;
+    } else if (name == "bufferData" || name == "bufferSubData") {
+      if (!blobs) {
+        blobs = std::make_unique<BlobFolder>();
+        for (ContextLines& each : lines) each.collector.setBlobDirectory(blobs->path());
+      }
+      context.add(bufferLine(record, number, *blobs));
+      continue;
     }
     context.add(dumpLineFor(record, number));
   }

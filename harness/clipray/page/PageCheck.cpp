@@ -29,6 +29,7 @@ namespace fs = std::filesystem;
 constexpr auto kFetchGrace = std::chrono::seconds(15);
 constexpr auto kPollInterval = std::chrono::milliseconds(100);
 constexpr auto kStartupTimeout = std::chrono::seconds(60);
+constexpr auto kFinalPollGrace = std::chrono::seconds(5);
 
 std::string lowercase(std::string text) {
   for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
@@ -212,24 +213,29 @@ PageCheckResult checkPage(const PageOptions& options) {
   std::uint64_t frames = 0, draws = 0, contexts = 0;
   std::string done;
   bool answered = false;
-  try {
-    while (Clock::now() < deadline) {
+  const auto poll = [&](Clock::time_point until) {
+    try {
       const auto progress = evaluated(browserPipe.call(
           "Runtime.evaluate",
           {{"expression", "typeof __clipray === 'object' ? __clipray.progress() : ''"},
            {"returnByValue", true}},
-          session, deadline));
+          session, until));
       if (progress && progress->is_string() && !progress->get<std::string>().empty()) {
         std::istringstream words(progress->get<std::string>());
         words >> frames >> draws >> contexts >> done;
         answered = true;
-        if (done == "true" && draws > 0) break;
       }
-      std::this_thread::sleep_for(kPollInterval);
+    } catch (const DevToolsPipe::TimedOut&) {
+      // The page's script is busy: what was counted so far says why.
     }
-  } catch (const DevToolsPipe::TimedOut&) {
-    // The page's script is busy past the deadline: what was counted so far says why.
+  };
+  while (Clock::now() < deadline && done != "true") {
+    poll(deadline);
+    if (done != "true") std::this_thread::sleep_for(kPollInterval);
   }
+  // The last answer may be older than the deadline (a busy page answers late): once more, with
+  // what the page did up to now.
+  if (done != "true") poll(Clock::now() + kFinalPollGrace);
   if (!answered) throw InputError(options.target + ": did not answer in " + timeout);
   if (contexts == 0) {
     throw InputError(options.target + ": no WebGL context after " + timeout);

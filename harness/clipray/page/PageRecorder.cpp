@@ -28,13 +28,17 @@ constexpr std::string_view kScript = R"js(
   const canvases = [];
   Object.defineProperty(window, '__clipray', {value: rec});
 
+  // Numbers from 1 for each kind of object (WebGLProgram, WebGLShader, WebGLBuffer, ...), as a
+  // GL app's names would be: "program 1" is the page's first program.
   const ids = new WeakMap();
-  let nextId = 1;
+  const counters = new Map();
   const idOf = (object) => {
     if (object === null || object === undefined) return 0;
     let id = ids.get(object);
     if (id === undefined) {
-      id = nextId++;
+      const kind = Object.prototype.toString.call(object);
+      id = (counters.get(kind) || 0) + 1;
+      counters.set(kind, id);
       ids.set(object, id);
     }
     return id;
@@ -70,6 +74,31 @@ constexpr std::string_view kScript = R"js(
     return all.slice(from, length ? from + length : undefined);
   };
 
+  // A buffer's bytes (WebGL 2.0, 3.7.3: srcOffset and length count elements of the view), as
+  // base64; null past kMaxBufferBytes (not a uniform block: GL_MAX_UNIFORM_BLOCK_SIZE is 64 KiB on
+  // common implementations) or for what is no buffer.
+  const kMaxBufferBytes = 1 << 20;
+  const bytesOf = (data, offset, length) => {
+    let view = null;
+    if (data instanceof ArrayBuffer) {
+      view = new Uint8Array(data);
+    } else if (ArrayBuffer.isView(data)) {
+      const size = data.BYTES_PER_ELEMENT || 1;
+      const start = data.byteOffset + (offset || 0) * size;
+      const end = length ? start + length * size : data.byteOffset + data.byteLength;
+      if (end < start || end > data.byteOffset + data.byteLength) return null;
+      view = new Uint8Array(data.buffer, start, end - start);
+    }
+    return view && view.length <= kMaxBufferBytes ? view : null;
+  };
+  const base64 = (bytes) => {
+    let text = '';
+    for (let k = 0; k < bytes.length; k += 8192) {
+      text += String.fromCharCode.apply(null, bytes.subarray(k, k + 8192));
+    }
+    return btoa(text);
+  };
+  const kUniformBuffer = 0x8A11;
   const kDepthTest = 0x0B71, kCullFace = 0x0B44, kPolygonOffsetFill = 0x8037;
   const kDepth = 0x1801, kDepthStencil = 0x84F9;
   const draw = (name) => (owner) => {
@@ -131,6 +160,46 @@ constexpr std::string_view kScript = R"js(
       keep(gl, 'texImage2D', [target, level, format]));
     wrap(proto, 'texStorage2D', (gl, [target, levels, format]) =>
       keep(gl, 'texStorage2D', [target, levels, format]));
+    // Uniform buffers (WebGL 2): the bindings of UNIFORM_BUFFER, the bytes written to it, the
+    // shaders' text (the blocks' std140 layout) and the blocks' bindings.
+    wrap(proto, 'bindBuffer', (gl, [target, buffer]) => {
+      if (target === kUniformBuffer) keep(gl, 'bindBuffer', [target, idOf(buffer)]);
+    });
+    wrap(proto, 'bindBufferBase', (gl, [target, index, buffer]) => {
+      if (target === kUniformBuffer) keep(gl, 'bindBufferBase', [target, index, idOf(buffer)]);
+    });
+    wrap(proto, 'bindBufferRange', (gl, [target, index, buffer, offset, size]) => {
+      if (target === kUniformBuffer) {
+        keep(gl, 'bindBufferRange', [target, index, idOf(buffer), offset, size]);
+      }
+    });
+    wrap(proto, 'bufferData', (gl, [target, data, usage, offset, length]) => {
+      if (target !== kUniformBuffer) return;
+      if (typeof data === 'number') {
+        keep(gl, 'bufferData', [target, data, null]);  // zero-filled (WebGL 1.0, 5.14.5)
+      } else {
+        const bytes = bytesOf(data, offset, length);
+        if (bytes) keep(gl, 'bufferData', [target, bytes.length, base64(bytes)]);
+      }
+    });
+    wrap(proto, 'bufferSubData', (gl, [target, dstOffset, data, offset, length]) => {
+      if (target !== kUniformBuffer) return;
+      const bytes = bytesOf(data, offset, length);
+      if (bytes) keep(gl, 'bufferSubData', [target, dstOffset, bytes.length, base64(bytes)]);
+    });
+    wrap(proto, 'createShader', (gl, [type], shader) => {
+      if (shader) keep(gl, 'createShader', [type, idOf(shader)]);
+    });
+    wrap(proto, 'shaderSource', (gl, [shader, source]) =>
+      keep(gl, 'shaderSource', [idOf(shader), String(source)]));
+    wrap(proto, 'attachShader', (gl, [program, shader]) =>
+      keep(gl, 'attachShader', [idOf(program), idOf(shader)]));
+    wrap(proto, 'detachShader', (gl, [program, shader]) =>
+      keep(gl, 'detachShader', [idOf(program), idOf(shader)]));
+    wrap(proto, 'getUniformBlockIndex', (gl, [program, name], index) =>
+      keep(gl, 'getUniformBlockIndex', [idOf(program), String(name), index]));
+    wrap(proto, 'uniformBlockBinding', (gl, [program, index, binding]) =>
+      keep(gl, 'uniformBlockBinding', [idOf(program), index, binding]));
     // Extensions: EXT_clip_control's clipControlEXT (the only way a WebGL page gets a zero-to-one
     // clip volume), ANGLE_instanced_arrays' draws (WebGL 1).
     wrap(proto, 'getExtension', (gl, [name], extension) => {
