@@ -76,13 +76,13 @@ int runPageCheck(const CheckOptions& options) {
         "--page: the depth state and matrices come from the page; give no check file, field "
         "options or --trace with it");
   }
-  if (options.verify) throw InputError("--verify is not available with --page yet");
   page::PageOptions pageOptions;
   pageOptions.target = options.page;
   if (!options.frames.empty()) {
     pageOptions.frames = parseFrameCount(options.frames);
   }
   if (options.timeout) pageOptions.timeoutSeconds = *options.timeout;
+  pageOptions.verify = options.verify;
   const page::PageCheckResult result = page::checkPage(pageOptions);
   if (options.json) {
     // The page's address and names are the page's bytes: not necessarily UTF-8.

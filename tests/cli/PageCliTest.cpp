@@ -200,6 +200,44 @@ TEST(PageCli, EachCanvasIsCheckedOnItsOwnWebGl1Included) {
   EXPECT_EQ(report["verdict"], "errors");
 }
 
+// --verify: the page's own depth buffer after the last frame (blitted into a depth texture,
+// drawn through texelFetch into R32F, read as RGBA/FLOAT) set against the matrix. The ZO matrix
+// drawn under [-1, 1] puts the surfaces at view depths 4.1 to 8; a pick that unprojects those
+// depths as ZO lands at 7.9 to 14.8, up to 92% off. A WebGL 1 canvas is not verified, and says so.
+TEST(PageCli, VerifyReadsThePagesDepthBuffer) {
+  TempFolder folder;
+  const auto result = runClipray(
+      "check --page '" + page("zo-without-clip-control.html") + "' --verify --json", folder.path());
+  ASSERT_EQ(result.status, 1) << result.err;
+  const auto report = nlohmann::json::parse(result.out);
+  const nlohmann::json& verify = report["canvases"][0]["check"]["groups"][0]["verify"];
+  EXPECT_EQ(verify["frame"], 2);
+  EXPECT_EQ(verify["pixels"], 320 * 240);
+  EXPECT_EQ(verify["written"], 13562);  // both triangles' pixels (SwiftShader's rasterization)
+  EXPECT_NEAR(verify["min_depth"].get<double>(), 0.98829, 1e-5);
+  EXPECT_NEAR(verify["max_depth"].get<double>(), 0.994226, 1e-5);
+  EXPECT_NEAR(verify["nearest_view_depth"].get<double>(), 4.09888, 1e-3);
+  EXPECT_NEAR(verify["farthest_view_depth"].get<double>(), 7.97691, 2e-3);
+  EXPECT_NEAR(verify["picked_nearest"].get<double>(), 7.87498, 2e-3);
+  EXPECT_NEAR(verify["picked_farthest"].get<double>(), 14.7752, 4e-3);
+  EXPECT_NEAR(verify["pick_worst_relative_error"].get<double>(), 0.921253, 1e-3);
+  EXPECT_EQ(verify["observations"][0],
+            "depth buffer after call 31 (frame 2): 320x240 GL_DEPTH24_STENCIL8, 13562 of 76800 "
+            "pixels differ from the cleared depth 1");
+
+  const auto two =
+      runClipray("check --page '" + page("two-canvases.html") + "' --verify", folder.path());
+  ASSERT_EQ(two.status, 1) << two.err;
+  for (const char* line :
+       {"  verify (the page's depth buffer after the last frame):\n    depth buffer after call 56 "
+        "(frame 2): 320x240 GL_DEPTH24_STENCIL8, 13562 of 76800 pixels differ from the cleared "
+        "depth 0\n    window depth used: 0.0115479 to 0.0234204\n",
+        "  verify (the page's depth buffer after the last frame):\n    not verified: a WebGL 1 "
+        "context (reading depth needs WebGL 2)\n"}) {
+    EXPECT_NE(two.out.find(line), std::string::npos) << line << "\n---\n" << two.out;
+  }
+}
+
 // Bad input: one line naming the value, exit 2, nothing on stdout.
 void expectBadInput(const std::string& arguments, const std::string& line,
                     const std::string& environment = "") {

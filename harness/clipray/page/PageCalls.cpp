@@ -19,6 +19,7 @@
 #include <memory>
 
 #include "clipray/InputError.hpp"
+#include "clipray/trace/ReplayDepth.hpp"
 
 namespace clipray::page {
 
@@ -230,8 +231,6 @@ std::string dumpLineFor(const json& record, std::uint64_t call) {
   return "";
 }
 
-namespace {
-
 std::optional<std::string> base64Decoded(const std::string& text) {
   std::string out;
   unsigned value = 0;
@@ -254,6 +253,8 @@ std::optional<std::string> base64Decoded(const std::string& text) {
   }
   return out;
 }
+
+namespace {
 
 // The folder the buffers' bytes are written to as apitrace's blob files (blob_call<N>.bin), which
 // the state model reads (UniformBuffers.hpp); removed with its files.
@@ -467,6 +468,47 @@ PageCheckResult checkRecording(const std::string& page, const json& recording) {
                                       [](const CanvasCheck& c) { return c.result.has_value(); });
   if (!anyChecked) throw InputError(page + ": " + firstReason);
   return result;
+}
+
+}  // namespace clipray::page
+
+namespace clipray::page {
+
+void addDepthImages(PageCheckResult& result, const json& images) {
+  for (std::size_t k = 0; k < result.canvases.size(); ++k) {
+    CanvasCheck& canvas = result.canvases[k];
+    if (!canvas.result) continue;
+    const json image = images.is_array() && k < images.size() ? images[k] : json();
+    std::string failure = image.is_object() ? image.value("failure", "") : "no depth image";
+    trace::DepthImage depth;
+    if (failure.empty()) {
+      depth.width = image.value("width", 0);
+      depth.height = image.value("height", 0);
+      depth.format = image.value("format", "");
+      const auto bytes = base64Decoded(image.value("depth", ""));
+      const auto pixels = static_cast<std::size_t>(std::max(depth.width, 0)) *
+                          static_cast<std::size_t>(std::max(depth.height, 0));
+      if (!bytes || pixels == 0 || bytes->size() != pixels * sizeof(float)) {
+        failure = "the depth image read back is not width x height floats";
+      } else {
+        depth.depth.resize(pixels);
+        std::memcpy(depth.depth.data(), bytes->data(), bytes->size());
+      }
+    }
+    for (trace::TracePairGroup& group : canvas.result->groups) {
+      if (!failure.empty()) {
+        group.verifyObservations = {"not verified: " + failure};
+        group.verify = {{"failure", failure}};
+        continue;
+      }
+      // The image is the last frame's: the group's last draw is the call it follows.
+      trace::TracePairGroup atLast = group;
+      atLast.first = group.last;
+      const trace::DepthUse use = trace::analyseDepthUse(depth, atLast);
+      group.verifyObservations = use.observations;
+      group.verify = trace::depthUseJson(use);
+    }
+  }
 }
 
 }  // namespace clipray::page

@@ -189,7 +189,8 @@ PageCheckResult checkPage(const PageOptions& options) {
     browserPipe.call("Page.enable", nlohmann::json::object(), session, startDeadline);
     browserPipe.call("Page.bringToFront", nlohmann::json::object(), session, startDeadline);
     browserPipe.call("Page.addScriptToEvaluateOnNewDocument",
-                     {{"source", pageRecorderScript(options.frames)}}, session, startDeadline);
+                     {{"source", pageRecorderScript(options.frames, options.verify)}}, session,
+                     startDeadline);
   } catch (const DevToolsPipe::TimedOut&) {
     const std::string tail = browserPipe.stderrTail();
     throw InputError("chromium did not answer on the DevTools pipe in " +
@@ -260,7 +261,22 @@ PageCheckResult checkPage(const PageOptions& options) {
   if (!recording.is_object()) {
     throw InputError(options.target + ": the recording could not be read back from the page");
   }
-  return checkRecording(options.target, recording);
+  PageCheckResult result = checkRecording(options.target, recording);
+  if (options.verify) {
+    nlohmann::json images;
+    try {
+      const auto read = evaluated(browserPipe.call(
+          "Runtime.evaluate", {{"expression", "__clipray.readDepth()"}, {"returnByValue", true}},
+          session, Clock::now() + kFetchGrace));
+      if (read && read->is_string()) {
+        images = nlohmann::json::parse(read->get<std::string>(), nullptr, false);
+      }
+    } catch (const DevToolsPipe::TimedOut&) {
+      // Each group then says it was not verified.
+    }
+    addDepthImages(result, images);
+  }
+  return result;
 }
 
 }  // namespace clipray::page

@@ -21,6 +21,8 @@ struct PageOptions {
   std::string target;  // an http(s) or file URL, or the path of a local file
   std::uint64_t frames = 3;
   double timeoutSeconds = 30.0;
+  // Read each canvas's depth buffer after the last frame (addDepthImages).
+  bool verify = false;
 };
 
 // The URL to load: http(s) and file URLs as given, a path as an absolute file URL. Throws

@@ -19,7 +19,7 @@ namespace {
 
 // Called with the number of frames to record (PageRecorder.hpp).
 constexpr std::string_view kScript = R"js(
-((frameLimit) => {
+((frameLimit, verify) => {
   'use strict';
   if (window.__clipray) return;
   const kMaxCalls = 500000;
@@ -218,10 +218,16 @@ constexpr std::string_view kScript = R"js(
 
   const getContext = HTMLCanvasElement.prototype.getContext;
   HTMLCanvasElement.prototype.getContext = function(type, ...rest) {
-    const gl = getContext.call(this, type, ...rest);
     const kind = String(type);
-    if (gl && (kind === 'webgl' || kind === 'webgl2' || kind === 'experimental-webgl') &&
-        !contextIndex.has(gl)) {
+    const webgl = kind === 'webgl' || kind === 'webgl2' || kind === 'experimental-webgl';
+    const asked = (rest[0] && typeof rest[0] === 'object') ? rest[0] : {};
+    if (webgl && verify) {
+      // --verify reads the depth buffer after the last frame: it must outlive the frame
+      // (preserveDrawingBuffer) and be single-sampled (a blit copies it).
+      rest[0] = Object.assign({}, asked, {preserveDrawingBuffer: true, antialias: false});
+    }
+    const gl = getContext.call(this, type, ...rest);
+    if (gl && webgl && !contextIndex.has(gl)) {
       const index = rec.contexts.length;
       contextIndex.set(gl, index);
       canvases.push({canvas: this, gl});
@@ -230,7 +236,9 @@ constexpr std::string_view kScript = R"js(
         name: this.id ? 'canvas#' + this.id : 'canvas ' + (index + 1),
         type: kind,
         depth: !!attributes.depth,
-        preserveDrawingBuffer: !!attributes.preserveDrawingBuffer,
+        // What the page asked for (under --verify the context preserves it regardless).
+        preserveDrawingBuffer: verify ? !!asked.preserveDrawingBuffer
+                                      : !!attributes.preserveDrawingBuffer,
         depthBits: attributes.depth ? gl.getParameter(gl.DEPTH_BITS) : 0,
       });
       // WebGL 1.0, 5.13.4: the viewport starts as the drawing buffer's size.
@@ -256,6 +264,90 @@ constexpr std::string_view kScript = R"js(
   };
   requestAnimationFrame(tick);
 
+  // --verify: each canvas's depth buffer as the last frame left it, as {width, height, format,
+  // depth: base64 of float32s, bottom row first} or {failure}. WebGL cannot read depth with
+  // readPixels; the depth is blitted into a depth texture of the drawing buffer's format, drawn
+  // through texelFetch into an R32F target (EXT_color_buffer_float) and read as RGBA/FLOAT.
+  const readDepth = (gl) => {
+    if (typeof WebGL2RenderingContext === 'undefined' || !(gl instanceof WebGL2RenderingContext)) {
+      return {failure: 'a WebGL 1 context (reading depth needs WebGL 2)'};
+    }
+    if (!gl.getContextAttributes().depth) return {failure: 'the context has no depth buffer'};
+    if (!gl.getExtension('EXT_color_buffer_float')) return {failure: 'no EXT_color_buffer_float'};
+    const width = gl.drawingBufferWidth, height = gl.drawingBufferHeight;
+    while (gl.getError() !== gl.NO_ERROR) {}
+    gl.bindVertexArray(gl.createVertexArray());
+    for (const cap of [gl.DEPTH_TEST, gl.STENCIL_TEST, gl.BLEND, gl.CULL_FACE, gl.SCISSOR_TEST,
+                       gl.RASTERIZER_DISCARD, gl.POLYGON_OFFSET_FILL]) {
+      gl.disable(cap);
+    }
+    gl.colorMask(true, true, true, true);
+    gl.activeTexture(gl.TEXTURE0);
+    // The drawing buffer's depth format is not exposed: the blit succeeds only into the same one.
+    let depthTexture = null, formatName = '';
+    for (const [format, attachment, name] of [
+             [gl.DEPTH24_STENCIL8, gl.DEPTH_STENCIL_ATTACHMENT, 'GL_DEPTH24_STENCIL8'],
+             [gl.DEPTH_COMPONENT24, gl.DEPTH_ATTACHMENT, 'GL_DEPTH_COMPONENT24'],
+             [gl.DEPTH_COMPONENT16, gl.DEPTH_ATTACHMENT, 'GL_DEPTH_COMPONENT16'],
+             [gl.DEPTH_COMPONENT32F, gl.DEPTH_ATTACHMENT, 'GL_DEPTH_COMPONENT32F'],
+             [gl.DEPTH32F_STENCIL8, gl.DEPTH_STENCIL_ATTACHMENT, 'GL_DEPTH32F_STENCIL8']]) {
+      const texture = gl.createTexture();
+      gl.bindTexture(gl.TEXTURE_2D, texture);
+      gl.texStorage2D(gl.TEXTURE_2D, 1, format, width, height);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+      gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+      const framebuffer = gl.createFramebuffer();
+      gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, framebuffer);
+      gl.framebufferTexture2D(gl.DRAW_FRAMEBUFFER, attachment, gl.TEXTURE_2D, texture, 0);
+      gl.bindFramebuffer(gl.READ_FRAMEBUFFER, null);
+      gl.blitFramebuffer(0, 0, width, height, 0, 0, width, height, gl.DEPTH_BUFFER_BIT,
+                         gl.NEAREST);
+      if (gl.getError() === gl.NO_ERROR) {
+        depthTexture = texture;
+        formatName = name;
+        break;
+      }
+    }
+    if (!depthTexture) return {failure: 'the drawing buffer\'s depth could not be copied'};
+    const compile = (type, source) => {
+      const shader = gl.createShader(type);
+      gl.shaderSource(shader, source);
+      gl.compileShader(shader);
+      return shader;
+    };
+    const program = gl.createProgram();
+    gl.attachShader(program, compile(gl.VERTEX_SHADER, `#version 300 es
+      void main() {
+        gl_Position = vec4(gl_VertexID == 1 ? 3.0 : -1.0, gl_VertexID == 2 ? 3.0 : -1.0, 0.0, 1.0);
+      }`));
+    gl.attachShader(program, compile(gl.FRAGMENT_SHADER, `#version 300 es
+      precision highp float;
+      uniform highp sampler2D depth;
+      out vec4 color;
+      void main() { color = vec4(texelFetch(depth, ivec2(gl_FragCoord.xy), 0).r, 0.0, 0.0, 1.0); }`));
+    gl.linkProgram(program);
+    if (!gl.getProgramParameter(program, gl.LINK_STATUS)) return {failure: 'no depth read program'};
+    const target = gl.createTexture();
+    gl.bindTexture(gl.TEXTURE_2D, target);
+    gl.texStorage2D(gl.TEXTURE_2D, 1, gl.R32F, width, height);
+    const framebuffer = gl.createFramebuffer();
+    gl.bindFramebuffer(gl.FRAMEBUFFER, framebuffer);
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, target, 0);
+    gl.drawBuffers([gl.COLOR_ATTACHMENT0]);
+    gl.bindTexture(gl.TEXTURE_2D, depthTexture);
+    gl.useProgram(program);
+    gl.uniform1i(gl.getUniformLocation(program, 'depth'), 0);
+    gl.viewport(0, 0, width, height);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    const pixels = new Float32Array(width * height * 4);
+    gl.readPixels(0, 0, width, height, gl.RGBA, gl.FLOAT, pixels);
+    if (gl.getError() !== gl.NO_ERROR) return {failure: 'the depth could not be read back'};
+    const depth = new Float32Array(width * height);
+    for (let k = 0; k < depth.length; ++k) depth[k] = pixels[4 * k];
+    return {width, height, format: formatName, depth: base64(new Uint8Array(depth.buffer))};
+  };
+  rec.readDepth = () => JSON.stringify(canvases.map(({gl}) => readDepth(gl)));
+
   rec.progress = () => rec.frames + ' ' + rec.draws + ' ' + rec.contexts.length + ' ' + rec.done;
   rec.snapshot = () => {
     // The canvas as it is now: its buffer's size, its size on the page, the pixel ratio.
@@ -277,10 +369,11 @@ constexpr std::string_view kScript = R"js(
 
 }  // namespace
 
-std::string pageRecorderScript(std::uint64_t frames) {
+std::string pageRecorderScript(std::uint64_t frames, bool verify) {
   std::string script(kScript);
   script += "(";
   script += std::to_string(frames);
+  script += verify ? ", true" : ", false";
   script += ");\n";
   return script;
 }

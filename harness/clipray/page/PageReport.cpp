@@ -71,7 +71,14 @@ std::string pageCheckText(const PageCheckResult& r) {
     }
     // The trace report without its first line (which names a trace): the canvas line above says
     // what was read.
-    const std::string text = trace::traceCheckText(*canvas.result);
+    std::string text = trace::traceCheckText(*canvas.result);
+    // --verify's observations come from the page's own depth buffer, not a replay.
+    const std::string replayed = "  verify (replayed by eglretrace):\n";
+    for (std::size_t at = text.find(replayed); at != std::string::npos;
+         at = text.find(replayed, at + 1)) {
+      text.replace(at, replayed.size(),
+                   "  verify (the page's depth buffer after the last frame):\n");
+    }
     const std::size_t colon = text.find(": ");
     out << "  calls read as a trace: " << text.substr(colon == std::string::npos ? 0 : colon + 2);
   }
