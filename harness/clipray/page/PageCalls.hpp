@@ -54,11 +54,6 @@ PageCheckResult checkRecording(const std::string& page, const nlohmann::json& re
 // Base64 (RFC 4648) as the recorder writes bytes (btoa); nullopt for other characters.
 std::optional<std::string> base64Decoded(const std::string& text);
 
-// --verify: each canvas's depth image (PageRecorder's readDepth, one entry per canvas) set
-// against each of its groups as `--trace --verify` sets a replayed one (ReplayDepth.hpp): the
-// depth buffer as the last recorded frame left it.
-void addDepthImages(PageCheckResult& result, const nlohmann::json& images);
-
 // The dump line (apitrace's text) a recorded call stands for; empty for calls the state model
 // does not need. `call` numbers the line. Exposed for the tests.
 std::string dumpLineFor(const nlohmann::json& record, std::uint64_t call);

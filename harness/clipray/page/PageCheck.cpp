@@ -18,6 +18,7 @@
 #include "clipray/InputError.hpp"
 #include "clipray/page/DevToolsPipe.hpp"
 #include "clipray/page/PageRecorder.hpp"
+#include "clipray/page/PageVerify.hpp"
 
 namespace clipray::page {
 
