@@ -163,11 +163,16 @@ PageCheckResult checkPage(const PageOptions& options) {
   const auto startDeadline = Clock::now() + kStartupTimeout;
   // Software GL: SwiftShader through ANGLE exposes WebGL2 and EXT_clip_control without a GPU or
   // a display. --no-sandbox: chromium's sandbox refuses to run as root (CI's containers).
+  // --disable-dev-shm-usage: containers often give /dev/shm 64 MiB, too little for the
+  // renderer. The background flags keep animation frames coming at full rate (a headless page
+  // counts as hidden to some of chromium's throttles).
   DevToolsPipe browserPipe(
       browser,
       {"--headless=new", "--no-sandbox", "--disable-gpu-sandbox", "--use-angle=swiftshader",
        "--enable-unsafe-swiftshader", "--no-first-run", "--no-default-browser-check",
-       "--disable-extensions", "--mute-audio", "--hide-scrollbars", "--window-size=800,600"});
+       "--disable-extensions", "--mute-audio", "--hide-scrollbars", "--window-size=800,600",
+       "--disable-dev-shm-usage", "--disable-background-timer-throttling",
+       "--disable-renderer-backgrounding", "--disable-backgrounding-occluded-windows"});
   std::string session;
   try {
     const nlohmann::json targets = browserPipe.call("Target.getTargets", {}, "", startDeadline);
