@@ -292,6 +292,11 @@ TEST(PageCli, PagesWithoutWebGlOrDrawsEndAtTheTimeout) {
                  page("no-webgl.html") + ": no WebGL context after 2 s");
   expectBadInput("check --page '" + page("never-draws.html") + "' --timeout 2",
                  page("never-draws.html") + ": never drew in 2 s (1 WebGL context)");
+  // The page's own first uncaught error, where it threw one.
+  expectBadInput("check --page '" + page("throws.html") + "' --timeout 2",
+                 page("throws.html") +
+                     ": never drew in 2 s (1 WebGL context); the page threw: Uncaught Error: "
+                     "scene failed to load");
 }
 
 }  // namespace

@@ -371,6 +371,9 @@ PageCheckResult checkRecording(const std::string& page, const json& recording) {
   for (const json& error : recording.value("errors", json::array())) {
     if (error.is_string()) result.recorderErrors.push_back(error.get<std::string>());
   }
+  for (const json& error : recording.value("pageErrors", json::array())) {
+    if (error.is_string()) result.pageErrors.push_back(error.get<std::string>());
+  }
   const json contexts = recording.value("contexts", json::array());
   if (contexts.empty()) {
     throw InputError(page + ": no WebGL context");

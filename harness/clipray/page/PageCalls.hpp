@@ -42,6 +42,7 @@ struct PageCheckResult {
   std::uint64_t draws = 0;         // of all canvases
   std::uint64_t callsNotKept = 0;  // past the recorder's cap
   std::vector<std::string> recorderErrors;
+  std::vector<std::string> pageErrors;  // the page's uncaught errors (at most 10)
   std::vector<CanvasCheck> canvases;
   bool hasErrors() const;
 };

@@ -244,13 +244,26 @@ PageCheckResult checkPage(const PageOptions& options) {
   // what the page did up to now.
   if (done != "true") poll(Clock::now() + kFinalPollGrace);
   if (!answered) throw InputError(options.target + ": did not answer in " + timeout);
-  if (contexts == 0) {
-    throw InputError(options.target + ": no WebGL context after " + timeout);
-  }
-  if (draws == 0) {
+  if (contexts == 0 || draws == 0) {
+    // The page's first uncaught error says why, often.
+    std::string threw;
+    try {
+      const auto error = evaluated(browserPipe.call(
+          "Runtime.evaluate",
+          {{"expression", "__clipray.pageErrors.length ? __clipray.pageErrors[0] : ''"},
+           {"returnByValue", true}},
+          session, Clock::now() + kFinalPollGrace));
+      if (error && error->is_string() && !error->get<std::string>().empty()) {
+        threw = "; the page threw: " + error->get<std::string>();
+      }
+    } catch (const DevToolsPipe::TimedOut&) {
+    }
+    if (contexts == 0) {
+      throw InputError(options.target + ": no WebGL context after " + timeout + threw);
+    }
     throw InputError(options.target + ": never drew in " + timeout + " (" +
                      std::to_string(contexts) +
-                     (contexts == 1 ? " WebGL context)" : " WebGL contexts)"));
+                     (contexts == 1 ? " WebGL context)" : " WebGL contexts)") + threw);
   }
   nlohmann::json recording;
   try {

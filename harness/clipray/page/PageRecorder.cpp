@@ -24,8 +24,16 @@ constexpr std::string_view kScript = R"js(
   if (window.__clipray) return;
   const kMaxCalls = 500000;
   // done: frameLimit frames are recorded; nothing more is kept.
-  const rec = {calls: [], frames: 0, draws: 0, dropped: 0, done: false, contexts: [], errors: []};
+  const rec = {calls: [], frames: 0, draws: 0, dropped: 0, done: false, contexts: [], errors: [],
+               pageErrors: []};
   const canvases = [];
+  // The page's own uncaught errors: why a page never drew, often.
+  const pageError = (text) => {
+    if (rec.pageErrors.length < 10) rec.pageErrors.push(String(text));
+  };
+  window.addEventListener('error', (event) => pageError(event.message));
+  window.addEventListener('unhandledrejection', (event) =>
+    pageError('unhandled rejection: ' + (event.reason && event.reason.message || event.reason)));
   Object.defineProperty(window, '__clipray', {value: rec});
 
   // Numbers from 1 for each kind of object (WebGLProgram, WebGLShader, WebGLBuffer, ...), as a
@@ -361,6 +369,7 @@ constexpr std::string_view kScript = R"js(
     return JSON.stringify({
       url: String(location.href), devicePixelRatio: window.devicePixelRatio, frames: rec.frames,
       draws: rec.draws, dropped: rec.dropped, contexts: rec.contexts, errors: rec.errors,
+      pageErrors: rec.pageErrors,
       calls: rec.calls,
     });
   };

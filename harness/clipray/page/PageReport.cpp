@@ -51,6 +51,7 @@ nlohmann::json pageCheckJson(const PageCheckResult& r) {
           {"draws", r.draws},
           {"calls_not_kept", r.callsNotKept},
           {"recorder_errors", r.recorderErrors},
+          {"page_errors", r.pageErrors},
           {"canvases", canvases},
           {"verdict", r.hasErrors() ? "errors" : "ok"}};
 }
@@ -63,6 +64,7 @@ std::string pageCheckText(const PageCheckResult& r) {
     out << "  " << r.callsNotKept << " calls past the recorder's limit not recorded\n";
   }
   for (const std::string& error : r.recorderErrors) out << "  recorder: " << error << "\n";
+  for (const std::string& error : r.pageErrors) out << "  the page threw: " << error << "\n";
   for (const CanvasCheck& canvas : r.canvases) {
     out << "\n" << canvasLine(canvas, r.devicePixelRatio) << "\n";
     if (!canvas.result) {
