@@ -58,7 +58,8 @@ TEST(PageCalls, CallsBecomeTheDumpLinesOfTheirGlCalls) {
   EXPECT_EQ(dumpLineFor(json::array({0, "clipControl", 36001, 37727}), 3),
             "3 glClipControl(origin = 36001, depth = 37727)");
   EXPECT_EQ(dumpLineFor(json::array({0, "clearDepth", 0.25}), 4), "4 glClearDepth(depth = 0.25)");
-  EXPECT_EQ(dumpLineFor(json::array({0, "depthRange", 1, 0}), 5), "5 glDepthRangef(n = 1, f = 0)");
+  EXPECT_EQ(dumpLineFor(json::array({0, "depthRange", 0.25, 1}), 5),
+            "5 glDepthRangef(n = 0.25, f = 1)");
   EXPECT_EQ(dumpLineFor(json::array({0, "viewport", 0, 0, 640, 480}), 6),
             "6 glViewport(x = 0, y = 0, width = 640, height = 480)");
   EXPECT_EQ(dumpLineFor(json::array({0, "getUniformLocation", 3, "a\"b", 9}), 8),
@@ -76,6 +77,7 @@ TEST(PageCalls, CallsBecomeTheDumpLinesOfTheirGlCalls) {
   // What WebGL refuses (nothing changes) and what the recorder could not read: no line.
   EXPECT_EQ(dumpLineFor(json::array({0, "viewport", 0, 0, -1, 480}), 1), "");
   EXPECT_EQ(dumpLineFor(json::array({0, "clearDepth", nullptr}), 1), "");
+  EXPECT_EQ(dumpLineFor(json::array({0, "depthRange", 1, 0}), 1), "");  // WebGL 1.0, 6.12
   EXPECT_EQ(dumpLineFor(json::array({0, "uniformMatrix4fv", 2, 0, json::array({1, 2, 3})}), 1), "");
   EXPECT_EQ(dumpLineFor(json::array({0, "bufferData", 1}), 1), "");
 }

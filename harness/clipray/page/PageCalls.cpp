@@ -155,7 +155,11 @@ std::string dumpLineFor(const json& record, std::uint64_t call) {
   if (name == "depthRange") {
     const auto n = record.size() > 3 ? floatText(record[2]) : std::nullopt;
     const auto f = record.size() > 3 ? floatText(record[3]) : std::nullopt;
-    return n && f ? line(call, "glDepthRangef", "n = " + *n + ", f = " + *f) : "";
+    if (!n || !f) return "";
+    // WebGL 1.0, 6.12: zNear greater than zFar is INVALID_OPERATION; nothing changes (a reversed
+    // depth range, GL's other way to reversed-Z, does not exist in WebGL).
+    if (record[2].get<double>() > record[3].get<double>()) return "";
+    return line(call, "glDepthRangef", "n = " + *n + ", f = " + *f);
   }
   if (name == "clearBufferfv") {
     const auto buffer = integerAt(record, 2);
