@@ -114,6 +114,26 @@ TEST(PageCalls, TheDrawingBuffersImplicitClearCountsAsAClearToOne) {
   EXPECT_EQ(kept.canvases.at(0).result->groups.at(0).depth.clearedDepth, std::nullopt);
 }
 
+// depthMask and polygon offset are outside the trace's state model: counted at the draws.
+TEST(PageCalls, DepthWritesOffAndPolygonOffsetAreCountedAtTheDraws) {
+  json recording = reversedRecording(true);
+  json& calls = recording["calls"];
+  const json more =
+      json::array({json::array({0, "depthMask", 0}), json::array({0, "drawArrays"}),
+                   json::array({0, "depthMask", 1}), json::array({0, "polygonOffset", -1.5, -2}),
+                   json::array({0, "enable", 0x8037}), json::array({0, "drawArrays"}),
+                   json::array({0, "drawArrays"}), json::array({0, "disable", 0x8037}),
+                   json::array({0, "polygonOffset", 3, 4}), json::array({0, "drawArrays"})});
+  calls.insert(calls.end(), more.begin(), more.end());
+  const PageCheckResult result = checkRecording("page.html", recording);
+  const CanvasCheck& canvas = result.canvases.at(0);
+  EXPECT_EQ(canvas.draws, 5u);
+  EXPECT_EQ(canvas.drawsWithoutDepthWrites, 1u);
+  EXPECT_EQ(canvas.drawsWithPolygonOffset, 2u);
+  EXPECT_EQ(canvas.polygonOffsetFactor, -1.5);
+  EXPECT_EQ(canvas.polygonOffsetUnits, -2.0);
+}
+
 TEST(PageCalls, EachCanvasIsCheckedOnItsOwn) {
   json recording = reversedRecording(true);
   recording["contexts"].push_back(context("canvas 2"));

@@ -27,6 +27,7 @@ namespace {
 using nlohmann::json;
 
 constexpr std::uint32_t kGlDepthBufferBit = 0x100;
+constexpr long long kPolygonOffsetFill = 0x8037;
 // A bufferData(target, size) larger than this is not written out as zeros (the recorder keeps
 // no buffer data past 1 MiB either).
 constexpr long long kMaxZeroFilledBytes = 1 << 20;
@@ -337,6 +338,10 @@ struct ContextLines {
   std::int64_t drawFramebuffer = 0;
   std::string clearDepth = "1";  // the page's clearDepth, as written
   std::uint64_t calls = 0, draws = 0;
+  bool depthMask = true, polygonOffsetFill = false;
+  double factor = 0.0, units = 0.0;  // polygonOffset's
+  std::uint64_t drawsWithoutDepthWrites = 0, drawsWithPolygonOffset = 0;
+  double offsetFactor = 0.0, offsetUnits = 0.0;  // at the last draw with the offset on
 
   void add(const std::string& text) {
     if (!text.empty()) collector.addLine(text);
@@ -430,6 +435,22 @@ PageCheckResult checkRecording(const std::string& page, const json& recording) {
       if (const auto text = floatText(record[2])) context.clearDepth = *text;
     } else if (name.starts_with("draw")) {
       ++context.draws;
+      if (!context.depthMask) ++context.drawsWithoutDepthWrites;
+      if (context.polygonOffsetFill) {
+        ++context.drawsWithPolygonOffset;
+        context.offsetFactor = context.factor;
+        context.offsetUnits = context.units;
+      }
+    } else if (name == "depthMask") {
+      if (const auto mask = integerAt(record, 2)) context.depthMask = *mask != 0;
+    } else if (name == "polygonOffset") {
+      if (record.size() > 3 && record[2].is_number() && record[3].is_number()) {
+        context.factor = record[2].get<double>();
+        context.units = record[3].get<double>();
+      }
+    } else if ((name == "enable" || name == "disable") &&
+               integerAt(record, 2) == kPolygonOffsetFill) {
+      context.polygonOffsetFill = name == "enable";
     } else if (name == "bufferData" || name == "bufferSubData") {
       if (!blobs) {
         blobs = std::make_unique<BlobFolder>();
@@ -449,6 +470,10 @@ PageCheckResult checkRecording(const std::string& page, const json& recording) {
     canvas.canvas = contexts[k];
     canvas.calls = lines[k].calls;
     canvas.draws = lines[k].draws;
+    canvas.drawsWithoutDepthWrites = lines[k].drawsWithoutDepthWrites;
+    canvas.drawsWithPolygonOffset = lines[k].drawsWithPolygonOffset;
+    canvas.polygonOffsetFactor = lines[k].offsetFactor;
+    canvas.polygonOffsetUnits = lines[k].offsetUnits;
     if (canvas.draws == 0) {
       canvas.notChecked = "no draws";
     } else {

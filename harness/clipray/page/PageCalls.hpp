@@ -30,6 +30,12 @@ struct CanvasCheck {
   nlohmann::json canvas;  // sizes, depth attributes, as recorded
   std::uint64_t calls = 0;
   std::uint64_t draws = 0;
+  // State the trace's model does not follow, counted at the draws: depthMask(false) (the draw
+  // leaves no depth to pick against) and POLYGON_OFFSET_FILL (the depth written is shifted by
+  // polygonOffset's factor and units, the last ones such a draw used).
+  std::uint64_t drawsWithoutDepthWrites = 0;
+  std::uint64_t drawsWithPolygonOffset = 0;
+  double polygonOffsetFactor = 0.0, polygonOffsetUnits = 0.0;
   std::optional<trace::TraceCheckResult> result;
   std::string notChecked;  // why not (no draws, no projection): then no result
 };

@@ -3,6 +3,7 @@
 
 #include <sstream>
 
+#include "clipray/check/CheckText.hpp"
 #include "clipray/page/PageCheck.hpp"
 
 namespace clipray::page {
@@ -32,7 +33,14 @@ nlohmann::json pageCheckJson(const PageCheckResult& r) {
                             {"type", canvas.type},
                             {"canvas", canvas.canvas},
                             {"calls", canvas.calls},
-                            {"draws", canvas.draws}};
+                            {"draws", canvas.draws},
+                            {"draws_without_depth_writes", canvas.drawsWithoutDepthWrites},
+                            {"draws_with_polygon_offset", canvas.drawsWithPolygonOffset}};
+    entry["polygon_offset"] = nullptr;
+    if (canvas.drawsWithPolygonOffset > 0) {
+      entry["polygon_offset"] = {{"factor", canvas.polygonOffsetFactor},
+                                 {"units", canvas.polygonOffsetUnits}};
+    }
     if (canvas.result) {
       nlohmann::json check = trace::traceCheckJson(*canvas.result);
       check.erase("tool");
@@ -67,6 +75,17 @@ std::string pageCheckText(const PageCheckResult& r) {
   for (const std::string& error : r.pageErrors) out << "  the page threw: " << error << "\n";
   for (const CanvasCheck& canvas : r.canvases) {
     out << "\n" << canvasLine(canvas, r.devicePixelRatio) << "\n";
+    if (canvas.drawsWithoutDepthWrites > 0) {
+      out << "  " << canvas.drawsWithoutDepthWrites
+          << " draws with depthMask(false): they leave no depth to pick against\n";
+    }
+    if (canvas.drawsWithPolygonOffset > 0) {
+      out << "  " << canvas.drawsWithPolygonOffset
+          << " draws with POLYGON_OFFSET_FILL (last polygonOffset factor "
+          << detail::checkNumber(canvas.polygonOffsetFactor) << ", units "
+          << detail::checkNumber(canvas.polygonOffsetUnits)
+          << "): the depth they write is shifted from the surface's\n";
+    }
     if (!canvas.result) {
       out << "  not checked: " << canvas.notChecked << "\n";
       continue;
