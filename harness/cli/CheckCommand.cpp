@@ -1,10 +1,12 @@
 // `clipray check`: a convention checker for GL apps' matrices.
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 
 #include "Commands.hpp"
@@ -14,6 +16,7 @@
 #include "clipray/engine/VerifyCheck.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/io/InputFile.hpp"
+#include "clipray/page/PageCheck.hpp"
 #include "clipray/trace/TraceFileCheck.hpp"
 #include "clipray/util/OptionValues.hpp"
 
@@ -27,11 +30,24 @@ struct CheckOptions {
   bool json = false;
   bool verify = false;
   std::string backend = "osmesa";
-  std::string trace;   // --trace: an apitrace trace of the app instead of typed numbers
-  std::string frames;  // --frames A-B with --trace
+  std::string trace;              // --trace: an apitrace trace of the app instead of typed numbers
+  std::string frames;             // --frames A-B with --trace, N with --page
+  std::string page;               // --page: a WebGL page in headless chromium
+  std::optional<double> timeout;  // --timeout S with --page
   std::size_t optionsGiven =
       0;  // field options on the command line (not --json/--verify/--backend)
 };
+
+// --frames N with --page: a whole number of animation frames.
+std::uint64_t parseFrameCount(const std::string& text) {
+  std::uint64_t count = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), count);
+  if (error != std::errc() || end != text.data() + text.size() || count == 0 || count > 100000) {
+    throw InputError("--frames: expected a number of frames from 1 to 100000 with --page, got '" +
+                     text + "'");
+  }
+  return count;
+}
 
 int runTraceCheck(const CheckOptions& options) {
   // The trace is the app's own state: typed fields would contradict it.
@@ -53,9 +69,37 @@ int runTraceCheck(const CheckOptions& options) {
   return result.hasErrors() ? 1 : 0;
 }
 
+int runPageCheck(const CheckOptions& options) {
+  // The page is the app: typed fields would contradict what it does.
+  if (!options.file.empty() || options.optionsGiven > 0 || !options.trace.empty()) {
+    throw InputError(
+        "--page: the depth state and matrices come from the page; give no check file, field "
+        "options or --trace with it");
+  }
+  page::PageOptions pageOptions;
+  pageOptions.target = options.page;
+  if (!options.frames.empty()) {
+    pageOptions.frames = parseFrameCount(options.frames);
+  }
+  if (options.timeout) pageOptions.timeoutSeconds = *options.timeout;
+  pageOptions.verify = options.verify;
+  const page::PageCheckResult result = page::checkPage(pageOptions);
+  if (options.json) {
+    // The page's address and names are the page's bytes: not necessarily UTF-8.
+    std::cout << page::pageCheckJson(result).dump(2, ' ', false,
+                                                  nlohmann::json::error_handler_t::replace)
+              << "\n";
+  } else {
+    std::cout << page::pageCheckText(result);
+  }
+  return result.hasErrors() ? 1 : 0;
+}
+
 int runCheck(CheckOptions options) {
+  if (!options.page.empty()) return runPageCheck(options);
+  if (options.timeout) throw InputError("--timeout needs --page");
   if (!options.trace.empty()) return runTraceCheck(options);
-  if (!options.frames.empty()) throw InputError("--frames needs --trace");
+  if (!options.frames.empty()) throw InputError("--frames needs --trace or --page");
   if (!options.file.empty()) {
     // One source of truth: a file's fields are not silently overridden or mixed with options.
     if (options.optionsGiven > 0) {
@@ -142,7 +186,14 @@ CommandRunner addCheckOptions(CLI::App& app) {
   app.add_option("--trace", options->trace,
                  "An apitrace trace of the app (apitrace trace --api egl|glx APP): check every "
                  "projection it draws with under the depth state traced at each draw");
-  app.add_option("--frames", options->frames, "With --trace: frames A-B (from 0) or A only");
+  app.add_option("--page", options->page,
+                 "A WebGL page (http(s) or file URL, or an HTML file): load it in headless "
+                 "chromium, record its WebGL calls and check them as --trace does");
+  app.add_option("--frames", options->frames,
+                 "With --trace: frames A-B (from 0) or A only; with --page: record N animation "
+                 "frames (default 3)");
+  app.add_option("--timeout", options->timeout,
+                 "With --page: seconds to wait for the page's frames (default 30)");
   app.add_flag("--json", options->json, "Print the report as JSON");
   app.add_flag(
       "--verify", options->verify,

@@ -24,6 +24,7 @@ LAYERS = [
     "report",     # report.json, the summary, index.html, the images, JUnit
     "check",      # clipray check: reading a matrix, the findings
     "trace",      # apitrace dumps: the GL state of each draw, uniform buffers, replayed depth
+    "page",       # WebGL pages: headless chromium over the DevTools pipe, the recorder, --page
     "gl",         # the headless contexts, the renderer, the app's render function
     "engine",     # the reconcile plan and runner, check --verify, the current-state check
 ]

@@ -1,0 +1,39 @@
+#pragma once
+// `clipray check --page URL|file.html [--frames N] [--timeout S]`: the page loaded in Debian's
+// chromium, headless (DevToolsPipe.hpp), with the recorder (PageRecorder.hpp) added before the
+// page's own scripts; once the page has drawn, N animation frames are recorded (frame 0 ends
+// with the animation frame that drew first); after those, or at the timeout, the recording is
+// fetched and checked as a trace is (PageCalls.hpp).
+//
+// CLIPRAY_CHROMIUM overrides the browser (default /usr/bin/chromium, then
+// /usr/bin/chromium-browser).
+
+#include <cstdint>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "clipray/page/PageCalls.hpp"
+
+namespace clipray::page {
+
+struct PageOptions {
+  std::string target;  // an http(s) or file URL, or the path of a local file
+  std::uint64_t frames = 3;
+  double timeoutSeconds = 30.0;
+  // Read each canvas's depth buffer after the last frame (addDepthImages).
+  bool verify = false;
+};
+
+// The URL to load: http(s) and file URLs as given, a path as an absolute file URL. Throws
+// InputError for another scheme (javascript:, data:, ftp:) or a file that does not exist.
+std::string pageUrl(const std::string& target);
+
+// Throws InputError (exit 2) for a bad target, chromium missing or failing to start (with the
+// end of its stderr), a page that does not load, makes no WebGL context or never draws.
+PageCheckResult checkPage(const PageOptions& options);
+
+nlohmann::json pageCheckJson(const PageCheckResult& result);
+std::string pageCheckText(const PageCheckResult& result);
+
+}  // namespace clipray::page
