@@ -304,6 +304,17 @@ def main():
            box("crate", (-1, 0.5, -1), (1, 1, 1), ((0, 1, 0), 25)), weapon],
           conventions=["no", "zo", "zo-upper-left"], depth_range=(0.1, 1))
 
+    house = box("house", (0, 0.8, 0), (2.4, 1.5, 1.6))  # its floor 0.05 above the ground: no tie
+    house["clipPlanes"] = [[-1, 0, 0, 0.3]]  # keeps x <= 0.3: the part toward the camera cut away
+    write("object_clip_planes",
+          "A section view: a closed box (a house, say) cut by a clip plane of its own (clipPlanes [-1, 0, 0, "
+          "0.3] on the object: gl_ClipDistance for its draw only) shows its inside through the cut, while the "
+          "ground and a crate drawn without the plane stay whole. The rays of the house are cut by its plane, "
+          "those of the rest by the camera's (none) alone.",
+          [perspective("main", (3.5, 2.2, 3), (0, 0.5, 0), 50, 0.1, 100)],
+          [ground, house, box("crate", (1.4, 0.35, 1.2), (0.7, 0.7, 0.7), ((0, 1, 0), 20))],
+          conventions=["no", "zo", "zo-reversed", "zo-upper-left"])
+
     write("no_matrix_under_zo",
           "A projection built for NO (z_n = -1, near 1, far 100) drawn under both conventions. Under ZO the "
           "rasterizer clips at z_ndc = 0, about 2 units away, so the effective near plane moves: the slanted quad "

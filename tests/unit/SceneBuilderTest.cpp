@@ -164,7 +164,8 @@ TEST(SceneBuilder, ObjectDepthRangeIsTheLastMeshs) {
       .mesh("weapon", kQuadPositions, kQuadIndices)
       .objectDepthRange(0.0, 0.1)
       .camera("main", cameraMatrix(), {64, 48});
-  const Scene& model = builder.build().model();
+  const TestScene built = builder.build();
+  const Scene& model = built.model();
   ASSERT_EQ(model.objects.size(), 2u);
   EXPECT_FALSE(model.objects[0].depthRange.has_value());
   EXPECT_EQ(model.objects[1].depthRange, glm::dvec2(0.0, 0.1));
@@ -174,6 +175,26 @@ TEST(SceneBuilder, ObjectDepthRangeIsTheLastMeshs) {
   EXPECT_EQ(messageOf(builder),
             "SceneBuilder \"weapon\": /objects/1/depthRange: expected a range that runs the way "
             "the scene's [0.1,1.0] does (one depth test for the frame), got [0.2,0.0]");
+}
+
+TEST(SceneBuilder, ObjectClipPlanesAreTheLastMeshs) {
+  SceneBuilder builder("section");
+  EXPECT_THROW(builder.objectClipPlanes({{1.0, 0.0, 0.0, 0.0}}), InputError);
+  builder.mesh("ground", kQuadPositions, kQuadIndices)
+      .mesh("house", kQuadPositions, kQuadIndices)
+      .objectClipPlanes({{-1.0, 0.0, 0.0, 0.3}})
+      .camera("main", cameraMatrix(), {64, 48});
+  const TestScene built = builder.build();
+  const Scene& model = built.model();
+  ASSERT_EQ(model.objects.size(), 2u);
+  EXPECT_TRUE(model.objects[0].clipPlanes.empty());
+  EXPECT_EQ(model.objects[1].clipPlanes, (std::vector<glm::dvec4>{{-1.0, 0.0, 0.0, 0.3}}));
+  EXPECT_EQ(parseScene(builder.json(), "section.json").objects[1].clipPlanes,
+            model.objects[1].clipPlanes);
+  builder.objectClipPlanes({{0.0, 0.0, 0.0, 1.0}});
+  EXPECT_EQ(messageOf(builder),
+            "SceneBuilder \"section\": /objects/1/clipPlanes/0: expected a plane with a non-zero "
+            "normal [a, b, c], got [0.0,0.0,0.0,1.0]");
 }
 
 TEST(SceneBuilder, WithoutCamerasUsesTheAutomaticOnes) {

@@ -89,7 +89,7 @@ TEST(SceneLoaderErrors, UnknownKeys) {
   EXPECT_EQ(errorOf(withPlacement(R"("color": [1, 0, 0])")),
             "scenes/a.json: /objects/0/color: unknown key \"color\"; valid keys are \"name\", "
             "\"type\", \"transform\", \"worldFromObject\", \"positions\", \"indices\", "
-            "\"cull\", \"frontFace\", \"depthRange\"");
+            "\"cull\", \"frontFace\", \"depthRange\", \"clipPlanes\"");
 }
 
 TEST(SceneLoaderErrors, WrongTypes) {
@@ -337,6 +337,42 @@ TEST(SceneLoaderErrors, ObjectDepthRange) {
             "scenes/a.json: /objects/0/depthRange: a depth range per object applies to triangle "
             "meshes (mesh, meshFile, terrain); a sphere is drawn with the scene's (its fragment "
             "shader writes its depth)");
+}
+
+TEST(SceneLoaderErrors, ObjectClipPlanes) {
+  const auto mesh = [](const std::string& keys) {
+    return errorOf(withObject(R"({"name": "house", "type": "mesh",
+      "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], )" +
+                              keys + "}"));
+  };
+  EXPECT_EQ(mesh(R"("clipPlanes": [[0, 0, 0, 1]])"),
+            "scenes/a.json: /objects/0/clipPlanes/0: expected a plane with a non-zero normal [a, "
+            "b, c], got [0,0,0,1]");
+  EXPECT_EQ(mesh(R"("clipPlanes": [[1, 0, 0]])"),
+            "scenes/a.json: /objects/0/clipPlanes/0: expected a plane [a, b, c, d] (kept where a "
+            "x + b y + c z + d >= 0), got [1,0,0]");
+  EXPECT_EQ(mesh(R"("clipPlanes": [[1, 0, 0, 1e999]])"),
+            "scenes/a.json: /objects/0/clipPlanes/0/3: expected a finite number, got 1e999");
+  EXPECT_EQ(errorOf(withObject(
+                R"({"name": "ball", "type": "sphere", "centre": [0, 0, 0], "radius": 1,
+                    "clipPlanes": [[1, 0, 0, 0]]})")),
+            "scenes/a.json: /objects/0/clipPlanes: clip planes per object apply to triangle meshes "
+            "(mesh, meshFile, terrain); a sphere is ray-traced by its fragment shader from the "
+            "near plane, not the clipped interval");
+  // Eight with the camera's: one too many.
+  std::string eight = "[";
+  for (int k = 0; k < 8; ++k) eight += std::string(k ? ", " : "") + "[1, 0, 0, 1]";
+  eight += "]";
+  std::string text = sceneWith(R"({"name": "main", "viewport": [640, 480],
+      "view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]},
+      "projection": {"type": "perspective", "fovYDegrees": 60, "near": 0.1},
+      "clipPlanes": [[0, 1, 0, 0]]})",
+                               R"({"name": "house", "type": "mesh",
+      "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], "clipPlanes": )" +
+                                   eight + "}");
+  EXPECT_EQ(errorOf(text),
+            "scenes/a.json: /objects: object \"house\" has 8 clip planes and camera \"main\" 1: at "
+            "most 8 together (gl_ClipDistance; GL_MAX_CLIP_DISTANCES is at least 8)");
 }
 
 TEST(SceneLoaderErrors, FaceCulling) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <span>
 
 #include "clipray/compare/ToleranceModel.hpp"
 #include "clipray/compare/ToleranceTerms.hpp"
@@ -75,8 +76,11 @@ ToleranceModel::ScreenPolygon ToleranceModel::buildPolygon(std::uint32_t primiti
     }
   }
   const glm::dmat4 clipToWorldTransposed = glm::transpose(rays_.worldFromClip());
-  for (const glm::dvec4& plane : setup_.clipPlanes) {
-    if (planeCount < planes.size()) planes[planeCount++] = clipToWorldTransposed * plane;
+  for (const std::span<const glm::dvec4> userPlanes :
+       {std::span<const glm::dvec4>(setup_.clipPlanes), setup_.objectClipPlanes.of(primitiveId)}) {
+    for (const glm::dvec4& plane : userPlanes) {
+      if (planeCount < planes.size()) planes[planeCount++] = clipToWorldTransposed * plane;
+    }
   }
   const double u = kFloatUnitRoundoff;
   const double subpixel = std::ldexp(1.0, -setup_.subpixelBits);
@@ -215,23 +219,29 @@ double ToleranceModel::planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel)
   return setup_.depthClamp.enabled ? setup_.depthMappingOf(primitiveId).clampToDepthRange(depth)
                                    : depth;
 }
+
 bool ToleranceModel::onClipPlane(std::uint32_t primitiveId) const {
-  if (setup_.clipPlanes.empty() || primitiveId == 0 ||
-      primitiveId > intersector_.primitiveIdCount() || intersector_.isAnalytic(primitiveId)) {
+  if (primitiveId == 0 || primitiveId > intersector_.primitiveIdCount() ||
+      intersector_.isAnalytic(primitiveId)) {
     return false;
   }
+  const std::span<const glm::dvec4> ownPlanes = setup_.objectClipPlanes.of(primitiveId);
+  if (setup_.clipPlanes.empty() && ownPlanes.empty()) return false;
   const std::array<glm::dvec3, 3> world = intersector_.worldTriangle(primitiveId);
-  for (const glm::dvec4& plane : setup_.clipPlanes) {
-    bool inPlane = true;
-    for (const glm::dvec3& p : world) {
-      // gl_ClipDistance = dot(plane, (p, 1)) in float from float operands: a few roundings of the
-      // terms' magnitudes, bounded generously by 16 u times their sum.
-      const double magnitude = std::abs(plane.x * p.x) + std::abs(plane.y * p.y) +
-                               std::abs(plane.z * p.z) + std::abs(plane.w);
-      inPlane &=
-          std::abs(glm::dot(plane, glm::dvec4(p, 1.0))) <= 16.0 * kFloatUnitRoundoff * magnitude;
+  for (const std::span<const glm::dvec4> userPlanes :
+       {std::span<const glm::dvec4>(setup_.clipPlanes), ownPlanes}) {
+    for (const glm::dvec4& plane : userPlanes) {
+      bool inPlane = true;
+      for (const glm::dvec3& p : world) {
+        // gl_ClipDistance = dot(plane, (p, 1)) in float from float operands: a few roundings of
+        // the terms' magnitudes, bounded generously by 16 u times their sum.
+        const double magnitude = std::abs(plane.x * p.x) + std::abs(plane.y * p.y) +
+                                 std::abs(plane.z * p.z) + std::abs(plane.w);
+        inPlane &=
+            std::abs(glm::dot(plane, glm::dvec4(p, 1.0))) <= 16.0 * kFloatUnitRoundoff * magnitude;
+      }
+      if (inPlane) return true;
     }
-    if (inPlane) return true;
   }
   return false;
 }

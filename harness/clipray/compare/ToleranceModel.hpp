@@ -18,6 +18,7 @@
 #include "clipray/Conventions.hpp"
 #include "clipray/compare/DepthMapping.hpp"
 #include "clipray/compare/Frames.hpp"
+#include "clipray/compare/PrimitiveClipPlanes.hpp"
 #include "clipray/rays/RobustRays.hpp"
 
 namespace clipray {
@@ -42,6 +43,9 @@ struct RasterSetup {
   // The camera's user clip planes (world space, Camera::clipPlanes): the screen polygons are cut by
   // them as the rasterizer cuts the triangles, the rays as the rays are cut.
   std::vector<glm::dvec4> clipPlanes{};
+  // The planes of the objects drawn with planes of their own (MeshObject::clipPlanes), beside the
+  // camera's, by primitive id.
+  PrimitiveClipPlanes objectClipPlanes{};
   // GL_DEPTH_CLAMP (Scene::depthClamp): no near and far clipping, window depth clamped to the depth
   // range; the rays reach in front of the near plane (DepthClampRays).
   DepthClampRays depthClamp{};

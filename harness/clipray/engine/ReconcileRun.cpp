@@ -5,7 +5,7 @@
 #include <utility>
 
 #include "clipray/engine/AppPickHits.hpp"
-#include "clipray/engine/DepthRangeGroups.hpp"
+#include "clipray/engine/DrawStateGroups.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/util/PhaseClock.hpp"
 
@@ -97,8 +97,8 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
   pass.intersector = std::make_unique<SceneIntersector>(scene, pass.reference,
                                                         SceneIntersector::BvhBuild::WhenFirstNeeded,
                                                         pass.drawnCamera.clipFromWorld);
-  intersectByDepthRange(pass.frame, *pass.intersector, scene, pass.drawnCamera.clipFromWorld,
-                        pass.camera, threadCount);
+  intersectByDrawState(pass.frame, *pass.intersector, scene, pass.drawnCamera.clipFromWorld,
+                       pass.camera, threadCount);
   pass.intersectMilliseconds = intersectClock.wallMilliseconds();
   pass.intersectCpuMilliseconds = intersectClock.cpuMilliseconds();
   return pass;
@@ -170,6 +170,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   setup.subpixelBits = subpixelBits;
   setup.depthRange = pass.scene->depthRange;
   setup.objectDepthRanges = PrimitiveDepthRanges(*pass.scene);
+  setup.objectClipPlanes = PrimitiveClipPlanes(*pass.scene);
   setup.clipPlanes = pass.camera.clipPlanes;
   setup.depthClamp = depthClampRays(pass.camera);
   const PhaseClock compareClock;

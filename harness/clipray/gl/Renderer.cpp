@@ -133,6 +133,8 @@ struct MeshDraw {
   CullFace cull;
   FrontFace frontFace;
   glm::dvec2 depthRange;  // glDepthRange(n, f) the object is drawn with (MeshObject::depthRange)
+  // The camera's clip planes, then the object's own (MeshObject::clipPlanes), in input space.
+  std::vector<glm::dvec4> clipPlanes;
 };
 
 // One analytic primitive's draw: its id and kind, clipFromLocal for the shader's rays, and where
@@ -169,10 +171,11 @@ glm::dmat4 clipFromInputOf(const RenderRequest& request) {
   return clipFromInput;
 }
 
-// The camera's clip planes in the vertex mode's input space: a world-space plane P keeps
+// World-space clip planes in the vertex mode's input space: a world-space plane P keeps
 // dot(P, (p_world, 1)) >= 0, and p_world = worldFromInput * p_input, so the input-space plane is
 // worldFromInput^T P (in double; the shader gets it rounded to float).
-std::vector<glm::dvec4> inputClipPlanesOf(const RenderRequest& request) {
+std::vector<glm::dvec4> inputClipPlanes(const RenderRequest& request,
+                                        const std::vector<glm::dvec4>& worldPlanes) {
   glm::dmat4 worldFromInput(1.0);
   if (request.vertexMode == VertexMode::CameraRelative) {
     worldFromInput[3] = glm::dvec4(request.vertexReference, 1.0);
@@ -181,7 +184,7 @@ std::vector<glm::dvec4> inputClipPlanesOf(const RenderRequest& request) {
     worldFromInput = glm::inverse(request.clipFromWorld);
   }
   std::vector<glm::dvec4> planes;
-  for (const glm::dvec4& plane : request.clipPlanes) {
+  for (const glm::dvec4& plane : worldPlanes) {
     planes.push_back(glm::transpose(worldFromInput) * plane);
   }
   return planes;
@@ -205,10 +208,12 @@ void appendMeshes(const RenderRequest& request, const PrimitiveIdTable& ids,
         input = clipFromWorld * glm::dvec4(p, 1.0);
       for (int c = 0; c < 4; ++c) vertices.push_back(static_cast<float>(input[c]));
     }
-    geometry.draws.push_back({ids.firstIdOfObject[k],
-                              static_cast<GLsizei>(object.triangles.size() * 3),
-                              indices.size() * sizeof(std::uint32_t), baseVertex, object.cull,
-                              object.frontFace, object.depthRangeOr(request.depthRange)});
+    std::vector<glm::dvec4> planes = request.clipPlanes;
+    planes.insert(planes.end(), object.clipPlanes.begin(), object.clipPlanes.end());
+    geometry.draws.push_back(
+        {ids.firstIdOfObject[k], static_cast<GLsizei>(object.triangles.size() * 3),
+         indices.size() * sizeof(std::uint32_t), baseVertex, object.cull, object.frontFace,
+         object.depthRangeOr(request.depthRange), inputClipPlanes(request, planes)});
     for (const glm::u32vec3& t : object.triangles) {
       indices.insert(indices.end(), {t.x, t.y, t.z});
     }
@@ -324,7 +329,7 @@ struct Renderer::State {
   // depth test, no culling, blending or multisampling; clears ids to 0 and depth to the far value.
   void beginFrame(const RenderRequest& request);
   void drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput,
-                  const std::vector<glm::dvec4>& inputClipPlanes, glm::dvec2 sceneDepthRange);
+                  glm::dvec2 sceneDepthRange);
   void drawPrimitives(const RenderRequest& request, const std::vector<PrimitiveDraw>& draws);
   // Depth (GL_FLOAT) and ids of the viewport, then the default framebuffer bound again.
   RasterFrame readBack(Viewport viewport);
@@ -468,24 +473,29 @@ void Renderer::State::beginFrame(const RenderRequest& request) {
 }
 
 void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput,
-                                 const std::vector<glm::dvec4>& inputClipPlanes,
                                  glm::dvec2 sceneDepthRange) {
   glUseProgram(program);
   const glm::mat4 uniformMatrix(clipFromInput);  // rounded to float, as an app's uniform is
   glUniformMatrix4fv(clipFromInputLocation, 1, GL_FALSE, &uniformMatrix[0][0]);
-  std::vector<glm::vec4> planes(inputClipPlanes.begin(), inputClipPlanes.end());
-  glUniform1i(clipPlaneCountLocation, static_cast<GLint>(planes.size()));
-  if (!planes.empty()) {
-    glUniform4fv(clipPlanesLocation, static_cast<GLsizei>(planes.size()), &planes[0][0]);
-  }
-  for (std::size_t i = 0; i < planes.size(); ++i) {
-    glEnable(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
-  }
   glBindVertexArray(vertexArray);
+  std::size_t enabledPlanes = 0;  // GL_CLIP_DISTANCE0 + i enabled for i below it
   for (const MeshDraw& draw : geometry.draws) {
     if (draw.indexCount == 0) continue;
     glUniform1ui(firstIdLocation, draw.firstId);
     glDepthRange(draw.depthRange.x, draw.depthRange.y);
+    const std::vector<glm::vec4> planes(draw.clipPlanes.begin(), draw.clipPlanes.end());
+    glUniform1i(clipPlaneCountLocation, static_cast<GLint>(planes.size()));
+    if (!planes.empty()) {
+      glUniform4fv(clipPlanesLocation, static_cast<GLsizei>(planes.size()), &planes[0][0]);
+    }
+    for (std::size_t i = 0; i < std::max(enabledPlanes, planes.size()); ++i) {
+      if (i < planes.size()) {
+        glEnable(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
+      } else {
+        glDisable(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
+      }
+    }
+    enabledPlanes = planes.size();
     if (draw.cull == CullFace::None) {
       glDisable(GL_CULL_FACE);
     } else {
@@ -499,7 +509,7 @@ void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat
   glDisable(GL_CULL_FACE);  // the primitives' proxies are drawn whole
   // The primitives' shader writes the scene's range itself; glDepthRange back to the scene's.
   glDepthRange(sceneDepthRange.x, sceneDepthRange.y);
-  for (std::size_t i = 0; i < inputClipPlanes.size(); ++i) {
+  for (std::size_t i = 0; i < enabledPlanes; ++i) {
     glDisable(static_cast<GLenum>(GL_CLIP_DISTANCE0 + i));
   }
 }
@@ -566,8 +576,7 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
   state_->upload(geometry);
   state_->createTarget(viewport, request.depthFormat);
   state_->beginFrame(request);
-  state_->drawMeshes(geometry, clipFromInputOf(request), inputClipPlanesOf(request),
-                     request.depthRange);
+  state_->drawMeshes(geometry, clipFromInputOf(request), request.depthRange);
   if (!geometry.primitiveDraws.empty()) state_->drawPrimitives(request, geometry.primitiveDraws);
   glFinish();
   checkGl("drawing");

@@ -70,6 +70,10 @@ struct MeshObject {
   // way the scene's range does (one depth test for the frame).
   std::optional<glm::dvec2> depthRange;
   glm::dvec2 depthRangeOr(glm::dvec2 sceneRange) const { return depthRange.value_or(sceneRange); }
+  // User clip planes this object is drawn with beside the camera's (Camera::clipPlanes, world
+  // space, kept where a x + b y + c z + d >= 0): a section view that cuts one object only. The
+  // camera's and the object's together at most Camera::kMaxClipPlanes.
+  std::vector<glm::dvec4> clipPlanes{};
 };
 
 // An analytic surface: a canonical shape in its own local frame, placed by an affine

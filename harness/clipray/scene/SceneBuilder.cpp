@@ -103,6 +103,18 @@ SceneBuilder& SceneBuilder::objectDepthRange(double nearDepth, double farDepth) 
   return *this;
 }
 
+SceneBuilder& SceneBuilder::objectClipPlanes(std::vector<glm::dvec4> planes) {
+  if (document_->objects().empty()) {
+    throw InputError(
+        "SceneBuilder " + detail::jsonString(name_) +
+        ": objectClipPlanes() applies to the mesh added last, and no object was added yet");
+  }
+  Json values = Json::array();
+  for (const glm::dvec4& plane : planes) values.push_back({plane.x, plane.y, plane.z, plane.w});
+  document_->objects().back()["clipPlanes"] = std::move(values);
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::clipPlanes(std::vector<glm::dvec4> planes) {
   if (document_->cameras().empty()) {
     throw InputError(

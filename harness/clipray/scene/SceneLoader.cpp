@@ -169,6 +169,18 @@ Scene SceneReader::read(const json& root) {
              "\") is not modelled: their fragment shader traces the ray from the near plane, "
              "and depth clamp draws what lies in front of it; use triangle meshes");
   }
+  // GL_MAX_CLIP_DISTANCES holds the camera's and an object's planes together.
+  for (const MeshObject& object : scene.objects) {
+    for (const Camera& camera : scene.cameras) {
+      if (object.clipPlanes.size() + camera.clipPlanes.size() <= Camera::kMaxClipPlanes) continue;
+      fail(top / "objects", "object \"" + object.name + "\" has " +
+                                std::to_string(object.clipPlanes.size()) +
+                                " clip planes and camera \"" + camera.name + "\" " +
+                                std::to_string(camera.clipPlanes.size()) + ": at most " +
+                                std::to_string(Camera::kMaxClipPlanes) +
+                                " together (gl_ClipDistance; GL_MAX_CLIP_DISTANCES is at least 8)");
+    }
+  }
   const auto ownRange = std::find_if(scene.objects.begin(), scene.objects.end(),
                                      [](const MeshObject& o) { return o.depthRange.has_value(); });
   if (scene.depthClamp && ownRange != scene.objects.end()) {
@@ -198,9 +210,15 @@ void SceneReader::object(const json& value, const Pointer& at,
   }
   std::vector<std::string_view> keys = commonObjectKeys();
   keys.insert(keys.end(), kind->keys.begin(), kind->keys.end());
-  for (const std::string_view key : {"cull", "frontFace", "depthRange"}) {
+  for (const std::string_view key : {"cull", "frontFace", "depthRange", "clipPlanes"}) {
     if (kind->triangles) {
       keys.push_back(key);
+    } else if (key == "clipPlanes" && optional(value, key)) {
+      fail(at / std::string(key),
+           "clip planes per object apply to triangle meshes (mesh, meshFile, terrain); a " +
+               std::string(kind->name) +
+               " is ray-traced by its fragment shader from the near plane, not the clipped "
+               "interval");
     } else if (key == "depthRange" && optional(value, key)) {
       fail(at / std::string(key),
            "a depth range per object applies to triangle meshes (mesh, meshFile, terrain); a " +
@@ -236,6 +254,12 @@ void SceneReader::object(const json& value, const Pointer& at,
       }
       for (std::size_t k = firstObject; k < scene.objects.size(); ++k) {
         scene.objects[k].depthRange = objectRange;
+      }
+    }
+    if (const json* planes = optional(value, "clipPlanes")) {
+      const std::vector<glm::dvec4> objectPlanes = clipPlanes(*planes, at / "clipPlanes");
+      for (std::size_t k = firstObject; k < scene.objects.size(); ++k) {
+        scene.objects[k].clipPlanes = objectPlanes;
       }
     }
   }

@@ -89,6 +89,9 @@ class SceneBuilder {
   // scene's range does (one depth test for the frame); build() refuses it on analytic surfaces and
   // beside depth clamp.
   SceneBuilder& objectDepthRange(double nearDepth, double farDepth);
+  // User clip planes for the mesh added last, beside the camera's (world space, [a, b, c, d]
+  // keeping a x + b y + c z + d >= 0, as clipPlanes()): a section view that cuts one object.
+  SceneBuilder& objectClipPlanes(std::vector<glm::dvec4> planes);
 
   // Analytic surfaces, rasterized exactly (docs/scene-format.md): placed by worldFromObject.
   SceneBuilder& sphere(std::string name, glm::dvec3 centre, double radius,

@@ -1,0 +1,139 @@
+#include "clipray/engine/DrawStateGroups.hpp"
+
+#include <algorithm>
+#include <utility>
+
+#include "clipray/compare/DepthMapping.hpp"
+#include "clipray/rays/RobustRays.hpp"
+
+namespace clipray::engine {
+
+std::vector<DrawStateGroup> drawStateGroups(const Scene& scene) {
+  std::vector<DrawStateGroup> groups{{scene.depthRange, {}, {}, true}};
+  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
+    const MeshObject& object = scene.objects[k];
+    const glm::dvec2 range = object.depthRangeOr(scene.depthRange);
+    auto group = std::find_if(groups.begin(), groups.end(), [&](const DrawStateGroup& g) {
+      return g.range == range && g.clipPlanes == object.clipPlanes;
+    });
+    if (group == groups.end()) {
+      group = groups.insert(groups.end(), {range, object.clipPlanes, {}, false});
+    }
+    group->objects.push_back(k);
+  }
+  return groups;
+}
+
+namespace {
+
+// The group's objects (and the analytic primitives for the scene's group) as a scene of their own,
+// with the map from its primitive ids to the whole scene's.
+struct GroupScene {
+  Scene scene;
+  std::vector<std::uint32_t> globalIdOfLocal;  // index: the group scene's id; [0] = 0
+};
+
+GroupScene groupScene(const Scene& whole, const DrawStateGroup& group) {
+  GroupScene out;
+  out.scene.depthRange = whole.depthRange;
+  for (const std::size_t k : group.objects) out.scene.objects.push_back(whole.objects[k]);
+  if (group.analytic) out.scene.primitives = whole.primitives;
+  const PrimitiveIdTable wholeIds(whole);
+  out.globalIdOfLocal.push_back(0);
+  for (const std::size_t k : group.objects) {
+    for (std::uint32_t t = 0; t < whole.objects[k].triangles.size(); ++t) {
+      out.globalIdOfLocal.push_back(wholeIds.firstIdOfObject[k] + t);
+    }
+  }
+  if (group.analytic) {
+    for (std::uint32_t p = 0; p < wholeIds.analyticCount; ++p) {
+      out.globalIdOfLocal.push_back(wholeIds.firstAnalyticId + p);
+    }
+  }
+  return out;
+}
+
+// The frame's rays cut by the group's own planes (the camera's cut them already): clipray's
+// pixel-centre rays made for the camera with both sets of planes, or a copy of the stored rays
+// cut once more.
+AnalyticFrame groupFrame(const AnalyticFrame& frame, const PickingCamera& camera,
+                         const std::vector<glm::dvec4>& planes) {
+  if (frame.pixelCentreRays) {
+    PickingCamera cut = camera;
+    cut.clipPlanes.insert(cut.clipPlanes.end(), planes.begin(), planes.end());
+    return robustRayFrame(cut);
+  }
+  AnalyticFrame out;
+  out.viewport = frame.viewport;
+  out.rays = frame.rays;
+  for (Ray& ray : out.rays) cutToClipPlanes(ray, planes);
+  return out;
+}
+
+}  // namespace
+
+void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
+                          const Scene& scene, const glm::dmat4& drawnClipFromWorld,
+                          const PickingCamera& camera, unsigned threadCount) {
+  const std::vector<DrawStateGroup> groups = drawStateGroups(scene);
+  if (groups.size() == 1) {
+    intersectFrame(frame, wholeScene, camera, threadCount);
+    return;
+  }
+  const glm::dvec3& reference = wholeScene.reference();
+  const bool greater = nearerIsGreater(camera.mode, scene.depthRange);
+  const int width = frame.viewport.width;
+  FrameVector<Hit> kept(frame.pixelCount());
+  std::vector<double> keptDepth(frame.pixelCount(), 0.0);
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    const GroupScene part = groupScene(scene, groups[g]);
+    const SceneIntersector intersector(
+        part.scene, reference, SceneIntersector::BvhBuild::WhenFirstNeeded, drawnClipFromWorld);
+    const bool ownRays = !groups[g].clipPlanes.empty();
+    AnalyticFrame cutFrame = ownRays ? groupFrame(frame, camera, groups[g].clipPlanes)
+                                     : AnalyticFrame{frame.viewport, {}, frame.pixelCentreRays, {}};
+    if (!ownRays && !frame.pixelCentreRays) cutFrame.rays = frame.rays;
+    intersectFrame(cutFrame, intersector, camera, threadCount);
+    const DepthMapping mapping{camera.mode, groups[g].range, false};
+    parallelForRows(frame.viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
+      // The frame's own rays and the group's, a row at a time where they are computed.
+      std::vector<Ray> frameRow(frame.pixelCentreRays ? static_cast<std::size_t>(width) : 0);
+      std::vector<Ray> groupRow(cutFrame.pixelCentreRays ? static_cast<std::size_t>(width) : 0);
+      for (int y = rowBegin; y < rowEnd; ++y) {
+        const std::size_t first = static_cast<std::size_t>(y) * width;
+        if (frame.pixelCentreRays) frame.pixelCentreRays->row(y, 0, width, frameRow.data());
+        if (cutFrame.pixelCentreRays) cutFrame.pixelCentreRays->row(y, 0, width, groupRow.data());
+        const Ray* frameRays = frame.pixelCentreRays ? frameRow.data() : frame.rays.data() + first;
+        const Ray* groupRays =
+            cutFrame.pixelCentreRays ? groupRow.data() : cutFrame.rays.data() + first;
+        for (int x = 0; x < width; ++x) {
+          const std::size_t i = first + static_cast<std::size_t>(x);
+          if (g == 0) kept[i] = Hit{};
+          Hit hit = cutFrame.hits[i];
+          if (!hit.hit()) continue;
+          hit.primitiveId = part.globalIdOfLocal[hit.primitiveId];
+          const Ray& groupRay = groupRays[x];
+          const glm::dvec3 point = groupRay.origin + hit.t * groupRay.direction;
+          if (ownRays) {
+            // The group's ray starts where its planes cut the frame's: t along the frame's ray.
+            const Ray& frameRay = frameRays[x];
+            hit.t = glm::dot(point - frameRay.origin, frameRay.direction) /
+                    glm::dot(frameRay.direction, frameRay.direction);
+          }
+          const glm::dvec4 clip = camera.clipFromWorld * glm::dvec4(point, 1.0);
+          const double depth = mapping.windowDepth(clip.z / clip.w);
+          const bool wins = !kept[i].hit() ||
+                            (greater ? depth > keptDepth[i] : depth < keptDepth[i]) ||
+                            (depth == keptDepth[i] && hit.primitiveId < kept[i].primitiveId);
+          if (wins) {
+            kept[i] = hit;
+            keptDepth[i] = depth;
+          }
+        }
+      }
+    });
+  }
+  frame.hits = std::move(kept);
+}
+
+}  // namespace clipray::engine

@@ -1,0 +1,48 @@
+#pragma once
+// The ray side of a scene whose objects are drawn with different state: a glDepthRange of their
+// own (MeshObject::depthRange) or user clip planes of their own (MeshObject::clipPlanes).
+// With ranges, the depth test keeps the smallest window depth (the greatest under GL_GREATER)
+// over every object's own mapping, which need not be the nearest surface along the ray: a
+// first-person weapon drawn in [0, 0.1] shows in front of a wall in [0.1, 1] that is nearer than
+// it. With planes, each object is cut where its own planes cut it. Within one group of objects
+// drawn alike the nearest hit has the extreme window depth (the mapping is monotonic along a ray),
+// so each group is traced on its own, along its rays cut by its planes, and each pixel keeps the
+// group hit the depth test keeps. PickingCamera::clipFromWorld: column-major, p_clip =
+// clipFromWorld * p_world.
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "clipray/Picking.hpp"
+#include "clipray/compare/Frames.hpp"
+#include "clipray/intersect/SceneIntersector.hpp"
+#include "clipray/scene/Scene.hpp"
+
+namespace clipray::engine {
+
+// The objects drawn with one depth range and one set of planes of their own; the scene's group
+// (its range, no planes of their own) also holds the analytic primitives.
+struct DrawStateGroup {
+  glm::dvec2 range{0.0, 1.0};
+  std::vector<glm::dvec4> clipPlanes{};  // the objects' own, beside the camera's
+  std::vector<std::size_t> objects{};    // indices into Scene::objects
+  bool analytic = false;
+};
+
+// One group per distinct (range, planes), the scene's first; a single group where every object is
+// drawn with the scene's range and the camera's planes only.
+std::vector<DrawStateGroup> drawStateGroups(const Scene& scene);
+
+// The closest hits of the frame's rays against wholeScene (scene's intersector), as
+// intersectFrame gives them, where the scene has one group; else the hit the depth test keeps per
+// pixel (ties to the smaller primitive id: the object drawn first), each group traced by an
+// intersector of its own along the frame's rays cut by the group's planes (t given along the
+// frame's own ray). drawnClipFromWorld decides face culling as the frame is drawn; camera is the
+// lower-left view the rays were made for (its clipFromWorld maps hits to window depth).
+void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
+                          const Scene& scene, const glm::dmat4& drawnClipFromWorld,
+                          const PickingCamera& camera, unsigned threadCount);
+
+}  // namespace clipray::engine
