@@ -84,8 +84,8 @@ for entry in "${programs[@]}"; do
     *) package=openscenegraph ;;
   esac
   rm -f "$work/$name.trace"
-  # timeout's status is 124 where a program runs its own loop (osgshadow, meshlab): the trace is whole up
-  # to the signal, and only its first frames are kept.
+  # timeout's status is 124 where a program runs its own loop (osgshadow, meshlab, stellarium):
+  # the trace is whole up to the signal, and only its first frames are kept.
   # osgdepthpartition sometimes aborts at start-up under Xvfb (GLXBadDrawable): up to 3 tries.
   for try in 1 2 3; do
     status=0
