@@ -25,7 +25,8 @@ here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-need=(apitrace apitrace-tracers xvfb xauth openscad openscenegraph glmark2-x11 f3d meshlab stellarium)
+need=(apitrace apitrace-tracers xvfb xauth openscad openscenegraph glmark2-x11 f3d meshlab
+  stellarium)
 missing=()
 for p in "${need[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
