@@ -1,13 +1,14 @@
 // `clipray check --trace` on recordings of unmodified Debian 12 programs (OpenSCAD 2021.01,
-// OpenSceneGraph 3.6.5's osgviewer and 11 examples, glmark2 2023.01, f3d 1.3.1 on VTK 9.1) drawn
-// with Mesa's llvmpipe under Xvfb: tests/data/trace/real/*.dump.txt, their `apitrace dump` listings
-// trimmed to the first frames and to the calls that can change a reading (record.sh re-records them
-// and checks that the trimmed listing reads as the whole trace does). The clipray binary reads each
-// listing through tests/data/trace/real/apitrace-cat.sh standing in for apitrace
-// (CLIPRAY_APITRACE), so neither the programs nor apitrace are needed here. Pinned per program: the
-// counts, each group's source, draws, matrices, reading (projection, convention, near, far, fov and
-// their ranges) and findings, and the trace-wide findings. Every one of these programs draws
-// correctly: none may read with an error.
+// OpenSceneGraph 3.6.5's osgviewer and 11 examples, glmark2 2023.01, f3d 1.3.1 on VTK 9.1,
+// MeshLab 2020.09, Stellarium 0.22.2) drawn with Mesa's llvmpipe under Xvfb:
+// tests/data/trace/real/*.dump.txt, their `apitrace dump` listings trimmed to the first frames and
+// to the calls that can change a reading (record.sh re-records them and checks that the trimmed
+// listing reads as the whole trace does). The clipray binary reads each listing through
+// tests/data/trace/real/apitrace-cat.sh standing in for apitrace (CLIPRAY_APITRACE), so neither the
+// programs nor apitrace are needed here. Pinned per program: the counts, each group's source,
+// draws, matrices, reading (projection, convention, near, far, fov and their ranges) and findings,
+// and the trace-wide findings. Every one of these programs draws correctly: none may read with an
+// error.
 
 #include <gtest/gtest.h>
 
@@ -209,6 +210,19 @@ const std::vector<Program> kPrograms = {
       "GL_LESS; perspective, built for ambiguous, near 23.541, far 34.7019, fov 29.1484; "
       "[info:depth-convention-ambiguous]"},
      {}},
+    {"osgshadow-lispsm",
+     "3 frames, 63 draws (63 with a projection), 5 pairs in 3 groups, verdict ok",
+     {"fixed-function GL_PROJECTION (program 1: its vertex shader calls ftransform()): 21 draws, "
+      "1 matrices, GL_LESS; perspective, built for ambiguous, near 23.541, far 34.7019, fov "
+      "30.8856; [info:depth-convention-ambiguous]",
+      // LiSPSM's light-space warp: its centre of projection is at infinity, so there is no near,
+      // far or fov to range (RealProgramsDetail.OsgShadowLispsmEyeAtInfinity).
+      "fixed-function GL_PROJECTION: 21 draws, 3 matrices, GL_LESS; perspective, built for "
+      "ambiguous, near none, far none, fov none; [info:oblique-near-plane]",
+      "fixed-function GL_PROJECTION (program 4: it has no vertex shader): 21 draws, 1 matrices, "
+      "GL_LESS; perspective, built for ambiguous, near 23.541, far 34.7019, fov 29.1484; "
+      "[info:depth-convention-ambiguous]"},
+     {}},
     {"osgtext",
      "3 frames, 292 draws (156 with a projection), 8 pairs in 8 groups, verdict ok",
      {"fixed-function GL_PROJECTION (program 22: its vertex shader reads "
@@ -320,7 +334,37 @@ const std::vector<Program> kPrograms = {
       "fixed-function GL_PROJECTION (program 4: its vertex shader reads "
       "gl_ModelViewProjectionMatrix): 18 draws, 1 matrices, GL_LESS; orthographic, built for "
       "ambiguous, near -1, far 1; [info:depth-convention-ambiguous]"},
-     {"info:projection-changes-within-frame"}}};
+     {"info:projection-changes-within-frame"}},
+    // Per frame: the gradient background (an ortho drawn with the depth test disabled inside
+    // glPushAttrib(GL_ENABLE_BIT)), then the trackball and, from frame 2 on, the mesh with the
+    // depth test on again after glPopAttrib; the window's layout changes its size at frame 2.
+    // Qt's own overlay draws (their matrix in vertex attributes) have no projection.
+    {"meshlab",
+     "5 frames, 65 draws (38 with a projection), 4 pairs in 4 groups, verdict ok",
+     {"fixed-function GL_PROJECTION: 8 draws, 1 matrices, GL_LESS; orthographic, built for "
+      "ambiguous, near -1, far 1; [info:depth-convention-ambiguous]",
+      "fixed-function GL_PROJECTION: 6 draws, 1 matrices, GL_LESS; perspective, built for "
+      "ambiguous, near 0.303109, far 4.78109, fov 60; [info:depth-convention-ambiguous]",
+      "fixed-function GL_PROJECTION: 12 draws, 1 matrices, GL_LESS; orthographic, built for "
+      "ambiguous, near -1, far 1; [info:depth-convention-ambiguous]",
+      "fixed-function GL_PROJECTION: 12 draws, 1 matrices, GL_LESS; perspective, built for "
+      "ambiguous, near 0.303109, far 6.49519, fov 60; [info:depth-convention-ambiguous]"},
+     {"info:projection-changes-within-frame"}},
+    // Its first frame (of 2023-01-01 22:00): the sky, projected on the CPU, drawn in pixels
+    // through one ortho, with the depth test off; Qt's paint engine draws the rest (no projection).
+    {"stellarium",
+     "1 frames, 218 draws (116 with a projection), 5 pairs in 5 groups, verdict ok",
+     {"uniform projectionMatrix (program 18): 4 draws, 1 matrices, GL_LESS; orthographic, built "
+      "for ambiguous, near -1, far 1; [info:depth-convention-ambiguous]",
+      "uniform projectionMatrix (program 3): 2 draws, 1 matrices, GL_LESS; orthographic, built "
+      "for ambiguous, near -1, far 1; [info:depth-convention-ambiguous]",
+      "uniform projectionMatrix (program 6): 88 draws, 1 matrices, GL_LESS; orthographic, built "
+      "for ambiguous, near -1, far 1; [info:depth-convention-ambiguous]",
+      "uniform projectionMatrix (program 15): 20 draws, 1 matrices, GL_LESS; orthographic, built "
+      "for ambiguous, near -1, far 1; [info:depth-convention-ambiguous]",
+      "uniform projectionMatrix (program 15): 2 draws, 1 matrices, GL_LESS; orthographic, built "
+      "for ambiguous, near -1, far 1; [info:depth-convention-ambiguous]"},
+     {}}};
 
 class RealPrograms : public ::testing::TestWithParam<Program> {};
 
@@ -361,6 +405,73 @@ TEST(RealProgramsDetail, OpenScadPreviewPassesOverTheFarPass) {
             "glDepthFunc(GL_GREATER) (first at call 2127): it tests against the depth that pass "
             "wrote, not against the clear, a step of a multi-pass technique (OpenCSG's CSG "
             "passes, depth peeling), not a clear-depth mismatch");
+}
+
+// MeshLab disables the depth test for its background inside glPushAttrib(GL_ENABLE_BIT) (call
+// 5800-5814) after enabling it for the frame (call 5780): the groups drawn after glPopAttrib
+// (the trackball from call 5857, the mesh from call 7239) have it on again, as GL has.
+TEST(RealProgramsDetail, MeshLabDepthTestRestoredByPopAttrib) {
+  const Recorded recorded = check("meshlab");
+  ASSERT_EQ(recorded.status, 0) << recorded.err;
+  std::vector<std::string> groups;
+  for (const auto& group : recorded.report["groups"]) {
+    const nlohmann::json& state = group["depth_state"];
+    groups.push_back(group["properties"]["projection"].get<std::string>() + " from call " +
+                     std::to_string(group["first"]["call"].get<int>()) + ", viewport " +
+                     std::to_string(state["viewport"][0].get<int>()) + "x" +
+                     std::to_string(state["viewport"][1].get<int>()) + ": depth test " +
+                     (state["depth_test"].get<bool>() ? "on" : "off"));
+  }
+  EXPECT_EQ(groups, (std::vector<std::string>{
+                        "orthographic from call 5804, viewport 682x408: depth test off",
+                        "perspective from call 5857, viewport 682x408: depth test on",
+                        "orthographic from call 7164, viewport 264x603: depth test off",
+                        "perspective from call 7239, viewport 264x603: depth test on"}));
+}
+
+// osgshadow --lispsm: the light-space perspective warp's centre of projection is at infinity
+// along +z. It reads as no eye point, in words, with no NaN in the text or the JSON and no number
+// standing for the fov it has not got.
+TEST(RealProgramsDetail, OsgShadowLispsmEyeAtInfinity) {
+  const Recorded recorded = check("osgshadow-lispsm");
+  ASSERT_EQ(recorded.status, 0) << recorded.err;
+  const std::string json = recorded.report.dump();
+  EXPECT_EQ(json.find("nan"), std::string::npos) << json;
+  EXPECT_EQ(json.find("NaN"), std::string::npos) << json;
+  const nlohmann::json& warp = recorded.report["groups"][1];
+  ASSERT_EQ(warp["distinct_matrices"], 3);
+  const nlohmann::json& p = warp["properties"];
+  EXPECT_TRUE(p["eye"].is_null());
+  EXPECT_EQ(p["eye_at_infinity_along"], nlohmann::json({0.0, 0.0, 1.0}));
+  EXPECT_EQ(p["view_direction"], nlohmann::json({0.0, 1.0, 0.0}));
+  EXPECT_TRUE(p["fov_y_degrees"].is_null());
+  EXPECT_TRUE(p["fov_x_degrees"].is_null());
+  EXPECT_TRUE(p["near"].is_null());
+  EXPECT_TRUE(p["far"].is_null());
+  EXPECT_TRUE(p["oblique"].get<bool>());
+
+  TempFolder folder;
+  const auto text =
+      runClipray("check --trace '" + kRecorded + "osgshadow-lispsm.dump.txt'", folder.path(),
+                 "CLIPRAY_APITRACE='" + kRecorded + "apitrace-cat.sh'");
+  ASSERT_EQ(text.status, 0) << text.err;
+  for (const char* nan : {"nan", "NaN", "NAN"}) {
+    EXPECT_EQ(text.out.find(nan), std::string::npos) << text.out;
+  }
+  EXPECT_NE(text.out.find("[2] fixed-function GL_PROJECTION: 3 matrices, 21 draws, first frame 0 "
+                          "call 1168, last frame 2 call 1978\n"),
+            std::string::npos)
+      << text.out;
+  EXPECT_NE(text.out.find(
+                "  matrix: perspective, off-axis, oblique near plane, right-handed\n"
+                "  over its 3 matrices: no near, far, fov or eye to range (the lines below read "
+                "the first)\n"
+                "    no eye point: the centre of projection is at infinity along (0, 0, 1) (rows "
+                "x, y and w share no point; a light-space perspective warp such as LiSPSM's), "
+                "looking along (0, 1, 0)\n"
+                "    near -, far -, fov - (no eye to measure it from)\n"),
+            std::string::npos)
+      << text.out;
 }
 
 }  // namespace

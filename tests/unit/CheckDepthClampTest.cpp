@@ -139,6 +139,10 @@ TEST(CheckEyeAtInfinity, SaidInWordsNotAsNaN) {
   const nlohmann::json json = checkReportJson(report, input);
   EXPECT_TRUE(json["properties"]["eye"].is_null());
   EXPECT_EQ(json["properties"]["eye_at_infinity_along"], nlohmann::json({0.0, 1.0, 0.0}));
+  // No eye, no angle: the fov is absent (null), as the text's "fov -", not a zero.
+  EXPECT_TRUE(json["properties"]["fov_y_degrees"].is_null());
+  EXPECT_TRUE(json["properties"]["fov_x_degrees"].is_null());
+  EXPECT_TRUE(json["properties"]["fov_error_degrees"].is_null());
 }
 
 }  // namespace

@@ -131,6 +131,26 @@ TEST(TraceDrawState, ShadersThatWriteClipDistances) {
   EXPECT_TRUE(depthStateLine(result, 2).ends_with("; clip distance 0 enabled"));
 }
 
+// glDepthMask is followed (for what a replayed draw left in the depth buffer) and is part of
+// GL_DEPTH_BUFFER_BIT, not of GL_ENABLE_BIT; it does not split a group.
+TEST(TraceDrawState, DepthMaskFollowedThroughTheAttributeStack) {
+  const auto firstDraw = [](const std::string& pushed) {
+    const TraceCheckResult result =
+        checkLines(kFrustum + "4 glEnable(cap = GL_DEPTH_TEST)\n5 glPushAttrib(mask = " + pushed +
+                   ")\n6 glDepthMask(flag = GL_FALSE)\n7 glPopAttrib()\n"
+                   "8 glBegin(mode = GL_QUADS)\n9 glEnd()\n"
+                   "10 glDepthMask(flag = GL_TRUE)\n11 glBegin(mode = GL_QUADS)\n12 glEnd()\n");
+    EXPECT_EQ(result.groups.size(), 1u);
+    return result.groups.empty() ? TraceDepthState{} : result.groups[0].depth;
+  };
+  const TraceDepthState restored = firstDraw("GL_DEPTH_BUFFER_BIT");
+  EXPECT_TRUE(restored.depthWrite);
+  EXPECT_EQ(restored.depthMaskCall, 0u);
+  const TraceDepthState kept = firstDraw("GL_ENABLE_BIT");
+  EXPECT_FALSE(kept.depthWrite);
+  EXPECT_EQ(kept.depthMaskCall, 6u);
+}
+
 TEST(TraceDrawState, PushAttribRestoresTheGroupsPushed) {
   const TraceCheckResult result = checkLines(
       kFrustum +

@@ -82,6 +82,39 @@ TEST(TraceGroupRanges, OneMatrixHasNoRangeLine) {
             "73979365244269,\"min\":73.73979365244269},\"near\":{\"max\":1.0,\"min\":1.0}}");
 }
 
+// Matrices whose centre of projection is at infinity (a light-space perspective warp, as
+// osgshadow --lispsm loads): none has a near, far, fov or eye, so the group's range line says so
+// instead of printing an empty list, and the JSON gives no fov, not a zero.
+TEST(TraceGroupRanges, EyeAtInfinityHasNothingToRange) {
+  std::ostringstream text;
+  text << "1 glViewport(x = 0, y = 0, width = 64, height = 48)\n"
+       << "2 glEnable(cap = GL_DEPTH_TEST)\n"
+       << "3 glMatrixMode(mode = GL_PROJECTION)\n";
+  int call = 4;
+  for (int frame = 1; frame <= 3; ++frame) {
+    // x_clip = frame * x, y_clip = 1, z_clip = y, w_clip = -z (column-major).
+    text << call << " glLoadMatrixf(m = {" << frame
+         << ", 0, 0, 0, 0, 0, 1, 0, 0, 0, 0, -1, 0, 1, 0, 0})\n";
+    text << call + 1 << " glDrawArrays(mode = GL_TRIANGLES, first = 0, count = 3)\n";
+    text << call + 2 << " glXSwapBuffers(dpy = 0x1, drawable = 0x2)\n";
+    call += 3;
+  }
+  const TraceCheckResult result = checkLines(text.str());
+  ASSERT_EQ(result.groups.size(), 1u);
+  EXPECT_EQ(result.groups[0].distinctMatrices, 3u);
+  EXPECT_EQ(reportLine(result, "over its "),
+            "over its 3 matrices: no near, far, fov or eye to range (the lines below read the "
+            "first)");
+  EXPECT_EQ(reportLine(result, "  near "), "  near -, far -, fov - (no eye to measure it from)");
+  const nlohmann::json json = traceCheckJson(result)["groups"][0];
+  EXPECT_EQ(json["ranges"].dump(),
+            "{\"eye\":null,\"far\":null,\"fov_y_degrees\":null,\"near\":null}");
+  EXPECT_EQ(json["properties"]["eye_at_infinity_along"], nlohmann::json({0.0, 1.0, 0.0}));
+  EXPECT_TRUE(json["properties"]["fov_y_degrees"].is_null());
+  EXPECT_TRUE(json["properties"]["fov_x_degrees"].is_null());
+  EXPECT_TRUE(json["properties"]["fov_error_degrees"].is_null());
+}
+
 TEST(TraceGroupRanges, CapIsPerGroupAndSaysWhatItLeftOut) {
   const int frames = static_cast<int>(kMaxPairsPerGroup) + 3;
   const TraceCheckResult result = checkLines(movingCamera(frames, 0.001, false));

@@ -93,6 +93,14 @@ TEST(TraceReplayDepth, ViewDepthsAndTheBuiltForPick) {
   EXPECT_EQ(none.written, 0u);
   EXPECT_EQ(none.observations.back(),
             "no fragment passed the depth test (or none was drawn) by this call");
+  // Drawn with depth writes off (MeshLab's trackball, inside glPushAttrib(GL_DEPTH_BUFFER_BIT)):
+  // the reason is the mask, not the test.
+  group.depth.depthWrite = false;
+  group.depth.depthMaskCall = 5844;
+  const DepthUse masked = analyseDepthUse(*depthImageFromState(stateWith(untouched)), group);
+  EXPECT_EQ(masked.written, 0u);
+  EXPECT_EQ(masked.observations.back(),
+            "depth writes were off (glDepthMask(GL_FALSE) at call 5844): this call wrote no depth");
 }
 
 }  // namespace

@@ -60,7 +60,12 @@ nlohmann::json checkReportJson(const CheckReport& report, const CheckInput& inpu
     properties["eye"] = {p.eye->x, p.eye->y, p.eye->z};
     properties["eye_error"] = {p.eyeError.x, p.eyeError.y, p.eyeError.z};
   }
-  if (p.perspective) {
+  if (p.perspective && p.eyeAtInfinityAlong) {
+    // No eye to measure an angle from (the text says "fov -"): no number, not a zero.
+    properties["fov_y_degrees"] = nullptr;
+    properties["fov_x_degrees"] = nullptr;
+    properties["fov_error_degrees"] = nullptr;
+  } else if (p.perspective) {
     properties["fov_y_degrees"] = p.fovYDegrees.value;
     properties["fov_x_degrees"] = p.fovXDegrees.value;
     properties["fov_error_degrees"] = std::max(p.fovYDegrees.error, p.fovXDegrees.error);

@@ -136,6 +136,7 @@ const std::unordered_set<std::string_view>& stateFunctions() {
                                   "glEnable",
                                   "glDisable",
                                   "glDepthFunc",
+                                  "glDepthMask",
                                   "glCullFace",
                                   "glFrontFace",
                                   "glDepthRange",
@@ -414,6 +415,9 @@ bool GlTraceState::applyDepthState(const DumpCall& call) {
   } else if (name == "glDepthFunc") {
     depth_.depthFunc = enumArgument(call, "func");
     depth_.depthFuncCall = call.number;
+  } else if (name == "glDepthMask") {
+    depth_.depthWrite = enumArgument(call, "flag") != 0;
+    depth_.depthMaskCall = call.number;
   } else if (name == "glDepthRange" || name == "glDepthRangef" ||
              (name == "glDepthRangeIndexed" && numberArgument(call, "index") == 0.0)) {
     // apitrace names the arguments zNear/zFar (glDepthRange) or n/f (glDepthRangef, GLES).
@@ -480,6 +484,8 @@ void GlTraceState::applyAttributeStack(const DumpCall& call) {
     depth_.depthTest = saved.depthTest;
     depth_.depthFunc = saved.depthFunc;
     depth_.depthFuncCall = saved.depthFuncCall;
+    depth_.depthWrite = saved.depthWrite;
+    depth_.depthMaskCall = saved.depthMaskCall;
     clearDepthValue_ = pushed.clearDepthValue;
   }
   if (restores(kGlEnableBit)) {

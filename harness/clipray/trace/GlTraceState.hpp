@@ -60,6 +60,11 @@ struct TraceDepthState {
   // The last glEnable/glDisable of GL_DEPTH_CLAMP, and of any GL_CLIP_DISTANCEi.
   std::uint64_t depthClampCall = 0, clipDistancesCall = 0;
 
+  // glDepthMask: whether the draw writes depth (GL's default: it does), and where it was set. Not
+  // part of key(): it changes what a draw leaves in the depth buffer, not how depth is computed.
+  bool depthWrite = true;
+  std::uint64_t depthMaskCall = 0;
+
   // The same state, call numbers aside (the key of a distinct (matrix, state) pair).
   std::string key() const;
 };

@@ -128,9 +128,16 @@ DepthUse analyseDepthUse(const DepthImage& image, const TracePairGroup& group) {
   use.observations.push_back(head.str());
   if (use.written == 0) {
     use.minDepth = use.maxDepth = cleared;
-    use.observations.push_back(
-        state.depthTest ? "no fragment passed the depth test (or none was drawn) by this call"
-                        : "nothing was drawn into the depth buffer by this call");
+    if (!state.depthWrite) {
+      // glDepthMask(GL_FALSE): the draw may pass the test and still write nothing.
+      use.observations.push_back("depth writes were off (glDepthMask(GL_FALSE) at call " +
+                                 std::to_string(state.depthMaskCall) +
+                                 "): this call wrote no depth");
+    } else {
+      use.observations.push_back(
+          state.depthTest ? "no fragment passed the depth test (or none was drawn) by this call"
+                          : "nothing was drawn into the depth buffer by this call");
+    }
     return use;
   }
   use.observations.push_back("window depth used: " + number(use.minDepth) + " to " +

@@ -231,7 +231,10 @@ std::string traceCheckText(const TraceCheckResult& r) {
       // The matrix report reads the group's first matrix: the range over all of them follows
       // its property lines.
       if (line.starts_with("matrix: ") && g.distinctMatrices > 1) {
-        out << "  over its " << g.distinctMatrices << " matrices: " << rangesText(g.ranges)
+        // A matrix with no eye point (LiSPSM's) has no near, far, fov or eye to range.
+        const std::string ranges = rangesText(g.ranges);
+        out << "  over its " << g.distinctMatrices
+            << " matrices: " << (ranges.empty() ? "no near, far, fov or eye to range" : ranges)
             << " (the lines below read the first)\n";
       }
     }

@@ -16,13 +16,17 @@
 # 2:21.1.7-3+deb12u13; each listing's header names its program's package version.
 # The programs draw into a 320x240 window (OSG_WINDOW, --imgsize, -s) on a 1024x768 screen. OSG
 # runs single-threaded (OSG_THREADING) for 3 frames (OSG_RUN_FRAME_COUNT; osgshadow runs its
-# own loop: stopped by timeout, then trimmed to 3 frames).
+# own loop: stopped by timeout, then trimmed to 3 frames). MeshLab (meshlab 2020.09+dfsg1-2, Qt 5)
+# opens model.stl in its maximised window and runs until the timeout's SIGINT (it then crashes,
+# after apitrace has flushed the trace); its mesh is first drawn in frame 2 (once loaded), so 5
+# frames are kept.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-need=(apitrace apitrace-tracers xvfb xauth openscad openscenegraph glmark2-x11 f3d)
+need=(apitrace apitrace-tracers xvfb xauth openscad openscenegraph glmark2-x11 f3d meshlab
+  stellarium)
 missing=()
 for p in "${need[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")
@@ -41,6 +45,9 @@ SCAD
 export OSG_RUN_FRAME_COUNT=3 OSG_WINDOW="0 0 320 240" OSG_THREADING=SingleThreaded
 scad="openscad --imgsize=320,240 -o out.png model.scad"
 # name | frames kept (0: all) | seconds allowed | command (run in $work)
+# Stellarium (stellarium 0.22.2-1) starts from a fresh home (its config written there) at a fixed
+# date and time; it runs until the timeout. Its first frame alone is 370 KB of start-up texture
+# uploads, so it is trimmed "lean" (trim-dump.py) to that frame.
 programs=(
   "openscad-render-ortho|0|60|$scad --render --projection=o"
   "openscad-render-persp|0|60|$scad --render --projection=p"
@@ -49,6 +56,7 @@ programs=(
   "osgviewer|3|60|osgviewer model.stl"
   "osghud|3|60|osghud model.stl"
   "osgshadow-sm|3|8|osgshadow --sm"
+  "osgshadow-lispsm|3|8|osgshadow --lispsm"
   "osgtext|3|60|osgtext"
   "osguniformbuffer|3|60|osguniformbuffer model.stl"
   "osgteapot|3|60|osgteapot"
@@ -60,6 +68,8 @@ programs=(
   "osgfpdepth|3|60|osgfpdepth model.stl"
   "glmark2-build|3|20|glmark2 -s 320x240 -b build:use-vbo=true:duration=1"
   "f3d|0|60|f3d --output=out.png --resolution=320,240 model.stl"
+  "meshlab|5|25|meshlab model.stl"
+  "stellarium|1|90|env HOME=$work/home stellarium --sky-date 20230101 --sky-time 22:00:00"
 )
 
 version() { dpkg-query -W -f='${Package} ${Version}' "$1"; }
@@ -70,11 +80,13 @@ for entry in "${programs[@]}"; do
     openscad-*) package=openscad ;;
     glmark2-*) package=glmark2-x11 ;;
     f3d) package=f3d ;;
+    meshlab) package=meshlab ;;
+    stellarium) package=stellarium ;;
     *) package=openscenegraph ;;
   esac
   rm -f "$work/$name.trace"
-  # timeout's status is 124 where a program runs its own loop (osgshadow): the trace is whole up
-  # to the signal, and only its first frames are kept.
+  # timeout's status is 124 where a program runs its own loop (osgshadow, meshlab, stellarium):
+  # the trace is whole up to the signal, and only its first frames are kept.
   # osgdepthpartition sometimes aborts at start-up under Xvfb (GLXBadDrawable): up to 3 tries.
   for try in 1 2 3; do
     status=0
@@ -88,11 +100,13 @@ for entry in "${programs[@]}"; do
     echo "$name: apitrace trace exited with status $status" >&2
     exit 1
   fi
+  lean=""
+  [ "$name" = stellarium ] && lean=lean
   header="$name: $(version "$package"), $(version apitrace), Mesa llvmpipe under Xvfb
-recorded by tests/data/trace/real/record.sh: apitrace trace --api gl $command
-trimmed by trim-dump.py to frames: ${frames/#0/all}"
+recorded by tests/data/trace/real/record.sh: apitrace trace --api gl ${command//$work/\$work}
+trimmed by trim-dump.py to frames: ${frames/#0/all}${lean:+, lean}"
   apitrace dump --color=never --multiline=false "$work/$name.trace" 2>/dev/null |
-    "$here/trim-dump.py" "$frames" "$header" >"$here/$name.dump.txt"
+    "$here/trim-dump.py" "$frames" "$header" $lean >"$here/$name.dump.txt"
   echo "$name: $(grep -c '^[0-9]' "$here/$name.dump.txt") calls, $(wc -c <"$here/$name.dump.txt") bytes"
   if [ -n "${CLIPRAY:-}" ]; then
     range=()
