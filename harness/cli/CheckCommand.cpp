@@ -14,6 +14,7 @@
 #include "clipray/engine/VerifyCheck.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/io/InputFile.hpp"
+#include "clipray/trace/CaptureFileCheck.hpp"
 #include "clipray/trace/TraceFileCheck.hpp"
 #include "clipray/util/OptionValues.hpp"
 
@@ -27,8 +28,10 @@ struct CheckOptions {
   bool json = false;
   bool verify = false;
   std::string backend = "osmesa";
-  std::string trace;   // --trace: an apitrace trace of the app instead of typed numbers
-  std::string frames;  // --frames A-B with --trace
+  std::string trace;    // --trace: an apitrace trace of the app instead of typed numbers
+  std::string frames;   // --frames A-B with --trace
+  std::string capture;  // --capture: a RenderDoc capture of the app's frame
+  std::string draws;    // --draws A-B with --capture (event IDs)
   std::size_t optionsGiven =
       0;  // field options on the command line (not --json/--verify/--backend)
 };
@@ -53,7 +56,30 @@ int runTraceCheck(const CheckOptions& options) {
   return result.hasErrors() ? 1 : 0;
 }
 
+// The capture's draws through the trace checker's model (trace/CaptureFileCheck.hpp).
+int runCaptureCheck(const CheckOptions& options) {
+  if (!options.file.empty() || options.optionsGiven > 0 || !options.trace.empty()) {
+    throw InputError(
+        "--capture: the depth state and matrices come from the capture; give no check file, "
+        "--trace or field options with it");
+  }
+  if (options.verify) {
+    throw InputError("--capture --verify: reading the captured depth is not implemented yet");
+  }
+  const trace::CaptureCheckResult result = trace::checkCapture(options.capture, options.draws);
+  if (options.json) {
+    std::cout << trace::captureCheckJson(result).dump(2, ' ', false,
+                                                      nlohmann::json::error_handler_t::replace)
+              << "\n";
+  } else {
+    std::cout << trace::captureCheckText(result);
+  }
+  return result.check.hasErrors() ? 1 : 0;
+}
+
 int runCheck(CheckOptions options) {
+  if (!options.capture.empty()) return runCaptureCheck(options);
+  if (!options.draws.empty()) throw InputError("--draws needs --capture");
   if (!options.trace.empty()) return runTraceCheck(options);
   if (!options.frames.empty()) throw InputError("--frames needs --trace");
   if (!options.file.empty()) {
@@ -143,6 +169,11 @@ CommandRunner addCheckOptions(CLI::App& app) {
                  "An apitrace trace of the app (apitrace trace --api egl|glx APP): check every "
                  "projection it draws with under the depth state traced at each draw");
   app.add_option("--frames", options->frames, "With --trace: frames A-B (from 0) or A only");
+  app.add_option("--capture", options->capture,
+                 "A RenderDoc capture (.rdc) of an OpenGL core-profile app: check every "
+                 "projection its draws use under each draw's replayed state");
+  app.add_option("--draws", options->draws,
+                 "With --capture: draws with RenderDoc event IDs A-B, or A only");
   app.add_flag("--json", options->json, "Print the report as JSON");
   app.add_flag(
       "--verify", options->verify,
