@@ -63,6 +63,7 @@ int runCaptureCheck(const CheckOptions& options) {
         "--capture: the depth state and matrices come from the capture; give no check file, "
         "--trace or field options with it");
   }
+  if (!options.frames.empty()) throw InputError("--frames needs --trace (--capture takes --draws)");
   if (options.verify) {
     throw InputError("--capture --verify: reading the captured depth is not implemented yet");
   }

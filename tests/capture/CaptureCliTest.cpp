@@ -15,8 +15,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "support/RunCommand.hpp"
@@ -221,6 +223,22 @@ TEST(CaptureCli, BadCaptures) {
     std::string bytes(2000, '\0');
     whole.read(bytes.data(), static_cast<std::streamsize>(bytes.size()));
     std::ofstream(folder.path() / "truncated.rdc", std::ios::binary) << bytes;
+    // No Vulkan or D3D device here to capture from: the zo capture's header claims another API.
+    // RenderDoc's file starts with the thumbnail, then the capture's metadata: the driver's ID
+    // (uint32; RDCDriver: OpenGL 2, D3D11 1, Vulkan 8) and its name (a length byte, the name
+    // with its NUL). The reader must refuse from the header alone, before any replay.
+    std::ifstream again(folder.path() / "zo.rdc", std::ios::binary);
+    const std::string capture((std::istreambuf_iterator<char>(again)),
+                              std::istreambuf_iterator<char>());
+    const std::size_t name = capture.find(std::string("\x07OpenGL\0", 8));
+    ASSERT_NE(name, std::string::npos);
+    ASSERT_GE(name, 4u);
+    for (const auto& [api, id] : {std::pair<std::string, char>{"Vulkan", 8}, {"D3D11", 1}}) {
+      std::string other = capture;
+      other.replace(name - 4, 4, std::string{id, 0, 0, 0});
+      other.replace(name + 1, 7, (api + std::string(7, '\0')).substr(0, 7));
+      std::ofstream(folder.path() / (api + ".rdc"), std::ios::binary) << other;
+    }
     std::ofstream(folder.path() / "scene.json") << R"({"objects": []})";
     // Python without its site packages: no python3-renderdoc.
     std::ofstream(folder.path() / "bare-python") << "#!/bin/sh\nexec /usr/bin/python3 -S \"$@\"\n";
@@ -233,6 +251,10 @@ TEST(CaptureCli, BadCaptures) {
   expectRefused("--capture truncated.rdc", folder,
                 "truncated.rdc: a truncated or corrupted capture (RenderDoc: File is corrupted: "
                 "Error seeking past binary section 'renderdoc/internal/framecapture' data)");
+  expectRefused("--capture Vulkan.rdc", folder,
+                "Vulkan.rdc: a Vulkan capture: clipray checks OpenGL captures only");
+  expectRefused("--capture D3D11.rdc", folder,
+                "D3D11.rdc: a D3D11 capture: clipray checks OpenGL captures only");
   expectRefused("--capture clear-only.rdc", folder, "clear-only.rdc: no draws in the capture");
   expectRefused("--capture identity.rdc", folder,
                 "identity.rdc: none of the 1 draws has a matrix with a projection's structure "
@@ -243,6 +265,10 @@ TEST(CaptureCli, BadCaptures) {
   expectRefused("--capture zo.rdc --draws 9-1", folder,
                 "--draws: expected A-B or A (RenderDoc event IDs, A <= B), got \"9-1\"");
   expectRefused("--draws 1-2", folder, "--draws needs --capture");
+  expectRefused("--capture zo.rdc --frames 0", folder,
+                "--frames needs --trace (--capture takes --draws)");
+  expectRefused("--capture zo.rdc --verify", folder,
+                "--capture --verify: reading the captured depth is not implemented yet");
   expectRefused("--capture zo.rdc --declared-depth zo", folder,
                 "--capture: the depth state and matrices come from the capture; give no check "
                 "file, --trace or field options with it");
