@@ -17,6 +17,7 @@
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/io/InputFile.hpp"
 #include "clipray/page/PageCheck.hpp"
+#include "clipray/trace/CaptureFileCheck.hpp"
 #include "clipray/trace/TraceFileCheck.hpp"
 #include "clipray/util/OptionValues.hpp"
 
@@ -34,6 +35,8 @@ struct CheckOptions {
   std::string frames;             // --frames A-B with --trace, N with --page
   std::string page;               // --page: a WebGL page in headless chromium
   std::optional<double> timeout;  // --timeout S with --page
+  std::string capture;            // --capture: a RenderDoc capture of the app's frame
+  std::string draws;              // --draws A-B with --capture (event IDs)
   std::size_t optionsGiven =
       0;  // field options on the command line (not --json/--verify/--backend)
 };
@@ -71,10 +74,11 @@ int runTraceCheck(const CheckOptions& options) {
 
 int runPageCheck(const CheckOptions& options) {
   // The page is the app: typed fields would contradict what it does.
-  if (!options.file.empty() || options.optionsGiven > 0 || !options.trace.empty()) {
+  if (!options.file.empty() || options.optionsGiven > 0 || !options.trace.empty() ||
+      !options.capture.empty()) {
     throw InputError(
         "--page: the depth state and matrices come from the page; give no check file, field "
-        "options or --trace with it");
+        "options, --trace or --capture with it");
   }
   page::PageOptions pageOptions;
   pageOptions.target = options.page;
@@ -95,9 +99,33 @@ int runPageCheck(const CheckOptions& options) {
   return result.hasErrors() ? 1 : 0;
 }
 
+// The capture's draws through the trace checker's model (trace/CaptureFileCheck.hpp).
+int runCaptureCheck(const CheckOptions& options) {
+  if (!options.file.empty() || options.optionsGiven > 0 || !options.trace.empty()) {
+    throw InputError(
+        "--capture: the depth state and matrices come from the capture; give no check file, "
+        "--trace or field options with it");
+  }
+  if (!options.frames.empty()) throw InputError("--frames needs --trace (--capture takes --draws)");
+  if (options.verify) {
+    throw InputError("--capture --verify: reading the captured depth is not implemented yet");
+  }
+  const trace::CaptureCheckResult result = trace::checkCapture(options.capture, options.draws);
+  if (options.json) {
+    std::cout << trace::captureCheckJson(result).dump(2, ' ', false,
+                                                      nlohmann::json::error_handler_t::replace)
+              << "\n";
+  } else {
+    std::cout << trace::captureCheckText(result);
+  }
+  return result.check.hasErrors() ? 1 : 0;
+}
+
 int runCheck(CheckOptions options) {
   if (!options.page.empty()) return runPageCheck(options);
   if (options.timeout) throw InputError("--timeout needs --page");
+  if (!options.capture.empty()) return runCaptureCheck(options);
+  if (!options.draws.empty()) throw InputError("--draws needs --capture");
   if (!options.trace.empty()) return runTraceCheck(options);
   if (!options.frames.empty()) throw InputError("--frames needs --trace or --page");
   if (!options.file.empty()) {
@@ -194,6 +222,11 @@ CommandRunner addCheckOptions(CLI::App& app) {
                  "frames (default 3)");
   app.add_option("--timeout", options->timeout,
                  "With --page: seconds to wait for the page's frames (default 30)");
+  app.add_option("--capture", options->capture,
+                 "A RenderDoc capture (.rdc) of an OpenGL core-profile app: check every "
+                 "projection its draws use under each draw's replayed state");
+  app.add_option("--draws", options->draws,
+                 "With --capture: draws with RenderDoc event IDs A-B, or A only");
   app.add_flag("--json", options->json, "Print the report as JSON");
   app.add_flag(
       "--verify", options->verify,

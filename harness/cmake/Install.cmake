@@ -15,6 +15,9 @@ install(TARGETS clipray_core clipray_gl clipray_glad EXPORT clipray-targets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS clipray RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# Found by clipray as ../share/clipray/ from its bin/ (trace/CaptureFileCheck.cpp).
+install(PROGRAMS ${PROJECT_SOURCE_DIR}/harness/renderdoc/clipray-capture-reader.py
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/clipray)
 if(TARGET clipray-pick)
   install(TARGETS clipray-pick RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 endif()

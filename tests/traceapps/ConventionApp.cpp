@@ -16,6 +16,11 @@
 // twin d3d-style-culled-ccw (glFrontFace left at GL_CCW: the insides are kept); zo-depth-clamp
 // (zo with GL_DEPTH_CLAMP enabled); arb-shader-objects (no, the camera a GLSL 1.10 uniform set
 // through the ARB_shader_objects entry points).
+// Capture mode: with CLIPRAY_CAPTURE_RDC naming a file and RenderDoc's librenderdoc.so preloaded
+// (LD_PRELOAD), the app captures everything it draws after creating its context (all FRAMES) as
+// one RenderDoc frame through the in-app API and writes it to that file (`clipray check
+// --capture`'s tests). The in-app API, because injection with target control captures nothing
+// from a pbuffer app: it never presents to a window (issue #39).
 // Every matrix is a glm-style camera: perspective fov 60 deg, aspect 4/3, near 0.1, far 100,
 // looking from (0, 2, 5) at the origin, built in float as apps do.
 
@@ -24,9 +29,12 @@
 #include <EGL/eglext.h>
 #include <GL/gl.h>
 #include <GL/glext.h>
+#include <dlfcn.h>
+#include <renderdoc_app.h>
 
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -492,6 +500,46 @@ void drawWithArbShaderObjects(const Matrix& uploaded, int frames, Context contex
   }
 }
 
+// RenderDoc's in-app API (renderdoc_app.h): present when librenderdoc.so is loaded into the app.
+struct Capture {
+  RENDERDOC_API_1_4_2* api = nullptr;
+  std::string path;
+};
+
+Capture startCapture() {
+  Capture capture;
+  const char* path = std::getenv("CLIPRAY_CAPTURE_RDC");
+  if (!path || !*path) return capture;
+  // RTLD_NOLOAD: only the library preloaded into the app (renderdoc_app.h, "RENDERDOC_GetAPI").
+  void* library = dlopen("librenderdoc.so", RTLD_NOW | RTLD_NOLOAD);
+  if (!library) fail("CLIPRAY_CAPTURE_RDC is set but librenderdoc.so is not preloaded");
+  const auto getApi = reinterpret_cast<pRENDERDOC_GetAPI>(dlsym(library, "RENDERDOC_GetAPI"));
+  if (!getApi ||
+      getApi(eRENDERDOC_API_Version_1_4_2, reinterpret_cast<void**>(&capture.api)) != 1) {
+    fail("RenderDoc's in-app API 1.4.2 is not available");
+  }
+  capture.path = path;
+  const std::string stem = capture.path + ".capturing";
+  capture.api->SetCaptureFilePathTemplate(stem.c_str());
+  // Device and window NULL: the one context current (renderdoc_app.h, StartFrameCapture).
+  capture.api->StartFrameCapture(nullptr, nullptr);
+  return capture;
+}
+
+void endCapture(const Capture& capture) {
+  if (!capture.api) return;
+  if (capture.api->EndFrameCapture(nullptr, nullptr) != 1) fail("RenderDoc captured nothing");
+  // RenderDoc names the file after the template (stem_frameN.rdc): it is moved to the path asked.
+  char written[4096];
+  std::uint32_t length = sizeof written;
+  if (capture.api->GetCapture(capture.api->GetNumCaptures() - 1, written, &length, nullptr) != 1) {
+    fail("RenderDoc lists no capture");
+  }
+  if (std::rename(written, capture.path.c_str()) != 0) {
+    fail("cannot move " + std::string(written) + " to " + capture.path);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -503,6 +551,7 @@ int main(int argc, char** argv) {
   const Context context =
       createContext(fixedFunction || name == "opencsg-passes" || name == "ftransform-program" ||
                     name == "arb-shader-objects");
+  const Capture capture = startCapture();
   bindDepthFramebuffer(name == "zo-depth-texture");
   glEnable(GL_DEPTH_TEST);
   const Matrix view = viewFromWorld();
@@ -596,5 +645,6 @@ int main(int argc, char** argv) {
     fail("unknown case " + name);
   }
   glFinish();
+  endCapture(capture);
   return 0;
 }

@@ -158,6 +158,13 @@ class TraceCheckCollector {
   // InputError "<trace>: call N: ..." where a call the checker needs cannot be read.
   bool addLine(std::string_view line);
 
+  // One draw read by another reader than the dump's (a RenderDoc capture: CaptureFileCheck.hpp),
+  // its state and matrices already read: the same grouping and findings as a dump's draws.
+  void addDraw(const TraceDraw& draw) {
+    ++callLines_;
+    onDraw(draw);
+  }
+
   // Where `apitrace dump --blobs` writes its blob files, for the uniform buffers' contents.
   void setBlobDirectory(std::filesystem::path directory) {
     state_.setBlobDirectory(std::move(directory));

@@ -1,0 +1,353 @@
+// `clipray check --capture`: runs the capture reader (harness/renderdoc/) on the .rdc file and
+// streams its lines from a pipe into the trace checker. The reader's stderr (and RenderDoc's log
+// lines) share the pipe: lines that are no JSON object are kept, the last few, to say why a
+// reader that wrote no error line failed.
+
+#include "clipray/trace/CaptureFileCheck.hpp"
+
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <charconv>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "clipray/InputError.hpp"
+#include "clipray/check/CheckText.hpp"
+#include "clipray/trace/CaptureDraw.hpp"
+
+namespace clipray::trace {
+
+namespace {
+
+constexpr int kExecFailed = 127;
+// A draw line holds its shaders' text: longer than this is no line the reader writes.
+constexpr std::size_t kMaxReaderLineBytes = 64u << 20;
+constexpr std::size_t kKeptOtherLines = 8;
+constexpr const char* kReaderName = "clipray-capture-reader.py";
+
+void requireCaptureFile(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);
+  if (error || !fs::exists(status)) throw InputError(path + ": cannot open file");
+  if (fs::is_directory(status)) throw InputError(path + ": is a directory, not a file");
+  if (!fs::is_regular_file(status)) {
+    throw InputError(path + ": is not a regular file (a FIFO, device or socket)");
+  }
+  if (access(path.c_str(), R_OK) != 0) throw InputError(path + ": cannot read file");
+}
+
+std::string environment(const char* name) {
+  const char* value = std::getenv(name);
+  return value && *value ? value : "";
+}
+
+// The reader installed with clipray: beside the binary (the build tree) or in ../share/clipray
+// (an installed tree, harness/CMakeLists.txt).
+std::string findReader() {
+  if (std::string overridden = environment("CLIPRAY_CAPTURE_READER"); !overridden.empty()) {
+    if (access(overridden.c_str(), R_OK) != 0) {
+      throw InputError("CLIPRAY_CAPTURE_READER: cannot read " + overridden);
+    }
+    return overridden;
+  }
+  std::error_code error;
+  const std::filesystem::path binary = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (!error) {
+    for (const std::filesystem::path& candidate :
+         {binary.parent_path() / kReaderName,
+          binary.parent_path().parent_path() / "share" / "clipray" / kReaderName}) {
+      if (access(candidate.c_str(), R_OK) == 0) return candidate.string();
+    }
+  }
+  throw InputError(std::string(kReaderName) +
+                   " not found beside the clipray binary or in ../share/clipray (a broken "
+                   "install?): set CLIPRAY_CAPTURE_READER to it");
+}
+
+// The reader as a child process, its stdout and stderr into one pipe.
+class ReaderProcess {
+ public:
+  explicit ReaderProcess(std::vector<std::string> words) {
+    int fds[2];
+    if (pipe2(fds, O_CLOEXEC) != 0) {
+      throw std::runtime_error("pipe: " + std::string(strerror(errno)));
+    }
+    pid_ = fork();
+    if (pid_ < 0) {
+      const int saved = errno;
+      close(fds[0]);
+      close(fds[1]);
+      throw std::runtime_error("fork: " + std::string(strerror(saved)));
+    }
+    if (pid_ == 0) {
+      dup2(fds[1], STDOUT_FILENO);
+      dup2(fds[1], STDERR_FILENO);
+      // Headless replay on Mesa: EGL's surfaceless platform (no display, no GPU needed).
+      setenv("EGL_PLATFORM", "surfaceless", 0);
+      std::vector<char*> argv;
+      for (std::string& word : words) argv.push_back(word.data());
+      argv.push_back(nullptr);
+      execvp(argv[0], argv.data());
+      _exit(kExecFailed);
+    }
+    close(fds[1]);
+    fd_ = fds[0];
+  }
+  ReaderProcess(const ReaderProcess&) = delete;
+  ReaderProcess& operator=(const ReaderProcess&) = delete;
+
+  ~ReaderProcess() {
+    if (fd_ >= 0) close(fd_);
+    if (pid_ > 0 && !reaped_) {
+      kill(pid_, SIGTERM);
+      int status = 0;
+      while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+      }
+    }
+  }
+
+  std::size_t read(char* buffer, std::size_t size) {
+    while (true) {
+      const ssize_t got = ::read(fd_, buffer, size);
+      if (got >= 0) return static_cast<std::size_t>(got);
+      if (errno != EINTR) {
+        throw std::runtime_error("reading the capture reader's output: " +
+                                 std::string(strerror(errno)));
+      }
+    }
+  }
+
+  int finish() {
+    close(fd_);
+    fd_ = -1;
+    int status = 0;
+    while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
+    }
+    reaped_ = true;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  }
+
+ private:
+  pid_t pid_ = -1;
+  int fd_ = -1;
+  bool reaped_ = false;
+};
+
+// What the state model does not follow, listed per draw.
+nlohmann::json drawSummary(const nlohmann::json& line, const TraceDraw& draw) {
+  nlohmann::json sources = nlohmann::json::array();
+  for (const TracedMatrix& matrix : draw.matrices) sources.push_back(matrix.source);
+  const nlohmann::json& state = line["state"];
+  return {{"event", draw.call},
+          {"name", draw.function},
+          {"frame", draw.frame},
+          {"program", line.value("program", "")},
+          {"depth_write", state.value("depth_write", true)},
+          {"polygon_offset", state.value("polygon_offset", nlohmann::json(nullptr))},
+          {"projections", sources},
+          {"shaders", line.value("shaders", nlohmann::json::object())}};
+}
+
+class LineReader {
+ public:
+  LineReader(const std::string& path, std::optional<FrameRange> range)
+      : path_(path), range_(range), collector_(path, FrameRange{}) {}
+
+  void add(std::string_view text) {
+    if (!text.starts_with("{")) {
+      others_.emplace_back(text);
+      if (others_.size() > kKeptOtherLines) others_.pop_front();
+      return;
+    }
+    const nlohmann::json line = nlohmann::json::parse(text, nullptr, false);
+    if (line.is_discarded() || !line.is_object()) {
+      throw InputError(path_ + ": the capture reader wrote a line that is no JSON object");
+    }
+    const std::string kind = line.value("kind", "");
+    if (kind == "error") throw InputError(line.value("message", path_ + ": capture reader error"));
+    if (kind == "capture") {
+      result_.events = line.value("events", std::uint64_t{0});
+      sawCapture_ = true;
+      return;
+    }
+    if (kind != "draw") return;
+    TraceDraw draw;
+    try {
+      draw = captureDrawOf(line);
+    } catch (const std::invalid_argument& error) {
+      throw InputError(path_ + ": the capture reader's draw line " +
+                       std::to_string(result_.drawsInCapture + 1) + ": " + error.what());
+    }
+    ++result_.drawsInCapture;
+    firstEvent_ = std::min(firstEvent_, draw.call);
+    lastEvent_ = std::max(lastEvent_, draw.call);
+    if (range_ && (draw.call < range_->first || draw.call > range_->last)) return;
+    if (result_.draws.size() < kMaxListedCaptureDraws) {
+      result_.draws.push_back(drawSummary(line, draw));
+    }
+    ++drawsInRange_;
+    framesSeen_ = std::max(framesSeen_, draw.frame + 1);
+    collector_.addDraw(draw);
+  }
+
+  std::string otherLines() const {
+    std::string text;
+    for (const std::string& line : others_) {
+      if (!text.empty()) text += " | ";
+      text += line;
+    }
+    return text.empty() ? "no output" : text;
+  }
+
+  CaptureCheckResult finish(const std::string& rangeText) {
+    if (!sawCapture_) {
+      throw InputError(path_ + ": the capture reader wrote nothing (" + otherLines() + ")");
+    }
+    if (result_.drawsInCapture == 0) throw InputError(path_ + ": no draws in the capture");
+    if (range_ && drawsInRange_ == 0) {
+      std::string message = path_ + ": --draws " + rangeText + ": no draw in that range (";
+      message += "the capture's ";
+      message += std::to_string(result_.drawsInCapture);
+      message += " draws are events ";
+      message += std::to_string(firstEvent_);
+      message += "-";
+      message += std::to_string(lastEvent_);
+      message += ")";
+      throw InputError(message);
+    }
+    result_.drawRange = range_;
+    result_.check = collector_.finish();
+    // The collector counts the frames a dump's swaps end; a capture's draws carry their frame.
+    result_.check.framesSeen = framesSeen_;
+    return std::move(result_);
+  }
+
+ private:
+  std::string path_;
+  std::optional<FrameRange> range_;
+  TraceCheckCollector collector_;
+  CaptureCheckResult result_;
+  std::deque<std::string> others_;
+  bool sawCapture_ = false;
+  std::uint64_t drawsInRange_ = 0, framesSeen_ = 0;
+  std::uint64_t firstEvent_ = UINT64_MAX, lastEvent_ = 0;
+};
+
+}  // namespace
+
+FrameRange parseDrawRange(const std::string& text) {
+  const auto parse = [](std::string_view part, std::uint64_t& value) {
+    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
+    return error == std::errc() && end == part.data() + part.size() && !part.empty();
+  };
+  FrameRange range;
+  const std::size_t dash = text.find('-');
+  const std::string_view whole = text;
+  const bool ok =
+      dash == std::string::npos
+          ? parse(whole, range.first) && ((range.last = range.first), true)
+          : parse(whole.substr(0, dash), range.first) && parse(whole.substr(dash + 1), range.last);
+  if (!ok || range.last < range.first) {
+    throw InputError("--draws: expected A-B or A (RenderDoc event IDs, A <= B), got \"" + text +
+                     "\"");
+  }
+  return range;
+}
+
+CaptureCheckResult checkCapture(const std::string& capturePath, const std::string& draws) {
+  std::optional<FrameRange> range;
+  if (!draws.empty()) range = parseDrawRange(draws);
+  requireCaptureFile(capturePath);
+  const std::string reader = findReader();
+  std::string python = environment("CLIPRAY_CAPTURE_PYTHON");
+  if (python.empty()) python = "/usr/bin/python3";
+  LineReader lines(capturePath, range);
+  ReaderProcess process({python, reader, capturePath});
+  std::string pending;
+  std::vector<char> buffer(1 << 16);
+  std::uint64_t count = 0;
+  while (const std::size_t got = process.read(buffer.data(), buffer.size())) {
+    std::size_t start = 0;
+    for (std::size_t k = 0; k < got; ++k) {
+      if (buffer[k] != '\n') continue;
+      pending.append(buffer.data() + start, k - start);
+      lines.add(pending);
+      pending.clear();
+      ++count;
+      start = k + 1;
+    }
+    pending.append(buffer.data() + start, got - start);
+    if (pending.size() > kMaxReaderLineBytes) {
+      throw InputError(capturePath + ": a capture reader line longer than " +
+                       std::to_string(kMaxReaderLineBytes) + " bytes");
+    }
+  }
+  if (!pending.empty()) lines.add(pending);
+  const int status = process.finish();
+  if (status == kExecFailed && count == 0) {
+    throw InputError(python +
+                     ": cannot run Python for the capture reader: install Debian's python3 and "
+                     "python3-renderdoc (harness/install-deps.sh), or set CLIPRAY_CAPTURE_PYTHON");
+  }
+  if (status != 0) {
+    throw InputError(capturePath + ": the capture reader exited with status " +
+                     std::to_string(status) + " (" + lines.otherLines() + ")");
+  }
+  return lines.finish(draws);
+}
+
+nlohmann::json captureCheckJson(const CaptureCheckResult& result) {
+  nlohmann::json json = traceCheckJson(result.check);
+  json["tool"] = "clipray check --capture";
+  json.erase("trace");
+  json["capture"] = {
+      {"file", result.check.traceName},
+      {"api", "OpenGL"},
+      {"events", result.events},
+      {"draws_in_capture", result.drawsInCapture},
+      {"draw_range", result.drawRange
+                         ? nlohmann::json::array({result.drawRange->first, result.drawRange->last})
+                         : nlohmann::json(nullptr)}};
+  json["draw_list"] = result.draws;
+  return json;
+}
+
+std::string captureCheckText(const CaptureCheckResult& result) {
+  std::string text = traceCheckText(result.check);
+  // The shared report names its input a trace; here it is a capture, its calls event IDs.
+  if (text.starts_with("trace ")) text.replace(0, 5, "capture");
+  text += "calls are RenderDoc event IDs (EIDs)\n";
+  for (const nlohmann::json& draw : result.draws) {
+    const nlohmann::json& offset = draw["polygon_offset"];
+    text += "  draw ";
+    text += std::to_string(draw["event"].get<std::uint64_t>());
+    text += " ";
+    text += draw["name"].get<std::string>();
+    text += ": ";
+    text += draw["program"].get<std::string>();
+    text += draw["depth_write"].get<bool>() ? ", depth writes on" : ", depth writes off";
+    if (offset.is_object() &&
+        (offset.value("factor", 0.0) != 0.0 || offset.value("units", 0.0) != 0.0)) {
+      text += ", polygon offset ";
+      text += detail::checkNumber(offset.value("factor", 0.0));
+      text += ", ";
+      text += detail::checkNumber(offset.value("units", 0.0));
+    }
+    text += "\n";
+  }
+  return text;
+}
+
+}  // namespace clipray::trace

@@ -1,0 +1,45 @@
+#pragma once
+// `clipray check --capture FILE.rdc [--draws A-B]`: a RenderDoc capture checked with the trace
+// checker's state model, grouping and findings (TraceCheck.hpp); a second reader beside
+// `apitrace dump`. RenderDoc's replay API is a Python module on Debian (python3-renderdoc), so
+// harness/renderdoc/clipray-capture-reader.py replays the capture and writes one JSON object a
+// line; this side runs it and parses the lines (CaptureDraw.hpp). No Python in the core.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "clipray/trace/TraceCheck.hpp"
+
+namespace clipray::trace {
+
+// At most this many draws are listed one by one in the report (all are checked).
+inline constexpr std::size_t kMaxListedCaptureDraws = 1000;
+
+struct CaptureCheckResult {
+  TraceCheckResult check;  // occurrences' calls are RenderDoc event IDs (EIDs)
+  std::uint64_t events = 0;
+  std::uint64_t drawsInCapture = 0;
+  std::optional<FrameRange> drawRange;  // --draws, in EIDs
+  // Per draw in the range: what the state model does not follow (depth writes, polygon offset,
+  // the program and its shaders' text), as the reader wrote it.
+  std::vector<nlohmann::json> draws;
+};
+
+// "A-B" or "A": RenderDoc event IDs. Throws InputError naming --draws.
+FrameRange parseDrawRange(const std::string& text);
+
+// Throws InputError (exit 2) for a missing or unreadable file, a file that is no capture, a
+// truncated one, a capture of another API than OpenGL, the reader or RenderDoc's Python module
+// missing, a draw range without draws, a capture without draws or projections.
+// The reader: CLIPRAY_CAPTURE_READER, else clipray-capture-reader.py beside the running binary or
+// in ../share/clipray; run by CLIPRAY_CAPTURE_PYTHON, else /usr/bin/python3 (Debian's, the one
+// python3-renderdoc is built for).
+CaptureCheckResult checkCapture(const std::string& capturePath, const std::string& draws);
+
+nlohmann::json captureCheckJson(const CaptureCheckResult& result);
+std::string captureCheckText(const CaptureCheckResult& result);
+
+}  // namespace clipray::trace

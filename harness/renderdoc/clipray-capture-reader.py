@@ -1,0 +1,251 @@
+#!/usr/bin/python3
+"""clipray's RenderDoc capture reader: `clipray check --capture` runs it on a .rdc file and reads
+its standard output, one JSON object a line (as it reads `apitrace dump` text for --trace).
+
+Debian ships RenderDoc's replay API only as this Python module (python3-renderdoc), so the
+replay stays in this script and the C++ core parses its lines; no Python in the core.
+
+  clipray-capture-reader.py CAPTURE.rdc
+
+Lines:
+  {"kind": "capture", "api": "OpenGL", "events": N, "draws": N}
+  {"kind": "draw", "event": EID, "name": ..., "frame": F, "state": {...}, "calls": {...},
+   "program": ..., "matrices": [...], "shaders": {...}}   one per draw, in event order
+  {"kind": "error", "message": ...}                       then exit status 3
+
+Matrices are the vertex stage's float 4x4 variables of its uniform blocks ($Globals: the plain
+uniforms) as GetCBufferVariableContents reports them, written as rows: RenderDoc 1.24 keeps a
+matrix's values row by row whatever the GLSL layout (a column-major `uniform mat4` uploaded with
+glUniformMatrix4fv(transpose = GL_FALSE) comes back with its w row last), so no std140 layout is
+computed here. Calls are RenderDoc event IDs (EIDs) of the chunks that set each state, found by
+walking the capture's chunks in event order.
+"""
+
+import json
+import os
+import re
+import sys
+
+
+def emit(line):
+    sys.stdout.write(json.dumps(line, separators=(",", ":")) + "\n")
+
+
+def fail(message):
+    emit({"kind": "error", "message": message})
+    sys.stdout.flush()
+    sys.exit(3)
+
+
+try:
+    import renderdoc as rd
+except ImportError as error:
+    fail("RenderDoc's Python module is missing (" + str(error) +
+         "): install Debian's python3-renderdoc (harness/install-deps.sh)")
+
+COMPARE = {
+    rd.CompareFunction.Never: "GL_NEVER",
+    rd.CompareFunction.AlwaysTrue: "GL_ALWAYS",
+    rd.CompareFunction.Less: "GL_LESS",
+    rd.CompareFunction.LessEqual: "GL_LEQUAL",
+    rd.CompareFunction.Greater: "GL_GREATER",
+    rd.CompareFunction.GreaterEqual: "GL_GEQUAL",
+    rd.CompareFunction.Equal: "GL_EQUAL",
+    rd.CompareFunction.NotEqual: "GL_NOTEQUAL",
+}
+CULL = {
+    rd.CullMode.NoCull: None,
+    rd.CullMode.Front: "GL_FRONT",
+    rd.CullMode.Back: "GL_BACK",
+    rd.CullMode.FrontAndBack: "GL_FRONT_AND_BACK",
+}
+# The depth attachment's format as clipray names depth storage (TraceDepthState::depthFormatName).
+DEPTH_FORMATS = {
+    rd.ResourceFormatType.D16S8: "16",
+    rd.ResourceFormatType.D24S8: "24",
+    rd.ResourceFormatType.D32S8: "32f",
+}
+# The chunks that set each part of the state (their last EID before a draw is its call).
+STATE_CHUNKS = {
+    "glClipControl": "clip_control",
+    "glDepthFunc": "depth_func",
+    "glDepthRange": "depth_range", "glDepthRangef": "depth_range",
+    "glDepthRangeIndexed": "depth_range", "glDepthRangeArrayv": "depth_range",
+    "glCullFace": "cull_face_mode",
+    "glFrontFace": "front_face",
+    "glDepthMask": "depth_mask",
+    "glPolygonOffset": "polygon_offset", "glPolygonOffsetClamp": "polygon_offset",
+    "glPolygonOffsetClampEXT": "polygon_offset",
+}
+CAPS = {"GL_CULL_FACE": "cull_face", "GL_DEPTH_CLAMP": "depth_clamp",
+        "GL_DEPTH_TEST": "depth_test", "GL_POLYGON_OFFSET_FILL": "polygon_offset_fill"}
+CLEAR_DEPTH = re.compile(r"Depth = <([-+0-9.eEinfa]+)>")
+
+
+def depth_format(controller, textures, resource):
+    if resource == rd.ResourceId.Null():
+        return "none"
+    texture = textures.get(resource)
+    if texture is None:
+        return "unknown"
+    fmt = texture.format
+    if fmt.type in DEPTH_FORMATS:
+        return DEPTH_FORMATS[fmt.type]
+    # RenderDoc's GL driver names GL_DEPTH_COMPONENT16/24/32F as D16/D24/D32 (regular formats of
+    # the Depth component type, 2, 3 and 4 bytes wide); a 4-byte depth is GL's float one.
+    if fmt.compType == rd.CompType.Depth:
+        return {2: "16", 3: "24", 4: "32f"}.get(fmt.compByteWidth, "unknown")
+    return "unknown"
+
+
+def matrices_of(controller, pipe, state):
+    reflection = pipe.GetShaderReflection(rd.ShaderStage.Vertex)
+    if reflection is None:
+        return []
+    found = []
+
+    def collect(block, prefix, variables):
+        for variable in variables:
+            name = prefix + variable.name
+            if len(variable.members) > 0:
+                collect(block, name + ".", variable.members)
+            elif (variable.rows == 4 and variable.columns == 4 and
+                  variable.type == rd.VarType.Float):
+                values = list(variable.value.f32v[:16])
+                found.append({"block": block.name, "buffer_backed": bool(block.bufferBacked),
+                              "name": name,
+                              "rows": [values[r * 4:r * 4 + 4] for r in range(4)]})
+
+    entry = pipe.GetShaderEntryPoint(rd.ShaderStage.Vertex)
+    for index, block in enumerate(reflection.constantBlocks):
+        bound = pipe.GetConstantBuffer(rd.ShaderStage.Vertex, index, 0)
+        variables = controller.GetCBufferVariableContents(
+            pipe.GetGraphicsPipelineObject(), reflection.resourceId, rd.ShaderStage.Vertex, entry,
+            index, bound.resourceId, bound.byteOffset, bound.byteSize)
+        collect(block, "", variables)
+    return found
+
+
+def shader_text(pipe, stage):
+    reflection = pipe.GetShaderReflection(stage)
+    if reflection is None:
+        return None
+    return "\n".join(f.contents for f in reflection.debugInfo.files)
+
+
+def main():
+    if len(sys.argv) != 2:
+        fail("usage: clipray-capture-reader.py CAPTURE.rdc")
+    path = sys.argv[1]
+    # Headless replay on Mesa (llvmpipe without a GPU): EGL's surfaceless platform.
+    os.environ.setdefault("EGL_PLATFORM", "surfaceless")
+    rd.InitialiseReplay(rd.GlobalEnvironment(), [])
+    capture = rd.OpenCaptureFile()
+    try:
+        result = capture.OpenFile(path, "", None)
+        if result.code == rd.ResultCode.FileCorrupted:
+            fail(path + ": a truncated or corrupted capture (RenderDoc: " + result.Message() + ")")
+        if result.code != rd.ResultCode.Succeeded:
+            fail(path + ": not a RenderDoc capture (RenderDoc: " + result.Message() + ")")
+        api = capture.DriverName()
+        if api != "OpenGL":
+            fail(path + ": a " + api + " capture: clipray checks OpenGL captures only")
+        if capture.LocalReplaySupport() != rd.ReplaySupport.Supported:
+            fail(path + ": RenderDoc cannot replay this OpenGL capture here (replay support: " +
+                 str(capture.LocalReplaySupport()) + ")")
+        options = rd.ReplayOptions()
+        # Only state and uniforms are read: the replay need not keep resources' contents between
+        # events (half the time to open a small capture on llvmpipe).
+        options.optimisation = rd.ReplayOptimisationLevel.Fastest
+        result, controller = capture.OpenCapture(options, None)
+        if result.code != rd.ResultCode.Succeeded:
+            fail(path + ": RenderDoc cannot replay the capture (" + result.Message() + ")")
+        try:
+            read(path, controller)
+        finally:
+            controller.Shutdown()
+    finally:
+        capture.Shutdown()
+        rd.ShutdownReplay()
+
+
+def read(path, controller):
+    structured = controller.GetStructuredFile()
+    actions = []
+
+    def walk(level):
+        for action in level:
+            actions.append(action)
+            walk(action.children)
+
+    walk(controller.GetRootActions())
+    draws = [a for a in actions if a.flags & rd.ActionFlags.Drawcall]
+    emit({"kind": "capture", "api": "OpenGL", "events": actions[-1].eventId if actions else 0,
+          "draws": len(draws)})
+    textures = {t.resourceId: t for t in controller.GetTextures()}
+    programs = {r.resourceId: r.name for r in controller.GetResources()}
+    calls = {}
+    cleared = None
+    frame = 0
+    for action in actions:
+        for event in action.events:
+            chunk = structured.chunks[event.chunkIndex]
+            part = STATE_CHUNKS.get(chunk.name)
+            if part:
+                calls[part] = event.eventId
+            elif chunk.name in ("glEnable", "glDisable") and chunk.NumChildren() > 0:
+                cap = chunk.GetChild(0).AsString()
+                if cap in CAPS:
+                    calls[CAPS[cap]] = event.eventId
+                elif cap.startswith("GL_CLIP_DISTANCE"):
+                    calls["clip_distances"] = event.eventId
+        if action.flags & rd.ActionFlags.Clear:
+            found = CLEAR_DEPTH.search(action.GetName(structured))
+            if found:
+                cleared = float(found.group(1))
+                calls["clear"] = action.eventId
+        if action.flags & rd.ActionFlags.Drawcall:
+            emit(draw_line(controller, structured, action, frame, calls, cleared, textures,
+                           programs))
+        if action.flags & rd.ActionFlags.Present:
+            frame += 1
+
+
+def draw_line(controller, structured, action, frame, calls, cleared, textures, programs):
+    controller.SetFrameEvent(action.eventId, True)
+    gl = controller.GetGLPipelineState()
+    pipe = controller.GetPipelineState()
+    raster = gl.rasterizer.state
+    viewport = gl.rasterizer.viewports[0]
+    state = {
+        "clip_lower_left": bool(gl.vertexProcessing.clipOriginLowerLeft),
+        "clip_negative_one_to_one": bool(gl.vertexProcessing.clipNegativeOneToOne),
+        "depth_test": bool(gl.depthState.depthEnable),
+        "depth_func": COMPARE.get(gl.depthState.depthFunction, "unknown"),
+        "depth_write": bool(gl.depthState.depthWrites),
+        "depth_range": [viewport.minDepth, viewport.maxDepth],
+        "viewport": [viewport.x, viewport.y, viewport.width, viewport.height],
+        "cull_face": CULL.get(raster.cullMode),
+        "front_ccw": bool(raster.frontCCW),
+        "depth_clamp": bool(raster.depthClamp),
+        "clip_distances": sum(1 << i for i, on in enumerate(gl.vertexProcessing.clipPlanes) if on),
+        "polygon_offset": {"factor": raster.slopeScaledDepthBias, "units": raster.depthBias,
+                           "clamp": raster.offsetClamp},
+        "depth_format": depth_format(controller, textures,
+                                     gl.framebuffer.drawFBO.depthAttachment.resourceId),
+        "cleared_depth": cleared,
+    }
+    program = gl.vertexShader.programResourceId
+    return {
+        "kind": "draw", "event": action.eventId, "name": action.GetName(structured),
+        "frame": frame, "state": state, "calls": dict(calls),
+        "program": programs.get(program, str(program)),
+        "matrices": matrices_of(controller, pipe, gl),
+        "shaders": {"vertex": shader_text(pipe, rd.ShaderStage.Vertex),
+                    "geometry": shader_text(pipe, rd.ShaderStage.Geometry),
+                    "fragment": shader_text(pipe, rd.ShaderStage.Fragment)},
+    }
+
+
+if __name__ == "__main__":
+    main()
