@@ -11,7 +11,7 @@ packages=(
   libimgui-dev xvfb xauth
   assimp-testmodels chromium fonts-liberation
   apitrace apitrace-tracers mesa-utils glmark2-x11
-  renderdoc python3-renderdoc librenderdoc-dev
+  python3-renderdoc librenderdoc librenderdoc-dev
 )
 missing=()
 for p in "${packages[@]}"; do
