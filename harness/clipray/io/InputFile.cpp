@@ -4,9 +4,23 @@
 #include <fstream>
 #include <system_error>
 
+#include <unistd.h>
+
 #include "clipray/InputError.hpp"
 
 namespace clipray {
+
+void requireReadableFile(const std::string& path) {
+  namespace fs = std::filesystem;
+  std::error_code error;
+  const fs::file_status status = fs::status(path, error);  // follows symbolic links
+  if (error || !fs::exists(status)) throw InputError(path + ": cannot open file");
+  if (fs::is_directory(status)) throw InputError(path + ": is a directory, not a file");
+  if (!fs::is_regular_file(status)) {
+    throw InputError(path + ": is not a regular file (a FIFO, device or socket)");
+  }
+  if (access(path.c_str(), R_OK) != 0) throw InputError(path + ": cannot read file");
+}
 
 std::string readInputFile(const std::string& path, std::uint64_t maxBytes, std::string_view what) {
   namespace fs = std::filesystem;

@@ -24,6 +24,10 @@ inline constexpr std::size_t kMaxJsonDepth = 100;
 // the <max> a <what> may have", "<path>: cannot read file".
 std::string readInputFile(const std::string& path, std::uint64_t maxBytes, std::string_view what);
 
+// A regular file the process may read, for readers that hand the path to another program
+// (apitrace, RenderDoc's replay): the same messages as readInputFile, nothing read.
+void requireReadableFile(const std::string& path);
+
 // Throws InputError "<path>: byte <n>: a NUL byte in a text file" for the first NUL byte.
 void requireNoNulBytes(std::string_view text, const std::string& path);
 

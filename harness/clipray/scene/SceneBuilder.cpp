@@ -103,15 +103,24 @@ SceneBuilder& SceneBuilder::objectDepthRange(double nearDepth, double farDepth) 
   return *this;
 }
 
+namespace {
+
+// Clip planes as the scene format writes them: [[a, b, c, d], ...].
+Json planesJson(const std::vector<glm::dvec4>& planes) {
+  Json values = Json::array();
+  for (const glm::dvec4& plane : planes) values.push_back({plane.x, plane.y, plane.z, plane.w});
+  return values;
+}
+
+}  // namespace
+
 SceneBuilder& SceneBuilder::objectClipPlanes(std::vector<glm::dvec4> planes) {
   if (document_->objects().empty()) {
     throw InputError(
         "SceneBuilder " + detail::jsonString(name_) +
         ": objectClipPlanes() applies to the mesh added last, and no object was added yet");
   }
-  Json values = Json::array();
-  for (const glm::dvec4& plane : planes) values.push_back({plane.x, plane.y, plane.z, plane.w});
-  document_->objects().back()["clipPlanes"] = std::move(values);
+  document_->objects().back()["clipPlanes"] = planesJson(planes);
   return *this;
 }
 
@@ -121,9 +130,7 @@ SceneBuilder& SceneBuilder::clipPlanes(std::vector<glm::dvec4> planes) {
         "SceneBuilder " + detail::jsonString(name_) +
         ": clipPlanes() applies to the camera added last, and no camera was added yet");
   }
-  Json values = Json::array();
-  for (const glm::dvec4& plane : planes) values.push_back({plane.x, plane.y, plane.z, plane.w});
-  document_->cameras().back()["clipPlanes"] = std::move(values);
+  document_->cameras().back()["clipPlanes"] = planesJson(planes);
   return *this;
 }
 

@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cerrno>
-#include <charconv>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
@@ -24,6 +23,7 @@
 
 #include "clipray/InputError.hpp"
 #include "clipray/check/CheckText.hpp"
+#include "clipray/io/InputFile.hpp"
 #include "clipray/trace/CaptureDraw.hpp"
 
 namespace clipray::trace {
@@ -35,18 +35,6 @@ constexpr int kExecFailed = 127;
 constexpr std::size_t kMaxReaderLineBytes = 64u << 20;
 constexpr std::size_t kKeptOtherLines = 8;
 constexpr const char* kReaderName = "clipray-capture-reader.py";
-
-void requireCaptureFile(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  const fs::file_status status = fs::status(path, error);
-  if (error || !fs::exists(status)) throw InputError(path + ": cannot open file");
-  if (fs::is_directory(status)) throw InputError(path + ": is a directory, not a file");
-  if (!fs::is_regular_file(status)) {
-    throw InputError(path + ": is not a regular file (a FIFO, device or socket)");
-  }
-  if (access(path.c_str(), R_OK) != 0) throw InputError(path + ": cannot read file");
-}
 
 std::string environment(const char* name) {
   const char* value = std::getenv(name);
@@ -248,28 +236,13 @@ class LineReader {
 }  // namespace
 
 FrameRange parseDrawRange(const std::string& text) {
-  const auto parse = [](std::string_view part, std::uint64_t& value) {
-    const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
-    return error == std::errc() && end == part.data() + part.size() && !part.empty();
-  };
-  FrameRange range;
-  const std::size_t dash = text.find('-');
-  const std::string_view whole = text;
-  const bool ok =
-      dash == std::string::npos
-          ? parse(whole, range.first) && ((range.last = range.first), true)
-          : parse(whole.substr(0, dash), range.first) && parse(whole.substr(dash + 1), range.last);
-  if (!ok || range.last < range.first) {
-    throw InputError("--draws: expected A-B or A (RenderDoc event IDs, A <= B), got \"" + text +
-                     "\"");
-  }
-  return range;
+  return parseNumberRange(text, "--draws", "RenderDoc event IDs");
 }
 
 CaptureCheckResult checkCapture(const std::string& capturePath, const std::string& draws) {
   std::optional<FrameRange> range;
   if (!draws.empty()) range = parseDrawRange(draws);
-  requireCaptureFile(capturePath);
+  requireReadableFile(capturePath);
   const std::string reader = findReader();
   std::string python = environment("CLIPRAY_CAPTURE_PYTHON");
   if (python.empty()) python = "/usr/bin/python3";

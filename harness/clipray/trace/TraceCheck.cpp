@@ -316,7 +316,8 @@ CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthSta
   return report;
 }
 
-FrameRange parseFrameRange(const std::string& text) {
+FrameRange parseNumberRange(const std::string& text, const std::string& option,
+                            const std::string& numbers) {
   const auto parse = [&](std::string_view part, std::uint64_t& value) {
     const auto [end, error] = std::from_chars(part.data(), part.data() + part.size(), value);
     return error == std::errc() && end == part.data() + part.size() && !part.empty();
@@ -329,10 +330,14 @@ FrameRange parseFrameRange(const std::string& text) {
           ? parse(whole, range.first) && ((range.last = range.first), true)
           : parse(whole.substr(0, dash), range.first) && parse(whole.substr(dash + 1), range.last);
   if (!ok || range.last < range.first) {
-    throw InputError("--frames: expected A-B or A (frame numbers from 0, A <= B), got \"" + text +
+    throw InputError(option + ": expected A-B or A (" + numbers + ", A <= B), got \"" + text +
                      "\"");
   }
   return range;
+}
+
+FrameRange parseFrameRange(const std::string& text) {
+  return parseNumberRange(text, "--frames", "frame numbers from 0");
 }
 
 void GroupRanges::include(const MatrixProperties& properties) {

@@ -68,6 +68,10 @@ CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthSta
 
 // "A-B" or "A" (frames count from 0, as apitrace's). Throws InputError naming --frames.
 FrameRange parseFrameRange(const std::string& text);
+// "A-B" or "A" of unsigned numbers: InputError "<option>: expected A-B or A (<numbers>, A <= B),
+// got "<text>"" otherwise.
+FrameRange parseNumberRange(const std::string& text, const std::string& option,
+                            const std::string& numbers);
 
 struct Occurrence {
   std::uint64_t frame = 0;

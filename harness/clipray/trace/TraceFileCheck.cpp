@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "clipray/InputError.hpp"
+#include "clipray/io/InputFile.hpp"
 #include "clipray/trace/DumpLine.hpp"
 #include "clipray/trace/ReplayDepth.hpp"
 #include "clipray/trace/TraceCheck.hpp"
@@ -45,18 +46,6 @@ constexpr int kChdirFailed = 126;
 constexpr std::size_t kMaxReplays = 8;
 // A state dump holds every bound texture and buffer; beyond this the group is not verified.
 constexpr std::size_t kMaxStateBytes = 512u << 20;
-
-void requireTraceFile(const std::string& path) {
-  namespace fs = std::filesystem;
-  std::error_code error;
-  const fs::file_status status = fs::status(path, error);
-  if (error || !fs::exists(status)) throw InputError(path + ": cannot open file");
-  if (fs::is_directory(status)) throw InputError(path + ": is a directory, not a file");
-  if (!fs::is_regular_file(status)) {
-    throw InputError(path + ": is not a regular file (a FIFO, device or socket)");
-  }
-  if (access(path.c_str(), R_OK) != 0) throw InputError(path + ": cannot read file");
-}
 
 // A child process whose stdout (and stderr, or /dev/null) comes back through a pipe.
 class DumpProcess {
@@ -153,7 +142,7 @@ class PrivateFolder {
 }  // namespace
 
 TraceCheckResult checkTrace(const std::string& tracePath, const std::string& frames) {
-  requireTraceFile(tracePath);
+  requireReadableFile(tracePath);
   const trace::FrameRange range =
       frames.empty() ? trace::FrameRange{} : trace::parseFrameRange(frames);
   const char* overridden = std::getenv("CLIPRAY_APITRACE");
