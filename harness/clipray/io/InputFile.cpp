@@ -10,7 +10,10 @@
 
 namespace clipray {
 
-void requireReadableFile(const std::string& path) {
+namespace {
+
+// Exists, is not a directory, and is a regular file (a FIFO with no writer blocks forever).
+void requireRegularFile(const std::string& path) {
   namespace fs = std::filesystem;
   std::error_code error;
   const fs::file_status status = fs::status(path, error);  // follows symbolic links
@@ -19,18 +22,19 @@ void requireReadableFile(const std::string& path) {
   if (!fs::is_regular_file(status)) {
     throw InputError(path + ": is not a regular file (a FIFO, device or socket)");
   }
+}
+
+}  // namespace
+
+void requireReadableFile(const std::string& path) {
+  requireRegularFile(path);
   if (access(path.c_str(), R_OK) != 0) throw InputError(path + ": cannot read file");
 }
 
 std::string readInputFile(const std::string& path, std::uint64_t maxBytes, std::string_view what) {
+  requireRegularFile(path);
   namespace fs = std::filesystem;
   std::error_code error;
-  const fs::file_status status = fs::status(path, error);  // follows symbolic links
-  if (error || !fs::exists(status)) throw InputError(path + ": cannot open file");
-  if (fs::is_directory(status)) throw InputError(path + ": is a directory, not a file");
-  if (!fs::is_regular_file(status)) {
-    throw InputError(path + ": is not a regular file (a FIFO, device or socket)");
-  }
   const std::uintmax_t size = fs::file_size(path, error);
   if (error) throw InputError(path + ": cannot read file");
   if (size > maxBytes) {
