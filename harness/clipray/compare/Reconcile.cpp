@@ -120,6 +120,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                     modelSetup.vertexReference == setup.vertexReference &&
                     modelSetup.subpixelBits == setup.subpixelBits &&
                     modelSetup.objectDepthRanges == setup.objectDepthRanges &&
+                    modelSetup.objectOffsets == setup.objectOffsets &&
                     model.viewport() == raster.viewport,
                 "compareFrames: the tolerance model answers for another setup");
   requireComparableFrames(raster, analytic);

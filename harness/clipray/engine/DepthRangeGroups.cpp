@@ -1,6 +1,7 @@
 #include "clipray/engine/DepthRangeGroups.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "clipray/compare/DepthMapping.hpp"
@@ -9,12 +10,14 @@
 namespace clipray::engine {
 
 std::vector<DepthRangeGroup> depthRangeGroups(const Scene& scene) {
-  std::vector<DepthRangeGroup> groups{{scene.depthRange, {}, true}};
+  std::vector<DepthRangeGroup> groups{{scene.depthRange, std::nullopt, {}, true}};
   for (std::size_t k = 0; k < scene.objects.size(); ++k) {
     const glm::dvec2 range = scene.objects[k].depthRangeOr(scene.depthRange);
-    auto group = std::find_if(groups.begin(), groups.end(),
-                              [&](const DepthRangeGroup& g) { return g.range == range; });
-    if (group == groups.end()) group = groups.insert(groups.end(), {range, {}, false});
+    const std::optional<PolygonOffset>& offset = scene.objects[k].polygonOffset;
+    auto group = std::find_if(groups.begin(), groups.end(), [&](const DepthRangeGroup& g) {
+      return g.range == range && g.offset == offset;
+    });
+    if (group == groups.end()) group = groups.insert(groups.end(), {range, offset, {}, false});
     group->objects.push_back(k);
   }
   return groups;
@@ -49,6 +52,35 @@ GroupScene groupScene(const Scene& whole, const DepthRangeGroup& group) {
   return out;
 }
 
+// Per primitive id of the group's scene, the offset its hits compete with: the middle of what GL
+// allows (PolygonOffset.hpp) with a 24-bit buffer's r, whatever the run's format (the hits are
+// traced once for every format; the middle's sign, which decides coplanar surfaces, is the
+// format's). Empty for a group without an offset.
+std::vector<double> offsetsOf(const GroupScene& part, const DepthRangeGroup& group,
+                              const DepthMapping& mapping, const PickingCamera& camera,
+                              Viewport viewport) {
+  std::vector<double> offsets;
+  if (!group.offset) return offsets;
+  offsets.push_back(0.0);  // id 0: no primitive
+  const glm::dvec2 size(viewport.width, viewport.height);
+  for (const MeshObject& object : part.scene.objects) {
+    for (const glm::u32vec3& t : object.triangles) {
+      glm::dvec4 clip[3];
+      for (int v = 0; v < 3; ++v) {
+        clip[v] = camera.clipFromWorld * glm::dvec4(object.worldPositions[t[v]], 1.0);
+      }
+      const glm::dvec2 gradient =
+          windowDepthGradient(clip[0], clip[1], clip[2], size, mapping.windowFromNdcScale());
+      offsets.push_back(
+          std::isfinite(gradient.x)
+              ? offsetInterval(*group.offset, gradient.x, gradient.y, 1.0, DepthFormat::Unorm24)
+                    .middle()
+              : 0.0);
+    }
+  }
+  return offsets;
+}
+
 }  // namespace
 
 void intersectByDepthRange(AnalyticFrame& frame, const SceneIntersector& wholeScene,
@@ -71,6 +103,7 @@ void intersectByDepthRange(AnalyticFrame& frame, const SceneIntersector& wholeSc
     frame.hits = {};
     intersectFrame(frame, intersector, camera, threadCount);
     const DepthMapping mapping{camera.mode, groups[g].range, false};
+    const std::vector<double> offsets = offsetsOf(part, groups[g], mapping, camera, frame.viewport);
     if (g == 0) {
       kept.resize(frame.pixelCount());
       keptDepth.assign(frame.pixelCount(), 0.0);
@@ -92,7 +125,8 @@ void intersectByDepthRange(AnalyticFrame& frame, const SceneIntersector& wholeSc
           const Ray& ray = rays[x];
           const glm::dvec4 clip =
               camera.clipFromWorld * glm::dvec4(ray.origin + hit.t * ray.direction, 1.0);
-          const double depth = mapping.windowDepth(clip.z / clip.w);
+          const double depth = mapping.windowDepth(clip.z / clip.w) +
+                               (offsets.empty() ? 0.0 : offsets[frame.hits[i].primitiveId]);
           const bool wins = g == 0 || !kept[i].hit() ||
                             (greater ? depth > keptDepth[i] : depth < keptDepth[i]) ||
                             (depth == keptDepth[i] && hit.primitiveId < kept[i].primitiveId);

@@ -5,10 +5,13 @@
 // ray: a first-person weapon drawn in [0, 0.1] shows in front of a wall in [0.1, 1] that is nearer
 // than it. Within one range the nearest hit has the extreme window depth (the mapping is monotonic
 // along a ray), so each group of objects sharing a range is traced on its own and each pixel keeps
-// the group hit the depth test keeps. PickingCamera::clipFromWorld: column-major, p_clip =
-// clipFromWorld * p_world.
+// the group hit the depth test keeps. Objects drawn with a polygon offset (MeshObject::
+// polygonOffset) are grouped apart too: their hits compete with their depth moved by the offset
+// (a decal coplanar with a wall wins where its offset pushes it toward the camera).
+// PickingCamera::clipFromWorld: column-major, p_clip = clipFromWorld * p_world.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -23,12 +26,13 @@ namespace clipray::engine {
 // The objects drawn with one depth range; the scene's group also holds the analytic primitives.
 struct DepthRangeGroup {
   glm::dvec2 range{0.0, 1.0};
-  std::vector<std::size_t> objects;  // indices into Scene::objects
-  bool analytic = false;             // the scene's range: the analytic primitives' too
+  std::optional<PolygonOffset> offset{};  // the group's objects' polygon offset
+  std::vector<std::size_t> objects;       // indices into Scene::objects
+  bool analytic = false;                  // the scene's range: the analytic primitives' too
 };
 
-// One group per distinct range, the scene's first; a single group where every object is drawn
-// with the scene's range.
+// One group per distinct range and polygon offset, the scene's first; a single group where every
+// object is drawn with the scene's range and no offset.
 std::vector<DepthRangeGroup> depthRangeGroups(const Scene& scene);
 
 // The closest hits of the frame's rays against wholeScene (scene's intersector), as

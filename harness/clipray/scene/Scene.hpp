@@ -14,6 +14,7 @@
 #include <glm/glm.hpp>
 
 #include "clipray/Conventions.hpp"
+#include "clipray/compare/PolygonOffset.hpp"
 
 namespace clipray {
 
@@ -70,6 +71,9 @@ struct MeshObject {
   // way the scene's range does (one depth test for the frame).
   std::optional<glm::dvec2> depthRange;
   glm::dvec2 depthRangeOr(glm::dvec2 sceneRange) const { return depthRange.value_or(sceneRange); }
+  // glPolygonOffsetClamp(factor, units, clamp) with GL_POLYGON_OFFSET_FILL this object is drawn
+  // with; nullopt: no offset (a decal pushed toward the camera off the wall it lies on).
+  std::optional<PolygonOffset> polygonOffset;
 };
 
 // An analytic surface: a canonical shape in its own local frame, placed by an affine

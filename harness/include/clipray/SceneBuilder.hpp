@@ -89,6 +89,11 @@ class SceneBuilder {
   // scene's range does (one depth test for the frame); build() refuses it on analytic surfaces and
   // beside depth clamp.
   SceneBuilder& objectDepthRange(double nearDepth, double farDepth);
+  // glPolygonOffsetClamp(factor, units, clamp) with GL_POLYGON_OFFSET_FILL for the mesh added
+  // last (default: none): a decal on a wall pushed toward the camera, negative under GL_LESS,
+  // positive under GL_GREATER (reversed-Z). Each finite; clamp 0 clamps nothing. build() refuses
+  // it on analytic surfaces (they write their own depth).
+  SceneBuilder& objectPolygonOffset(double factor, double units, double clamp = 0.0);
 
   // Analytic surfaces, rasterized exactly (docs/scene-format.md): placed by worldFromObject.
   SceneBuilder& sphere(std::string name, glm::dvec3 centre, double radius,
