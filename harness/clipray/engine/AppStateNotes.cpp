@@ -132,7 +132,8 @@ std::vector<std::string> appStateNotes(const std::vector<gl::AppDrawState>& draw
                                    close(d.polygonOffset->units, want->units) &&
                                    close(d.polygonOffset->clamp, want->clamp)));
       if (!same) {
-        note(k, offsetText(d.polygonOffset) + ", but the scene declares " + offsetText(want) +
+        note(k, offsetText(d.polygonOffset) + ", but the scene declares " +
+                    (want ? offsetText(want) : std::string("no polygon offset")) +
                     (drawnMesh ? " for mesh \"" + drawnMesh->name + "\"" : std::string()) +
                     " (polygonOffset, SceneBuilder::objectPolygonOffset)");
       }

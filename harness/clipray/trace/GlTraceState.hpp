@@ -53,12 +53,18 @@ struct TraceDepthState {
   std::uint8_t clipDistances = 0;
   // The program drawing writes gl_ClipDistance (its shaders' text mentions it).
   bool writesClipDistance = false;
+  // glEnable(GL_POLYGON_OFFSET_FILL), and the last glPolygonOffset / glPolygonOffsetClamp(EXT)'s
+  // factor, units and clamp (GL 4.6 14.6.5; GL's defaults are 0).
+  bool polygonOffsetFill = false;
+  double offsetFactor = 0.0, offsetUnits = 0.0, offsetClamp = 0.0;
 
   std::uint64_t clipControlCall = 0, depthFuncCall = 0, depthRangeCall = 0, clearCall = 0;
   // The last glEnable/glDisable(GL_CULL_FACE), glCullFace and glFrontFace.
   std::uint64_t cullFaceCall = 0, cullFaceModeCall = 0, frontFaceCall = 0;
   // The last glEnable/glDisable of GL_DEPTH_CLAMP, and of any GL_CLIP_DISTANCEi.
   std::uint64_t depthClampCall = 0, clipDistancesCall = 0;
+  // The last glEnable/glDisable(GL_POLYGON_OFFSET_FILL), and glPolygonOffset(Clamp).
+  std::uint64_t polygonOffsetFillCall = 0, polygonOffsetCall = 0;
 
   // The same state, call numbers aside (the key of a distinct (matrix, state) pair).
   std::string key() const;
