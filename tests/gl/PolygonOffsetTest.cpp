@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "clipray/engine/ReconcileRun.hpp"
@@ -107,6 +109,33 @@ TEST_F(PolygonOffsetDraw, TheDecalShowsWholeAndItsOffsetLiesInThePredictedInterv
     }
   }
   EXPECT_EQ(runs, 18);  // 3 conventions, 2 origins, 3 formats
+}
+
+// glPolygonOffsetClamp (GL 4.6, ARB_polygon_offset_clamp; llvmpipe has it): the decal's offset,
+// about -3.4e-5 unclamped, held at -2e-5; the predicted interval is the clamp itself and the
+// compare agrees.
+TEST_F(PolygonOffsetDraw, TheClampHoldsTheOffset) {
+  for (const DepthFormat format : {DepthFormat::Unorm24, DepthFormat::Float32}) {
+    Scene scene = decalScene(kZeroToOne);
+    scene.objects[objectIndex(scene, "decal")].polygonOffset->clamp = -2e-5;
+    const Camera& camera = scene.cameras.at(0);
+    const engine::AnalyticPass pass =
+        engine::runAnalyticPass(scene, camera, kZeroToOne, camera.viewport);
+    const RasterFrame frame =
+        renderer().render(engine::renderRequest(pass, format, VertexMode::World));
+    const engine::ComparedRun run = engine::compareRasterFrame(
+        pass, frame, format, VertexMode::World, renderer().info().subpixelBits, {});
+    EXPECT_TRUE(run.run.metrics.consistent()) << depthFormatName(format);
+    ASSERT_EQ(run.run.polygonOffsets.size(), 1u);
+    const OffsetRecord& offset = run.run.polygonOffsets[0];
+    EXPECT_EQ(offset.predictedLow, -2e-5);
+    EXPECT_EQ(offset.predictedHigh, -2e-5);
+    // Within two quanta of 2^-24 (the 24-bit quantum, and the 32f ulp below 1): the stored
+    // depth's rounding and that of the interpolated depth the offset is added to.
+    const double quantum = std::ldexp(1.0, -23);
+    EXPECT_GE(offset.measuredMin, -2e-5 - quantum) << depthFormatName(format);
+    EXPECT_LE(offset.measuredMax, -2e-5 + quantum) << depthFormatName(format);
+  }
 }
 
 // The bug the offset hides when the compare is not told: the rays find the decal at its plane's
