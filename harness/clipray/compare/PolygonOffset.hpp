@@ -19,18 +19,9 @@
 #include <glm/glm.hpp>
 
 #include "clipray/Conventions.hpp"
+#include "clipray/scene/Scene.hpp"
 
 namespace clipray {
-
-struct Scene;
-
-// One object's glPolygonOffsetClamp(factor, units, clamp); clamp 0 clamps nothing.
-struct PolygonOffset {
-  double factor = 0.0;
-  double units = 0.0;
-  double clamp = 0.0;
-  bool operator==(const PolygonOffset&) const = default;
-};
 
 // The offsets GL allows an implementation to add to one primitive's depths: [low, high].
 struct OffsetInterval {

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "clipray/compare/DepthMapping.hpp"
+#include "clipray/compare/PolygonOffset.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
 
 namespace clipray::engine {

@@ -14,7 +14,6 @@
 #include <glm/glm.hpp>
 
 #include "clipray/Conventions.hpp"
-#include "clipray/compare/PolygonOffset.hpp"
 
 namespace clipray {
 
@@ -54,6 +53,14 @@ struct Camera {
 
   // The matrix the app would hand GL when drawing under `drawnUnder` at `viewport`.
   glm::dmat4 clipFromWorld(DepthMode drawnUnder, Viewport viewport) const;
+};
+
+// One object's glPolygonOffsetClamp(factor, units, clamp); clamp 0 clamps nothing.
+struct PolygonOffset {
+  double factor = 0.0;
+  double units = 0.0;
+  double clamp = 0.0;
+  bool operator==(const PolygonOffset&) const = default;
 };
 
 // A triangle mesh with its object transform already applied (in double) at load time.

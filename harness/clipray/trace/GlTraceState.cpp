@@ -250,7 +250,11 @@ std::string TraceDepthState::key() const {
                 clearedDepth ? *clearedDepth : -1.0, clearedDepth.has_value(), viewport.width,
                 viewport.height, depthFormatName.c_str(), cullFace, cullFaceMode, frontFace,
                 depthClamp, static_cast<unsigned>(clipDistances), writesClipDistance,
-                polygonOffsetFill, offsetFactor, offsetUnits, offsetClamp);
+                // The offset only where it is named (so draws that differ in an offset nothing
+                // reports on stay one group).
+                offsetTowardCameraUnderGreater(*this),
+                offsetTowardCameraUnderGreater(*this) ? offsetFactor : 0.0,
+                offsetTowardCameraUnderGreater(*this) ? offsetUnits : 0.0, 0.0);
   return text;
 }
 

@@ -66,6 +66,14 @@ struct TraceDepthState {
   // The last glEnable/glDisable(GL_POLYGON_OFFSET_FILL), and glPolygonOffset(Clamp).
   std::uint64_t polygonOffsetFillCall = 0, polygonOffsetCall = 0;
 
+  // The state asks for polygon-offset-toward-camera: GL_POLYGON_OFFSET_FILL with an offset whose
+  // every non-zero term is positive under GL_GREATER/GEQUAL with the depth test on.
+  friend bool offsetTowardCameraUnderGreater(const TraceDepthState& depth) {
+    if (!depth.polygonOffsetFill || !depth.depthTest) return false;
+    if (depth.depthFunc != kGlGreater && depth.depthFunc != kGlGequal) return false;
+    const double f = depth.offsetFactor, u = depth.offsetUnits;
+    return f >= 0.0 && u >= 0.0 && (f > 0.0 || u > 0.0);
+  }
   // The same state, call numbers aside (the key of a distinct (matrix, state) pair).
   std::string key() const;
 };

@@ -85,46 +85,32 @@ Finding nearOverFarPassFinding(const TraceDepthState& depth, const OppositeDepth
           "nothing, if the technique is intended"};
 }
 
-// A polygon offset whose every non-zero term moves depths toward the camera under the depth test
-// in use (GL 4.6 14.6.5: o = m factor + r units is added to the window depth): negative under
-// GL_LESS/LEQUAL, positive under GL_GREATER/GEQUAL, where the nearer surface has the greater depth.
-// Under GREATER that is the sign a GL_LESS renderer gave its shadow casters and hidden-line passes
-// to push them away, kept through a move to reversed-Z: a warning. Under LESS it is a decal's: an
-// info.
+// A polygon offset whose every non-zero term moves depths toward the camera under GL_GREATER/
+// GEQUAL, where the nearer surface has the greater depth (GL 4.6 14.6.5: o = m factor + r units
+// is added to the window depth): the sign a GL_LESS renderer gave its shadow casters and
+// hidden-line passes to push them away, kept through a move to reversed-Z. Under GL_LESS a
+// negative offset comes forward on purpose as often as not (a decal; OSG's ShadowMap pulls the back
+// faces it renders forward): not named.
 void addPolygonOffsetFinding(const TraceDepthState& depth, CheckReport& report) {
-  if (!depth.polygonOffsetFill || !depth.depthTest) return;
-  const bool greater = isGreaterTest(depth.depthFunc);
-  if (!greater && !isLessTest(depth.depthFunc)) return;
-  const double toward = greater ? 1.0 : -1.0;  // the sign that moves depths toward the camera
-  const double f = depth.offsetFactor * toward, u = depth.offsetUnits * toward;
-  if (!(f >= 0.0 && u >= 0.0 && (f > 0.0 || u > 0.0))) return;
+  if (!offsetTowardCameraUnderGreater(depth)) return;
   std::string offset = "glPolygonOffset(" + number(depth.offsetFactor) + ", ";
   offset += number(depth.offsetUnits);
   offset += ")";
   std::string flipped = "glPolygonOffset(" + number(-depth.offsetFactor) + ", ";
   flipped += number(-depth.offsetUnits);
   flipped += ")";
-  const std::string state = offset + " (" + callNote(depth.polygonOffsetCall) +
-                            ") with GL_POLYGON_OFFSET_FILL enabled (" +
-                            callNote(depth.polygonOffsetFillCall) + ") under glDepthFunc(" +
-                            glEnumName(depth.depthFunc) + ") (" + callNote(depth.depthFuncCall) +
-                            ")";
-  if (greater) {
-    report.findings.push_back(
-        {"warning", "polygon-offset-toward-camera",
-         state + ": the nearer surface has the greater depth here, so a positive offset moves the "
-                 "surface toward the camera; kept from a GL_LESS renderer (a shadow caster's or a "
-                 "hidden-line pass's offset, meant to push away), it pulls the surface in front of "
-                 "what lies on it: shadow acne and z-fighting return",
-         "flip the signs under GL_GREATER: " + flipped +
-             " pushes away (a decal meant to come forward keeps positive values)"});
-  } else {
-    report.findings.push_back(
-        {"info", "polygon-offset-toward-camera",
-         state + ": a negative offset moves the surface toward the camera, as a decal drawn over "
-                 "coplanar geometry needs",
-         "nothing for a decal; a shadow caster's offset pushes away with " + flipped});
-  }
+  report.findings.push_back(
+      {"warning", "polygon-offset-toward-camera",
+       offset + " (" + callNote(depth.polygonOffsetCall) +
+           ") with GL_POLYGON_OFFSET_FILL enabled (" + callNote(depth.polygonOffsetFillCall) +
+           ") under glDepthFunc(" + glEnumName(depth.depthFunc) + ") (" +
+           callNote(depth.depthFuncCall) +
+           "): the nearer surface has the greater depth here, so a positive offset moves the "
+           "surface toward the camera; kept from a GL_LESS renderer (a shadow caster's or a "
+           "hidden-line pass's offset, meant to push away), it pulls the surface in front of "
+           "what lies on it: shadow acne and z-fighting return",
+       "flip the signs under GL_GREATER: " + flipped +
+           " pushes away (a decal meant to come forward keeps positive values)"});
 }
 
 // What only the traced state shows, beyond the matrix check's findings. A far-surface pass
