@@ -315,6 +315,20 @@ def main():
           [ground, house, box("crate", (1.4, 0.35, 1.2), (0.7, 0.7, 0.7), ((0, 1, 0), 20))],
           conventions=["no", "zo", "zo-reversed", "zo-upper-left"])
 
+    # Exactly coplanar in double: the wall and the decal both lie in z = -0.5 y.
+    decal = quad("decal", (-0.8, 1, -0.5), (0.8, 1, -0.5), (0.8, 2, -1), (-0.8, 2, -1))
+    decal["polygonOffset"] = {"factor": -1, "units": -2}
+    write("polygon_offset",
+          "Polygon offset: a decal coplanar with a slanted wall, drawn with glPolygonOffset(-1, -2): under "
+          "GL_LESS a negative offset moves its depths toward the camera, so it shows over the wall at every "
+          "pixel of its overlap instead of fighting it (a reversed-Z app flips both signs). The offset is "
+          "m * factor + r * units (GL 4.6 14.6.5), m the wall's depth slope on screen and r the format's "
+          "minimum resolvable difference; the compare accepts any depth in the interval the implementation's "
+          "freedom allows and report.json shows the predicted interval beside the measured offsets.",
+          [perspective("main", (0.7, 1.6, 4), (0, 1.2, -0.5), 50, 0.1, 100)],
+          [ground, quad("wall", (-2, 0, 0), (2, 0, 0), (2, 3, -1.5), (-2, 3, -1.5)), decal],
+          conventions=["no", "zo", "zo-upper-left"])
+
     write("no_matrix_under_zo",
           "A projection built for NO (z_n = -1, near 1, far 100) drawn under both conventions. Under ZO the "
           "rasterizer clips at z_ndc = 0, about 2 units away, so the effective near plane moves: the slanted quad "

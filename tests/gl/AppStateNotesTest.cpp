@@ -62,6 +62,32 @@ TEST(AppStateNotes, EachDifferenceOnceWithItsDraws) {
                 "SceneBuilder::faceCulling)"}));
 }
 
+TEST(AppStateNotes, PolygonOffsetIsSetBesideTheMeshOfEachDraw) {
+  Scene scene = twoMeshes(CullFace::None, CullFace::None);
+  scene.objects[1].polygonOffset = PolygonOffset{-1.0, -2.0, 0.0};
+  std::vector<gl::AppDrawState> draws(2, rightUnderZeroToOne());
+  draws[1].polygonOffset = PolygonOffset{-1.0, -2.0, 0.0};
+  EXPECT_TRUE(engine::appStateNotes(draws, kZeroToOne, scene, AppIds::Written).empty());
+  // The box's signs kept from another depth test, and the floor offset though it declares none.
+  draws[1].polygonOffset = PolygonOffset{1.0, 2.0, 0.0};
+  draws[0].polygonOffset = PolygonOffset{-1.0, -2.0, 0.5};
+  EXPECT_EQ(engine::appStateNotes(draws, kZeroToOne, scene, AppIds::Written),
+            (std::vector<std::string>{
+                "draw 1: glPolygonOffsetClamp(-1, -2, 0.5), but the scene declares no polygon "
+                "offset for mesh \"floor\" (polygonOffset, SceneBuilder::objectPolygonOffset)",
+                "draw 2: glPolygonOffsetClamp(1, 2, 0), but the scene declares "
+                "glPolygonOffsetClamp(-1, -2, 0) for mesh \"box\" (polygonOffset, "
+                "SceneBuilder::objectPolygonOffset)"}));
+  // The box drawn without its offset.
+  draws[0].polygonOffset.reset();
+  draws[1].polygonOffset.reset();
+  EXPECT_EQ(
+      engine::appStateNotes(draws, kZeroToOne, scene, AppIds::Written),
+      (std::vector<std::string>{"draw 2: GL_POLYGON_OFFSET_FILL disabled, but the scene declares "
+                                "glPolygonOffsetClamp(-1, -2, 0) for mesh \"box\" (polygonOffset, "
+                                "SceneBuilder::objectPolygonOffset)"}));
+}
+
 TEST(AppStateNotes, DepthClampIsSetBesideTheScenes) {
   Scene scene = twoMeshes(CullFace::None, CullFace::None);
   scene.depthClamp = true;

@@ -1,7 +1,7 @@
 // A depth range per object (MeshObject::depthRange): a first-person weapon drawn with
 // glDepthRange(0, 0.1) in front of a world drawn with (0.1, 1) shows whole, even where it reaches
 // through a nearer wall, because the depth test compares window depths. The rays trace each range
-// apart and keep the hit the depth test keeps (engine/DepthRangeGroups.hpp); a compare that does
+// apart and keep the hit the depth test keeps (engine/DrawStateGroups.hpp); a compare that does
 // not know the weapon's range is caught.
 
 #include <gtest/gtest.h>

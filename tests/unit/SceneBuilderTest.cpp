@@ -197,6 +197,26 @@ TEST(SceneBuilder, ObjectClipPlanesAreTheLastMeshs) {
             "normal [a, b, c], got [0.0,0.0,0.0,1.0]");
 }
 
+TEST(SceneBuilder, ObjectPolygonOffsetIsTheLastMeshs) {
+  SceneBuilder builder("decal");
+  EXPECT_THROW(builder.objectPolygonOffset(-1.0, -2.0), InputError);
+  builder.mesh("wall", kQuadPositions, kQuadIndices)
+      .mesh("decal", kQuadPositions, kQuadIndices)
+      .objectPolygonOffset(-1.0, -2.0, -0.01)
+      .camera("main", cameraMatrix(), {64, 48});
+  const TestScene built = builder.build();
+  const Scene& model = built.model();
+  ASSERT_EQ(model.objects.size(), 2u);
+  EXPECT_FALSE(model.objects[0].polygonOffset.has_value());
+  EXPECT_EQ(model.objects[1].polygonOffset, (PolygonOffset{-1.0, -2.0, -0.01}));
+  EXPECT_EQ(parseScene(builder.json(), "decal.json").objects[1].polygonOffset,
+            (PolygonOffset{-1.0, -2.0, -0.01}));
+  builder.objectPolygonOffset(std::numeric_limits<double>::infinity(), -2.0);
+  EXPECT_EQ(messageOf(builder),
+            "SceneBuilder \"decal\": /objects/1/polygonOffset/factor: expected a finite number, "
+            "got inf");
+}
+
 TEST(SceneBuilder, WithoutCamerasUsesTheAutomaticOnes) {
   const TestScene scene = SceneBuilder("auto").mesh("quad", kQuadPositions, kQuadIndices).build();
   EXPECT_EQ(scene.cameraNames().size(), 4u);

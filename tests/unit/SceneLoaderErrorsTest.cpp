@@ -89,7 +89,7 @@ TEST(SceneLoaderErrors, UnknownKeys) {
   EXPECT_EQ(errorOf(withPlacement(R"("color": [1, 0, 0])")),
             "scenes/a.json: /objects/0/color: unknown key \"color\"; valid keys are \"name\", "
             "\"type\", \"transform\", \"worldFromObject\", \"positions\", \"indices\", "
-            "\"cull\", \"frontFace\", \"depthRange\", \"clipPlanes\"");
+            "\"cull\", \"frontFace\", \"depthRange\", \"clipPlanes\", \"polygonOffset\"");
 }
 
 TEST(SceneLoaderErrors, WrongTypes) {
@@ -373,6 +373,35 @@ TEST(SceneLoaderErrors, ObjectClipPlanes) {
   EXPECT_EQ(errorOf(text),
             "scenes/a.json: /objects: object \"house\" has 8 clip planes and camera \"main\" 1: at "
             "most 8 together (gl_ClipDistance; GL_MAX_CLIP_DISTANCES is at least 8)");
+}
+
+TEST(SceneLoaderErrors, PolygonOffset) {
+  const auto mesh = [](const std::string& offset) {
+    return errorOf(withObject(R"({"name": "decal", "type": "mesh",
+      "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], "polygonOffset": )" +
+                              offset + "}"));
+  };
+  EXPECT_EQ(mesh("-1"),
+            "scenes/a.json: /objects/0/polygonOffset: expected {\"factor\", \"units\", "
+            "\"clamp\"} of glPolygonOffsetClamp, got -1");
+  EXPECT_EQ(mesh("[-1, -2]"),
+            "scenes/a.json: /objects/0/polygonOffset: expected {\"factor\", \"units\", "
+            "\"clamp\"} of glPolygonOffsetClamp, got [-1,-2]");
+  EXPECT_EQ(mesh(R"({"factor": -1, "unit": -2})"),
+            "scenes/a.json: /objects/0/polygonOffset/unit: unknown key \"unit\"; valid keys are "
+            "\"factor\", \"units\", \"clamp\"");
+  EXPECT_EQ(mesh(R"({"factor": 1e999})"),
+            "scenes/a.json: /objects/0/polygonOffset/factor: expected a finite number, got 1e999");
+  EXPECT_EQ(mesh(R"({"units": -1e999})"),
+            "scenes/a.json: /objects/0/polygonOffset/units: expected a finite number, got -1e999");
+  EXPECT_EQ(mesh(R"({"factor": -1, "clamp": "0.01"})"),
+            "scenes/a.json: /objects/0/polygonOffset/clamp: expected a number, got \"0.01\"");
+  EXPECT_EQ(errorOf(withObject(
+                R"({"name": "ball", "type": "sphere", "centre": [0, 0, 0], "radius": 1,
+                    "polygonOffset": {"factor": -1, "units": -2}})")),
+            "scenes/a.json: /objects/0/polygonOffset: polygon offset applies to triangle meshes "
+            "(mesh, meshFile, terrain); a sphere writes its own depth from its fragment shader, "
+            "which no offset moves");
 }
 
 TEST(SceneLoaderErrors, FaceCulling) {

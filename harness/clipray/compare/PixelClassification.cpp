@@ -331,9 +331,9 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
 #if CLIPRAY_COMPARE_AVX2
   const DepthConvention convention = setup.mode.convention;
   // The four-pixel kernels map NDC z to window depth for the default depth range only (one for
-  // every primitive), and never clamp it.
+  // every primitive), never clamp it and add no polygon offset.
   fourAtOnce_ = cpuHasAvx2() && simdKernelsChosen() && setup.defaultDepthRange() &&
-                setup.oneDepthRange() && !setup.depthClamp.enabled;
+                setup.oneDepthRange() && !setup.depthClamp.enabled && setup.objectOffsets.empty();
   fourInput_ = {
       setup.clipFromWorld,
       rowZ_,
@@ -419,18 +419,26 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
   } else if (rasterId == rayId) {
     const bool analyticSurface = intersector_.isAnalytic(rayId);
     const double rasterDepth = raster_.depth[i];
+    // A polygon offset: the raster's depth lies in the interval of offsets GL allows from the
+    // exact depth (PolygonOffset.hpp), compared with its middle, the tolerance widened by half.
+    const OffsetBand band =
+        setup_.objectOffsets.empty() || analyticSurface
+            ? OffsetBand{rayDepth, 0.0}
+            : offsetBand(model_.offsetInterval(rayId), rayDepth, setup_.depthFormat);
+    const double exactDepth = rayDepth;
+    rayDepth = band.middle;  // analyticDepth keeps the exact depth: the report's offsets
     const double error = std::abs(rasterDepth - rayDepth);
     const double quantum = quantumAt(setup_.depthFormat, rayDepth);
-    double tolerance = 0.0;
+    double tolerance = band.halfWidth;
     if (analyticSurface) {
       tolerance = model_.analyticDepthTolerance(rayId, ray, hit.t);
     } else {
       // depthToleranceAtClip, sharing the hit's depth and quantum.
-      tolerance = triangleDepthTolerance(model_.pixelTerms(rayId), hitClip, zNdc, rayDepth, quantum,
-                                         setup_.oneDepthRange()
-                                             ? model_.windowFromNdcScale_
-                                             : setup_.depthMappingOf(rayId).windowFromNdcScale(),
-                                         model_.subpixelStep_, raster_.viewport);
+      tolerance += triangleDepthTolerance(
+          model_.pixelTerms(rayId), hitClip, zNdc, exactDepth, quantum,
+          setup_.oneDepthRange() ? model_.windowFromNdcScale_
+                                 : setup_.depthMappingOf(rayId).windowFromNdcScale(),
+          model_.subpixelStep_, raster_.viewport);
     }
     if (analyticSurface && !(error <= tolerance) && model_.analyticEdgeAmbiguous(rayId, centre)) {
       // The same sphere or box, but one side entered the surface where the other
@@ -452,7 +460,8 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
       return;
     }
     // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1 t).
-    const double zRaster = setup_.depthMappingOf(rayId).ndcOfWindowDepth(rasterDepth);
+    const double zRaster =
+        setup_.depthMappingOf(rayId).ndcOfWindowDepth(rasterDepth - (rayDepth - exactDepth));
     const double z0 = glm::dot(rowZ_, glm::dvec4(ray.origin, 1.0));
     const double z1 = glm::dot(glm::dvec3(rowZ_), ray.direction);
     const double w0 = glm::dot(rowW_, glm::dvec4(ray.origin, 1.0));
@@ -635,9 +644,16 @@ PixelClass classifyMismatch(const ToleranceModel& model, std::uint32_t rayId, do
   }
   // Where does the raster's primitive lie along this pixel? Its depth at the centre (plane or
   // analytic surface) and the tolerance there.
-  const double rasterSurfaceDepth = model.surfaceDepthAt(rasterId, centre);
-  const double tolerance = rayTolerance + model.surfaceToleranceAt(rasterId, centre);
-  if (std::abs(rasterSurfaceDepth - rayDepth) <= tolerance) return PixelClass::IdDepthAmbiguous;
+  // Each side moved by its polygon offset, if any (the middle of what GL allows, the tolerance
+  // widened by the half width): a decal pushed off its wall is not ambiguous with it.
+  const OffsetInterval rasterOffset = model.offsetInterval(rasterId);
+  const OffsetInterval rayOffset = model.offsetInterval(rayId);
+  const double rasterSurfaceDepth = model.surfaceDepthAt(rasterId, centre) + rasterOffset.middle();
+  const double tolerance = rayTolerance + model.surfaceToleranceAt(rasterId, centre) +
+                           rasterOffset.halfWidth() + rayOffset.halfWidth();
+  if (std::abs(rasterSurfaceDepth - (rayDepth + rayOffset.middle())) <= tolerance) {
+    return PixelClass::IdDepthAmbiguous;
+  }
   if (model.edgeAmbiguous(rasterId, centre) || model.edgeAmbiguous(rayId, centre) ||
       model.onClipPlane(rasterId) || model.onClipPlane(rayId)) {
     return PixelClass::IdEdgeAmbiguous;

@@ -121,6 +121,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                     modelSetup.subpixelBits == setup.subpixelBits &&
                     modelSetup.objectDepthRanges == setup.objectDepthRanges &&
                     modelSetup.objectClipPlanes == setup.objectClipPlanes &&
+                    modelSetup.objectOffsets == setup.objectOffsets &&
                     model.viewport() == raster.viewport,
                 "compareFrames: the tolerance model answers for another setup");
   requireComparableFrames(raster, analytic);

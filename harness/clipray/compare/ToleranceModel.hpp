@@ -18,6 +18,7 @@
 #include "clipray/Conventions.hpp"
 #include "clipray/compare/DepthMapping.hpp"
 #include "clipray/compare/Frames.hpp"
+#include "clipray/compare/PolygonOffset.hpp"
 #include "clipray/compare/PrimitiveClipPlanes.hpp"
 #include "clipray/rays/RobustRays.hpp"
 
@@ -40,6 +41,8 @@ struct RasterSetup {
 
   // Objects drawn with their own glDepthRange (MeshObject::depthRange), by primitive id.
   PrimitiveDepthRanges objectDepthRanges{};
+  // Objects drawn with a polygon offset (MeshObject::polygonOffset), by primitive id.
+  PrimitiveOffsets objectOffsets{};
   // The camera's user clip planes (world space, Camera::clipPlanes): the screen polygons are cut by
   // them as the rasterizer cuts the triangles, the rays as the rays are cut.
   std::vector<glm::dvec4> clipPlanes{};
@@ -108,6 +111,10 @@ class ToleranceModel {
   double edgeEpsilonPixels(std::uint32_t primitiveId) const;
   // Window depth of the primitive's plane at a window position (NaN if it has no screen polygon).
   double planeDepthAt(std::uint32_t primitiveId, glm::dvec2 pixel) const;
+  // The polygon offsets GL allows for the primitive's fragments in the model's depth format
+  // (PolygonOffset.hpp: its depth plane's slope, its vertices' largest depth); {0, 0} for a
+  // primitive drawn without an offset or without a screen polygon.
+  OffsetInterval offsetInterval(std::uint32_t primitiveId) const;
 
   // Analytic primitives (drawn by a fragment shader that intersects the surface in float):
   // window-depth tolerance for the hit at parameter t of a (double, robust) ray.

@@ -1,5 +1,6 @@
 #include "clipray/engine/AppStateNotes.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <utility>
@@ -34,6 +35,13 @@ std::string drawList(const std::vector<std::size_t>& draws) {
     text += (k ? ", " : "") + std::to_string(draws[k] + 1);
   }
   return text;
+}
+
+// "GL_POLYGON_OFFSET_FILL disabled" or "glPolygonOffsetClamp(factor, units, clamp)".
+std::string offsetText(const std::optional<PolygonOffset>& offset) {
+  if (!offset) return "GL_POLYGON_OFFSET_FILL disabled";
+  return "glPolygonOffsetClamp(" + sixDigits(offset->factor) + ", " + sixDigits(offset->units) +
+         ", " + sixDigits(offset->clamp) + ")";
 }
 
 }  // namespace
@@ -107,6 +115,27 @@ std::vector<std::string> appStateNotes(const std::vector<gl::AppDrawState>& draw
         note(k, cullingText(d.cull, d.frontFace) + ", but the scene declares " +
                     cullingText(object.cull, object.frontFace) + " for mesh \"" + object.name +
                     "\" (cull and frontFace, SceneBuilder::faceCulling)");
+      }
+    }
+    // The polygon offset the draw's mesh declares (none where no draw is known to be one mesh's
+    // and no mesh declares one); GL stores factor, units and clamp in float.
+    const bool anyOffset = std::any_of(scene.objects.begin(), scene.objects.end(),
+                                       [](const MeshObject& o) { return o.polygonOffset; });
+    if (drawnMesh || !anyOffset) {
+      const std::optional<PolygonOffset> want =
+          drawnMesh ? drawnMesh->polygonOffset : std::optional<PolygonOffset>();
+      const auto close = [](double a, double b) {
+        return std::abs(a - b) <= 1e-6 * std::max(1.0, std::abs(b));
+      };
+      const bool same = want.has_value() == d.polygonOffset.has_value() &&
+                        (!want || (close(d.polygonOffset->factor, want->factor) &&
+                                   close(d.polygonOffset->units, want->units) &&
+                                   close(d.polygonOffset->clamp, want->clamp)));
+      if (!same) {
+        note(k, offsetText(d.polygonOffset) + ", but the scene declares " +
+                    (want ? offsetText(want) : std::string("no polygon offset")) +
+                    (drawnMesh ? " for mesh \"" + drawnMesh->name + "\"" : std::string()) +
+                    " (polygonOffset, SceneBuilder::objectPolygonOffset)");
       }
     }
     if (d.depthClamp != scene.depthClamp) {

@@ -1,23 +1,27 @@
 #include "clipray/engine/DrawStateGroups.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 #include "clipray/compare/DepthMapping.hpp"
+#include "clipray/compare/PolygonOffset.hpp"
 #include "clipray/rays/RobustRays.hpp"
 
 namespace clipray::engine {
 
 std::vector<DrawStateGroup> drawStateGroups(const Scene& scene) {
-  std::vector<DrawStateGroup> groups{{scene.depthRange, {}, {}, true}};
+  std::vector<DrawStateGroup> groups{{scene.depthRange, {}, std::nullopt, {}, true}};
   for (std::size_t k = 0; k < scene.objects.size(); ++k) {
     const MeshObject& object = scene.objects[k];
     const glm::dvec2 range = object.depthRangeOr(scene.depthRange);
     auto group = std::find_if(groups.begin(), groups.end(), [&](const DrawStateGroup& g) {
-      return g.range == range && g.clipPlanes == object.clipPlanes;
+      return g.range == range && g.clipPlanes == object.clipPlanes &&
+             g.offset == object.polygonOffset;
     });
     if (group == groups.end()) {
-      group = groups.insert(groups.end(), {range, object.clipPlanes, {}, false});
+      group =
+          groups.insert(groups.end(), {range, object.clipPlanes, object.polygonOffset, {}, false});
     }
     group->objects.push_back(k);
   }
@@ -70,6 +74,35 @@ AnalyticFrame groupFrame(const AnalyticFrame& frame, const PickingCamera& camera
   return out;
 }
 
+// Per primitive id of the group's scene, the offset its hits compete with: the middle of what GL
+// allows (compare/PolygonOffset.hpp) with a 24-bit buffer's r, whatever the run's format (the
+// hits are traced once for every format; the middle's sign, which decides coplanar surfaces, is
+// the format's). Empty for a group without an offset.
+std::vector<double> offsetsOf(const GroupScene& part, const DrawStateGroup& group,
+                              const DepthMapping& mapping, const PickingCamera& camera,
+                              Viewport viewport) {
+  std::vector<double> offsets;
+  if (!group.offset) return offsets;
+  offsets.push_back(0.0);  // id 0: no primitive
+  const glm::dvec2 size(viewport.width, viewport.height);
+  for (const MeshObject& object : part.scene.objects) {
+    for (const glm::u32vec3& t : object.triangles) {
+      glm::dvec4 clip[3];
+      for (int v = 0; v < 3; ++v) {
+        clip[v] = camera.clipFromWorld * glm::dvec4(object.worldPositions[t[v]], 1.0);
+      }
+      const glm::dvec2 gradient =
+          windowDepthGradient(clip[0], clip[1], clip[2], size, mapping.windowFromNdcScale());
+      offsets.push_back(
+          std::isfinite(gradient.x)
+              ? offsetInterval(*group.offset, gradient.x, gradient.y, 1.0, DepthFormat::Unorm24)
+                    .middle()
+              : 0.0);
+    }
+  }
+  return offsets;
+}
+
 }  // namespace
 
 void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
@@ -95,6 +128,7 @@ void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeSce
     if (!ownRays && !frame.pixelCentreRays) cutFrame.rays = frame.rays;
     intersectFrame(cutFrame, intersector, camera, threadCount);
     const DepthMapping mapping{camera.mode, groups[g].range, false};
+    const std::vector<double> offsets = offsetsOf(part, groups[g], mapping, camera, frame.viewport);
     parallelForRows(frame.viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
       // The frame's own rays and the group's, a row at a time where they are computed.
       std::vector<Ray> frameRow(frame.pixelCentreRays ? static_cast<std::size_t>(width) : 0);
@@ -111,6 +145,7 @@ void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeSce
           if (g == 0) kept[i] = Hit{};
           Hit hit = cutFrame.hits[i];
           if (!hit.hit()) continue;
+          const double offset = offsets.empty() ? 0.0 : offsets[hit.primitiveId];
           hit.primitiveId = part.globalIdOfLocal[hit.primitiveId];
           const Ray& groupRay = groupRays[x];
           const glm::dvec3 point = groupRay.origin + hit.t * groupRay.direction;
@@ -121,7 +156,7 @@ void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeSce
                     glm::dot(frameRay.direction, frameRay.direction);
           }
           const glm::dvec4 clip = camera.clipFromWorld * glm::dvec4(point, 1.0);
-          const double depth = mapping.windowDepth(clip.z / clip.w);
+          const double depth = mapping.windowDepth(clip.z / clip.w) + offset;
           const bool wins = !kept[i].hit() ||
                             (greater ? depth > keptDepth[i] : depth < keptDepth[i]) ||
                             (depth == keptDepth[i] && hit.primitiveId < kept[i].primitiveId);

@@ -7,10 +7,13 @@
 // it. With planes, each object is cut where its own planes cut it. Within one group of objects
 // drawn alike the nearest hit has the extreme window depth (the mapping is monotonic along a ray),
 // so each group is traced on its own, along its rays cut by its planes, and each pixel keeps the
-// group hit the depth test keeps. PickingCamera::clipFromWorld: column-major, p_clip =
-// clipFromWorld * p_world.
+// group hit the depth test keeps. Objects drawn with a polygon offset (MeshObject::polygonOffset)
+// are grouped apart too: their hits compete with their depth moved by the offset (a decal
+// coplanar with a wall wins where its offset pushes it toward the camera).
+// PickingCamera::clipFromWorld: column-major, p_clip = clipFromWorld * p_world.
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -26,13 +29,14 @@ namespace clipray::engine {
 // (its range, no planes of their own) also holds the analytic primitives.
 struct DrawStateGroup {
   glm::dvec2 range{0.0, 1.0};
-  std::vector<glm::dvec4> clipPlanes{};  // the objects' own, beside the camera's
-  std::vector<std::size_t> objects{};    // indices into Scene::objects
+  std::vector<glm::dvec4> clipPlanes{};   // the objects' own, beside the camera's
+  std::optional<PolygonOffset> offset{};  // the objects' polygon offset
+  std::vector<std::size_t> objects{};     // indices into Scene::objects
   bool analytic = false;
 };
 
-// One group per distinct (range, planes), the scene's first; a single group where every object is
-// drawn with the scene's range and the camera's planes only.
+// One group per distinct (range, planes, offset), the scene's first; a single group where every
+// object is drawn with the scene's range and the camera's planes only.
 std::vector<DrawStateGroup> drawStateGroups(const Scene& scene);
 
 // The closest hits of the frame's rays against wholeScene (scene's intersector), as

@@ -6,6 +6,7 @@
 
 #include "clipray/engine/AppPickHits.hpp"
 #include "clipray/engine/DrawStateGroups.hpp"
+#include "clipray/engine/OffsetRecords.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/util/PhaseClock.hpp"
 
@@ -171,6 +172,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   setup.depthRange = pass.scene->depthRange;
   setup.objectDepthRanges = PrimitiveDepthRanges(*pass.scene);
   setup.objectClipPlanes = PrimitiveClipPlanes(*pass.scene);
+  setup.objectOffsets = PrimitiveOffsets(*pass.scene);
   setup.clipPlanes = pass.camera.clipPlanes;
   setup.depthClamp = depthClampRays(pass.camera);
   const PhaseClock compareClock;
@@ -204,6 +206,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   run.depthRange = pass.scene->depthRange;
   run.depthClamp = pass.scene->depthClamp;
   run.metrics = comparison.metrics;
+  run.polygonOffsets = offsetRecords(*pass.scene, raster, pass.frame, comparison.pixels, *model);
   run.clusters = std::move(clusters);
   run.timings = {renderTimings.raster, renderTimings.readback, pass.raysMilliseconds,
                  pass.intersectMilliseconds, compareMilliseconds};

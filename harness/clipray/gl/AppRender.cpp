@@ -85,6 +85,9 @@ struct DrawCallRecorder {
   std::mutex lock;
   GlLoader loader = nullptr;  // the context's
   bool numberInStencil = false;
+  // GL_POLYGON_OFFSET_CLAMP can be read (GL 4.6, ARB/EXT_polygon_offset_clamp): else glGet of it
+  // would leave GL_INVALID_ENUM among the app's errors.
+  bool offsetClampReadable = false;
   std::vector<AppDrawState> draws;
 };
 DrawCallRecorder drawCalls;
@@ -113,6 +116,14 @@ AppDrawState currentDrawState() {
   glGetIntegerv(GL_FRONT_FACE, &value);
   state.frontFace = value == GL_CW ? FrontFace::Cw : FrontFace::Ccw;
   state.depthClamp = glIsEnabled(GL_DEPTH_CLAMP) == GL_TRUE;
+  if (glIsEnabled(GL_POLYGON_OFFSET_FILL) == GL_TRUE) {
+    GLfloat factor = 0.0f, units = 0.0f, clamp = 0.0f;
+    glGetFloatv(GL_POLYGON_OFFSET_FACTOR, &factor);
+    glGetFloatv(GL_POLYGON_OFFSET_UNITS, &units);
+    // GL_POLYGON_OFFSET_CLAMP (0x8E1B): not in the GL 4.5 core header glad made.
+    if (drawCalls.offsetClampReadable) glGetFloatv(0x8E1B, &clamp);
+    state.polygonOffset = PolygonOffset{factor, units, clamp};
+  }
   return state;
 }
 
@@ -282,6 +293,14 @@ AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, App
   const std::lock_guard<std::mutex> recordingDraws(drawCalls.lock);
   drawCalls.loader = context.loader();
   drawCalls.numberInStencil = perDrawCall;
+  {
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    drawCalls.offsetClampReadable = major * 10 + minor >= 46 ||
+                                    hasGlExtension("GL_ARB_polygon_offset_clamp") ||
+                                    hasGlExtension("GL_EXT_polygon_offset_clamp");
+  }
   drawCalls.draws.clear();
   frame.getProcAddress = &recordingLoader;
   frame.framebuffer = target.framebuffer;

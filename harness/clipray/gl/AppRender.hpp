@@ -24,6 +24,9 @@ struct AppDrawState {
   bool cullsEverything = false;      // glCullFace(GL_FRONT_AND_BACK) with culling enabled
   FrontFace frontFace = FrontFace::Ccw;
   bool depthClamp = false;
+  // GL_POLYGON_OFFSET_FILL enabled: glPolygonOffsetClamp's factor, units and clamp (clamp 0 where
+  // the implementation has no GL_POLYGON_OFFSET_CLAMP to read).
+  std::optional<PolygonOffset> polygonOffset{};
   friend bool operator==(const AppDrawState&, const AppDrawState&) = default;
 };
 

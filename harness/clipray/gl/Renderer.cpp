@@ -6,7 +6,9 @@
 
 #include <cctype>
 #include <cstdio>
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "clipray/compare/ToleranceModel.hpp"
@@ -135,6 +137,7 @@ struct MeshDraw {
   glm::dvec2 depthRange;  // glDepthRange(n, f) the object is drawn with (MeshObject::depthRange)
   // The camera's clip planes, then the object's own (MeshObject::clipPlanes), in input space.
   std::vector<glm::dvec4> clipPlanes;
+  std::optional<PolygonOffset> polygonOffset;  // MeshObject::polygonOffset
 };
 
 // One analytic primitive's draw: its id and kind, clipFromLocal for the shader's rays, and where
@@ -210,10 +213,11 @@ void appendMeshes(const RenderRequest& request, const PrimitiveIdTable& ids,
     }
     std::vector<glm::dvec4> planes = request.clipPlanes;
     planes.insert(planes.end(), object.clipPlanes.begin(), object.clipPlanes.end());
-    geometry.draws.push_back(
-        {ids.firstIdOfObject[k], static_cast<GLsizei>(object.triangles.size() * 3),
-         indices.size() * sizeof(std::uint32_t), baseVertex, object.cull, object.frontFace,
-         object.depthRangeOr(request.depthRange), inputClipPlanes(request, planes)});
+    geometry.draws.push_back({ids.firstIdOfObject[k],
+                              static_cast<GLsizei>(object.triangles.size() * 3),
+                              indices.size() * sizeof(std::uint32_t), baseVertex, object.cull,
+                              object.frontFace, object.depthRangeOr(request.depthRange),
+                              inputClipPlanes(request, planes), object.polygonOffset});
     for (const glm::u32vec3& t : object.triangles) {
       indices.insert(indices.end(), {t.x, t.y, t.z});
     }
@@ -315,6 +319,11 @@ struct Renderer::State {
   GLuint depthBuffer = 0;
   // Analytic primitives: raster.vert on a proxy + primitive.frag (camera_rays.glsl).
   GLuint primitiveProgram = 0;
+  // glPolygonOffsetClamp (GL 4.6), or its ARB / EXT name (ARB_polygon_offset_clamp,
+  // EXT_polygon_offset_clamp): glad loads GL 4.5 core only. Null where the implementation has
+  // none; then only offsets with clamp 0 are drawn (glPolygonOffset).
+  using PolygonOffsetClampProc = void (*)(GLfloat factor, GLfloat units, GLfloat clamp);
+  PolygonOffsetClampProc polygonOffsetClamp = nullptr;
   struct {
     GLint clipFromInput = -1, clipFromLocal = -1, viewportSize = -1, nearNdcZ = -1, facingSign = -1,
           parallel = -1, clipMinZ = -1, kind = -1, primitiveId = -1, depthRange = -1,
@@ -347,6 +356,16 @@ Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
   info_.renderer = glString(GL_RENDERER);
   info_.version = glString(GL_VERSION);
   glGetIntegerv(GL_SUBPIXEL_BITS, &info_.subpixelBits);
+  if (GLAD_VERSION_MAJOR(version) * 10 + GLAD_VERSION_MINOR(version) >= 46 ||
+      hasGlExtension("GL_ARB_polygon_offset_clamp") ||
+      hasGlExtension("GL_EXT_polygon_offset_clamp")) {
+    for (const char* name :
+         {"glPolygonOffsetClamp", "glPolygonOffsetClampARB", "glPolygonOffsetClampEXT"}) {
+      if (state_->polygonOffsetClamp) break;
+      state_->polygonOffsetClamp =
+          reinterpret_cast<State::PolygonOffsetClampProc>(context.loader()(name));
+    }
+  }
   GLint viewportDims[2] = {0, 0};
   GLint renderbufferSize = 0;
   glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewportDims);
@@ -503,10 +522,23 @@ void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat
       glCullFace(draw.cull == CullFace::Back ? GL_BACK : GL_FRONT);
       glFrontFace(draw.frontFace == FrontFace::Ccw ? GL_CCW : GL_CW);
     }
+    if (draw.polygonOffset) {
+      const PolygonOffset& o = *draw.polygonOffset;
+      glEnable(GL_POLYGON_OFFSET_FILL);
+      if (polygonOffsetClamp) {
+        polygonOffsetClamp(static_cast<GLfloat>(o.factor), static_cast<GLfloat>(o.units),
+                           static_cast<GLfloat>(o.clamp));
+      } else {
+        glPolygonOffset(static_cast<GLfloat>(o.factor), static_cast<GLfloat>(o.units));
+      }
+    } else {
+      glDisable(GL_POLYGON_OFFSET_FILL);
+    }
     glDrawElementsBaseVertex(GL_TRIANGLES, draw.indexCount, GL_UNSIGNED_INT,
                              reinterpret_cast<const void*>(draw.indexOffset), draw.baseVertex);
   }
-  glDisable(GL_CULL_FACE);  // the primitives' proxies are drawn whole
+  glDisable(GL_CULL_FACE);            // the primitives' proxies are drawn whole
+  glDisable(GL_POLYGON_OFFSET_FILL);  // the primitives write their own depth
   // The primitives' shader writes the scene's range itself; glDepthRange back to the scene's.
   glDepthRange(sceneDepthRange.x, sceneDepthRange.y);
   for (std::size_t i = 0; i < enabledPlanes; ++i) {
@@ -571,6 +603,16 @@ RasterFrame Renderer::State::readBack(Viewport viewport) {
 
 RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timings) {
   const Viewport viewport = request.viewport;
+  if (!state_->polygonOffsetClamp) {
+    for (const MeshObject& object : request.scene->objects) {
+      if (object.polygonOffset && object.polygonOffset->clamp != 0.0) {
+        throw BackendError(info_.backend + " (" + info_.version +
+                           ") has no glPolygonOffsetClamp (GL 4.6, ARB/EXT_polygon_offset_clamp): "
+                           "object \"" +
+                           object.name + "\" is drawn with a polygon offset clamp");
+      }
+    }
+  }
   const PhaseClock rasterClock;
   const RasterGeometry geometry = rasterGeometry(request);
   state_->upload(geometry);
@@ -592,6 +634,16 @@ RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timing
     timings->readbackCpu = readbackClock.cpuMilliseconds();
   }
   return frame;
+}
+
+bool hasGlExtension(std::string_view name) {
+  GLint count = 0;
+  glGetIntegerv(GL_NUM_EXTENSIONS, &count);
+  for (GLint k = 0; k < count; ++k) {
+    const GLubyte* text = glGetStringi(GL_EXTENSIONS, static_cast<GLuint>(k));
+    if (text && name == reinterpret_cast<const char*>(text)) return true;
+  }
+  return false;
 }
 
 }  // namespace clipray::gl

@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -70,5 +71,9 @@ class Renderer {
   GlInfo info_;
   Viewport maxViewport_;
 };
+
+// Whether the current context lists the extension (glGetStringi, GL 3.0 core; the entry points
+// loaded by a Renderer).
+bool hasGlExtension(std::string_view name);
 
 }  // namespace clipray::gl

@@ -211,6 +211,18 @@ nlohmann::json runJson(const RunRecord& run) {
     json["depth_clamp"] = true;
     json["in_front_of_near"] = m.inFrontOfNear;
   }
+  if (!run.polygonOffsets.empty()) {
+    json["polygon_offsets"] = nlohmann::json::array();
+    for (const OffsetRecord& o : run.polygonOffsets) {
+      json["polygon_offsets"].push_back({{"object", o.object},
+                                         {"factor", o.factor},
+                                         {"units", o.units},
+                                         {"clamp", o.clamp},
+                                         {"pixels", o.pixels},
+                                         {"predicted", {o.predictedLow, o.predictedHigh}},
+                                         {"measured", {o.measuredMin, o.measuredMax}}});
+    }
+  }
   if (!run.notes.empty()) json["notes"] = run.notes;
   return json;
 }

@@ -77,6 +77,19 @@ struct RunFinding {
   friend bool operator==(const RunFinding&, const RunFinding&) = default;
 };
 
+// An object drawn with a polygon offset (MeshObject::polygonOffset), over the pixels where both
+// sides show it: the offsets GL allows there (the least low end and the greatest high end of the
+// pixels' intervals, compare/PolygonOffset.hpp) and those the raster stored (its depth minus the
+// exact depth of the ray's hit).
+struct OffsetRecord {
+  std::string object;
+  double factor = 0.0, units = 0.0, clamp = 0.0;
+  std::int64_t pixels = 0;
+  double predictedLow = 0.0, predictedHigh = 0.0;
+  double measuredMin = 0.0, measuredMax = 0.0;
+  bool operator==(const OffsetRecord&) const = default;
+};
+
 struct RunRecord {
   std::string scene;
   std::string camera;
@@ -86,6 +99,7 @@ struct RunRecord {
   Viewport size;
   glm::dvec2 depthRange{0.0, 1.0};  // glDepthRange(n, f) it was drawn with (Scene::depthRange)
   bool depthClamp = false;          // drawn with GL_DEPTH_CLAMP (Scene::depthClamp)
+  std::vector<OffsetRecord> polygonOffsets{};  // the objects drawn with a polygon offset
   RunMetrics metrics;
   RunTimings timings;
   // The CPU time the process spent in each phase, every thread's (the GL driver's in the raster

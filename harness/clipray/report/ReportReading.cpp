@@ -208,6 +208,35 @@ class ReportReader {
       }
       run.depthClamp = value["depth_clamp"].get<bool>();
     }
+    if (value.contains("polygon_offsets")) {
+      const json& offsets = value["polygon_offsets"];
+      if (!offsets.is_array()) {
+        fail(at / "polygon_offsets", "expected an array, got " + offsets.dump());
+      }
+      for (std::size_t k = 0; k < offsets.size(); ++k) {
+        const json& o = offsets[k];
+        const Pointer oAt = at / "polygon_offsets" / std::to_string(k);
+        const auto pair = [&](const char* key) {
+          if (!o.contains(key) || !o[key].is_array() || o[key].size() != 2 ||
+              !o[key][0].is_number() || !o[key][1].is_number()) {
+            fail(oAt / key, "expected [low, high]");
+          }
+          return glm::dvec2(o[key][0].get<double>(), o[key][1].get<double>());
+        };
+        const auto scalar = [&](const char* key) {
+          if (!o.contains(key) || !o[key].is_number()) fail(oAt / key, "expected a number");
+          return o[key].get<double>();
+        };
+        if (!o.contains("object") || !o["object"].is_string()) {
+          fail(oAt / "object", "expected a string");
+        }
+        const glm::dvec2 predicted = pair("predicted"), measured = pair("measured");
+        run.polygonOffsets.push_back({o["object"].get<std::string>(), scalar("factor"),
+                                      scalar("units"), scalar("clamp"),
+                                      static_cast<std::int64_t>(scalar("pixels")), predicted.x,
+                                      predicted.y, measured.x, measured.y});
+      }
+    }
     if (value.contains("notes")) {
       const json& notes = value["notes"];
       if (!notes.is_array())

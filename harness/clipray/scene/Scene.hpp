@@ -55,6 +55,14 @@ struct Camera {
   glm::dmat4 clipFromWorld(DepthMode drawnUnder, Viewport viewport) const;
 };
 
+// One object's glPolygonOffsetClamp(factor, units, clamp); clamp 0 clamps nothing.
+struct PolygonOffset {
+  double factor = 0.0;
+  double units = 0.0;
+  double clamp = 0.0;
+  bool operator==(const PolygonOffset&) const = default;
+};
+
 // A triangle mesh with its object transform already applied (in double) at load time.
 struct MeshObject {
   std::string name;
@@ -74,6 +82,9 @@ struct MeshObject {
   // space, kept where a x + b y + c z + d >= 0): a section view that cuts one object only. The
   // camera's and the object's together at most Camera::kMaxClipPlanes.
   std::vector<glm::dvec4> clipPlanes{};
+  // glPolygonOffsetClamp(factor, units, clamp) with GL_POLYGON_OFFSET_FILL this object is drawn
+  // with; nullopt: no offset (a decal pushed toward the camera off the wall it lies on).
+  std::optional<PolygonOffset> polygonOffset;
 };
 
 // An analytic surface: a canonical shape in its own local frame, placed by an affine

@@ -124,6 +124,17 @@ SceneBuilder& SceneBuilder::objectClipPlanes(std::vector<glm::dvec4> planes) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::objectPolygonOffset(double factor, double units, double clamp) {
+  if (document_->objects().empty()) {
+    throw InputError(
+        "SceneBuilder " + detail::jsonString(name_) +
+        ": objectPolygonOffset() applies to the mesh added last, and no object was added yet");
+  }
+  document_->objects().back()["polygonOffset"] =
+      Json::object({{"factor", factor}, {"units", units}, {"clamp", clamp}});
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::clipPlanes(std::vector<glm::dvec4> planes) {
   if (document_->cameras().empty()) {
     throw InputError(

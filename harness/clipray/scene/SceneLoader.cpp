@@ -210,7 +210,8 @@ void SceneReader::object(const json& value, const Pointer& at,
   }
   std::vector<std::string_view> keys = commonObjectKeys();
   keys.insert(keys.end(), kind->keys.begin(), kind->keys.end());
-  for (const std::string_view key : {"cull", "frontFace", "depthRange", "clipPlanes"}) {
+  for (const std::string_view key :
+       {"cull", "frontFace", "depthRange", "clipPlanes", "polygonOffset"}) {
     if (kind->triangles) {
       keys.push_back(key);
     } else if (key == "clipPlanes" && optional(value, key)) {
@@ -219,6 +220,11 @@ void SceneReader::object(const json& value, const Pointer& at,
                std::string(kind->name) +
                " is ray-traced by its fragment shader from the near plane, not the clipped "
                "interval");
+    } else if (key == "polygonOffset" && optional(value, key)) {
+      fail(at / std::string(key),
+           "polygon offset applies to triangle meshes (mesh, meshFile, terrain); a " +
+               std::string(kind->name) +
+               " writes its own depth from its fragment shader, which no offset moves");
     } else if (key == "depthRange" && optional(value, key)) {
       fail(at / std::string(key),
            "a depth range per object applies to triangle meshes (mesh, meshFile, terrain); a " +
@@ -262,7 +268,27 @@ void SceneReader::object(const json& value, const Pointer& at,
         scene.objects[k].clipPlanes = objectPlanes;
       }
     }
+    if (const json* offset = optional(value, "polygonOffset")) {
+      const PolygonOffset parsed = polygonOffset(*offset, at / "polygonOffset");
+      for (std::size_t k = firstObject; k < scene.objects.size(); ++k) {
+        scene.objects[k].polygonOffset = parsed;
+      }
+    }
   }
+}
+
+PolygonOffset SceneReader::polygonOffset(const json& value, const Pointer& at) const {
+  if (!value.is_object()) {
+    fail(at, "expected {\"factor\", \"units\", \"clamp\"} of glPolygonOffsetClamp, got " +
+                 describe(value));
+  }
+  expectKnownKeys(value, at, {"factor", "units", "clamp"});
+  PolygonOffset offset;
+  if (const json* factor = optional(value, "factor"))
+    offset.factor = number(*factor, at / "factor");
+  if (const json* units = optional(value, "units")) offset.units = number(*units, at / "units");
+  if (const json* clamp = optional(value, "clamp")) offset.clamp = number(*clamp, at / "clamp");
+  return offset;
 }
 
 SceneReader::FaceCulling SceneReader::faceCulling(const json& object, const Pointer& at) const {

@@ -61,6 +61,9 @@ class SceneReader : public SceneValidator {
     FrontFace frontFace = FrontFace::Ccw;
   };
   FaceCulling faceCulling(const json& object, const Pointer& at) const;
+  // An object's "polygonOffset": {"factor", "units", "clamp"}, each finite, each default 0 (a
+  // negative clamp bounds a negative offset: GL 4.6 14.6.5).
+  PolygonOffset polygonOffset(const json& value, const Pointer& at) const;
   glm::dmat4 transform(const json& value, const Pointer& at) const;  // world = T * R * S * p
   // A unit direction from a non-zero vector3.
   glm::dvec3 direction(const json& value, const Pointer& at) const;

@@ -27,6 +27,7 @@ const std::unordered_map<std::string_view, std::uint32_t>& enumNames() {
       {"GL_DEPTH_TEST", kGlDepthTest},
       {"GL_CULL_FACE", kGlCullFace},
       {"GL_DEPTH_CLAMP", kGlDepthClamp},
+      {"GL_POLYGON_OFFSET_FILL", kGlPolygonOffsetFill},
       {"GL_CLIP_DISTANCE0", kGlClipDistance0},
       {"GL_CLIP_DISTANCE1", kGlClipDistance0 + 1},
       {"GL_CLIP_DISTANCE2", kGlClipDistance0 + 2},

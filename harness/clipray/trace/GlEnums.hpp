@@ -25,6 +25,7 @@ inline constexpr std::uint32_t kGlAlways = 0x0207;
 inline constexpr std::uint32_t kGlDepthTest = 0x0B71;
 inline constexpr std::uint32_t kGlCullFace = 0x0B44;
 inline constexpr std::uint32_t kGlDepthClamp = 0x864F;
+inline constexpr std::uint32_t kGlPolygonOffsetFill = 0x8037;
 // GL_CLIP_DISTANCE0..7 (GL 3.0; the same values as GL 1.0's GL_CLIP_PLANE0..5).
 inline constexpr std::uint32_t kGlClipDistance0 = 0x3000;
 inline constexpr int kGlClipDistances = 8;

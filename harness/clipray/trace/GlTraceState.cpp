@@ -139,6 +139,10 @@ const std::unordered_set<std::string_view>& stateFunctions() {
                                   "glDepthMask",
                                   "glCullFace",
                                   "glFrontFace",
+                                  "glPolygonOffset",
+                                  "glPolygonOffsetEXT",
+                                  "glPolygonOffsetClamp",
+                                  "glPolygonOffsetClampEXT",
                                   "glDepthRange",
                                   "glDepthRangef",
                                   "glDepthRangeIndexed",
@@ -241,12 +245,17 @@ std::string formatNameOf(std::uint32_t internalFormat) {
 }  // namespace
 
 std::string TraceDepthState::key() const {
-  char text[256];
-  std::snprintf(text, sizeof text, "%d%d%d %u %a %a %a %d %dx%d %s %d %u %u %d %u %d",
+  char text[384];
+  std::snprintf(text, sizeof text, "%d%d%d %u %a %a %a %d %dx%d %s %d %u %u %d %u %d %d %a %a %a",
                 clipZeroToOne, clipUpperLeft, depthTest, depthFunc, depthRange.x, depthRange.y,
                 clearedDepth ? *clearedDepth : -1.0, clearedDepth.has_value(), viewport.width,
                 viewport.height, depthFormatName.c_str(), cullFace, cullFaceMode, frontFace,
-                depthClamp, static_cast<unsigned>(clipDistances), writesClipDistance);
+                depthClamp, static_cast<unsigned>(clipDistances), writesClipDistance,
+                // The offset only where it is named (so draws that differ in an offset nothing
+                // reports on stay one group).
+                offsetTowardCameraUnderGreater(*this),
+                offsetTowardCameraUnderGreater(*this) ? offsetFactor : 0.0,
+                offsetTowardCameraUnderGreater(*this) ? offsetUnits : 0.0, 0.0);
   return text;
 }
 
@@ -400,6 +409,10 @@ bool GlTraceState::applyDepthState(const DumpCall& call) {
       depth_.depthClamp = name == "glEnable";
       depth_.depthClampCall = call.number;
     }
+    if (cap == kGlPolygonOffsetFill) {
+      depth_.polygonOffsetFill = name == "glEnable";
+      depth_.polygonOffsetFillCall = call.number;
+    }
     if (const int index = clipDistanceIndex(cap); index >= 0) {
       const auto bit = static_cast<std::uint8_t>(1u << index);
       depth_.clipDistances =
@@ -412,6 +425,19 @@ bool GlTraceState::applyDepthState(const DumpCall& call) {
   } else if (name == "glFrontFace") {
     depth_.frontFace = enumArgument(call, "mode");
     depth_.frontFaceCall = call.number;
+  } else if (name == "glPolygonOffset" || name == "glPolygonOffsetClamp" ||
+             name == "glPolygonOffsetClampEXT") {
+    depth_.offsetFactor = numberArgument(call, "factor");
+    depth_.offsetUnits = numberArgument(call, "units");
+    // GL 4.6 14.6.5: glPolygonOffset(factor, units) is glPolygonOffsetClamp(factor, units, 0).
+    depth_.offsetClamp = call.argument("clamp") ? numberArgument(call, "clamp") : 0.0;
+    depth_.polygonOffsetCall = call.number;
+  } else if (name == "glPolygonOffsetEXT") {
+    // EXT_polygon_offset (GL 1.0): the units as a bias in depth, not in r (no longer core).
+    depth_.offsetFactor = numberArgument(call, "factor");
+    depth_.offsetUnits = numberArgument(call, "bias");
+    depth_.offsetClamp = 0.0;
+    depth_.polygonOffsetCall = call.number;
   } else if (name == "glDepthFunc") {
     depth_.depthFunc = enumArgument(call, "func");
     depth_.depthFuncCall = call.number;
@@ -499,7 +525,15 @@ void GlTraceState::applyAttributeStack(const DumpCall& call) {
     depth_.clipDistances = saved.clipDistances;
     depth_.clipDistancesCall = saved.clipDistancesCall;
   }
+  if (restores(kGlEnableBit) || restores(kGlPolygonBit)) {
+    depth_.polygonOffsetFill = saved.polygonOffsetFill;
+    depth_.polygonOffsetFillCall = saved.polygonOffsetFillCall;
+  }
   if (restores(kGlPolygonBit)) {
+    depth_.offsetFactor = saved.offsetFactor;
+    depth_.offsetUnits = saved.offsetUnits;
+    depth_.offsetClamp = saved.offsetClamp;
+    depth_.polygonOffsetCall = saved.polygonOffsetCall;
     depth_.cullFace = saved.cullFace;
     depth_.cullFaceCall = saved.cullFaceCall;
     depth_.cullFaceMode = saved.cullFaceMode;

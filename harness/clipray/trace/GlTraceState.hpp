@@ -53,18 +53,32 @@ struct TraceDepthState {
   std::uint8_t clipDistances = 0;
   // The program drawing writes gl_ClipDistance (its shaders' text mentions it).
   bool writesClipDistance = false;
+  // glEnable(GL_POLYGON_OFFSET_FILL), and the last glPolygonOffset / glPolygonOffsetClamp(EXT)'s
+  // factor, units and clamp (GL 4.6 14.6.5; GL's defaults are 0).
+  bool polygonOffsetFill = false;
+  double offsetFactor = 0.0, offsetUnits = 0.0, offsetClamp = 0.0;
 
   std::uint64_t clipControlCall = 0, depthFuncCall = 0, depthRangeCall = 0, clearCall = 0;
   // The last glEnable/glDisable(GL_CULL_FACE), glCullFace and glFrontFace.
   std::uint64_t cullFaceCall = 0, cullFaceModeCall = 0, frontFaceCall = 0;
   // The last glEnable/glDisable of GL_DEPTH_CLAMP, and of any GL_CLIP_DISTANCEi.
   std::uint64_t depthClampCall = 0, clipDistancesCall = 0;
+  // The last glEnable/glDisable(GL_POLYGON_OFFSET_FILL), and glPolygonOffset(Clamp).
+  std::uint64_t polygonOffsetFillCall = 0, polygonOffsetCall = 0;
 
   // glDepthMask: whether the draw writes depth (GL's default: it does), and where it was set. Not
   // part of key(): it changes what a draw leaves in the depth buffer, not how depth is computed.
   bool depthWrite = true;
   std::uint64_t depthMaskCall = 0;
 
+  // The state asks for polygon-offset-toward-camera: GL_POLYGON_OFFSET_FILL with an offset whose
+  // every non-zero term is positive under GL_GREATER/GEQUAL with the depth test on.
+  friend bool offsetTowardCameraUnderGreater(const TraceDepthState& depth) {
+    if (!depth.polygonOffsetFill || !depth.depthTest) return false;
+    if (depth.depthFunc != kGlGreater && depth.depthFunc != kGlGequal) return false;
+    const double f = depth.offsetFactor, u = depth.offsetUnits;
+    return f >= 0.0 && u >= 0.0 && (f > 0.0 || u > 0.0);
+  }
   // The same state, call numbers aside (the key of a distinct (matrix, state) pair).
   std::string key() const;
 };

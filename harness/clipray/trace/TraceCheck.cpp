@@ -85,6 +85,34 @@ Finding nearOverFarPassFinding(const TraceDepthState& depth, const OppositeDepth
           "nothing, if the technique is intended"};
 }
 
+// A polygon offset whose every non-zero term moves depths toward the camera under GL_GREATER/
+// GEQUAL, where the nearer surface has the greater depth (GL 4.6 14.6.5: o = m factor + r units
+// is added to the window depth): the sign a GL_LESS renderer gave its shadow casters and
+// hidden-line passes to push them away, kept through a move to reversed-Z. Under GL_LESS a
+// negative offset comes forward on purpose as often as not (a decal; OSG's ShadowMap pulls the back
+// faces it renders forward): not named.
+void addPolygonOffsetFinding(const TraceDepthState& depth, CheckReport& report) {
+  if (!offsetTowardCameraUnderGreater(depth)) return;
+  std::string offset = "glPolygonOffset(" + number(depth.offsetFactor) + ", ";
+  offset += number(depth.offsetUnits);
+  offset += ")";
+  std::string flipped = "glPolygonOffset(" + number(-depth.offsetFactor) + ", ";
+  flipped += number(-depth.offsetUnits);
+  flipped += ")";
+  report.findings.push_back(
+      {"warning", "polygon-offset-toward-camera",
+       offset + " (" + callNote(depth.polygonOffsetCall) +
+           ") with GL_POLYGON_OFFSET_FILL enabled (" + callNote(depth.polygonOffsetFillCall) +
+           ") under glDepthFunc(" + glEnumName(depth.depthFunc) + ") (" +
+           callNote(depth.depthFuncCall) +
+           "): the nearer surface has the greater depth here, so a positive offset moves the "
+           "surface toward the camera; kept from a GL_LESS renderer (a shadow caster's or a "
+           "hidden-line pass's offset, meant to push away), it pulls the surface in front of "
+           "what lies on it: shadow acne and z-fighting return",
+       "flip the signs under GL_GREATER: " + flipped +
+           " pushes away (a decal meant to come forward keeps positive values)"});
+}
+
 // What only the traced state shows, beyond the matrix check's findings. A far-surface pass
 // (OppositeDepthPasses) clears to the near end on purpose: its clear is not checked; nor is the
 // clear of a near pass drawn over what a far pass of the same matrix wrote into it (overFarPass).
@@ -103,6 +131,7 @@ void addTraceFindings(const TraceDepthState& depth, bool farSurfacePass,
          "glEnable(GL_CLIP_DISTANCE0 + i) before the draw for each gl_ClipDistance[i] the shader "
          "writes"});
   }
+  addPolygonOffsetFinding(depth, report);
   const MatrixProperties& p = report.properties;
   // A transposed upload reads as any convention: its depth readings mean nothing.
   if (!depth.depthTest || !p.reversedDecided || p.likelyTransposed) return;

@@ -92,6 +92,11 @@ class SceneBuilder {
   // User clip planes for the mesh added last, beside the camera's (world space, [a, b, c, d]
   // keeping a x + b y + c z + d >= 0, as clipPlanes()): a section view that cuts one object.
   SceneBuilder& objectClipPlanes(std::vector<glm::dvec4> planes);
+  // glPolygonOffsetClamp(factor, units, clamp) with GL_POLYGON_OFFSET_FILL for the mesh added
+  // last (default: none): a decal on a wall pushed toward the camera, negative under GL_LESS,
+  // positive under GL_GREATER (reversed-Z). Each finite; clamp 0 clamps nothing. build() refuses
+  // it on analytic surfaces (they write their own depth).
+  SceneBuilder& objectPolygonOffset(double factor, double units, double clamp = 0.0);
 
   // Analytic surfaces, rasterized exactly (docs/scene-format.md): placed by worldFromObject.
   SceneBuilder& sphere(std::string name, glm::dvec3 centre, double radius,
