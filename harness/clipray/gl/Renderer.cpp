@@ -3,7 +3,10 @@
 #include <glad/gl.h>
 
 #include "clipray/gl/DepthFormats.hpp"
+#include "clipray/gl/MultisampleTarget.hpp"
+#include "clipray/gl/ShaderPrograms.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <optional>
@@ -30,101 +33,6 @@ extern const char* const primitive_frag_file;
 namespace clipray::gl {
 
 namespace {
-
-const char* glErrorName(GLenum error) {
-  switch (error) {
-    case GL_INVALID_ENUM:
-      return "GL_INVALID_ENUM";
-    case GL_INVALID_VALUE:
-      return "GL_INVALID_VALUE";
-    case GL_INVALID_OPERATION:
-      return "GL_INVALID_OPERATION";
-    case GL_INVALID_FRAMEBUFFER_OPERATION:
-      return "GL_INVALID_FRAMEBUFFER_OPERATION";
-    case GL_OUT_OF_MEMORY:
-      return "GL_OUT_OF_MEMORY";
-    default:
-      return "unknown GL error";
-  }
-}
-
-void checkGl(const char* stage) {
-  const GLenum error = glGetError();
-  if (error != GL_NO_ERROR) {
-    throw GlError(std::string("GL: ") + glErrorName(error) + " during " + stage);
-  }
-}
-
-// A shader assembled from several files: the main file's #version line, the included files,
-// then the rest of the main file. Each file is its own source string opened by `#line <l> <n>`
-// (GLSL numbers source strings with n: 1 for the main file, 2... for the includes), so the info
-// log's "n:line(column)" prefixes can be turned back into file names.
-struct ShaderFile {
-  const char* text;
-  const char* name;
-};
-
-GLuint compileShaderFiles(GLenum kind, const std::vector<ShaderFile>& files) {
-  std::vector<std::string> parts;
-  const std::string main = files.front().text;
-  const std::size_t versionEnd = main.find('\n') + 1;
-  parts.push_back(main.substr(0, versionEnd));
-  for (std::size_t n = 1; n < files.size(); ++n) {
-    parts.push_back("#line 1 " + std::to_string(n + 1) + "\n" + files[n].text);
-  }
-  // The main file's body starts on its line 2 (line 1 was #version).
-  parts.push_back("#line 2 1\n" + main.substr(versionEnd));
-  std::vector<const char*> sources;
-  for (const std::string& part : parts) sources.push_back(part.c_str());
-  const GLuint shader = glCreateShader(kind);
-  glShaderSource(shader, static_cast<GLsizei>(sources.size()), sources.data(), nullptr);
-  glCompileShader(shader);
-  GLint ok = GL_FALSE;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    glGetShaderiv(shader, GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetShaderInfoLog(shader, length, nullptr, log.data());
-    glDeleteShader(shader);
-    std::vector<std::string> fileNames;
-    for (const ShaderFile& file : files) fileNames.emplace_back(file.name);
-    const std::string named = nameShaderSources(log.c_str(), fileNames);
-    std::string names;
-    for (const ShaderFile& file : files)
-      names += (names.empty() ? "" : " + ") + std::string(file.name);
-    throw GlError("GL: " + names + " does not compile:\n" + named);
-  }
-  return shader;
-}
-
-// A shader from one file (compiled as its own source string too, so errors name it).
-GLuint compileShader(GLenum kind, const char* source, const char* file) {
-  return compileShaderFiles(kind, {{source, file}});
-}
-
-GLuint linkProgram(GLuint vertex, GLuint fragment, const char* name) {
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vertex);
-  glAttachShader(program, fragment);
-  glLinkProgram(program);
-  GLint ok = GL_FALSE;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint length = 0;
-    glGetProgramiv(program, GL_INFO_LOG_LENGTH, &length);
-    std::string log(static_cast<std::size_t>(std::max(length, 1)), '\0');
-    glGetProgramInfoLog(program, length, nullptr, log.data());
-    glDeleteProgram(program);
-    throw GlError(std::string("GL: program ") + name + " does not link:\n" + log.c_str());
-  }
-  return program;
-}
-
-std::string glString(GLenum name) {
-  const GLubyte* text = glGetString(name);
-  return text ? reinterpret_cast<const char*>(text) : "";
-}
 
 // One mesh object's draw: its first primitive id, and where its indices and vertices start.
 struct MeshDraw {
@@ -324,6 +232,8 @@ struct Renderer::State {
   // none; then only offsets with clamp 0 are drawn (glPolygonOffset).
   using PolygonOffsetClampProc = void (*)(GLfloat factor, GLfloat units, GLfloat clamp);
   PolygonOffsetClampProc polygonOffsetClamp = nullptr;
+  // Made on the first multisampled frame.
+  std::unique_ptr<MultisampleTarget> multisample;
   struct {
     GLint clipFromInput = -1, clipFromLocal = -1, viewportSize = -1, nearNdcZ = -1, facingSign = -1,
           parallel = -1, clipMinZ = -1, kind = -1, primitiveId = -1, depthRange = -1,
@@ -334,9 +244,12 @@ struct Renderer::State {
   void upload(const RasterGeometry& geometry);
   // A fresh FBO of the viewport's size with the depth format's attachment; GlError if incomplete.
   void createTarget(Viewport viewport, DepthFormat depthFormat);
-  // Binds the FBO and sets the fixed state the run draws under: the convention's clip control and
-  // depth test, no culling, blending or multisampling; clears ids to 0 and depth to the far value.
-  void beginFrame(const RenderRequest& request);
+  // Binds the target and sets the fixed state the run draws under: the convention's clip control
+  // and depth test, no culling or blending, multisampling only for a multisample target; clears
+  // ids to 0 and depth to the far value.
+  void beginFrame(const RenderRequest& request, GLuint target);
+  // upload, beginFrame on the target and the draws, to glFinish.
+  void draw(const RenderRequest& request, GLuint target, RenderTimings* timings);
   void drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput,
                   glm::dvec2 sceneDepthRange);
   void drawPrimitives(const RenderRequest& request, const std::vector<PrimitiveDraw>& draws);
@@ -461,9 +374,9 @@ void Renderer::State::createTarget(Viewport viewport, DepthFormat depthFormat) {
   checkGl("framebuffer set-up");
 }
 
-void Renderer::State::beginFrame(const RenderRequest& request) {
+void Renderer::State::beginFrame(const RenderRequest& request, GLuint target) {
   const Viewport viewport = request.viewport;
-  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  glBindFramebuffer(GL_FRAMEBUFFER, target);
   glViewport(0, 0, viewport.width, viewport.height);
   glDepthRange(request.depthRange.x, request.depthRange.y);
   // glClipControl: where NDC y = -1 lands and which NDC z the near clip plane sits at (z_n = -1
@@ -484,11 +397,15 @@ void Renderer::State::beginFrame(const RenderRequest& request) {
     glDisable(GL_DEPTH_CLAMP);
   }
   glDisable(GL_BLEND);
-  glDisable(GL_MULTISAMPLE);
+  if (request.samples > 1) {
+    glEnable(GL_MULTISAMPLE);
+  } else {
+    glDisable(GL_MULTISAMPLE);
+  }
   const GLuint clearId[4] = {0, 0, 0, 0};
   const GLfloat clearDepth = greater ? 0.0f : 1.0f;
-  glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 0, clearId);
-  glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &clearDepth);
+  glClearNamedFramebufferuiv(target, GL_COLOR, 0, clearId);
+  glClearNamedFramebufferfv(target, GL_DEPTH, 0, &clearDepth);
 }
 
 void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput,
@@ -601,34 +518,90 @@ RasterFrame Renderer::State::readBack(Viewport viewport) {
   return frame;
 }
 
-RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timings) {
-  const Viewport viewport = request.viewport;
-  if (!state_->polygonOffsetClamp) {
+namespace {
+
+// What the renderer cannot draw as asked: BackendError naming the object.
+void requireDrawable(const RenderRequest& request, const GlInfo& info, bool hasOffsetClamp) {
+  if (!hasOffsetClamp) {
     for (const MeshObject& object : request.scene->objects) {
       if (object.polygonOffset && object.polygonOffset->clamp != 0.0) {
-        throw BackendError(info_.backend + " (" + info_.version +
+        throw BackendError(info.backend + " (" + info.version +
                            ") has no glPolygonOffsetClamp (GL 4.6, ARB/EXT_polygon_offset_clamp): "
                            "object \"" +
                            object.name + "\" is drawn with a polygon offset clamp");
       }
     }
   }
+}
+
+}  // namespace
+
+void Renderer::State::draw(const RenderRequest& request, GLuint target, RenderTimings* timings) {
   const PhaseClock rasterClock;
   const RasterGeometry geometry = rasterGeometry(request);
-  state_->upload(geometry);
-  state_->createTarget(viewport, request.depthFormat);
-  state_->beginFrame(request);
-  state_->drawMeshes(geometry, clipFromInputOf(request), request.depthRange);
-  if (!geometry.primitiveDraws.empty()) state_->drawPrimitives(request, geometry.primitiveDraws);
+  upload(geometry);
+  beginFrame(request, target);
+  drawMeshes(geometry, clipFromInputOf(request), request.depthRange);
+  if (!geometry.primitiveDraws.empty()) drawPrimitives(request, geometry.primitiveDraws);
   glFinish();
   checkGl("drawing");
   if (timings) {
     timings->raster = rasterClock.wallMilliseconds();
     timings->rasterCpu = rasterClock.cpuMilliseconds();
   }
+}
 
+RasterFrame Renderer::render(const RenderRequest& request, RenderTimings* timings) {
+  if (request.samples != 1) {
+    throw std::invalid_argument("Renderer::render draws one sample per pixel; " +
+                                std::to_string(request.samples) + " samples go to renderSamples");
+  }
+  requireDrawable(request, info_, state_->polygonOffsetClamp != nullptr);
+  state_->createTarget(request.viewport, request.depthFormat);
+  state_->draw(request, state_->framebuffer, timings);
   const PhaseClock readbackClock;
-  RasterFrame frame = state_->readBack(viewport);
+  RasterFrame frame = state_->readBack(request.viewport);
+  if (timings) {
+    timings->readback = readbackClock.wallMilliseconds();
+    timings->readbackCpu = readbackClock.cpuMilliseconds();
+  }
+  return frame;
+}
+
+std::vector<int> Renderer::sampleCounts(DepthFormat depthFormat) {
+  return multisampleCounts(depthInternalFormat(depthFormat));
+}
+
+std::vector<glm::dvec2> Renderer::samplePositions(DepthFormat depthFormat, int samples,
+                                                  Viewport viewport) {
+  const std::vector<int> offered = sampleCounts(depthFormat);
+  if (std::find(offered.begin(), offered.end(), samples) == offered.end()) {
+    std::string counts;
+    for (const int n : offered) counts += (counts.empty() ? "" : ", ") + std::to_string(n);
+    throw BackendError(info_.backend + " (" + info_.renderer + ") offers no " +
+                       std::to_string(samples) + "-sample " + depthFormatName(depthFormat) +
+                       " depth with R32UI ids (it offers " + (counts.empty() ? "none" : counts) +
+                       ")");
+  }
+  if (!state_->multisample) state_->multisample = std::make_unique<MultisampleTarget>();
+  state_->multisample->create(viewport, depthInternalFormat(depthFormat), samples,
+                              depthFormatName(depthFormat).c_str());
+  return state_->multisample->samplePositions();
+}
+
+MultisampleFrame Renderer::renderSamples(const RenderRequest& request, RenderTimings* timings) {
+  if (!request.scene->primitives.empty()) {
+    throw BackendError(
+        "multisampling draws triangle meshes only: the scene's analytic primitives write one "
+        "depth per pixel (gl_FragDepth at its centre)");
+  }
+  MultisampleFrame frame;
+  frame.positions = samplePositions(request.depthFormat, request.samples, request.viewport);
+  requireDrawable(request, info_, state_->polygonOffsetClamp != nullptr);
+  MultisampleTarget& target = *state_->multisample;
+  state_->draw(request, target.framebuffer(), timings);
+  const PhaseClock readbackClock;
+  frame.samples = target.readSamples();
   if (timings) {
     timings->readback = readbackClock.wallMilliseconds();
     timings->readbackCpu = readbackClock.cpuMilliseconds();

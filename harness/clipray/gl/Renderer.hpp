@@ -40,6 +40,17 @@ struct RenderRequest {
   // The camera's user clip planes, world space (Camera::clipPlanes): gl_ClipDistance for meshes.
   std::vector<glm::dvec4> clipPlanes{};
   bool depthClamp = false;  // GL_DEPTH_CLAMP (Scene::depthClamp)
+  // Samples per pixel: 1 draws single-sampled (render); more draws into multisample attachments
+  // with GL_MULTISAMPLE enabled (renderSamples), triangle meshes only.
+  int samples = 1;
+};
+
+// A multisampled frame read one sample at a time: samples[s] holds sample s of every pixel, laid
+// out as a single-sample frame; positions[s] is where it lies in its pixel (glGetMultisamplefv:
+// window coordinates from the pixel's lower-left corner, in pixels).
+struct MultisampleFrame {
+  std::vector<glm::dvec2> positions;
+  std::vector<RasterFrame> samples;
 };
 
 struct RenderTimings {  // milliseconds
@@ -63,7 +74,19 @@ class Renderer {
   // min(GL_MAX_VIEWPORT_DIMS, GL_MAX_RENDERBUFFER_SIZE) per axis.
   Viewport maxViewport() const { return maxViewport_; }
 
+  // Single-sampled (request.samples == 1).
   RasterFrame render(const RenderRequest& request, RenderTimings* timings = nullptr);
+  // Multisampled (request.samples one of sampleCounts(request.depthFormat)): every sample read.
+  // Analytic primitives write one depth per fragment (gl_FragDepth at the pixel centre) and are
+  // refused.
+  MultisampleFrame renderSamples(const RenderRequest& request, RenderTimings* timings = nullptr);
+  // The sample counts above 1 this implementation offers for the depth format beside R32UI ids,
+  // ascending; empty where it offers none.
+  std::vector<int> sampleCounts(DepthFormat depthFormat);
+  // Where each of `samples` samples lies in a pixel of a multisample frame of this depth format
+  // and size (as MultisampleFrame::positions), before anything is drawn: the analytic side builds
+  // its rays through them. BackendError for a count sampleCounts does not list.
+  std::vector<glm::dvec2> samplePositions(DepthFormat depthFormat, int samples, Viewport viewport);
 
  private:
   struct State;
