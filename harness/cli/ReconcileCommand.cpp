@@ -57,6 +57,7 @@ struct ReconcileArguments {
   bool json = false;
   unsigned threads = 0;
   unsigned rounds = 1;
+  int samples = 1;
   std::string maxMemory;  // empty: what the machine (or the cgroup) has available
   std::string shard;      // "I/N": only the scene/camera pairs of shard I of N
 };
@@ -152,6 +153,7 @@ engine::ReconcilePlan planOf(const ReconcileArguments& arguments) {
   plan.backend = arguments.backend;
   plan.threads = arguments.threads;
   plan.rounds = arguments.rounds;
+  plan.samples = arguments.samples;
   // A progress line on stderr only when a person is watching it.
   plan.progress = isatty(STDERR_FILENO) != 0;
   return plan;
@@ -212,6 +214,12 @@ CommandRunner addReconcileOptions(CLI::App& app) {
                  "the cgroup's limit)");
   app.add_option("--threads", arguments->threads, "Threads for the analytic pass (0: all cores)")
       ->check(CLI::Range(0u, 256u))
+      ->capture_default_str();
+  app.add_option("--samples", arguments->samples,
+                 "Samples per pixel: above 1 the frame is drawn multisampled and every sample is "
+                 "compared with rays through its own position (a count the GL implementation "
+                 "offers; llvmpipe: 4)")
+      ->check(CLI::Range(1, 64))
       ->capture_default_str();
   app.add_option("--rounds", arguments->rounds,
                  "Make every run this many times, round after round; timings_ms then holds each "

@@ -94,6 +94,27 @@ TEST(LibraryReconcile, OptionsAreRefusedByField) {
             "viewport at (10, 0)");
 }
 
+// ReconcileOptions::samples: a run per sample, each consistent. The quad's edges cross pixels
+// (its left edge at window x 18.1), so each sample's coverage is its own: the same on both sides.
+TEST(LibraryReconcile, EverySampleOfAMultisampledFrameIsARun) {
+  ReconcileOptions options = defaultOptions();
+  options.samples = 4;
+  const ReconcileResult result = reconcile(quadScene(), robustPickRays(), options);
+  ASSERT_EQ(result.runs.size(), 4u) << result.text();
+  for (int s = 0; s < 4; ++s) {
+    const RunResult& run = result.runs[static_cast<std::size_t>(s)];
+    EXPECT_TRUE(run.consistent) << result.text();
+    EXPECT_EQ(run.sample, s);
+    EXPECT_EQ(run.sampleCount, 4);
+    EXPECT_EQ(run.frameUnexplainedPixels, 0);
+    EXPECT_EQ(run.rasterHits, run.rayHits) << s;
+  }
+  options.render = [](const AppFrame&) {};
+  EXPECT_EQ(messageOf(options),
+            "ReconcileOptions: samples 4: the app's render function draws into clipray's "
+            "single-sample framebuffer; multisampled runs use clipray's renderer");
+}
+
 TEST(LibraryReconcile, AnAppThatDrawsDepthWithoutIdsIsTold) {
   ReconcileOptions options = defaultOptions();
   options.render = [](const AppFrame&) {

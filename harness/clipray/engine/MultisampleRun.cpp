@@ -3,7 +3,6 @@
 #include <stdexcept>
 #include <utility>
 
-
 namespace clipray::engine {
 
 glm::dmat4 clipFromWorldAtSample(const glm::dmat4& clipFromWorld, ClipOrigin origin,
@@ -22,12 +21,14 @@ glm::dmat4 clipFromWorldAtSample(const glm::dmat4& clipFromWorld, ClipOrigin ori
 }
 
 MultisampleCamera::MultisampleCamera(const Scene& scene, const Camera& camera, DepthMode mode,
-                                     Viewport viewport, unsigned threadCount)
+                                     Viewport viewport, unsigned threadCount,
+                                     PickRayFunction rayFunction)
     : scene_(&scene),
       camera_(&camera),
       mode_(mode),
       viewport_(viewport),
       threadCount_(threadCount),
+      rayFunction_(std::move(rayFunction)),
       drawnClipFromWorld_(camera.clipFromWorld(mode, viewport)) {}
 
 const std::vector<AnalyticPass>& MultisampleCamera::passesAt(
@@ -40,7 +41,10 @@ const std::vector<AnalyticPass>& MultisampleCamera::passesAt(
     atSample.rawClipFromWorld =
         clipFromWorldAtSample(drawnClipFromWorld_, mode_.origin, viewport_, position);
     // The pass keeps its camera's name only: the sheared copy may go.
-    passes_.push_back(runAnalyticPass(*scene_, atSample, mode_, viewport_, threadCount_));
+    passes_.push_back(
+        rayFunction_
+            ? runAnalyticPass(*scene_, atSample, mode_, viewport_, rayFunction_, threadCount_)
+            : runAnalyticPass(*scene_, atSample, mode_, viewport_, threadCount_));
   }
   return passes_;
 }
@@ -57,7 +61,7 @@ SampleComparison MultisampleCamera::rasterAndCompare(gl::Renderer& renderer,
   request.clipFromWorld = drawnClipFromWorld_;
   request.samples = samples;
   gl::RenderTimings timings;
-  const gl::MultisampleFrame frame = renderer.renderSamples(request, &timings);
+  gl::MultisampleFrame frame = renderer.renderSamples(request, &timings);
   if (frame.positions != result.positions) {
     throw gl::GlError("GL: the sample positions changed between the query and the draw");
   }
@@ -91,6 +95,11 @@ SampleComparison MultisampleCamera::rasterAndCompare(gl::Renderer& renderer,
     pixels.mixedPrimitives += mixed ? 1 : 0;
     pixels.unexplained += unexplained ? 1 : 0;
   }
+  for (std::size_t s = 0; s < result.samples.size(); ++s) {
+    result.samples[s].run.sample =
+        SampleRecord{static_cast<int>(s), samples, result.positions[s], pixels};
+  }
+  result.rasters = std::move(frame.samples);
   return result;
 }
 

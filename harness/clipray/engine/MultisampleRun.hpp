@@ -29,19 +29,10 @@ namespace clipray::engine {
 glm::dmat4 clipFromWorldAtSample(const glm::dmat4& clipFromWorld, ClipOrigin origin,
                                  Viewport viewport, glm::dvec2 samplePosition);
 
-// What the samples of a run say per pixel: a pixel is unexplained where any of its samples is
-// (PixelClass CoverageUnexplained, IdUnexplained or DepthBeyondTolerance).
-struct MultisamplePixels {
-  std::int64_t pixels = 0;
-  std::int64_t covered = 0;          // some sample of the raster shows a primitive
-  std::int64_t partlyCovered = 0;    // of those, some sample shows the background (an edge)
-  std::int64_t mixedPrimitives = 0;  // of those covered, samples show different primitives
-  std::int64_t unexplained = 0;
-};
-
 struct SampleComparison {
   std::vector<glm::dvec2> positions;  // as the implementation reports them
   std::vector<ComparedRun> samples;   // sample s's run, compared with its own pass
+  std::vector<RasterFrame> rasters;   // sample s of every pixel, as read back
   MultisamplePixels pixels;
   bool consistent() const { return pixels.unexplained == 0; }
 };
@@ -51,8 +42,10 @@ struct SampleComparison {
 // format and vertex mode at one count shares them).
 class MultisampleCamera {
  public:
+  // With clipray's robust rays, or with the caller's ray function (the app's picking), asked with
+  // each sample's sheared camera as it is asked with the drawn one.
   MultisampleCamera(const Scene& scene, const Camera& camera, DepthMode mode, Viewport viewport,
-                    unsigned threadCount = 0);
+                    unsigned threadCount = 0, PickRayFunction rayFunction = {});
   // The sample passes for these positions (made on first use).
   const std::vector<AnalyticPass>& passesAt(const std::vector<glm::dvec2>& positions);
   SampleComparison rasterAndCompare(gl::Renderer& renderer, DepthFormat depthFormat,
@@ -65,6 +58,7 @@ class MultisampleCamera {
   DepthMode mode_;
   Viewport viewport_;
   unsigned threadCount_;
+  PickRayFunction rayFunction_;
   glm::dmat4 drawnClipFromWorld_;
   std::vector<glm::dvec2> positions_;
   std::vector<AnalyticPass> passes_;

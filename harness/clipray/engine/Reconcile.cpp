@@ -65,6 +65,8 @@ engine::ReconcilePlan planOf(const Scene& scene, const PickRayFunction& pick,
   plan.pickHits = pickHits;
   plan.memory = engine::machineMemoryBudget();
   plan.threads = options.threads;
+  plan.samples = options.samples;
+  plan.samplesOption = "ReconcileOptions: samples";
   plan.worstPixelsPerRun = options.worstPixels;
   plan.out = options.reportDirectory;
   plan.outOption = "ReconcileOptions: reportDirectory";
@@ -87,6 +89,13 @@ RunResult runResult(const RunRecord& run, const std::string& summaryLine, bool a
   result.vertexMode = vertexModeName(run.vertexMode);
   result.appRender = appRender;
   result.size = run.size;
+  if (run.sample) {
+    result.sample = run.sample->index;
+    result.sampleCount = run.sample->count;
+    result.samplePosition = run.sample->position;
+    result.framePartlyCoveredPixels = run.sample->pixels.partlyCovered;
+    result.frameUnexplainedPixels = run.sample->pixels.unexplained;
+  }
   const RunMetrics& m = run.metrics;
   result.verdict = runVerdictName(runVerdict(run));
   result.consistent = runPasses(run);

@@ -54,6 +54,11 @@ struct ReconcilePlan {
   std::optional<Viewport> size;  // every camera's viewport overridden
   std::string sizeOption;        // the field that set it, for messages ("--size")
   std::optional<Shard> shard;
+  // Samples per pixel: above 1 every frame is drawn multisampled and each sample is a run of its
+  // own, compared with rays through its position (MultisampleRun.hpp); clipray's renderer only,
+  // and no picking hits.
+  int samples = 1;
+  std::string samplesOption = "--samples";  // the field that set it, for messages
 
   // The raster side: clipray's renderer on `backend`, or the app's render function drawing into
   // clipray's framebuffer on that backend's context.

@@ -14,6 +14,7 @@
 #include "clipray/InputError.hpp"
 #include "clipray/compare/DrawCallIds.hpp"
 #include "clipray/engine/AppStateNotes.hpp"
+#include "clipray/engine/MultisampleRun.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/engine/RunConventionCheck.hpp"
 #include "clipray/engine/WorstPixels.hpp"
@@ -75,8 +76,17 @@ class Runner {
   ReconcileOutcome runSteps();
   void loadScenes();
   void checkViewports(const gl::Renderer& renderer) const;
+  // A sample count above 1: one the implementation offers for every depth format, with clipray's
+  // renderer and rays.
+  void checkSamples(gl::Renderer& renderer) const;
   void runCamera(unsigned round, const Scene& scene, const Camera& camera, gl::GlContext& context,
                  gl::Renderer& renderer, std::vector<RunRecord>& runs);
+  // The same, multisampled: a run per sample (MultisampleRun.hpp).
+  void runCameraSampled(unsigned round, const Scene& scene, const Camera& camera,
+                        gl::Renderer& renderer, std::vector<RunRecord>& runs);
+  // A compared run's outputs: its hits described, worst pixels and images in the last round.
+  void keepRun(bool lastRound, const engine::AnalyticPass& pass, const RasterFrame& raster,
+               engine::ComparedRun compared, std::vector<RunRecord>& runs);
   // The app's frame, and the notes on the state its draws were made with (AppStateNotes.hpp).
   RasterFrame drawWithApp(gl::GlContext& context, const Scene& scene, const Camera& camera,
                           const engine::AnalyticPass& pass, DepthFormat format,
@@ -236,6 +246,10 @@ RasterFrame Runner::drawWithApp(gl::GlContext& context, const Scene& scene, cons
 void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
                        gl::GlContext& context, gl::Renderer& renderer,
                        std::vector<RunRecord>& runs) {
+  if (plan_.samples > 1) {
+    runCameraSampled(round, scene, camera, renderer, runs);
+    return;
+  }
   const bool lastRound = round == plan_.rounds;
   const Viewport viewport = plan_.size.value_or(camera.viewport);
   for (const DepthMode mode : conventionsOf(scene)) {
@@ -276,16 +290,82 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
         compared.run.notes.insert(compared.run.notes.end(), pass.pickNotes.begin(),
                                   pass.pickNotes.end());
         compared.run.conventionFindings = conventionFindings;
-        describeHits(pass, raster, compared.pixels, compared.run);
-        if (lastRound) {
-          worstPixels_.push_back(
-              worstPixels(pass, raster, compared.pixels, plan_.worstPixelsPerRun, plan_.window));
-          if (wantsThumbnails(plan_.images)) {
-            encoder_.submit(runs.size(), compared.run, std::move(compared.pixels),
-                            wantsImages(plan_.images, compared.run.metrics));
-          }
+        keepRun(lastRound, pass, raster, std::move(compared), runs);
+      }
+    }
+  }
+}
+
+void Runner::keepRun(bool lastRound, const engine::AnalyticPass& pass, const RasterFrame& raster,
+                     engine::ComparedRun compared, std::vector<RunRecord>& runs) {
+  describeHits(pass, raster, compared.pixels, compared.run);
+  if (lastRound) {
+    worstPixels_.push_back(
+        worstPixels(pass, raster, compared.pixels, plan_.worstPixelsPerRun, plan_.window));
+    if (wantsThumbnails(plan_.images)) {
+      encoder_.submit(runs.size(), compared.run, std::move(compared.pixels),
+                      wantsImages(plan_.images, compared.run.metrics));
+    }
+  }
+  runs.push_back(std::move(compared.run));
+}
+
+void Runner::checkSamples(gl::Renderer& renderer) const {
+  if (plan_.samples == 1) return;
+  const std::string field = plan_.samplesOption + " " + std::to_string(plan_.samples);
+  if (plan_.samples < 1) throw InputError(field + ": expected a sample count of 1 or more");
+  if (plan_.appRender) {
+    throw InputError(field +
+                     ": the app's render function draws into clipray's single-sample "
+                     "framebuffer; multisampled runs use clipray's renderer");
+  }
+  if (plan_.pickHits) {
+    throw InputError(field +
+                     ": the app's picking hits are taken at pixel centres; multisampled runs "
+                     "trace rays through each sample's position");
+  }
+  for (const DepthFormat format : plan_.depthFormats) {
+    const std::vector<int> offered = renderer.sampleCounts(format);
+    if (std::find(offered.begin(), offered.end(), plan_.samples) == offered.end()) {
+      std::string counts;
+      for (const int n : offered) counts += (counts.empty() ? "" : ", ") + std::to_string(n);
+      throw InputError(field + ": " + renderer.info().backend + " (" + renderer.info().renderer +
+                       ") offers no " + std::to_string(plan_.samples) + "-sample depth format " +
+                       depthFormatName(format) + " (it offers " +
+                       (counts.empty() ? "no multisampling" : counts) + ")");
+    }
+  }
+}
+
+void Runner::runCameraSampled(unsigned round, const Scene& scene, const Camera& camera,
+                              gl::Renderer& renderer, std::vector<RunRecord>& runs) {
+  if (!scene.primitives.empty()) {
+    throw InputError(plan_.samplesOption + " " + std::to_string(plan_.samples) + ": scene \"" +
+                     scene.name + "\" (" + scene.path +
+                     ") has analytic primitives, which are drawn with one depth per pixel "
+                     "(gl_FragDepth at its centre); multisampled runs need triangle meshes only");
+  }
+  const bool lastRound = round == plan_.rounds;
+  const Viewport viewport = plan_.size.value_or(camera.viewport);
+  for (const DepthMode mode : conventionsOf(scene)) {
+    step_ = "tracing " + scene.name + "/" + camera.name + " " + mode.name() + " at " +
+            sizeText(viewport) + " for " + std::to_string(plan_.samples) + " samples";
+    engine::MultisampleCamera sampled(scene, camera, mode, viewport, plan_.threads, plan_.pickRays);
+    for (const DepthFormat format : plan_.depthFormats) {
+      const std::vector<RunFinding> conventionFindings = runConventionFindings(
+          scene, camera, sampled.drawnClipFromWorld(), mode, viewport, format);
+      for (const VertexMode vertexMode : plan_.vertexModes) {
+        step_ = "running " + scene.name + "/" + camera.name + " " + mode.name() + " " +
+                depthFormatName(format) + " " + vertexModeName(vertexMode) + " at " +
+                std::to_string(plan_.samples) + " samples";
+        engine::SampleComparison sampledRun =
+            sampled.rasterAndCompare(renderer, format, vertexMode, plan_.samples);
+        const std::vector<engine::AnalyticPass>& passes = sampled.passesAt(sampledRun.positions);
+        for (std::size_t s = 0; s < sampledRun.samples.size(); ++s) {
+          sampledRun.samples[s].run.conventionFindings = conventionFindings;
+          keepRun(lastRound, passes[s], sampledRun.rasters[s], std::move(sampledRun.samples[s]),
+                  runs);
         }
-        runs.push_back(std::move(compared.run));
       }
     }
   }
@@ -312,6 +392,7 @@ ReconcileOutcome Runner::runSteps() {
   const std::unique_ptr<gl::GlContext> context = gl::createContext(plan_.backend);
   gl::Renderer renderer(*context);  // loads GL and checks for 4.5 (glClipControl)
   checkViewports(renderer);
+  checkSamples(renderer);
 
   // The runs, round after round (images in the last round only), encoded on worker threads
   // beside the next runs.

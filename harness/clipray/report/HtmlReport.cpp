@@ -231,8 +231,8 @@ std::string runRow(const RunRecord& run, std::size_t rank, bool anyImages) {
          "</td>";
   out += "<td class=\"name\">" + escaped(run.scene + "/" + run.camera) + "<br><span>" +
          escaped(run.convention.name()) + " " + escaped(depthFormatName(run.depthFormat)) + " " +
-         escaped(vertexModeName(run.vertexMode)) + " " + std::to_string(run.size.width) + "x" +
-         std::to_string(run.size.height) + "</span></td>";
+         escaped(vertexModeName(run.vertexMode) + sampleSuffix(run)) + " " +
+         std::to_string(run.size.width) + "x" + std::to_string(run.size.height) + "</span></td>";
   if (anyImages) out += thumbnailsCell(run);
   out += "<td class=\"figures\">cov " + count(m.coverageMismatch.total) + " (e" +
          count(m.coverageMismatch.edgeAmbiguous) + " u" + count(m.coverageMismatch.unexplained) +

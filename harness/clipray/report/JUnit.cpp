@@ -117,7 +117,8 @@ std::string junitXml(const std::vector<RunRecord>& runs, const std::filesystem::
         .append(" ")
         .append(depthFormatName(run.depthFormat))
         .append(" ")
-        .append(vertexModeName(run.vertexMode));
+        .append(vertexModeName(run.vertexMode))
+        .append(sampleSuffix(run));
     out.append("    <testcase classname=\"")
         .append(xmlEscaped(run.scene))
         .append("\" name=\"")

@@ -223,6 +223,19 @@ nlohmann::json runJson(const RunRecord& run) {
                                          {"measured", {o.measuredMin, o.measuredMax}}});
     }
   }
+  if (run.sample) {
+    const SampleRecord& sample = *run.sample;
+    const MultisamplePixels& p = sample.pixels;
+    json["sample"] = {{"index", sample.index},
+                      {"count", sample.count},
+                      {"position", {sample.position.x, sample.position.y}},
+                      {"frame_pixels",
+                       {{"pixels", p.pixels},
+                        {"covered", p.covered},
+                        {"partly_covered", p.partlyCovered},
+                        {"mixed_primitives", p.mixedPrimitives},
+                        {"unexplained", p.unexplained}}}};
+  }
   if (!run.notes.empty()) json["notes"] = run.notes;
   return json;
 }
@@ -297,7 +310,7 @@ SummaryCells summaryCells(const RunRecord& run) {
           run.scene + "/" + run.camera,
           run.convention.name(),
           depthFormatName(run.depthFormat),
-          vertexModeName(run.vertexMode),
+          vertexModeName(run.vertexMode) + sampleSuffix(run),
           std::to_string(run.size.width) + "x" + std::to_string(run.size.height),
           "cov " + countText(c.total) + " (e" + countText(c.edgeAmbiguous) + " u" +
               countText(c.unexplained) + ")",
@@ -403,9 +416,16 @@ std::string PixelHits::text() const {
   return out;
 }
 
+std::string sampleSuffix(const RunRecord& run) {
+  if (!run.sample) return "";
+  return " sample " + std::to_string(run.sample->index) + " of " +
+         std::to_string(run.sample->count);
+}
+
 std::string runTitleText(const RunRecord& run) {
   return run.scene + "/" + run.camera + " " + run.convention.name() + " " +
-         depthFormatName(run.depthFormat) + " " + vertexModeName(run.vertexMode);
+         depthFormatName(run.depthFormat) + " " + vertexModeName(run.vertexMode) +
+         sampleSuffix(run);
 }
 
 RunVerdict runVerdict(const RunRecord& run) {
@@ -529,7 +549,10 @@ void checkDistinctRunFolders(const std::vector<const Scene*>& scenes) {
 
 std::string runFolderName(const RunRecord& run) {
   return pathComponent(run.scene) + "/" + pathComponent(run.camera) + "-" + run.convention.name() +
-         "-" + depthFormatName(run.depthFormat) + "-" + vertexModeName(run.vertexMode);
+         "-" + depthFormatName(run.depthFormat) + "-" + vertexModeName(run.vertexMode) +
+         (run.sample
+              ? "-s" + std::to_string(run.sample->index) + "of" + std::to_string(run.sample->count)
+              : std::string());
 }
 
 nlohmann::json reportJson(const std::vector<RunRecord>& runs, const GlInfo& gl,

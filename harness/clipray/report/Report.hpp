@@ -90,6 +90,28 @@ struct OffsetRecord {
   bool operator==(const OffsetRecord&) const = default;
 };
 
+// What the samples of a multisampled run say per pixel (engine/MultisampleRun): a pixel is
+// unexplained where any of its samples is (coverage or ids unexplained, depth beyond tolerance).
+struct MultisamplePixels {
+  std::int64_t pixels = 0;
+  std::int64_t covered = 0;          // some sample of the raster shows a primitive
+  std::int64_t partlyCovered = 0;    // of those, some sample shows the background (an edge)
+  std::int64_t mixedPrimitives = 0;  // of those covered, samples show different primitives
+  std::int64_t unexplained = 0;
+  bool operator==(const MultisamplePixels&) const = default;
+};
+
+// The sample a run of a multisampled frame compares: sample `index` of `count`, at `position` in
+// its pixel (glGetMultisamplefv: window coordinates from the lower-left corner, in pixels), and
+// the whole frame's per-pixel figures (the same on each of its sample runs).
+struct SampleRecord {
+  int index = 0;
+  int count = 1;
+  glm::dvec2 position{0.5, 0.5};
+  MultisamplePixels pixels;
+  bool operator==(const SampleRecord&) const = default;
+};
+
 struct RunRecord {
   std::string scene;
   std::string camera;
@@ -100,6 +122,7 @@ struct RunRecord {
   glm::dvec2 depthRange{0.0, 1.0};  // glDepthRange(n, f) it was drawn with (Scene::depthRange)
   bool depthClamp = false;          // drawn with GL_DEPTH_CLAMP (Scene::depthClamp)
   std::vector<OffsetRecord> polygonOffsets{};  // the objects drawn with a polygon offset
+  std::optional<SampleRecord> sample;          // set for the runs of a multisampled frame
   RunMetrics metrics;
   RunTimings timings;
   // The CPU time the process spent in each phase, every thread's (the GL driver's in the raster
@@ -164,8 +187,12 @@ inline constexpr std::size_t kReportedClusters = 5;
 // from the last (anything but timings and images) throws std::runtime_error naming the run.
 std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds);
 
-// "<scene>/<camera>-<convention>-<format>-<vertex mode>": the run's folder under the output folder.
+// "<scene>/<camera>-<convention>-<format>-<vertex mode>": the run's folder under the output folder;
+// "-s<index>of<count>" after it for a sample of a multisampled frame.
 std::string runFolderName(const RunRecord& run);
+// "", or " sample <index> of <count>" (GL's sample index, from 0) for a sample of a multisampled frame: after the vertex mode
+// wherever a run is named.
+std::string sampleSuffix(const RunRecord& run);
 // A scene or camera name as one safe path component: characters other than letters, digits and
 // "._+-" become '_'; a name that is empty or only dots becomes underscores.
 std::string pathComponent(const std::string& name);
@@ -201,7 +228,7 @@ std::string textSummary(const std::vector<RunRecord>& runs);
 std::vector<std::string> runSummaryLines(const std::vector<RunRecord>& runs);
 // The run's line of a summary of it alone.
 std::string runSummaryLine(const RunRecord& run);
-// "<scene>/<camera> <convention> <format> <vertex mode>": a run as messages name it.
+// "<scene>/<camera> <convention> <format> <vertex mode>[ sample i of n]": a run as messages name it.
 std::string runTitleText(const RunRecord& run);
 // Which side hit what at the run's worst pixel and at its clusters' pixels, one line each, each
 // line after `indent`: "worst pixel (12, 40): coverage_unexplained: raster nothing, ray ...".

@@ -237,6 +237,25 @@ class ReportReader {
                                       predicted.y, measured.x, measured.y});
       }
     }
+    if (value.contains("sample")) {
+      const json& sample = value["sample"];
+      const Pointer sAt = at / "sample";
+      SampleRecord record;
+      record.index = static_cast<int>(integer(sample, sAt, "index"));
+      record.count = static_cast<int>(integer(sample, sAt, "count"));
+      if (!sample.contains("position") || !sample["position"].is_array() ||
+          sample["position"].size() != 2 || !sample["position"][0].is_number() ||
+          !sample["position"][1].is_number()) {
+        fail(sAt / "position", "expected [x, y]");
+      }
+      record.position = {sample["position"][0].get<double>(), sample["position"][1].get<double>()};
+      const json& p = field(sample, sAt, "frame_pixels");
+      const Pointer pAt = sAt / "frame_pixels";
+      record.pixels = {integer(p, pAt, "pixels"), integer(p, pAt, "covered"),
+                       integer(p, pAt, "partly_covered"), integer(p, pAt, "mixed_primitives"),
+                       integer(p, pAt, "unexplained")};
+      run.sample = record;
+    }
     if (value.contains("notes")) {
       const json& notes = value["notes"];
       if (!notes.is_array())

@@ -78,6 +78,11 @@ struct ReconcileOptions {
   AppRenderFunction render;  // set: the app draws the raster side
   AppIds appIds = AppIds::Written;
   unsigned threads = 0;  // 0: every core
+  // Samples per pixel: above 1 every frame is drawn multisampled (a count the GL implementation
+  // offers) and each sample is a run of its own (RunResult::sample), compared with rays through
+  // its position: the picking function is asked with the camera sheared to put the sample on the
+  // pixel centre. clipray's renderer only (no render function), and no picking hits.
+  int samples = 1;
 };
 
 // One pixel of a run, as both sides saw it.
@@ -95,6 +100,13 @@ struct RunResult {
   std::string scene, camera, convention, depthFormat, vertexMode;  // "zo", "32f", "world"
   bool appRender = false;  // the raster side is the app's render function
   Viewport size;
+  // For a multisampled frame (ReconcileOptions::samples): which sample this run compares, of how
+  // many, and where it lies in the pixel (window coordinates from the lower-left corner, pixels);
+  // sampleCount 1 otherwise. A pixel of the frame is unexplained where any of its samples is:
+  // frameUnexplainedPixels counts them (the same on each of the frame's runs).
+  int sample = 0, sampleCount = 1;
+  glm::dvec2 samplePosition{0.5, 0.5};
+  std::int64_t framePartlyCoveredPixels = 0, frameUnexplainedPixels = 0;
   // The run passes: verdict "consistent". It fails as "inconsistent" where raster and rays
   // disagree beyond what is explained, else as "convention-error" where `clipray check` on the
   // camera under the run's state (clip control, depth range, face culling, depth clamp) finds an

@@ -1,0 +1,85 @@
+// `clipray reconcile --samples N`: each sample of a multisampled frame is a run of its own,
+// compared with rays through its position; counts the implementation does not offer and what
+// cannot be multisampled are refused before anything is written.
+
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <set>
+
+#include "support/RunCommand.hpp"
+
+namespace clipray {
+namespace {
+
+using testing::runClipray;
+using testing::TempFolder;
+
+const std::string kSource = CLIPRAY_SOURCE_DIR;
+
+TEST(MultisampleCli, EverySampleIsARunOfItsOwnAndTheReportSaysWhere) {
+  TempFolder folder;
+  const auto result = runClipray("reconcile '" + kSource +
+                                     "/scenes/standard.json' --conventions zo-reversed-upper-left "
+                                     "--depth-formats 24 --size 160x120 --samples 4 --out out "
+                                     "--junit junit.xml",
+                                 folder.path());
+  ASSERT_EQ(result.status, 0) << result.err << result.out;
+  const auto report = nlohmann::json::parse(testing::readText(folder.path() / "out/report.json"));
+  ASSERT_EQ(report["runs"].size(), 4u);
+  std::set<std::pair<double, double>> positions;
+  for (int s = 0; s < 4; ++s) {
+    const auto& run = report["runs"][s];
+    EXPECT_EQ(run["verdict"], "consistent");
+    EXPECT_EQ(run["sample"]["index"], s);
+    EXPECT_EQ(run["sample"]["count"], 4);
+    positions.insert(
+        {run["sample"]["position"][0].get<double>(), run["sample"]["position"][1].get<double>()});
+    // The frame's pixels, the same on each of its runs (llvmpipe, Mesa 22.3: as in
+    // tests/gl/MultisampleTest.cpp).
+    EXPECT_EQ(run["sample"]["frame_pixels"]["pixels"], 160 * 120);
+    EXPECT_EQ(run["sample"]["frame_pixels"]["covered"], 10086);
+    EXPECT_EQ(run["sample"]["frame_pixels"]["partly_covered"], 151);
+    EXPECT_EQ(run["sample"]["frame_pixels"]["unexplained"], 0);
+  }
+  EXPECT_EQ(positions.size(), 4u);
+  EXPECT_NE(result.out.find("zo-reversed-upper-left 24  world sample 2 of 4 160x120"),
+            std::string::npos)
+      << result.out;
+  const std::string junit = testing::readText(folder.path() / "junit.xml");
+  EXPECT_NE(junit.find("name=\"main zo-reversed-upper-left 24 world sample 3 of 4\""),
+            std::string::npos)
+      << junit;
+}
+
+TEST(MultisampleCli, ACountTheImplementationDoesNotOfferIsRefusedWithTheCountsItDoes) {
+  TempFolder folder;
+  const auto result = runClipray(
+      "reconcile '" + kSource + "/scenes/standard.json' --samples 3 --out out", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_NE(result.err.find("--samples 3: osmesa ("), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find(") offers no 3-sample depth format 24 (it offers 4)"),
+            std::string::npos)
+      << result.err;
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "out/report.json"));
+}
+
+TEST(MultisampleCli, AnalyticPrimitivesAreRefused) {
+  TempFolder folder;
+  const std::string scene = kSource + "/scenes/primitives.json";
+  const auto result =
+      runClipray("reconcile '" + scene + "' --samples 4 --size 32x24 --out out", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_NE(result.err.find("--samples 4: scene \"primitives\" (" + scene +
+                            ") has analytic primitives, which are drawn with one depth per pixel "
+                            "(gl_FragDepth at its centre); multisampled runs need triangle meshes "
+                            "only"),
+            std::string::npos)
+      << result.err;
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "out/report.json"));
+}
+
+}  // namespace
+}  // namespace clipray
