@@ -6,6 +6,7 @@
 //   camera: 'perspective' or 'orthographic'
 //   reversedDepthBuffer: true for WebGLRenderer({reversedDepthBuffer: true}) (EXT_clip_control)
 //   material: 'basic' (MeshBasicMaterial) or 'shader' (a ShaderMaterial of the page's own)
+//   doubleSided: true for THREE.DoubleSide materials
 //   mistake: one of the classic ones, each described where it is made below.
 import * as THREE from 'three';
 
@@ -63,10 +64,12 @@ if (page.mistake === 'orthographic-raycast') {
 }
 
 if (page.mistake === 'depth-picker') {
-  // (c) A depth-buffer picker written for GL's [-1, 1] depth: the pick ray runs from the
-  // unprojection of z_ndc = -1 (the near plane under [-1, 1]) to that of z_ndc = 1, as
+  // (c) A picker written for GL's [-1, 1] depth: the pick ray runs from the unprojection of
+  // z_ndc = -1 (the near plane under [-1, 1]) to that of z_ndc = 1 (the far plane), as
   // gluUnProject at window depths 0 and 1 gives. Under EXT_clip_control's ZERO_TO_ONE with
-  // reversed depth the near plane is z_ndc = 1 and -1 lies behind the camera.
+  // reversed depth, 1 is the near plane and -1 lies 2 far - near beyond it: from an orthographic
+  // camera the ray starts behind the far plane and runs toward the camera, and its first hit is
+  // the farthest surface (the page's materials are double-sided, so the ray sees back faces).
   THREE.Raycaster.prototype.setFromCamera = function(coords, cam) {
     const near = new THREE.Vector3(coords.x, coords.y, -1).unproject(cam);
     const far = new THREE.Vector3(coords.x, coords.y, 1).unproject(cam);
@@ -77,8 +80,10 @@ if (page.mistake === 'depth-picker') {
 }
 
 const material = (color) => {
-  if (page.material !== 'shader') return new THREE.MeshBasicMaterial({color});
+  const side = page.doubleSided ? THREE.DoubleSide : THREE.FrontSide;
+  if (page.material !== 'shader') return new THREE.MeshBasicMaterial({color, side});
   return new THREE.ShaderMaterial({
+    side,
     uniforms: {color: {value: new THREE.Color(color)}},
     vertexShader: `void main() {
       gl_Position = projectionMatrix * modelViewMatrix * vec4(position, 1.0);
