@@ -368,8 +368,9 @@ PageReconcileResult::Counts PageReconcileResult::counts() const {
 double PageReconcileResult::maxDepthError() const {
   double worst = 0.0;
   for (const PagePick& pick : picks) {
-    if (pick.hit && pick.surface)
+    if (pick.hit && pick.surface && !pick.ambiguous) {
       worst = std::max(worst, std::abs(pick.rayDepth - pick.bufferDepth));
+    }
   }
   return worst;
 }
