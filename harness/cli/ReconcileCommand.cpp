@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <memory>
 #include <optional>
@@ -19,6 +20,7 @@
 #include "clipray/engine/MemoryBudget.hpp"
 #include "clipray/engine/ReconcilePlan.hpp"
 #include "clipray/engine/ReconcileRunner.hpp"
+#include "clipray/page/PageReconcile.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/util/OptionValues.hpp"
 
@@ -60,6 +62,11 @@ struct ReconcileArguments {
   int samples = 1;
   std::string maxMemory;  // empty: what the machine (or the cgroup) has available
   std::string shard;      // "I/N": only the scene/camera pairs of shard I of N
+  // --page: a three.js page's own picking against its depth buffer (PageReconcile.hpp).
+  std::string page;
+  std::string grid = "32x24";
+  std::optional<std::uint64_t> frames;
+  std::optional<double> timeout;
 };
 
 // "I/N" with 1 <= I <= N <= 100000 (a CI matrix of any size); throws InputError otherwise.
@@ -176,6 +183,61 @@ int printOutcome(const engine::ReconcilePlan& plan, const engine::ReconcileOutco
   return outcome.consistent() ? 0 : 1;
 }
 
+// "CxR": the grid of pixel centres --page picks at.
+std::pair<int, int> parseGrid(const std::string& text) {
+  int columns = 0, rows = 0;
+  char x = 0;
+  std::istringstream stream(text);
+  if (!(stream >> columns >> x >> rows) || (x != 'x' && x != 'X') || !stream.eof() || columns < 1 ||
+      rows < 1 || columns > 4096 || rows > 4096) {
+    throw InputError("--grid: expected CxR with 1 to 4096 columns and rows (e.g. 32x24), got \"" +
+                     text + "\"");
+  }
+  return {columns, rows};
+}
+
+// reconcile --page: the picks' summary on stdout (stderr with --json, which prints the report
+// there instead), <out>/page-report.json; 0 consistent, 1 inconsistent. Every option is checked
+// before the browser starts, and nothing is written for a page that cannot be reconciled.
+int runPageReconcile(const ReconcileArguments& arguments, const CLI::App& app) {
+  if (!arguments.scenes.empty()) {
+    throw InputError("--page: the page is the scene; give no scene files (got " +
+                     arguments.scenes.front() + ")");
+  }
+  for (const char* option :
+       {"--backend", "--conventions", "--depth-formats", "--vertex-modes", "--size", "--images",
+        "--junit", "--kernels", "--shard", "--max-memory", "--threads", "--rounds"}) {
+    if (app.count(option) > 0) {
+      throw InputError(std::string(option) + ": not with --page (the page draws itself)");
+    }
+  }
+  page::PageReconcileOptions options;
+  options.page.target = arguments.page;
+  std::tie(options.columns, options.rows) = parseGrid(arguments.grid);
+  if (arguments.frames) {
+    if (*arguments.frames < 1 || *arguments.frames > 100000) {
+      throw InputError("--frames: expected a number of frames from 1 to 100000 with --page, got " +
+                       std::to_string(*arguments.frames));
+    }
+    options.page.frames = *arguments.frames;
+  }
+  if (arguments.timeout) options.page.timeoutSeconds = *arguments.timeout;
+  const std::filesystem::path out(arguments.out);
+  if (std::filesystem::exists(out) && !std::filesystem::is_directory(out)) {
+    throw InputError("--out: " + arguments.out + " is a file, not a folder");
+  }
+  const page::PageReconcileResult result = page::reconcilePage(options);
+  const std::string report =
+      page::pageReconcileJson(result).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
+  std::filesystem::create_directories(out);
+  const std::filesystem::path file = out / "page-report.json";
+  std::ofstream(file) << report << "\n";
+  std::ostream& summary = arguments.json ? std::cerr : std::cout;
+  summary << page::pageReconcileText(result) << "report: " << file.string() << "\n";
+  if (arguments.json) std::cout << report << "\n";
+  return result.consistent() ? 0 : 1;
+}
+
 CommandRunner addReconcileOptions(CLI::App& app) {
   auto arguments = std::make_shared<ReconcileArguments>();
   app.add_option("scenes", arguments->scenes,
@@ -226,7 +288,21 @@ CommandRunner addReconcileOptions(CLI::App& app) {
                  "timing's median over rounds 2.. (the first, cold round is reported apart)")
       ->check(CLI::Range(1u, 1000u))
       ->capture_default_str();
-  return [arguments] {
+  app.add_option("--page", arguments->page,
+                 "A three.js page (http(s) or file URL, or an HTML file): call its own "
+                 "Raycaster.setFromCamera at a grid of pixel centres in headless chromium and "
+                 "compare each first hit's depth with the page's depth buffer");
+  app.add_option("--grid", arguments->grid, "With --page: CxR pixel centres to pick at")
+      ->capture_default_str();
+  app.add_option("--frames", arguments->frames,
+                 "With --page: animation frames to let the page draw first (default 3)");
+  app.add_option("--timeout", arguments->timeout,
+                 "With --page: seconds to wait for the page's frames (default 30)");
+  return [arguments, &app] {
+    if (!arguments->page.empty()) return runPageReconcile(*arguments, app);
+    if (app.count("--grid") > 0 || arguments->frames || arguments->timeout) {
+      throw InputError("--grid, --frames and --timeout need --page");
+    }
     const engine::ReconcilePlan plan = planOf(*arguments);
     return printOutcome(plan, engine::runReconcilePlan(plan), arguments->json);
   };

@@ -56,7 +56,10 @@ struct PageCheckResult {
 // The analysis of a recording (the JSON `window.__clipray.snapshot()` returns). Throws
 // InputError "<page>: ..." where the page made no WebGL context, never drew, or no canvas's draws
 // have a projection to check.
-PageCheckResult checkRecording(const std::string& page, const nlohmann::json& recording);
+// With `requireProjection` false (reconcile --page, which picks regardless), a page none of
+// whose canvases has a projection is not refused: each canvas keeps its notChecked.
+PageCheckResult checkRecording(const std::string& page, const nlohmann::json& recording,
+                               bool requireProjection = true);
 
 // Base64 (RFC 4648) as the recorder writes bytes (btoa); nullopt for other characters.
 std::optional<std::string> base64Decoded(const std::string& text);

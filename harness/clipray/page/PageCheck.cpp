@@ -147,7 +147,7 @@ std::string pageUrl(const std::string& target) {
   return "file://" + percentEncoded(absolute.lexically_normal().string());
 }
 
-PageCheckResult checkPage(const PageOptions& options) {
+PageCheckResult checkPage(const PageOptions& options, const AfterRecording& after) {
   const std::string url = pageUrl(options.target);
   if (!(options.timeoutSeconds > 0.0) || options.timeoutSeconds > 3600.0) {
     throw InputError("--timeout: expected seconds in (0, 3600], got " +
@@ -165,14 +165,16 @@ PageCheckResult checkPage(const PageOptions& options) {
   // a display. --no-sandbox: chromium's sandbox refuses to run as root (CI's containers).
   // --disable-dev-shm-usage: containers often give /dev/shm 64 MiB, too little for the
   // renderer. The background flags keep animation frames coming at full rate (a headless page
-  // counts as hidden to some of chromium's throttles).
+  // counts as hidden to some of chromium's throttles). --allow-file-access-from-files: a file
+  // page's module scripts and import maps (three.js from node_modules) load; without it chromium
+  // refuses them as cross-origin.
   DevToolsPipe browserPipe(
-      browser,
-      {"--headless=new", "--no-sandbox", "--disable-gpu-sandbox", "--use-angle=swiftshader",
-       "--enable-unsafe-swiftshader", "--no-first-run", "--no-default-browser-check",
-       "--disable-extensions", "--mute-audio", "--hide-scrollbars", "--window-size=800,600",
-       "--disable-dev-shm-usage", "--disable-background-timer-throttling",
-       "--disable-renderer-backgrounding", "--disable-backgrounding-occluded-windows"});
+      browser, {"--headless=new", "--no-sandbox", "--disable-gpu-sandbox",
+                "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-first-run",
+                "--no-default-browser-check", "--disable-extensions", "--mute-audio",
+                "--hide-scrollbars", "--window-size=800,600", "--disable-dev-shm-usage",
+                "--disable-background-timer-throttling", "--disable-renderer-backgrounding",
+                "--disable-backgrounding-occluded-windows", "--allow-file-access-from-files"});
   std::string session;
   try {
     const nlohmann::json targets = browserPipe.call("Target.getTargets", {}, "", startDeadline);
@@ -194,9 +196,10 @@ PageCheckResult checkPage(const PageOptions& options) {
                   .value("sessionId", "");
     browserPipe.call("Page.enable", nlohmann::json::object(), session, startDeadline);
     browserPipe.call("Page.bringToFront", nlohmann::json::object(), session, startDeadline);
-    browserPipe.call("Page.addScriptToEvaluateOnNewDocument",
-                     {{"source", pageRecorderScript(options.frames, options.verify)}}, session,
-                     startDeadline);
+    browserPipe.call(
+        "Page.addScriptToEvaluateOnNewDocument",
+        {{"source", pageRecorderScript(options.frames, options.verify, options.three)}}, session,
+        startDeadline);
   } catch (const DevToolsPipe::TimedOut&) {
     const std::string tail = browserPipe.stderrTail();
     throw InputError("chromium did not answer on the DevTools pipe in " +
@@ -280,7 +283,8 @@ PageCheckResult checkPage(const PageOptions& options) {
   if (!recording.is_object()) {
     throw InputError(options.target + ": the recording could not be read back from the page");
   }
-  PageCheckResult result = checkRecording(options.target, recording);
+  // reconcile --page picks on a page whose matrices the state check cannot read.
+  PageCheckResult result = checkRecording(options.target, recording, !options.three);
   if (options.verify) {
     nlohmann::json images;
     try {
@@ -295,6 +299,7 @@ PageCheckResult checkPage(const PageOptions& options) {
     }
     addDepthImages(result, images);
   }
+  if (after) after(browserPipe, session, result);
   return result;
 }
 

@@ -9,6 +9,7 @@
 // /usr/bin/chromium-browser).
 
 #include <cstdint>
+#include <functional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -23,7 +24,15 @@ struct PageOptions {
   double timeoutSeconds = 30.0;
   // Read each canvas's depth buffer after the last frame (addDepthImages).
   bool verify = false;
+  // Define window.__THREE_DEVTOOLS__ before the page's scripts (reconcile --page).
+  bool three = false;
 };
+
+class DevToolsPipe;
+// Called once the recording is checked, with the browser and the page still open: reconcile
+// --page asks the page more (PageReconcile.hpp). It may throw InputError.
+using AfterRecording =
+    std::function<void(DevToolsPipe& browser, const std::string& session, PageCheckResult&)>;
 
 // The URL to load: http(s) and file URLs as given, a path as an absolute file URL. Throws
 // InputError for another scheme (javascript:, data:, ftp:) or a file that does not exist.
@@ -31,7 +40,7 @@ std::string pageUrl(const std::string& target);
 
 // Throws InputError (exit 2) for a bad target, chromium missing or failing to start (with the
 // end of its stderr), a page that does not load, makes no WebGL context or never draws.
-PageCheckResult checkPage(const PageOptions& options);
+PageCheckResult checkPage(const PageOptions& options, const AfterRecording& after = {});
 
 nlohmann::json pageCheckJson(const PageCheckResult& result);
 std::string pageCheckText(const PageCheckResult& result);

@@ -19,7 +19,7 @@ namespace {
 
 // Called with the number of frames to record (PageRecorder.hpp).
 constexpr std::string_view kScript = R"js(
-((frameLimit, verify) => {
+((frameLimit, verify, withThree) => {
   'use strict';
   if (window.__clipray) return;
   const kMaxCalls = 500000;
@@ -52,6 +52,9 @@ constexpr std::string_view kScript = R"js(
     return id;
   };
   const contextIndex = new WeakMap();  // context or extension object -> index in rec.contexts
+  // Per context: EXT_clip_control's depth mode (GL's NEGATIVE_ONE_TO_ONE 0x935E until
+  // clipControlEXT), the depth clear value and the depth range, as the page's last calls left them.
+  const depthStates = [];
   const keep = (owner, name, args) => {
     const index = contextIndex.get(owner);
     if (index === undefined || rec.done) return false;
@@ -123,6 +126,17 @@ constexpr std::string_view kScript = R"js(
     };
     wrap(proto, 'enable', capability('enable'));
     wrap(proto, 'disable', capability('disable'));
+    // The clear value and depth range as the last call left them, kept past the recording's
+    // end (reconcile --page maps a pick to window depth with them).
+    wrap(proto, 'clearDepth', (gl, [depth]) => {
+      if (contextIndex.has(gl)) depthStates[contextIndex.get(gl)].clearDepth = Math.min(1, Math.max(0, Number(depth)));
+    });
+    wrap(proto, 'depthRange', (gl, [near, far]) => {
+      // WebGL 1.0, 6.12: near above far is refused (INVALID_OPERATION), nothing changes.
+      if (contextIndex.has(gl) && !(near > far)) {
+        depthStates[contextIndex.get(gl)].depthRange = [Number(near), Number(far)];
+      }
+    });
     for (const name of ['depthFunc', 'clearDepth', 'depthRange', 'viewport', 'cullFace',
                         'frontFace', 'depthMask', 'polygonOffset', 'clear']) {
       wrap(proto, name, (gl, args) => keep(gl, name, args.map(Number)));
@@ -215,8 +229,10 @@ constexpr std::string_view kScript = R"js(
       contextIndex.set(extension, contextIndex.get(gl));
       const lower = String(name).toLowerCase();
       if (lower === 'ext_clip_control') {
-        wrap(extension, 'clipControlEXT', (ext, [origin, depth]) =>
-          keep(ext, 'clipControl', [origin, depth]));
+        wrap(extension, 'clipControlEXT', (ext, [origin, depth]) => {
+          depthStates[contextIndex.get(ext)].clipDepth = depth;
+          keep(ext, 'clipControl', [origin, depth]);
+        });
       } else if (lower === 'angle_instanced_arrays') {
         wrap(extension, 'drawArraysInstancedANGLE', draw('drawArraysInstanced'));
         wrap(extension, 'drawElementsInstancedANGLE', draw('drawElementsInstanced'));
@@ -240,6 +256,8 @@ constexpr std::string_view kScript = R"js(
       contextIndex.set(gl, index);
       canvases.push({canvas: this, gl});
       const attributes = gl.getContextAttributes() || {};
+      depthStates.push({clipDepth: 0x935E, clearDepth: 1, depthRange: [0, 1],
+                        subpixelBits: gl.getParameter(gl.SUBPIXEL_BITS)});
       rec.contexts.push({
         name: this.id ? 'canvas#' + this.id : 'canvas ' + (index + 1),
         type: kind,
@@ -356,6 +374,157 @@ constexpr std::string_view kScript = R"js(
   };
   rec.readDepth = () => JSON.stringify(canvases.map(({gl}) => readDepth(gl)));
 
+  // reconcile --page: three.js announces each WebGLRenderer and Scene it makes to
+  // window.__THREE_DEVTOOLS__ (an 'observe' event carrying the object) when that exists before
+  // three.js runs, and its REVISION with a 'register' event. Each observed renderer's render is
+  // wrapped on the instance to keep the scene and camera it last drew.
+  const three = {renderers: [], scenes: 0, revision: '', module: null, found: ''};
+  if (withThree && typeof window.__THREE_DEVTOOLS__ === 'undefined') {
+    const devtools = new EventTarget();
+    devtools.addEventListener('observe', (event) => {
+      const object = event.detail;
+      if (object && object.isWebGLRenderer && typeof object.render === 'function') {
+        const entry = {renderer: object, scene: null, camera: null, renders: 0};
+        three.renderers.push(entry);
+        const render = object.render;
+        object.render = function(scene, camera) {
+          if (scene && scene.isObject3D && camera && camera.isCamera) {
+            entry.scene = scene;
+            entry.camera = camera;
+            entry.renders++;
+          }
+          return render.apply(this, arguments);
+        };
+      } else if (object && object.isScene) {
+        three.scenes++;
+      }
+    });
+    devtools.addEventListener('register', (event) => {
+      three.revision = String(event.detail && event.detail.revision || '');
+    });
+    Object.defineProperty(window, '__THREE_DEVTOOLS__',
+                          {value: devtools, configurable: true, writable: true});
+  }
+  // The renderer that drew last through a camera (the page's main view, where there are more).
+  const drawingRenderer = () => {
+    let best = null;
+    for (const entry of three.renderers) {
+      if (entry.camera && contextIndex.has(entry.renderer.getContext()) &&
+          (!best || entry.renders >= best.renders)) {
+        best = entry;
+      }
+    }
+    return best;
+  };
+  // The page's own three.js module, the one whose classes made the renderer's scene: window.THREE
+  // where the page sets it, else the module the page imported, by `importer` (import() from the
+  // DevTools' evaluation: the page's import map applies), as 'three' and by the URLs of the
+  // scripts it loaded. Returns '' when found, else why not.
+  rec.findThree = async (importer) => {
+    if (three.module) return '';
+    if (three.renderers.length === 0) return 'no three.js renderer was observed';
+    const entry = drawingRenderer();
+    if (!entry) return 'no three.js renderer drew through a camera';
+    const ours = (module) => module && typeof module.Raycaster === 'function' &&
+                             typeof module.Object3D === 'function' &&
+                             entry.scene instanceof module.Object3D;
+    const candidates = [() => window.THREE, () => importer('three')];
+    for (const resource of performance.getEntriesByType('resource')) {
+      if (/three[^/]*\.m?js(\?|#|$)/.test(resource.name)) {
+        candidates.push(() => importer(resource.name));
+      }
+    }
+    for (const candidate of candidates) {
+      try {
+        const module = await candidate();
+        if (ours(module)) {
+          three.module = module;
+          return '';
+        }
+      } catch (error) {
+        // The next way.
+      }
+    }
+    return 'the page\'s three.js module (its Raycaster) could not be reached';
+  };
+  // The page's own Raycaster.setFromCamera at the centres of a columns x rows grid of the
+  // drawing buffer's pixels, each pick's first hit, and the depth buffer the last frame left,
+  // read in the same task (no frame runs in between). A pick is [x, y (pixel, from the top),
+  // hit: null or [point xyz, world normal xyz, object index], ambiguous]; ambiguous where the
+  // rays 2^-SUBPIXEL_BITS of a pixel left, right, above and below the centre do not all reach
+  // the same object (the rasterizer snaps vertices to that grid: an edge that near the centre
+  // may cover it or not).
+  rec.pick = (columns, rows) => {
+    const entry = drawingRenderer();
+    const THREE = three.module;
+    if (!entry || !THREE) return JSON.stringify({failure: 'three.js not found'});
+    const {renderer, scene, camera} = entry;
+    const gl = renderer.getContext();
+    const index = contextIndex.get(gl);
+    const state = depthStates[index];
+    const canvas = renderer.domElement;
+    const width = gl.drawingBufferWidth, height = gl.drawingBufferHeight;
+    // A page's pointer handler: NDC from CSS pixels over the canvas's CSS size; the buffer's
+    // pixel (x, y) centre is at ((x + 0.5) / width, (y + 0.5) / height) of that size.
+    const cssWidth = canvas.clientWidth || width / window.devicePixelRatio;
+    const cssHeight = canvas.clientHeight || height / window.devicePixelRatio;
+    const raycaster = new THREE.Raycaster();
+    const objects = [];
+    const objectIndex = new Map();
+    const cast = (x, y) => {
+      const cssX = x * cssWidth / width, cssY = y * cssHeight / height;
+      raycaster.setFromCamera({x: cssX / cssWidth * 2 - 1, y: -(cssY / cssHeight) * 2 + 1}, camera);
+      const hits = raycaster.intersectObject(scene, true);
+      return hits.length ? hits[0] : null;
+    };
+    const normalMatrix = new THREE.Matrix3();
+    const step = Math.pow(2, -state.subpixelBits);
+    const picks = [];
+    for (let row = 0; row < rows; ++row) {
+      for (let column = 0; column < columns; ++column) {
+        const x = Math.floor((column + 0.5) * width / columns);
+        const y = Math.floor((row + 0.5) * height / rows);
+        const hit = cast(x + 0.5, y + 0.5);
+        const object = hit ? hit.object : null;
+        let ambiguous = false;
+        for (const [dx, dy] of [[-step, 0], [step, 0], [0, -step], [0, step]]) {
+          const near = cast(x + 0.5 + dx, y + 0.5 + dy);
+          if ((near ? near.object : null) !== object) ambiguous = true;
+        }
+        let reading = null;
+        if (hit) {
+          if (!objectIndex.has(object)) {
+            objectIndex.set(object, objects.length);
+            objects.push(object.name || (object.type + ' ' + object.id));
+          }
+          const normal = hit.face ? hit.face.normal.clone() : new THREE.Vector3();
+          normal.applyMatrix3(normalMatrix.getNormalMatrix(object.matrixWorld)).normalize();
+          reading = [hit.point.x, hit.point.y, hit.point.z, normal.x, normal.y, normal.z,
+                     objectIndex.get(object)];
+        }
+        picks.push([x, y, reading, ambiguous]);
+      }
+    }
+    const reversedDepthBuffer = !!(renderer.state && renderer.state.buffers &&
+                                   renderer.state.buffers.depth.getReversed &&
+                                   renderer.state.buffers.depth.getReversed());
+    const {clipDepth, clearDepth, depthRange, subpixelBits} = state;
+    // The last thing done on the page: readDepth changes bindings behind three.js's state cache
+    // (renderer.resetState would also turn its reversed depth off), and no frame is read after.
+    const depth = readDepth(gl);
+    return JSON.stringify({
+      revision: THREE.REVISION || three.revision,
+      canvas: rec.contexts[index].name, context: index, width, height, cssWidth, cssHeight,
+      devicePixelRatio: window.devicePixelRatio,
+      camera: {type: camera.type, orthographic: !!camera.isOrthographicCamera,
+               near: camera.near, far: camera.far,
+               projection: Array.from(camera.projectionMatrix.elements),
+               view: Array.from(camera.matrixWorldInverse.elements)},
+      reversedDepthBuffer, clipDepth, clearDepth, depthRange, subpixelBits, objects, picks, depth,
+    });
+  };
+  rec.threeProgress = () => three.renderers.length + ' ' + three.scenes + ' ' + three.revision;
+
   rec.progress = () => rec.frames + ' ' + rec.draws + ' ' + rec.contexts.length + ' ' + rec.done;
   rec.snapshot = () => {
     // The canvas as it is now: its buffer's size, its size on the page, the pixel ratio.
@@ -378,11 +547,12 @@ constexpr std::string_view kScript = R"js(
 
 }  // namespace
 
-std::string pageRecorderScript(std::uint64_t frames, bool verify) {
+std::string pageRecorderScript(std::uint64_t frames, bool verify, bool three) {
   std::string script(kScript);
   script += "(";
   script += std::to_string(frames);
   script += verify ? ", true" : ", false";
+  script += three ? ", true" : ", false";
   script += ");\n";
   return script;
 }

@@ -14,6 +14,9 @@ namespace clipray::page {
 // What it keeps, per call, is an array [context, name, arguments...] (PageCalls.hpp reads
 // them); `window.__clipray.progress()` returns "frames draws contexts done", and
 // `window.__clipray.snapshot()` the whole recording as one JSON string.
-std::string pageRecorderScript(std::uint64_t frames, bool verify);
+// With `three`, window.__THREE_DEVTOOLS__ is defined before the page's scripts and
+// `window.__clipray.findThree(importer)` / `pick(columns, rows)` serve reconcile --page
+// (PageReconcile.hpp).
+std::string pageRecorderScript(std::uint64_t frames, bool verify, bool three = false);
 
 }  // namespace clipray::page
