@@ -10,7 +10,9 @@ frames and fewer repetitions, for checking the script itself, never for the page
   3. the analytic primitives' float rays against the CPU's double rays (report by_kind);
   4. `clipray bench` on every hard case and the Google Benchmark ray rows side by side;
   5. `clipray_intersect_bench`: the intersection side by side with Embree, and its scaling;
-  6. where the analytic CPU time goes, from `perf record` samples (analytic_profile.py; skipped
+  6. the terrain multisampled: 4 samples against 1, the analytic time of a frame's sample runs
+     summed against the single-sample run's;
+  7. where the analytic CPU time goes, from `perf record` samples (analytic_profile.py; skipped
      with a line saying why where perf cannot record).
 Every table is computed here from what those commands print or write; the page's prose says
 what the columns mean, never a figure of its own. The machine, date and commit go on top.
@@ -154,6 +156,31 @@ def terrain_section(build, work, quick):
             f"the medians of rounds 2-{rounds}, then the median over the processes "
             f"(milliseconds; \"cores\" is CPU time over wall time; the ratios' range over the "
             f"processes in brackets).\n\n")
+    return text + table(header, rows)
+
+
+def multisample_section(build, work, quick):
+    size = "480x270" if quick else "1920x1080"
+    rounds = "2" if quick else "5"
+    base = ["scenes/terrain_100k.json", "--size", size, "--depth-formats", "32f",
+            "--conventions", "zo", "--rounds", rounds]
+    single = reconcile(build, os.path.join(work, "msaa1"), base)["runs"]
+    sampled = reconcile(build, os.path.join(work, "msaa4"), base + ["--samples", "4"])["runs"]
+    one = single[0]
+    rows = [["1", fmt(one["timings_ms"]["raster"]), fmt(one["timings_ms"]["readback"]),
+             fmt(analytic(one["timings_ms"])), "1", one["verdict"]]]
+    total = sum(analytic(r["timings_ms"]) for r in sampled)
+    verdicts = sorted({r["verdict"] for r in sampled})
+    rows.append([str(len(sampled)), fmt(sampled[0]["timings_ms"]["raster"]),
+                 fmt(sampled[0]["timings_ms"]["readback"]), fmt(total),
+                 fmt(total / analytic(one["timings_ms"])), ", ".join(verdicts)])
+    text = (f"`clipray reconcile {' '.join(base)}` with and without `--samples 4`, one process "
+            f"each, the medians of rounds 2-{rounds} (milliseconds, wall time). A multisampled "
+            f"frame is drawn and read once (raster and readback: every sample's copy through "
+            f"texelFetch included) and each sample is traced and compared as a frame of its own "
+            f"(rays through its position): its analytic time is the sum over the sample runs, "
+            f"and the last column is that sum over the single-sample run's.\n\n")
+    header = ["samples", "raster", "readback", "analytic", "analytic / 1 sample", "verdicts"]
     return text + table(header, rows)
 
 
@@ -326,6 +353,7 @@ def main():
             "## Reconcile, every shipped scene\n\n" + suite,
             "\n## The 100k-triangle terrain in steady state\n\n" +
             terrain_section(build, work, options.quick),
+            "\n## Multisampling\n\n" + multisample_section(build, work, options.quick),
             "\n## Analytic primitives: GLSL float rays against CPU double rays\n\n" +
             primitives_section(build, work),
             "\n## Ray methods\n\n" + ray_methods_section(build, work, options.quick),
