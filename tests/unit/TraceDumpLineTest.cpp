@@ -165,6 +165,32 @@ TEST(TraceDumpLine, ProjectionStructure) {
   EXPECT_FALSE(hasProjectionStructure(glm::dmat4(0.0)));
 }
 
+// three.js 0.187's makeOrthographic with reversedDepth (c = 1 / (f - n), d = f / (f - n)): z kept,
+// orientation kept, so no hasProjectionStructure; its own shape, unequal on-axis scales, is read
+// (under a reversed depth test only: GlTraceState). A view, a uniformly scaled or rotated one, is
+// not.
+TEST(TraceDumpLine, ReversedOrthographicStructure) {
+  const double left = -4.0, right = 4.0, top = 3.0, bottom = -3.0, near = 0.1, far = 100.0;
+  glm::dmat4 reversed(1.0);
+  reversed[0][0] = 2.0 / (right - left);
+  reversed[1][1] = 2.0 / (top - bottom);
+  reversed[2][2] = 1.0 / (far - near);
+  reversed[3][2] = far / (far - near);
+  EXPECT_FALSE(hasProjectionStructure(reversed));
+  EXPECT_TRUE(hasReversedOrthographicStructure(reversed));
+  glm::dmat4 view(1.0);
+  view[3] = glm::dvec4(1.0, 2.0, -5.0, 1.0);
+  EXPECT_FALSE(hasReversedOrthographicStructure(view));
+  EXPECT_FALSE(hasReversedOrthographicStructure(view * 3.0));
+  EXPECT_FALSE(hasReversedOrthographicStructure(
+      reversed * glm::dmat4(glm::dmat3(glm::dvec3(0.6, 0.8, 0.0), glm::dvec3(-0.8, 0.6, 0.0),
+                                       glm::dvec3(0.0, 0.0, 1.0)))));
+  glm::dmat4 forward = reversed;
+  forward[2][2] = -forward[2][2];  // glOrtho's flipped z: hasProjectionStructure's
+  EXPECT_FALSE(hasReversedOrthographicStructure(forward));
+  EXPECT_TRUE(hasProjectionStructure(forward));
+}
+
 // Singularity by structure, not by the translation's size: a pixel HUD ortho
 // gluOrtho2D(0, W, 0, H) (osghud, osgscalarbar) is found at any W * H, as glOrtho and glFrustum
 // are at any size: the determinant's sensitivity to the entries' rounding is exactly 4 for them.

@@ -315,9 +315,10 @@ void readOrthographic(const MatrixReading& reading, const CheckInput& input,
   p.extentY = reading.extentY;
   p.oblique = reading.obliqueAngleZo.clearlyPositive();
   if (p.reversed) {
+    // Offsets along the view direction, which runs against the growth of reversed depth.
     p.builtFor = "zo-reversed";
-    p.near = reading.nearIfReversed;
-    p.far = reading.farIfReversed;
+    p.near = Uncertain{-reading.nearIfReversed.value, reading.nearIfReversed.error};
+    p.far = Uncertain{-reading.farIfReversed.value, reading.farIfReversed.error};
   } else {
     p.nearIfBuiltForNo = reading.nearIfNo;
     p.nearIfBuiltForZo = reading.nearIfZo;
@@ -355,7 +356,10 @@ void readStatedFar(const MatrixReading& reading, const CheckInput& input, Matrix
 // Handedness, and a Vulkan-style y flip: negating the clip y row also flips the frame, so a
 // left-handed frame whose screen up points down a Y-up world reads as that flip, not a mirror.
 void readHandedness(const MatrixReading& reading, const CheckInput& input, MatrixProperties& p) {
-  const bool frameLeftHanded = reading.handedness.value > 0.0;
+  // A parallel projection's forward is read as where depth grows: the viewer's back under a
+  // declared reversed-Z, whose depth shrinks away from the viewer (the frame turns around).
+  const bool reversedParallel = !p.perspective && p.reversed;
+  const bool frameLeftHanded = (reading.handedness.value > 0.0) != reversedParallel;
   p.yFlipped = input.projection ? (*input.projection)[1][1] < 0.0
                                 : frameLeftHanded && reading.screenUpY.clearlyNegative();
   p.leftHanded = frameLeftHanded != p.yFlipped;
@@ -381,6 +385,8 @@ MatrixProperties readProperties(const CheckInput& input) {
     readPerspective(reading, input, p);
   } else {
     readOrthographic(reading, input, viewOrigin, p);
+    // Read as where depth grows, which a declared reversed-Z turns towards the viewer.
+    if (p.reversed) p.viewDirection = -p.viewDirection;
   }
   readStatedFar(reading, input, p);
   readHandedness(reading, input, p);
@@ -742,6 +748,7 @@ CheckReport checkConventions(const CheckInput& input) {
     CullingState culling;
     culling.cull = *input.cull;
     culling.frontFace = input.frontFace.value_or(FrontFace::Ccw);
+    culling.reversedDepth = input.declaredReversed;
     culling.cullSetAt = "--cull";
     culling.frontFaceSetAt = input.frontFace ? "--front-face" : "GL's default";
     if (auto finding = faceCullingFinding(input.clipFromWorld, culling)) {

@@ -6,7 +6,7 @@
 
 namespace clipray {
 
-int windingSign(const glm::dmat4& clipFromWorld) {
+int windingSign(const glm::dmat4& clipFromWorld, bool reversedDepth) {
   const glm::dmat4 worldFromClip = glm::inverse(clipFromWorld);
   // A triangle inside the view volume (w > 0 at every vertex), counter-clockwise in NDC: its
   // clip-space orientation is positive by construction.
@@ -26,8 +26,9 @@ int windingSign(const glm::dmat4& clipFromWorld) {
     towardsEye = glm::dot(normal, glm::dvec3(eye) / eye.w - a);
   } else {
     // Parallel: the viewer lies against the direction in which the triangle's points recede,
-    // the direction from the view volume's centre depth to its far depth (NDC z 0.5 -> 1).
-    const glm::dvec4 farther = worldFromClip * glm::dvec4(0.0, 0.0, 1.0, 1.0);
+    // the direction from the view volume's centre depth to its far depth (NDC z 0.5 -> 1, or
+    // -> 0 under reversed-Z, whose far plane is at 0).
+    const glm::dvec4 farther = worldFromClip * glm::dvec4(0.0, 0.0, reversedDepth ? 0.0 : 1.0, 1.0);
     const glm::dvec4 centre = worldFromClip * glm::dvec4(0.0, 0.0, 0.5, 1.0);
     const glm::dvec3 recede = glm::dvec3(farther) / farther.w - glm::dvec3(centre) / centre.w;
     towardsEye = -glm::dot(normal, recede);
@@ -41,7 +42,7 @@ std::optional<Finding> faceCullingFinding(const glm::dmat4& clipFromWorld,
   if (state.cull == CullFace::None) return std::nullopt;
   // A matrix that keeps the winding: a front face of GL_CW is the app's choice (meshes wound
   // clockwise, as Direct3D content is), not a mistake this check can see.
-  const int sign = windingSign(clipFromWorld);
+  const int sign = windingSign(clipFromWorld, state.reversedDepth);
   if (sign >= 0) return std::nullopt;
   // The winding seen from the eye of the faces GL keeps: its front faces for GL_BACK.
   const bool frontIsCcwFromEye = state.frontFace == FrontFace::Cw;

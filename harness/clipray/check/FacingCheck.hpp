@@ -19,13 +19,16 @@ namespace clipray {
 // faces with glFrontFace(GL_CCW) under either clip origin) are the ones that wind
 // counter-clockwise seen from the eye in world space; -1 when the matrix reverses the winding; 0
 // for a matrix it cannot tell (singular). clipFromWorld: column-major, p_clip = M * p_world.
-int windingSign(const glm::dmat4& clipFromWorld);
+// reversedDepth: the depth test keeps the greater depth (reversed-Z), so NDC z shrinks away from
+// the viewer; only a parallel projection needs telling (a perspective one has its eye).
+int windingSign(const glm::dmat4& clipFromWorld, bool reversedDepth = false);
 
 // The culling state at a draw, as the app set it (where each part was set, for the message).
 struct CullingState {
   CullFace cull = CullFace::None;  // None: GL_CULL_FACE disabled
   FrontFace frontFace = FrontFace::Ccw;
   ClipOrigin origin = ClipOrigin::LowerLeft;
+  bool reversedDepth = false;              // nearer is greater depth (windingSign)
   std::string cullSetAt = "GL's default";  // "call 1234"
   std::string frontFaceSetAt = "GL's default";
 };

@@ -60,6 +60,7 @@ std::vector<Finding> cullingFindings(const Scene& scene, const glm::dmat4& clipF
     state.cull = object.cull;
     state.frontFace = object.frontFace;
     state.origin = mode.origin;
+    state.reversedDepth = nearerIsGreater(mode, scene.depthRange);
     state.cullSetAt = cullingObjects(scene, object.cull, object.frontFace);
     state.frontFaceSetAt = state.cullSetAt;
     if (auto finding = faceCullingFinding(clipFromWorld, state)) {

@@ -365,6 +365,20 @@ TraceDraw GlTraceState::drawAt(const DumpCall& call) {
         draw.matrices.push_back({std::move(read.source), false, read.matrix});
       }
     }
+    // In a reversed-Z frame, a reversed-Z orthographic projection (orientation-preserving)
+    // where nothing else is one.
+    if (draw.matrices.empty() && reversedDepthFrame(depth_)) {
+      for (auto it = uniformMatrices_.lower_bound({program, INT64_MIN});
+           it != uniformMatrices_.end() && it->first.first == program; ++it) {
+        if (!hasReversedOrthographicStructure(it->second)) continue;
+        const auto named = uniformNames_.find(it->first);
+        const std::string name = named != uniformNames_.end()
+                                     ? named->second
+                                     : "at location " + std::to_string(it->first.second);
+        draw.matrices.push_back(
+            {"uniform " + name + " (program " + std::to_string(program) + ")", false, it->second});
+      }
+    }
     // The compatibility profile's built-ins: such a program transforms through the
     // fixed-function stacks as a draw without a program does.
     if (const std::string why = uniformBuffers_.fixedFunctionTransform(program); !why.empty()) {

@@ -79,6 +79,13 @@ struct TraceDepthState {
     const double f = depth.offsetFactor, u = depth.offsetUnits;
     return f >= 0.0 && u >= 0.0 && (f > 0.0 || u > 0.0);
   }
+  // A reversed-Z frame: the depth test keeps the greater depth over a depth cleared to 0, the far
+  // value. (GL_GREATER over a clear of 1 is a multi-pass draw of far surfaces, as OpenSCAD's CSG
+  // preview makes, under a projection that is not reversed.)
+  friend bool reversedDepthFrame(const TraceDepthState& depth) {
+    return depth.depthTest && (depth.depthFunc == kGlGreater || depth.depthFunc == kGlGequal) &&
+           depth.clearedDepth == 0.0;
+  }
   // The same state, call numbers aside (the key of a distinct (matrix, state) pair).
   std::string key() const;
 };

@@ -2,6 +2,7 @@
 
 #include "clipray/trace/ProjectionStructure.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -68,6 +69,27 @@ bool hasProjectionStructure(const glm::dmat4& m) {
                           std::abs(linear[2][1]) <=
                       1e-5 * std::sqrt(scale);
   return onAxis && linear[0][0] > 0.0 && linear[1][1] > 0.0 && linear[2][2] < 0.0;
+}
+
+bool hasReversedOrthographicStructure(const glm::dmat4& m) {
+  for (int column = 0; column < 4; ++column) {
+    for (int row = 0; row < 4; ++row) {
+      if (!std::isfinite(m[column][row])) return false;
+    }
+  }
+  if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0) return false;
+  if (!(determinantSensitivity(m) * 0x1p-24 < 1.0 / 64.0)) return false;
+  const glm::dmat3 linear(m);
+  const double sx = linear[0][0], sy = linear[1][1], sz = linear[2][2];
+  const double scale = std::max({std::abs(sx), std::abs(sy), std::abs(sz)});
+  const double offAxis = std::abs(linear[0][1]) + std::abs(linear[0][2]) + std::abs(linear[1][0]) +
+                         std::abs(linear[1][2]) + std::abs(linear[2][0]) + std::abs(linear[2][1]);
+  if (offAxis > 1e-5 * scale) return false;  // 7-digit decimals of the dump
+  if (!(sx > 0.0 && sy != 0.0 && sz > 0.0) || glm::determinant(linear) <= 0.0) return false;
+  // Unequal scales: a view volume's width, height and depth differ where a similarity's do not.
+  const double tolerance = 1e-5 * scale;
+  return std::abs(std::abs(sx) - std::abs(sz)) > tolerance ||
+         std::abs(std::abs(sy) - std::abs(sz)) > tolerance;
 }
 
 }  // namespace clipray::trace

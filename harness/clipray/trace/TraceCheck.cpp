@@ -220,6 +220,7 @@ CullingState cullingStateOf(const TraceDepthState& depth) {
   if (depth.cullFace && depth.cullFaceMode == kGlFront) state.cull = CullFace::Front;
   if (depth.frontFace == kGlCw) state.frontFace = FrontFace::Cw;
   if (depth.frontFace != kGlCw && depth.frontFace != kGlCcw) state.cull = CullFace::None;
+  state.reversedDepth = reversedDepthFrame(depth);
   state.cullSetAt = callNote(std::max(depth.cullFaceCall, depth.cullFaceModeCall));
   state.frontFaceSetAt = callNote(depth.frontFaceCall);
   return state;
@@ -337,7 +338,11 @@ CheckReport checkUnderDepthState(const TracedMatrix& matrix, const TraceDepthSta
     if (farSurfacePass) report.findings.push_back(farSurfacePassFinding(depth, *passes));
     // A transposed upload's winding means nothing either.
     if (!report.properties.likelyTransposed) {
-      if (auto finding = faceCullingFinding(input.clipFromWorld, cullingStateOf(depth))) {
+      // A far-surface pass keeps the greater depth of a classic matrix: its viewer is the LESS
+      // pass's.
+      CullingState culling = cullingStateOf(depth);
+      if (farSurfacePass) culling.reversedDepth = false;
+      if (auto finding = faceCullingFinding(input.clipFromWorld, culling)) {
         report.findings.push_back(std::move(*finding));
       }
     }
