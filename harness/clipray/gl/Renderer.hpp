@@ -4,6 +4,7 @@
 // RenderRequest::clipFromWorld: column-major, p_clip = clipFromWorld * p_world, built for its mode.
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -12,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "clipray/compare/Frames.hpp"
+#include "clipray/compare/LogarithmicDepth.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/Scene.hpp"
@@ -40,6 +42,9 @@ struct RenderRequest {
   // The camera's user clip planes, world space (Camera::clipPlanes): gl_ClipDistance for meshes.
   std::vector<glm::dvec4> clipPlanes{};
   bool depthClamp = false;  // GL_DEPTH_CLAMP (Scene::depthClamp)
+  // The meshes' fragment shader writes this logarithmic depth (shaders/log_depth.frag) in place
+  // of the projective one; nullopt: it writes none.
+  std::optional<LogDepthMapping> logDepth{};
 };
 
 struct RenderTimings {  // milliseconds
