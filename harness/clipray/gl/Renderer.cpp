@@ -9,11 +9,13 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "clipray/compare/ToleranceModel.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/RobustRays.hpp"
+#include "clipray/util/Check.hpp"
 #include "clipray/util/PhaseClock.hpp"
 
 namespace clipray::shaders {
@@ -399,6 +401,15 @@ Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
   state_->logDepthProgram = linkProgram(logDepthVertex, logDepthFragment, "log depth");
   glDeleteShader(logDepthVertex);
   glDeleteShader(logDepthFragment);
+  // drawMeshes sets the shared uniforms at the mesh program's locations for either program.
+  for (const auto& [name, location] :
+       {std::pair{"uClipFromInput", state_->clipFromInputLocation},
+        std::pair{"uFirstId", state_->firstIdLocation},
+        std::pair{"uClipPlanes", state_->clipPlanesLocation},
+        std::pair{"uClipPlaneCount", state_->clipPlaneCountLocation}}) {
+    CLIPRAY_CHECK(glGetUniformLocation(state_->logDepthProgram, name) == location,
+                  std::string("log_depth.frag's program has ") + name + " elsewhere");
+  }
 
   const GLuint proxyVertex =
       compileShader(GL_VERTEX_SHADER, shaders::raster_vert, shaders::raster_vert_file);
