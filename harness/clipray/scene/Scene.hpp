@@ -37,9 +37,12 @@ struct OrthographicProjection {
 //            2.0 / log2(camera.far + 1.0): mrdoob/three.js
 //            src/renderers/shaders/ShaderChunk/logdepthbuf_vertex.glsl.js and
 //            logdepthbuf_fragment.glsl.js, the uniform in src/renderers/WebGLRenderer.js).
-//   outerra: Outerra's "Logarithmic depth buffer" (2009) with its constant C, written per
-//            fragment as its 2013 follow-up does (flogz = 1.0 + C * gl_Position.w interpolated,
-//            gl_FragDepth = log2(flogz) * Fcoef_half, Fcoef = 2.0 / log2(C * far + 1.0)).
+//   outerra: Outerra's log depth with the constant C of its first version (log(C w + 1) /
+//            log(C far + 1)), written per fragment as its 2013 "Logarithmic Depth Buffer
+//            Optimizations & Fixes" writes its C = 1 form (flogz = 1.0 + gl_Position.w
+//            interpolated, gl_FragDepth = log2(flogz) * Fcoef_half, Fcoef = 2.0 /
+//            log2(farplane + 1.0)); here flogz = 1.0 + C gl_Position.w and Fcoef = 2.0 /
+//            log2(C far + 1.0).
 // Under reversed-Z (GL_GREATER, clear 0) the shader writes 1 - L (near stays the greater).
 enum class LogDepthForm : std::uint8_t { ThreeJs, Outerra };
 struct LogarithmicDepth {
