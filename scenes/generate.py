@@ -329,6 +329,31 @@ def main():
           [ground, quad("wall", (-2, 0, 0), (2, 0, 0), (2, 3, -1.5), (-2, 3, -1.5)), decal],
           conventions=["no", "zo", "zo-upper-left"])
 
+    # A large world seen through a logarithmic depth the mesh shader writes: a crate 6 m away, a tower at
+    # 150 m, a block at 3 km and a ridge at 15 km over ground in distance bands (each band's far edge
+    # at most ten times its near one). Every object is lifted off the ground (no coplanar faces).
+    bands = [(3, -20, 12), (-20, -200, 120), (-200, -2000, 1200), (-2000, -19000, 12000)]
+    log_ground = [quad("ground %d" % k, (-w, 0, z0), (w, 0, z0), (w, 0, z1), (-w, 0, z1))
+                  for k, (z0, z1, w) in enumerate(bands)]
+    log_objects = log_ground + [
+        box("crate", (1, 0.55, -6), (1, 1, 1), ((0, 1, 0), 30)),
+        box("tower", (-20, 16, -150), (10, 30, 10)),
+        box("block", (300, 110, -3000), (400, 200, 400), ((0, 1, 0), 15)),
+        tetrahedron("ridge", (-4000, 1800, -15000), 3000),
+    ]
+    three_cam = perspective("threejs", (0, 2, 0), (0, 1.5, -100), 60, 0.1, 20000)
+    three_cam["logarithmicDepth"] = {"form": "threejs", "far": 20000}
+    outerra_cam = perspective("outerra", (40, 30, 20), (0, 10, -300), 55, 0.5, 20000)
+    outerra_cam["logarithmicDepth"] = {"form": "outerra", "far": 20000, "constant": 0.05}
+    write("logarithmic_depth",
+          "Logarithmic depth written by the mesh fragment shader (camera logarithmicDepth): three.js's "
+          "logarithmicDepthBuffer (gl_FragDepth = log2(1 + w) / log2(1 + far)) and Outerra's with its constant "
+          "C (log2(1 + C w) / log2(1 + C far)), 1 - that under reversed-Z, over a world from 6 m to 15 km "
+          "(near 0.1, far 20000). The depth buffer holds a function of clip w, not the projective depth: "
+          "the compare maps each exact hit's w the same way, and a depth-buffer picking function must "
+          "invert that mapping, not unproject the depth through the inverse matrix.",
+          [three_cam, outerra_cam], log_objects, conventions=["no", "zo", "zo-reversed"])
+
     write("no_matrix_under_zo",
           "A projection built for NO (z_n = -1, near 1, far 100) drawn under both conventions. Under ZO the "
           "rasterizer clips at z_ndc = 0, about 2 units away, so the effective near plane moves: the slanted quad "

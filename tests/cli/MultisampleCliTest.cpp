@@ -81,5 +81,20 @@ TEST(MultisampleCli, AnalyticPrimitivesAreRefused) {
   EXPECT_FALSE(std::filesystem::exists(folder.path() / "out/report.json"));
 }
 
+TEST(MultisampleCli, ALogarithmicDepthIsRefused) {
+  TempFolder folder;
+  const std::string scene = kSource + "/scenes/logarithmic_depth.json";
+  const auto result =
+      runClipray("reconcile '" + scene + "' --samples 4 --size 32x24 --out out", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_NE(result.err.find("\" of scene \"logarithmic_depth\" (" + scene +
+                            ") draws a logarithmic depth, written by the shader once per pixel "
+                            "(gl_FragDepth at its centre); multisampled runs need the projective "
+                            "depth"),
+            std::string::npos)
+      << result.err;
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "out/report.json"));
+}
+
 }  // namespace
 }  // namespace clipray

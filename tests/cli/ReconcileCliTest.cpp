@@ -336,11 +336,12 @@ TEST(ReconcileCli, DefaultsToEveryShippedScene) {
       nlohmann::json::parse(testing::readText(folder.path() / "report/report.json"));
   std::set<std::string> scenes;
   for (const auto& run : report["runs"]) scenes.insert(run["scene"].get<std::string>());
-  EXPECT_EQ(scenes.size(), 24u);
+  EXPECT_EQ(scenes.size(), 25u);
   EXPECT_TRUE(scenes.count("depth_clamp"));
   EXPECT_TRUE(scenes.count("object_depth_range"));
   EXPECT_TRUE(scenes.count("object_clip_planes"));
   EXPECT_TRUE(scenes.count("polygon_offset"));
+  EXPECT_TRUE(scenes.count("logarithmic_depth"));
   EXPECT_TRUE(scenes.count("water_reflection_clipped"));
   EXPECT_TRUE(scenes.count("reversed_z"));
   EXPECT_TRUE(scenes.count("face_culling"));

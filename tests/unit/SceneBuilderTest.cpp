@@ -217,6 +217,30 @@ TEST(SceneBuilder, ObjectPolygonOffsetIsTheLastMeshs) {
             "got inf");
 }
 
+TEST(SceneBuilder, LogarithmicDepthIsTheLastCameras) {
+  SceneBuilder builder("log");
+  EXPECT_THROW(builder.threeJsLogarithmicDepth(100.0), InputError);
+  EXPECT_THROW(builder.outerraLogarithmicDepth(0.01, 100.0), InputError);
+  builder.mesh("quad", kQuadPositions, kQuadIndices)
+      .camera("plain", cameraMatrix(), {64, 48})
+      .camera("three", cameraMatrix(), {64, 48})
+      .threeJsLogarithmicDepth(100.0)
+      .camera("outerra", cameraMatrix(), {64, 48})
+      .outerraLogarithmicDepth(0.01, 500.0);
+  const TestScene built = builder.build();
+  const Scene& model = built.model();
+  ASSERT_EQ(model.cameras.size(), 3u);
+  EXPECT_FALSE(model.cameras[0].logarithmicDepth.has_value());
+  EXPECT_EQ(model.cameras[1].logarithmicDepth,
+            (LogarithmicDepth{LogDepthForm::ThreeJs, 100.0, 1.0}));
+  EXPECT_EQ(model.cameras[2].logarithmicDepth,
+            (LogarithmicDepth{LogDepthForm::Outerra, 500.0, 0.01}));
+  builder.outerraLogarithmicDepth(std::numeric_limits<double>::infinity(), 500.0);
+  EXPECT_EQ(messageOf(builder),
+            "SceneBuilder \"log\": /cameras/2/logarithmicDepth/constant: expected a finite "
+            "number, got inf");
+}
+
 TEST(SceneBuilder, WithoutCamerasUsesTheAutomaticOnes) {
   const TestScene scene = SceneBuilder("auto").mesh("quad", kQuadPositions, kQuadIndices).build();
   EXPECT_EQ(scene.cameraNames().size(), 4u);

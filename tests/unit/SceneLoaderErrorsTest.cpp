@@ -79,7 +79,8 @@ TEST(SceneLoaderErrors, UnknownKeys) {
   EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "veiwport": [640, 480]})")),
             "scenes/a.json: /cameras/0/veiwport: unknown key \"veiwport\"; valid keys are "
             "\"name\", \"viewport\", \"clipFromWorld\", \"view\", \"viewFromWorld\", "
-            "\"projection\", \"builtFor\", \"clipPlanes\", \"expectedFindings\"");
+            "\"projection\", \"builtFor\", \"clipPlanes\", \"expectedFindings\", "
+            "\"logarithmicDepth\"");
   EXPECT_EQ(errorOf(withProjection(R"({"type": "perspective", "fovY": 60, "near": 0.1})")),
             "scenes/a.json: /cameras/0/projection/fovY: unknown key \"fovY\"; valid keys are "
             "\"type\", \"fovYDegrees\", \"aspect\", \"near\", \"far\"");
@@ -402,6 +403,88 @@ TEST(SceneLoaderErrors, PolygonOffset) {
             "scenes/a.json: /objects/0/polygonOffset: polygon offset applies to triangle meshes "
             "(mesh, meshFile, terrain); a sphere writes its own depth from its fragment shader, "
             "which no offset moves");
+}
+
+TEST(SceneLoaderErrors, LogarithmicDepth) {
+  const auto camera = [](const std::string& logDepth) {
+    return errorOf(withCamera(R"({"name": "main", "viewport": [640, 480],
+      "view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]},
+      "projection": {"type": "perspective", "fovYDegrees": 60, "near": 0.1, "far": 100},
+      "logarithmicDepth": )" + logDepth +
+                              "}"));
+  };
+  EXPECT_EQ(camera(R"({"form": "threejs", "far": 100})"), "no error");
+  EXPECT_EQ(camera(R"({"form": "outerra", "far": 100, "constant": 0.01})"), "no error");
+  EXPECT_EQ(camera("true"),
+            "scenes/a.json: /cameras/0/logarithmicDepth: expected {\"form\", \"far\", "
+            "\"constant\"} of a logarithmic depth, got true");
+  EXPECT_EQ(camera(R"({"form": "cesium", "far": 100})"),
+            "scenes/a.json: /cameras/0/logarithmicDepth/form: expected one of \"threejs\", "
+            "\"outerra\", got \"cesium\"");
+  EXPECT_EQ(camera(R"({"form": "threejs", "far": 0})"),
+            "scenes/a.json: /cameras/0/logarithmicDepth/far: expected a positive number, got 0");
+  EXPECT_EQ(camera(R"({"form": "threejs", "far": -100})"),
+            "scenes/a.json: /cameras/0/logarithmicDepth/far: expected a positive number, got "
+            "-100");
+  EXPECT_EQ(camera(R"({"form": "outerra", "far": 100, "constant": 0})"),
+            "scenes/a.json: /cameras/0/logarithmicDepth/constant: expected a positive number, got "
+            "0");
+  EXPECT_EQ(camera(R"({"form": "outerra", "far": 100, "constant": -1})"),
+            "scenes/a.json: /cameras/0/logarithmicDepth/constant: expected a positive number, got "
+            "-1");
+  EXPECT_EQ(camera(R"({"form": "outerra", "far": 100, "constant": 1e999})"),
+            "scenes/a.json: /cameras/0/logarithmicDepth/constant: expected a finite number, got "
+            "1e999");
+  EXPECT_EQ(camera(R"({"form": "outerra", "far": 100})"),
+            "scenes/a.json: /cameras/0/logarithmicDepth: missing required field \"constant\"");
+  EXPECT_EQ(camera(R"({"form": "threejs", "far": 100, "constant": 2})"),
+            "scenes/a.json: /cameras/0/logarithmicDepth/constant: three.js's logarithmic depth "
+            "has no constant (log2(1 + w)); use \"form\": \"outerra\" for log2(1 + C w) / "
+            "log2(1 + C far)");
+  EXPECT_EQ(camera(R"({"form": "threejs", "far": 100, "near": 1})"),
+            "scenes/a.json: /cameras/0/logarithmicDepth/near: unknown key \"near\"; valid keys "
+            "are \"form\", \"far\", \"constant\"");
+  // What the model leaves out: one line naming the field.
+  const std::string logCamera = R"({"name": "main", "viewport": [640, 480],
+      "view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]},
+      "projection": {"type": "perspective", "fovYDegrees": 60, "near": 0.1, "far": 100},
+      "logarithmicDepth": {"form": "threejs", "far": 100}})";
+  const std::string unmodelled =
+      " is not modelled; use triangle meshes drawn with the default depth range, no depth clamp "
+      "and no polygon offset, seen through a perspective projection";
+  EXPECT_EQ(errorOf(sceneWith(logCamera, R"({"name": "ball", "type": "sphere", "centre": [0, 0, 0],
+                                             "radius": 1})")),
+            "scenes/a.json: /cameras/0/logarithmicDepth: a logarithmic depth with a sphere "
+            "(\"ball\")" +
+                unmodelled);
+  EXPECT_EQ(errorOf(R"({"version": 1, "depthClamp": true, "cameras": [)" + logCamera +
+                    R"(], "objects": [)" + kObject + "]}"),
+            "scenes/a.json: /cameras/0/logarithmicDepth: a logarithmic depth with depth clamp" +
+                unmodelled);
+  EXPECT_EQ(errorOf(R"({"version": 1, "depthRange": [1, 0], "cameras": [)" + logCamera +
+                    R"(], "objects": [)" + kObject + "]}"),
+            "scenes/a.json: /cameras/0/logarithmicDepth: a logarithmic depth with the scene's "
+            "depthRange" +
+                unmodelled);
+  EXPECT_EQ(errorOf(sceneWith(logCamera, R"({"name": "decal", "type": "mesh",
+      "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2],
+      "polygonOffset": {"factor": -1, "units": -2}})")),
+            "scenes/a.json: /cameras/0/logarithmicDepth: a logarithmic depth with a polygon offset "
+            "(\"decal\")" +
+                unmodelled);
+  EXPECT_EQ(errorOf(sceneWith(logCamera, R"({"name": "weapon", "type": "mesh",
+      "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], "depthRange": [0, 0.1]})")),
+            "scenes/a.json: /cameras/0/logarithmicDepth: a logarithmic depth with a depth range "
+            "per object (\"weapon\")" +
+                unmodelled);
+  EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "viewport": [640, 480],
+      "view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]},
+      "projection": {"type": "orthographic", "left": -1, "right": 1, "bottom": -1, "top": 1,
+                     "near": 0.1, "far": 100},
+      "logarithmicDepth": {"form": "threejs", "far": 100}})")),
+            "scenes/a.json: /cameras/0/logarithmicDepth: a logarithmic depth with a parallel "
+            "projection (clip w is 1 everywhere)" +
+                unmodelled);
 }
 
 TEST(SceneLoaderErrors, FaceCulling) {

@@ -332,8 +332,10 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
   const DepthConvention convention = setup.mode.convention;
   // The four-pixel kernels map NDC z to window depth for the default depth range only (one for
   // every primitive), never clamp it and add no polygon offset.
+  // Nor do they know a depth the shader writes (a logarithmic depth of clip w).
   fourAtOnce_ = cpuHasAvx2() && simdKernelsChosen() && setup.defaultDepthRange() &&
-                setup.oneDepthRange() && !setup.depthClamp.enabled && setup.objectOffsets.empty();
+                setup.oneDepthRange() && !setup.depthClamp.enabled && setup.objectOffsets.empty() &&
+                !setup.logDepth;
   fourInput_ = {
       setup.clipFromWorld,
       rowZ_,
@@ -400,6 +402,9 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
       rayDepth = mapping.clampToDepthRange(mapped);
       clamped = rayDepth != mapped;
       inFrontOfNear = clamped && mapping.inFrontOfNear(mapped);
+    } else if (setup_.logDepth && !intersector_.isAnalytic(rayId)) {
+      // The meshes' shader writes a depth of clip w (LogarithmicDepth.hpp), whatever NDC z is.
+      rayDepth = setup_.logDepth->windowDepth(hitClip.w);
     } else {
       rayDepth = mapping.windowDepth(zNdc);
     }
@@ -432,6 +437,8 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
     double tolerance = band.halfWidth;
     if (analyticSurface) {
       tolerance = model_.analyticDepthTolerance(rayId, ray, hit.t);
+    } else if (setup_.logDepth) {
+      tolerance = model_.logDepthTolerance(rayId, hitClip, quantum);
     } else {
       // depthToleranceAtClip, sharing the hit's depth and quantum.
       tolerance += triangleDepthTolerance(
@@ -459,14 +466,20 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
       cls = inFrontOfNear ? PixelClass::InFrontOfNear : PixelClass::Agree;
       return;
     }
-    // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1 t).
-    const double zRaster =
-        setup_.depthMappingOf(rayId).ndcOfWindowDepth(rasterDepth - (rayDepth - exactDepth));
+    // Distance along the ray to where the raster depth lies: z(t) = (Z0 + Z1 t)/(W0 + W1 t), or
+    // for a logarithmic depth w(t) = W0 + W1 t.
     const double z0 = glm::dot(rowZ_, glm::dvec4(ray.origin, 1.0));
     const double z1 = glm::dot(glm::dvec3(rowZ_), ray.direction);
     const double w0 = glm::dot(rowW_, glm::dvec4(ray.origin, 1.0));
     const double w1 = glm::dot(glm::dvec3(rowW_), ray.direction);
-    const double tRaster = (z0 - zRaster * w0) / (zRaster * w1 - z1);
+    double tRaster = 0.0;
+    if (setup_.logDepth && !analyticSurface) {
+      tRaster = (setup_.logDepth->clipWOfWindowDepth(rasterDepth) - w0) / w1;
+    } else {
+      const double zRaster =
+          setup_.depthMappingOf(rayId).ndcOfWindowDepth(rasterDepth - (rayDepth - exactDepth));
+      tRaster = (z0 - zRaster * w0) / (zRaster * w1 - z1);
+    }
     // Relative to the distance from the eye (perspective) or the view volume's depth
     // (orthographic), so the figure reads the same at any scale.
     const double scale = parallel_ ? (std::isfinite(ray.tMax) ? ray.tMax : hit.t)
@@ -485,10 +498,27 @@ void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray&
     }
   } else {
     ++metrics.idMismatch.total;
-    const double rayTolerance = intersector_.isAnalytic(rayId)
-                                    ? model_.analyticDepthTolerance(rayId, ray, hit.t)
-                                    : model_.depthToleranceAtClip(rayId, hitClip);
-    cls = classifyMismatch(model_, rayId, rayDepth, rayTolerance, rasterId, centre);
+    double rayTolerance = intersector_.isAnalytic(rayId)
+                              ? model_.analyticDepthTolerance(rayId, ray, hit.t)
+                              : model_.depthToleranceAtClip(rayId, hitClip);
+    double comparedDepth = rayDepth;
+    if (setup_.logDepth && !intersector_.isAnalytic(rayId)) {
+      // Which surface is nearer is the same question in projective depth (both depths grow with
+      // t along the ray): the other surface's depth there is projective (surfaceDepthAt), so the
+      // hit's is too, its tolerance widened by the log depth's, carried over by the slope of
+      // projective depth against the log depth at the hit.
+      const DepthMapping mapping = setup_.depthMappingOf(rayId);
+      comparedDepth = mapping.windowDepth(zNdc);
+      const double logTolerance =
+          model_.logDepthTolerance(rayId, hitClip, quantumAt(setup_.depthFormat, rayDepth));
+      const double dzdt = (glm::dot(glm::dvec3(rowZ_), ray.direction) * hitClip.w -
+                           hitClip.z * glm::dot(glm::dvec3(rowW_), ray.direction)) /
+                          (hitClip.w * hitClip.w) * mapping.windowFromNdcScale();
+      const double dldt =
+          setup_.logDepth->slope(hitClip.w) * glm::dot(glm::dvec3(rowW_), ray.direction);
+      rayTolerance += logTolerance * std::abs(dzdt / dldt);
+    }
+    cls = classifyMismatch(model_, rayId, comparedDepth, rayTolerance, rasterId, centre);
     if (inFrontOfNear && cls == PixelClass::IdDepthAmbiguous) {
       // Two surfaces in front of the near plane, both at the near depth: the first drawn shows
       // (the strict depth test keeps it), the rays see the nearest. Neither is measurable there.

@@ -122,7 +122,7 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
                     modelSetup.objectDepthRanges == setup.objectDepthRanges &&
                     modelSetup.objectClipPlanes == setup.objectClipPlanes &&
                     modelSetup.objectOffsets == setup.objectOffsets &&
-                    model.viewport() == raster.viewport,
+                    modelSetup.logDepth == setup.logDepth && model.viewport() == raster.viewport,
                 "compareFrames: the tolerance model answers for another setup");
   requireComparableFrames(raster, analytic);
   const Viewport viewport = raster.viewport;

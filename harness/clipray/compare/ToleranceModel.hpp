@@ -10,6 +10,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "clipray/Conventions.hpp"
 #include "clipray/compare/DepthMapping.hpp"
 #include "clipray/compare/Frames.hpp"
+#include "clipray/compare/LogarithmicDepth.hpp"
 #include "clipray/compare/PolygonOffset.hpp"
 #include "clipray/compare/PrimitiveClipPlanes.hpp"
 #include "clipray/rays/RobustRays.hpp"
@@ -52,6 +54,10 @@ struct RasterSetup {
   // GL_DEPTH_CLAMP (Scene::depthClamp): no near and far clipping, window depth clamped to the depth
   // range; the rays reach in front of the near plane (DepthClampRays).
   DepthClampRays depthClamp{};
+  // The meshes' fragment shader writes a logarithmic depth of clip w (Camera::logarithmicDepth);
+  // nullopt: the rasterizer's projective depth. Only with triangle meshes, the default depth
+  // range, no depth clamp and no polygon offset (the scene loader refuses the rest).
+  std::optional<LogDepthMapping> logDepth{};
 
   bool defaultDepthRange() const { return depthRange == glm::dvec2(0.0, 1.0); }
   // Every primitive drawn with the scene's depth range (no object has its own).
@@ -115,6 +121,11 @@ class ToleranceModel {
   // (PolygonOffset.hpp: its depth plane's slope, its vertices' largest depth); {0, 0} for a
   // primitive drawn without an offset or without a screen polygon.
   OffsetInterval offsetInterval(std::uint32_t primitiveId) const;
+  // Under setup().logDepth: the tolerance of the depth the shader writes for a hit on triangle
+  // primitiveId at clip coordinates hitClip, stored with quantum `storage` (LogarithmicDepth.hpp;
+  // the w error from the polygon's clipErrorBound.w and the snap times the screen gradient of w).
+  double logDepthTolerance(std::uint32_t primitiveId, const glm::dvec4& hitClip,
+                           double storage) const;
 
   // Analytic primitives (drawn by a fragment shader that intersects the surface in float):
   // window-depth tolerance for the hit at parameter t of a (double, robust) ray.

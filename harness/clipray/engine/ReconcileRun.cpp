@@ -55,6 +55,7 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
   AnalyticPass pass;
   pass.scene = &scene;
   pass.cameraName = camera.name;
+  pass.logDepth = logDepthMapping(camera, mode);
   pass.drawnCamera.clipFromWorld = camera.clipFromWorld(mode, viewport);
   pass.drawnCamera.mode = mode;
   pass.drawnCamera.viewport = viewport;
@@ -146,6 +147,7 @@ gl::RenderRequest renderRequest(const AnalyticPass& pass, DepthFormat depthForma
   request.depthRange = pass.scene->depthRange;
   request.clipPlanes = pass.drawnCamera.clipPlanes;
   request.depthClamp = pass.scene->depthClamp;
+  request.logDepth = pass.logDepth;
   return request;
 }
 
@@ -175,6 +177,7 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   setup.objectOffsets = PrimitiveOffsets(*pass.scene);
   setup.clipPlanes = pass.camera.clipPlanes;
   setup.depthClamp = depthClampRays(pass.camera);
+  setup.logDepth = pass.logDepth;
   const PhaseClock compareClock;
   // The last run's model where only the depth format differs (its polygons serve every format),
   // else one built for this raster (the old one released first).

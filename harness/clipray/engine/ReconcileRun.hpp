@@ -13,9 +13,11 @@
 // column-major, p_clip = clipFromWorld * p_world, built for the DepthMode passed beside it.
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "clipray/compare/LogarithmicDepth.hpp"
 #include "clipray/compare/Reconcile.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
@@ -37,6 +39,9 @@ struct AnalyticPass {
   // a lower-left origin.
   PickingCamera camera;
   glm::dvec3 reference{0.0};  // centre of the near plane: camera-relative origin for both sides
+  // The depth the meshes' shader writes in place of the projective one (Camera::logarithmicDepth,
+  // turned around under reversed-Z), for the renderer and the compare alike.
+  std::optional<LogDepthMapping> logDepth;
   // Behind a pointer: the tolerance model below refers to it, and the pass may move.
   std::unique_ptr<SceneIntersector> intersector;
   AnalyticFrame frame;

@@ -345,6 +345,12 @@ void Runner::runCameraSampled(unsigned round, const Scene& scene, const Camera& 
                      ") has analytic primitives, which are drawn with one depth per pixel "
                      "(gl_FragDepth at its centre); multisampled runs need triangle meshes only");
   }
+  if (camera.logarithmicDepth) {
+    throw InputError(plan_.samplesOption + " " + std::to_string(plan_.samples) + ": camera \"" +
+                     camera.name + "\" of scene \"" + scene.name + "\" (" + scene.path +
+                     ") draws a logarithmic depth, written by the shader once per pixel "
+                     "(gl_FragDepth at its centre); multisampled runs need the projective depth");
+  }
   const bool lastRound = round == plan_.rounds;
   const Viewport viewport = plan_.size.value_or(camera.viewport);
   for (const DepthMode mode : conventionsOf(scene)) {

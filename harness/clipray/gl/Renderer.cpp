@@ -12,11 +12,13 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include "clipray/compare/ToleranceModel.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/RobustRays.hpp"
+#include "clipray/util/Check.hpp"
 #include "clipray/util/PhaseClock.hpp"
 
 namespace clipray::shaders {
@@ -24,6 +26,8 @@ extern const char* const raster_vert;
 extern const char* const raster_vert_file;
 extern const char* const raster_frag;
 extern const char* const raster_frag_file;
+extern const char* const log_depth_frag;
+extern const char* const log_depth_frag_file;
 extern const char* const camera_rays_glsl;
 extern const char* const camera_rays_glsl_file;
 extern const char* const primitive_frag;
@@ -225,6 +229,12 @@ struct Renderer::State {
   GLuint framebuffer = 0;
   GLuint colorBuffer = 0;
   GLuint depthBuffer = 0;
+  // Meshes whose shader writes a logarithmic depth (RenderRequest::logDepth): raster.vert +
+  // log_depth.frag, the uniforms at the locations raster.vert and raster.frag give them, and:
+  GLuint logDepthProgram = 0;
+  static constexpr GLint kLogDepthConstantLocation = 10;  // raster.vert's uLogDepthConstant
+  static constexpr GLint kLogDepthBufFCLocation = 12;     // log_depth.frag's
+  static constexpr GLint kLogDepthReversedLocation = 13;  // log_depth.frag's
   // Analytic primitives: raster.vert on a proxy + primitive.frag (camera_rays.glsl).
   GLuint primitiveProgram = 0;
   // glPolygonOffsetClamp (GL 4.6), or its ARB / EXT name (ARB_polygon_offset_clamp,
@@ -251,7 +261,7 @@ struct Renderer::State {
   // upload, beginFrame on the target and the draws, to glFinish.
   void draw(const RenderRequest& request, GLuint target, RenderTimings* timings);
   void drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput,
-                  glm::dvec2 sceneDepthRange);
+                  glm::dvec2 sceneDepthRange, const std::optional<LogDepthMapping>& logDepth);
   void drawPrimitives(const RenderRequest& request, const std::vector<PrimitiveDraw>& draws);
   // Depth (GL_FLOAT) and ids of the viewport, then the default framebuffer bound again.
   RasterFrame readBack(Viewport viewport);
@@ -297,6 +307,22 @@ Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
   state_->firstIdLocation = glGetUniformLocation(state_->program, "uFirstId");
   state_->clipPlanesLocation = glGetUniformLocation(state_->program, "uClipPlanes");
   state_->clipPlaneCountLocation = glGetUniformLocation(state_->program, "uClipPlaneCount");
+  const GLuint logDepthVertex =
+      compileShader(GL_VERTEX_SHADER, shaders::raster_vert, shaders::raster_vert_file);
+  const GLuint logDepthFragment =
+      compileShader(GL_FRAGMENT_SHADER, shaders::log_depth_frag, shaders::log_depth_frag_file);
+  state_->logDepthProgram = linkProgram(logDepthVertex, logDepthFragment, "log depth");
+  glDeleteShader(logDepthVertex);
+  glDeleteShader(logDepthFragment);
+  // drawMeshes sets the shared uniforms at the mesh program's locations for either program.
+  for (const auto& [name, location] :
+       {std::pair{"uClipFromInput", state_->clipFromInputLocation},
+        std::pair{"uFirstId", state_->firstIdLocation},
+        std::pair{"uClipPlanes", state_->clipPlanesLocation},
+        std::pair{"uClipPlaneCount", state_->clipPlaneCountLocation}}) {
+    CLIPRAY_CHECK(glGetUniformLocation(state_->logDepthProgram, name) == location,
+                  std::string("log_depth.frag's program has ") + name + " elsewhere");
+  }
 
   const GLuint proxyVertex =
       compileShader(GL_VERTEX_SHADER, shaders::raster_vert, shaders::raster_vert_file);
@@ -340,6 +366,7 @@ Renderer::~Renderer() {
   glDeleteVertexArrays(1, &state_->vertexArray);
   glDeleteProgram(state_->program);
   glDeleteProgram(state_->primitiveProgram);
+  glDeleteProgram(state_->logDepthProgram);
 }
 
 void Renderer::State::upload(const RasterGeometry& geometry) {
@@ -409,8 +436,15 @@ void Renderer::State::beginFrame(const RenderRequest& request, GLuint target) {
 }
 
 void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat4& clipFromInput,
-                                 glm::dvec2 sceneDepthRange) {
-  glUseProgram(program);
+                                 glm::dvec2 sceneDepthRange,
+                                 const std::optional<LogDepthMapping>& logDepth) {
+  glUseProgram(logDepth ? logDepthProgram : program);
+  if (logDepth) {
+    // As three.js sets logDepthBufFC: 2 / log2(far + 1) in double, rounded to a float uniform.
+    glUniform1f(kLogDepthConstantLocation, static_cast<GLfloat>(logDepth->constant));
+    glUniform1f(kLogDepthBufFCLocation, static_cast<GLfloat>(2.0 * logDepth->scale()));
+    glUniform1i(kLogDepthReversedLocation, logDepth->reversed ? 1 : 0);
+  }
   const glm::mat4 uniformMatrix(clipFromInput);  // rounded to float, as an app's uniform is
   glUniformMatrix4fv(clipFromInputLocation, 1, GL_FALSE, &uniformMatrix[0][0]);
   glBindVertexArray(vertexArray);
@@ -541,7 +575,7 @@ void Renderer::State::draw(const RenderRequest& request, GLuint target, RenderTi
   const RasterGeometry geometry = rasterGeometry(request);
   upload(geometry);
   beginFrame(request, target);
-  drawMeshes(geometry, clipFromInputOf(request), request.depthRange);
+  drawMeshes(geometry, clipFromInputOf(request), request.depthRange, request.logDepth);
   if (!geometry.primitiveDraws.empty()) drawPrimitives(request, geometry.primitiveDraws);
   glFinish();
   checkGl("drawing");

@@ -4,6 +4,7 @@
 // RenderRequest::clipFromWorld: column-major, p_clip = clipFromWorld * p_world, built for its mode.
 
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -12,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "clipray/compare/Frames.hpp"
+#include "clipray/compare/LogarithmicDepth.hpp"
 #include "clipray/gl/GlContext.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/Scene.hpp"
@@ -43,6 +45,9 @@ struct RenderRequest {
   // Samples per pixel: 1 draws single-sampled (render); more draws into multisample attachments
   // with GL_MULTISAMPLE enabled (renderSamples), triangle meshes only.
   int samples = 1;
+  // The meshes' fragment shader writes this logarithmic depth (shaders/log_depth.frag) in place
+  // of the projective one; nullopt: it writes none.
+  std::optional<LogDepthMapping> logDepth{};
 };
 
 // A multisampled frame read one sample at a time: samples[s] holds sample s of every pixel, laid

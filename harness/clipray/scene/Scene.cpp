@@ -34,6 +34,10 @@ std::size_t Scene::triangleCount() const {
   return count;
 }
 
+const char* logDepthFormName(LogDepthForm form) {
+  return form == LogDepthForm::ThreeJs ? "threejs" : "outerra";
+}
+
 const char* primitiveKindName(PrimitiveKind kind) {
   switch (kind) {
     case PrimitiveKind::Sphere:

@@ -30,6 +30,29 @@ struct OrthographicProjection {
   double farDistance = 100.0;
 };
 
+// A depth the mesh fragment shader writes itself (gl_FragDepth) from the fragment's clip w, in
+// place of the projective window depth: L(w) = log2(1 + C w) / log2(1 + C far).
+//   threejs: WebGLRenderer's logarithmicDepthBuffer, C = 1 (vFragDepth = 1.0 + gl_Position.w;
+//            gl_FragDepth = log2(vFragDepth) * logDepthBufFC * 0.5, logDepthBufFC =
+//            2.0 / log2(camera.far + 1.0): mrdoob/three.js
+//            src/renderers/shaders/ShaderChunk/logdepthbuf_vertex.glsl.js and
+//            logdepthbuf_fragment.glsl.js, the uniform in src/renderers/WebGLRenderer.js).
+//   outerra: Outerra's log depth with the constant C of its first version (log(C w + 1) /
+//            log(C far + 1)), written per fragment as its 2013 "Logarithmic Depth Buffer
+//            Optimizations & Fixes" writes its C = 1 form (flogz = 1.0 + gl_Position.w
+//            interpolated, gl_FragDepth = log2(flogz) * Fcoef_half, Fcoef = 2.0 /
+//            log2(farplane + 1.0)); here flogz = 1.0 + C gl_Position.w and Fcoef = 2.0 /
+//            log2(C far + 1.0).
+// Under reversed-Z (GL_GREATER, clear 0) the shader writes 1 - L (near stays the greater).
+enum class LogDepthForm : std::uint8_t { ThreeJs, Outerra };
+struct LogarithmicDepth {
+  LogDepthForm form = LogDepthForm::ThreeJs;
+  double far = 1.0;       // where L reaches 1 (three.js: camera.far); positive, finite
+  double constant = 1.0;  // C: positive, finite; 1 for three.js (its formula has none)
+  bool operator==(const LogarithmicDepth&) const = default;
+};
+const char* logDepthFormName(LogDepthForm form);
+
 struct Camera {
   std::string name;
   Viewport viewport;
@@ -50,6 +73,10 @@ struct Camera {
   // camera ("depth-convention-mismatch" for a matrix built for NO drawn under ZO): a reconcile run
   // notes them as expected instead of failing with the verdict convention-error.
   std::vector<std::string> expectedFindings;
+  // The depth the meshes' fragment shader writes in place of the projective one, if any (three.js
+  // sets logDepthBufFC per camera from camera.far): triangle meshes under a perspective
+  // projection only (the loader refuses the rest).
+  std::optional<LogarithmicDepth> logarithmicDepth;
 
   // The matrix the app would hand GL when drawing under `drawnUnder` at `viewport`.
   glm::dmat4 clipFromWorld(DepthMode drawnUnder, Viewport viewport) const;

@@ -155,6 +155,28 @@ SceneBuilder& SceneBuilder::expectedFindings(std::vector<std::string> codes) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::threeJsLogarithmicDepth(double far) {
+  if (document_->cameras().empty()) {
+    throw InputError("SceneBuilder " + detail::jsonString(name_) +
+                     ": threeJsLogarithmicDepth() applies to the camera added last, and no camera "
+                     "was added yet");
+  }
+  document_->cameras().back()["logarithmicDepth"] =
+      Json::object({{"form", "threejs"}, {"far", far}});
+  return *this;
+}
+
+SceneBuilder& SceneBuilder::outerraLogarithmicDepth(double constant, double far) {
+  if (document_->cameras().empty()) {
+    throw InputError("SceneBuilder " + detail::jsonString(name_) +
+                     ": outerraLogarithmicDepth() applies to the camera added last, and no camera "
+                     "was added yet");
+  }
+  document_->cameras().back()["logarithmicDepth"] =
+      Json::object({{"form", "outerra"}, {"far", far}, {"constant", constant}});
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::conventions(std::vector<DepthMode> modes) {
   Json names = Json::array();
   for (const DepthMode& mode : modes) names.push_back(mode.name());

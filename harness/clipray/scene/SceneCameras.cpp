@@ -18,7 +18,7 @@ Camera SceneReader::camera(const json& value, const Pointer& at,
   expectObject(value, at);
   expectKnownKeys(value, at,
                   {"name", "viewport", "clipFromWorld", "view", "viewFromWorld", "projection",
-                   "builtFor", "clipPlanes", "expectedFindings"});
+                   "builtFor", "clipPlanes", "expectedFindings", "logarithmicDepth"});
   Camera camera;
   camera.name = name(value, at, "camera", names);
   camera.viewport = viewport(required(value, at, "viewport"), at / "viewport");
@@ -27,6 +27,9 @@ Camera SceneReader::camera(const json& value, const Pointer& at,
   }
   if (const json* expected = optional(value, "expectedFindings")) {
     camera.expectedFindings = expectedFindings(*expected, at / "expectedFindings");
+  }
+  if (const json* logDepth = optional(value, "logarithmicDepth")) {
+    camera.logarithmicDepth = logarithmicDepth(*logDepth, at / "logarithmicDepth");
   }
 
   const json* raw = optional(value, "clipFromWorld");
@@ -143,6 +146,40 @@ std::variant<PerspectiveProjection, OrthographicProjection, std::monostate> Scen
   }
   fail(at / "type", "expected one of " + quotedList({"perspective", "orthographic"}) + ", got " +
                         describe(type));
+}
+
+LogarithmicDepth SceneReader::logarithmicDepth(const json& value, const Pointer& at) const {
+  if (!value.is_object()) {
+    fail(at, "expected {\"form\", \"far\", \"constant\"} of a logarithmic depth, got " +
+                 describe(value));
+  }
+  expectKnownKeys(value, at, {"form", "far", "constant"});
+  LogarithmicDepth logDepth;
+  const json& form = required(value, at, "form");
+  const std::string formName = form.is_string() ? form.get<std::string>() : std::string();
+  if (formName == "threejs") {
+    logDepth.form = LogDepthForm::ThreeJs;
+  } else if (formName == "outerra") {
+    logDepth.form = LogDepthForm::Outerra;
+  } else {
+    fail(at / "form",
+         "expected one of " + quotedList({"threejs", "outerra"}) + ", got " + describe(form));
+  }
+  logDepth.far = positiveNumber(required(value, at, "far"), at / "far");
+  if (logDepth.form == LogDepthForm::Outerra) {
+    logDepth.constant = positiveNumber(required(value, at, "constant"), at / "constant");
+  } else if (optional(value, "constant")) {
+    fail(at / "constant",
+         "three.js's logarithmic depth has no constant (log2(1 + w)); use \"form\": \"outerra\" "
+         "for log2(1 + C w) / log2(1 + C far)");
+  }
+  if (!std::isfinite(std::log2(1.0 + logDepth.constant * logDepth.far)) ||
+      !(std::log2(1.0 + logDepth.constant * logDepth.far) > 0.0)) {
+    fail(at, "log2(1 + constant * far) is not a positive finite number for constant " +
+                 describe(value.value("constant", json(1.0))) + " and far " +
+                 describe(value["far"]));
+  }
+  return logDepth;
 }
 
 std::vector<glm::dvec4> SceneReader::clipPlanes(const json& value, const Pointer& at) const {

@@ -12,6 +12,7 @@
 #include <string>
 #include <string_view>
 #include <utility>
+#include <variant>
 #include <vector>
 
 #include "clipray/InputError.hpp"
@@ -188,11 +189,45 @@ Scene SceneReader::read(const json& root) {
          "depth clamp with an object drawn in a depth range of its own (\"" + ownRange->name +
              "\") is not modelled: use the scene's depthRange for every object");
   }
+  for (std::size_t i = 0; i < scene.cameras.size(); ++i) {
+    if (scene.cameras[i].logarithmicDepth) {
+      refuseUnmodelledLogDepth(scene, scene.cameras[i], top / "cameras" / i / "logarithmicDepth");
+    }
+  }
   if (scene.triangleCount() + scene.primitives.size() > PrimitiveIdTable::kMaxPrimitives) {
     fail(top / "objects", "too many primitives for 32-bit primitive ids: " +
                               std::to_string(scene.triangleCount() + scene.primitives.size()));
   }
   return scene;
+}
+
+void SceneReader::refuseUnmodelledLogDepth(const Scene& scene, const Camera& camera,
+                                           const Pointer& at) const {
+  // What the model of a depth written by the mesh shader leaves out (docs/reconcile.md): the
+  // analytic primitives write their own projective depth; depth clamp, glDepthRange and polygon
+  // offset act on the rasterizer's depth, which gl_FragDepth replaces; a parallel projection has
+  // one w everywhere (three.js falls back to gl_FragCoord.z there).
+  const auto refuse = [&](const std::string& what) {
+    fail(at, "a logarithmic depth with " + what + " is not modelled; use triangle meshes drawn " +
+                 "with the default depth range, no depth clamp and no polygon offset, seen " +
+                 "through a perspective projection");
+  };
+  if (!scene.primitives.empty()) {
+    refuse(std::string("a ") + primitiveKindName(scene.primitives[0].kind) + " (\"" +
+           scene.primitives[0].name + "\")");
+  }
+  if (scene.depthClamp) refuse("depth clamp");
+  if (scene.depthRange != glm::dvec2(0.0, 1.0)) refuse("the scene's depthRange");
+  for (const MeshObject& object : scene.objects) {
+    if (object.depthRange) refuse("a depth range per object (\"" + object.name + "\")");
+    if (object.polygonOffset) refuse("a polygon offset (\"" + object.name + "\")");
+  }
+  const bool parallel =
+      std::holds_alternative<OrthographicProjection>(camera.projection) ||
+      (camera.rawClipFromWorld &&
+       glm::dvec3((*camera.rawClipFromWorld)[0][3], (*camera.rawClipFromWorld)[1][3],
+                  (*camera.rawClipFromWorld)[2][3]) == glm::dvec3(0.0));
+  if (parallel) refuse("a parallel projection (clip w is 1 everywhere)");
 }
 
 void SceneReader::object(const json& value, const Pointer& at,

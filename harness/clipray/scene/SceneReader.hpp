@@ -49,6 +49,12 @@ class SceneReader : public SceneValidator {
   glm::dmat4 lookAt(const json& value, const Pointer& at) const;
   std::vector<glm::dvec4> clipPlanes(const json& value, const Pointer& at) const;
   std::vector<std::string> expectedFindings(const json& value, const Pointer& at) const;
+  // A camera's "logarithmicDepth": {"form": "threejs" | "outerra", "far", "constant"} (far and,
+  // for outerra only, constant required, each positive and finite).
+  LogarithmicDepth logarithmicDepth(const json& value, const Pointer& at) const;
+  // Fails at `at` (the camera's "logarithmicDepth") for what the scene has beside it that the
+  // model of a shader-written depth leaves out (SceneLoader.cpp).
+  void refuseUnmodelledLogDepth(const Scene& scene, const Camera& camera, const Pointer& at) const;
   std::variant<PerspectiveProjection, OrthographicProjection, std::monostate> projection(
       const json& value, const Pointer& at) const;
   // One object: its type's reader with its placement (SceneLoader.cpp).

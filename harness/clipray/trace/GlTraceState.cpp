@@ -245,9 +245,10 @@ std::string formatNameOf(std::uint32_t internalFormat) {
 }  // namespace
 
 std::string TraceDepthState::key() const {
-  char text[384];
-  std::snprintf(text, sizeof text, "%d%d%d %u %a %a %a %d %dx%d %s %d %u %u %d %u %d %d %a %a %a",
-                clipZeroToOne, clipUpperLeft, depthTest, depthFunc, depthRange.x, depthRange.y,
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "%d%d%d %u %a %a %a %d %dx%d %s %d %u %u %d %u %d %d %a %a %a %u", clipZeroToOne,
+                clipUpperLeft, depthTest, depthFunc, depthRange.x, depthRange.y,
                 clearedDepth ? *clearedDepth : -1.0, clearedDepth.has_value(), viewport.width,
                 viewport.height, depthFormatName.c_str(), cullFace, cullFaceMode, frontFace,
                 depthClamp, static_cast<unsigned>(clipDistances), writesClipDistance,
@@ -255,7 +256,7 @@ std::string TraceDepthState::key() const {
                 // reports on stay one group).
                 offsetTowardCameraUnderGreater(*this),
                 offsetTowardCameraUnderGreater(*this) ? offsetFactor : 0.0,
-                offsetTowardCameraUnderGreater(*this) ? offsetUnits : 0.0, 0.0);
+                offsetTowardCameraUnderGreater(*this) ? offsetUnits : 0.0, 0.0, fragDepthProgram);
   return text;
 }
 
@@ -398,6 +399,8 @@ TraceDraw GlTraceState::drawAt(const DumpCall& call) {
     }
   }
   draw.depth.writesClipDistance = program != 0 && uniformBuffers_.writesClipDistance(program);
+  draw.depth.fragDepthProgram =
+      program != 0 && uniformBuffers_.writesFragDepth(program) ? program : 0;
   return draw;
 }
 

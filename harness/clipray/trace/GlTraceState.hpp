@@ -53,6 +53,9 @@ struct TraceDepthState {
   std::uint8_t clipDistances = 0;
   // The program drawing writes gl_ClipDistance (its shaders' text mentions it).
   bool writesClipDistance = false;
+  // The program drawing (its number; 0: none) writes gl_FragDepth (FragDepthWrite.hpp): the depth
+  // it stores is the shader's, not the matrix's projective depth.
+  std::uint32_t fragDepthProgram = 0;
   // glEnable(GL_POLYGON_OFFSET_FILL), and the last glPolygonOffset / glPolygonOffsetClamp(EXT)'s
   // factor, units and clamp (GL 4.6 14.6.5; GL's defaults are 0).
   bool polygonOffsetFill = false;

@@ -113,6 +113,25 @@ void addPolygonOffsetFinding(const TraceDepthState& depth, CheckReport& report) 
            " pushes away (a decal meant to come forward keeps positive values)"});
 }
 
+// A program whose fragment shader writes gl_FragDepth (FragDepthWrite.hpp): the depth buffer holds
+// what the shader computes (three.js's logarithmicDepthBuffer writes log2(1 + w) / log2(1 + far);
+// Outerra's and Cesium's log depth likewise), not the projective depth of the matrix. The matrix
+// checks still hold for what the near and far planes clip; a depth-buffer picking function that
+// unprojects the stored depth through the inverse matrix finds the wrong point.
+void addFragDepthFinding(const TraceDepthState& depth, CheckReport& report) {
+  if (depth.fragDepthProgram == 0) return;
+  report.findings.push_back(
+      {"info", "fragment-depth-not-projective",
+       "program " + std::to_string(depth.fragDepthProgram) +
+           " writes gl_FragDepth from its fragment shader: the depth buffer holds the depth the "
+           "shader computes (a logarithmic depth of clip w, as three.js's logarithmicDepthBuffer "
+           "and Outerra's write), not the projective depth of the matrix, so the depth buffer is "
+           "not projective for these draws",
+       "depth-buffer picking must invert the same mapping (three.js: w = 2^(d * log2(far + 1)) - "
+       "1, then the point at that w along the pixel's ray), not unproject the depth through the "
+       "inverse matrix"});
+}
+
 // What only the traced state shows, beyond the matrix check's findings. A far-surface pass
 // (OppositeDepthPasses) clears to the near end on purpose: its clear is not checked; nor is the
 // clear of a near pass drawn over what a far pass of the same matrix wrote into it (overFarPass).
@@ -132,6 +151,7 @@ void addTraceFindings(const TraceDepthState& depth, bool farSurfacePass,
          "writes"});
   }
   addPolygonOffsetFinding(depth, report);
+  addFragDepthFinding(depth, report);
   const MatrixProperties& p = report.properties;
   // A transposed upload reads as any convention: its depth readings mean nothing.
   if (!depth.depthTest || !p.reversedDecided || p.likelyTransposed) return;

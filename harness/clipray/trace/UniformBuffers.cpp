@@ -11,6 +11,7 @@
 #include <unordered_set>
 
 #include "clipray/trace/DumpArguments.hpp"
+#include "clipray/trace/FragDepthWrite.hpp"
 #include "clipray/trace/GlEnums.hpp"
 
 namespace clipray::trace {
@@ -173,6 +174,7 @@ void UniformBuffers::link(std::uint32_t program) {
   blocks.clear();
   std::erase_if(blockIndexNames_, [&](const auto& entry) { return entry.first.first == program; });
   programsWritingClipDistance_.erase(program);
+  programsWritingFragDepth_.erase(program);
   programsFixedFunction_.erase(program);
   const std::vector<std::uint32_t>& attached = attachedShaders_[program];
   bool typesKnown = !attached.empty(), hasVertexShader = false;
@@ -187,6 +189,7 @@ void UniformBuffers::link(std::uint32_t program) {
     const auto source = shaderSources_.find(shader);
     if (source == shaderSources_.end()) continue;
     if (mentionsClipDistance(source->second)) programsWritingClipDistance_.insert(program);
+    if (trace::writesFragDepth(source->second)) programsWritingFragDepth_.insert(program);
     const auto type = shaderTypes_.find(shader);
     const bool vertexStage = type == shaderTypes_.end() || type->second == kGlVertexShader;
     if (const std::string read = fixedFunctionTransformRead(source->second);

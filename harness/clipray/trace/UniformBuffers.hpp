@@ -80,6 +80,11 @@ class UniformBuffers {
   bool writesClipDistance(std::uint32_t program) const {
     return programsWritingClipDistance_.contains(program);
   }
+  // Whether one of the program's shaders assigns gl_FragDepth where its preprocessor keeps the
+  // line (FragDepthWrite.hpp): its depth is what the shader computes, not the projective one.
+  bool writesFragDepth(std::uint32_t program) const {
+    return programsWritingFragDepth_.contains(program);
+  }
 
   // Why the program's vertices go through the fixed-function GL_PROJECTION: "its vertex shader
   // calls ftransform()", "its vertex shader reads gl_ProjectionMatrix", "it has no vertex
@@ -172,6 +177,7 @@ class UniformBuffers {
   std::map<std::uint32_t, std::vector<std::uint32_t>> attachedShaders_;
   std::map<std::uint32_t, std::vector<LinkedBlock>> programBlocks_;
   std::set<std::uint32_t> programsWritingClipDistance_;
+  std::set<std::uint32_t> programsWritingFragDepth_;
   std::map<std::uint32_t, std::uint32_t> shaderTypes_;  // glCreateShader's result -> its type
   std::map<std::uint32_t, std::string> programsFixedFunction_;
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::string> blockIndexNames_;

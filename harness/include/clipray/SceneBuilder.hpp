@@ -128,6 +128,13 @@ class SceneBuilder {
   // added last shows on purpose: a reconcile notes them as expected instead of failing the run
   // with the verdict convention-error (docs/scene-format.md, expectedFindings).
   SceneBuilder& expectedFindings(std::vector<std::string> codes);
+  // A logarithmic depth the meshes' fragment shader writes (gl_FragDepth) when drawn from the
+  // camera added last, L(w) = log2(1 + C w) / log2(1 + C far) of the fragment's clip w (1 - L
+  // under reversed-Z): three.js's logarithmicDepthBuffer (C = 1, far its camera.far), or Outerra's
+  // with its constant C. far and C positive and finite; build() refuses it beside analytic
+  // surfaces, depth clamp, depth ranges, polygon offset and parallel projections.
+  SceneBuilder& threeJsLogarithmicDepth(double far);
+  SceneBuilder& outerraLogarithmicDepth(double constant, double far);
   // Without any camera, the scene is seen from four automatic ones framed on its geometry.
 
   // Validates and builds; throws InputError.
