@@ -15,24 +15,18 @@
 #include "clipray/scene/Scene.hpp"
 #include "support/GlFixture.hpp"
 #include "support/RunStates.hpp"
+#include "support/SceneObjects.hpp"
 
 namespace clipray {
 namespace {
 
 using testing::GlTest;
+using testing::objectIndex;
 
 class ObjectClipPlanes : public GlTest {};
 
 Scene sectionScene() {
   return loadScene(testing::sourcePath("scenes/object_clip_planes.json"));
-}
-
-std::size_t objectIndex(const Scene& scene, const std::string& name) {
-  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
-    if (scene.objects[k].name == name) return k;
-  }
-  ADD_FAILURE() << "no object " << name;
-  return 0;
 }
 
 // What the rays of a pass show: the house's inside (a face seen from behind), the ground beyond

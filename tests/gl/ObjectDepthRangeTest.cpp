@@ -15,11 +15,14 @@
 #include "clipray/scene/Scene.hpp"
 #include "support/GlFixture.hpp"
 #include "support/RunStates.hpp"
+#include "support/SceneObjects.hpp"
 
 namespace clipray {
 namespace {
 
 using testing::GlTest;
+using testing::objectIndex;
+using testing::ofObject;
 
 class ObjectDepthRange : public GlTest {};
 
@@ -43,21 +46,6 @@ Scene weaponScene(const Ranges& ranges) {
     if (object.name == "weapon") object.depthRange = ranges.weapon;
   }
   return scene;
-}
-
-std::size_t objectIndex(const Scene& scene, const std::string& name) {
-  for (std::size_t k = 0; k < scene.objects.size(); ++k) {
-    if (scene.objects[k].name == name) return k;
-  }
-  ADD_FAILURE() << "no object " << name;
-  return 0;
-}
-
-// Whether the id is one of the object's triangles.
-bool ofObject(const Scene& scene, std::size_t object, std::uint32_t id) {
-  const PrimitiveIdTable ids(scene);
-  const std::uint32_t first = ids.firstIdOfObject[object];
-  return id >= first && id < first + scene.objects[object].triangles.size();
 }
 
 TEST_F(ObjectDepthRange, TheWeaponShowsWholeThroughTheNearerWallUnderEveryState) {

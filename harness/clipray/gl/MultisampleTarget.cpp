@@ -53,13 +53,9 @@ std::vector<int> multisampleCounts(GLenum depthInternalFormat) {
 }
 
 MultisampleTarget::MultisampleTarget() {
-  const GLuint vertex =
-      compileShader(GL_VERTEX_SHADER, shaders::sample_fetch_vert, shaders::sample_fetch_vert_file);
-  const GLuint fragment = compileShader(GL_FRAGMENT_SHADER, shaders::sample_fetch_frag,
-                                        shaders::sample_fetch_frag_file);
-  fetchProgram_ = linkProgram(vertex, fragment, "sample fetch");
-  glDeleteShader(vertex);
-  glDeleteShader(fragment);
+  fetchProgram_ =
+      buildProgram({shaders::sample_fetch_vert, shaders::sample_fetch_vert_file},
+                   {shaders::sample_fetch_frag, shaders::sample_fetch_frag_file}, "sample fetch");
   sampleLocation_ = glGetUniformLocation(fetchProgram_, "uSample");
   glProgramUniform1i(fetchProgram_, glGetUniformLocation(fetchProgram_, "uDepth"), 0);
   glProgramUniform1i(fetchProgram_, glGetUniformLocation(fetchProgram_, "uIds"), 1);

@@ -296,24 +296,15 @@ Renderer::Renderer(GlContext& context) : state_(std::make_unique<State>()) {
   maxViewport_ = {std::min(viewportDims[0], renderbufferSize),
                   std::min(viewportDims[1], renderbufferSize)};
 
-  const GLuint vertex =
-      compileShader(GL_VERTEX_SHADER, shaders::raster_vert, shaders::raster_vert_file);
-  const GLuint fragment =
-      compileShader(GL_FRAGMENT_SHADER, shaders::raster_frag, shaders::raster_frag_file);
-  state_->program = linkProgram(vertex, fragment, "raster");
-  glDeleteShader(vertex);
-  glDeleteShader(fragment);
+  const ShaderFile rasterVertex{shaders::raster_vert, shaders::raster_vert_file};
+  state_->program =
+      buildProgram(rasterVertex, {shaders::raster_frag, shaders::raster_frag_file}, "raster");
   state_->clipFromInputLocation = glGetUniformLocation(state_->program, "uClipFromInput");
   state_->firstIdLocation = glGetUniformLocation(state_->program, "uFirstId");
   state_->clipPlanesLocation = glGetUniformLocation(state_->program, "uClipPlanes");
   state_->clipPlaneCountLocation = glGetUniformLocation(state_->program, "uClipPlaneCount");
-  const GLuint logDepthVertex =
-      compileShader(GL_VERTEX_SHADER, shaders::raster_vert, shaders::raster_vert_file);
-  const GLuint logDepthFragment =
-      compileShader(GL_FRAGMENT_SHADER, shaders::log_depth_frag, shaders::log_depth_frag_file);
-  state_->logDepthProgram = linkProgram(logDepthVertex, logDepthFragment, "log depth");
-  glDeleteShader(logDepthVertex);
-  glDeleteShader(logDepthFragment);
+  state_->logDepthProgram = buildProgram(
+      rasterVertex, {shaders::log_depth_frag, shaders::log_depth_frag_file}, "log depth");
   // drawMeshes sets the shared uniforms at the mesh program's locations for either program.
   for (const auto& [name, location] :
        {std::pair{"uClipFromInput", state_->clipFromInputLocation},

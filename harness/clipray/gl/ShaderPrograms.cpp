@@ -90,6 +90,15 @@ GLuint linkProgram(GLuint vertex, GLuint fragment, const char* name) {
   return program;
 }
 
+GLuint buildProgram(const ShaderFile& vertex, const ShaderFile& fragment, const char* name) {
+  const GLuint vertexShader = compileShader(GL_VERTEX_SHADER, vertex.text, vertex.name);
+  const GLuint fragmentShader = compileShader(GL_FRAGMENT_SHADER, fragment.text, fragment.name);
+  const GLuint program = linkProgram(vertexShader, fragmentShader, name);
+  glDeleteShader(vertexShader);
+  glDeleteShader(fragmentShader);
+  return program;
+}
+
 std::string glString(GLenum name) {
   const GLubyte* text = glGetString(name);
   return text ? reinterpret_cast<const char*>(text) : "";

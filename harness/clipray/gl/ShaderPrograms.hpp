@@ -26,6 +26,9 @@ GLuint compileShader(GLenum kind, const char* source, const char* file);
 // GlError with the link log where the program does not link.
 GLuint linkProgram(GLuint vertex, GLuint fragment, const char* name);
 
+// A program of one vertex and one fragment file, the shaders deleted once linked.
+GLuint buildProgram(const ShaderFile& vertex, const ShaderFile& fragment, const char* name);
+
 std::string glString(GLenum name);
 
 }  // namespace clipray::gl

@@ -351,16 +351,20 @@ TraceDraw GlTraceState::drawAt(const DumpCall& call) {
   draw.depth = depth_;
   const std::uint32_t program = drawProgram();
   if (program != 0) {
-    for (auto it = uniformMatrices_.lower_bound({program, INT64_MIN});
-         it != uniformMatrices_.end() && it->first.first == program; ++it) {
-      if (!hasProjectionStructure(it->second)) continue;
-      const auto named = uniformNames_.find(it->first);
-      const std::string name = named != uniformNames_.end()
-                                   ? named->second
-                                   : "at location " + std::to_string(it->first.second);
-      draw.matrices.push_back(
-          {"uniform " + name + " (program " + std::to_string(program) + ")", false, it->second});
-    }
+    // The program's uniform matrices that have `structure`, named by uniform.
+    const auto addUniforms = [&](bool (*structure)(const glm::dmat4&)) {
+      for (auto it = uniformMatrices_.lower_bound({program, INT64_MIN});
+           it != uniformMatrices_.end() && it->first.first == program; ++it) {
+        if (!structure(it->second)) continue;
+        const auto named = uniformNames_.find(it->first);
+        const std::string name = named != uniformNames_.end()
+                                     ? named->second
+                                     : "at location " + std::to_string(it->first.second);
+        draw.matrices.push_back(
+            {"uniform " + name + " (program " + std::to_string(program) + ")", false, it->second});
+      }
+    };
+    addUniforms(hasProjectionStructure);
     for (UniformBlockMatrix& read : uniformBuffers_.matrices(program, call.number)) {
       if (hasProjectionStructure(read.matrix)) {
         draw.matrices.push_back({std::move(read.source), false, read.matrix});
@@ -369,16 +373,7 @@ TraceDraw GlTraceState::drawAt(const DumpCall& call) {
     // In a reversed-Z frame, a reversed-Z orthographic projection (orientation-preserving)
     // where nothing else is one.
     if (draw.matrices.empty() && reversedDepthFrame(depth_)) {
-      for (auto it = uniformMatrices_.lower_bound({program, INT64_MIN});
-           it != uniformMatrices_.end() && it->first.first == program; ++it) {
-        if (!hasReversedOrthographicStructure(it->second)) continue;
-        const auto named = uniformNames_.find(it->first);
-        const std::string name = named != uniformNames_.end()
-                                     ? named->second
-                                     : "at location " + std::to_string(it->first.second);
-        draw.matrices.push_back(
-            {"uniform " + name + " (program " + std::to_string(program) + ")", false, it->second});
-      }
+      addUniforms(hasReversedOrthographicStructure);
     }
     // The compatibility profile's built-ins: such a program transforms through the
     // fixed-function stacks as a draw without a program does.
