@@ -190,8 +190,8 @@ std::vector<RunRecord> mergeRounds(std::vector<std::vector<RunRecord>> rounds);
 // "<scene>/<camera>-<convention>-<format>-<vertex mode>": the run's folder under the output folder;
 // "-s<index>of<count>" after it for a sample of a multisampled frame.
 std::string runFolderName(const RunRecord& run);
-// "", or " sample <index> of <count>" (GL's sample index, from 0) for a sample of a multisampled frame: after the vertex mode
-// wherever a run is named.
+// "", or " sample <index> of <count>" (GL's sample index, from 0) for a sample of a multisampled
+// frame: after the vertex mode wherever a run is named.
 std::string sampleSuffix(const RunRecord& run);
 // A scene or camera name as one safe path component: characters other than letters, digits and
 // "._+-" become '_'; a name that is empty or only dots becomes underscores.
@@ -228,7 +228,8 @@ std::string textSummary(const std::vector<RunRecord>& runs);
 std::vector<std::string> runSummaryLines(const std::vector<RunRecord>& runs);
 // The run's line of a summary of it alone.
 std::string runSummaryLine(const RunRecord& run);
-// "<scene>/<camera> <convention> <format> <vertex mode>[ sample i of n]": a run as messages name it.
+// "<scene>/<camera> <convention> <format> <vertex mode>[ sample i of n]": a run as messages name
+// it.
 std::string runTitleText(const RunRecord& run);
 // Which side hit what at the run's worst pixel and at its clusters' pixels, one line each, each
 // line after `indent`: "worst pixel (12, 40): coverage_unexplained: raster nothing, ray ...".
