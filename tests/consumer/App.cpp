@@ -29,7 +29,8 @@ Mesh boxMesh(glm::vec3 min, glm::vec3 max) {
 
 }  // namespace
 
-App::App(Style appStyle, bool culling, bool withSign) : style(appStyle), cullBackFaces(culling) {
+App::App(Style appStyle, bool culling, bool withSign, bool withDecal)
+    : style(appStyle), cullBackFaces(culling) {
   floor.positions = {-4, 0, -4, 4, 0, -4, 4, 0, 4, -4, 0, 4};
   floor.indices = {0, 2, 1, 0, 3, 2};
   box = boxMesh({-0.7f, 0.0f, -0.7f}, {0.7f, 1.4f, 0.7f});
@@ -49,6 +50,15 @@ App::App(Style appStyle, bool culling, bool withSign) : style(appStyle), cullBac
     }
     board.indices = {0, 2, 1, 0, 3, 2};
     sign = board;
+  }
+  if (withDecal) {
+    // A poster in the plane of the box's front face, counter-clockwise seen from +z as that
+    // face's triangles are: only the polygon offset decides which of the two the depth test keeps.
+    Mesh poster;
+    poster.positions = {-0.35f, 0.35f, 0.7f, 0.35f,  0.35f, 0.7f,
+                        0.35f,  1.05f, 0.7f, -0.35f, 1.05f, 0.7f};
+    poster.indices = {0, 1, 2, 0, 2, 3};
+    decal = poster;
   }
   // A 3D view beside an 80-pixel side panel: the viewport starts right of it.
   const int panel = 80;
@@ -97,6 +107,7 @@ std::optional<PickRay> App::pick(glm::dvec2 mouse, PickingBug bug) const {
 std::vector<const Mesh*> App::meshes() const {
   std::vector<const Mesh*> all = {&floor, &box};
   if (sign) all.push_back(&*sign);
+  if (decal) all.push_back(&*decal);
   return all;
 }
 
@@ -137,6 +148,8 @@ namespace {
 struct Gl {
   PFNGLCLIPCONTROLPROC ClipControl;
   PFNGLENABLEPROC Enable;
+  PFNGLDISABLEPROC Disable;
+  PFNGLPOLYGONOFFSETPROC PolygonOffset;
   PFNGLCULLFACEPROC CullFace;
   PFNGLFRONTFACEPROC FrontFace;
   PFNGLDEPTHFUNCPROC DepthFunc;
@@ -177,6 +190,8 @@ struct Gl {
     };
     get(ClipControl, "glClipControl");
     get(Enable, "glEnable");
+    get(Disable, "glDisable");
+    get(PolygonOffset, "glPolygonOffset");
     get(CullFace, "glCullFace");
     get(FrontFace, "glFrontFace");
     get(DepthFunc, "glDepthFunc");
@@ -235,6 +250,18 @@ void main() {
 }
 )";
 
+// The same, passing the depth through gl_FragDepth (RenderBug::FragDepthWritten).
+const char* const kFragDepthShader = R"(#version 450 core
+layout(location = 0) out vec4 colour;
+layout(location = 1) out uint pickId;
+uniform uint firstId;
+void main() {
+  colour = vec4(0.8, 0.7, 0.5, 1.0);
+  pickId = firstId + uint(gl_PrimitiveID);
+  gl_FragDepth = gl_FragCoord.z;
+}
+)";
+
 GLuint compile(const Gl& gl, GLenum kind, const char* source) {
   const GLuint shader = gl.CreateShader(kind);
   gl.ShaderSource(shader, 1, &source, nullptr);
@@ -255,8 +282,10 @@ void render(const App& app, GetProcAddress getProcAddress,
             const std::vector<std::uint32_t>& firstIds, RenderBug bug, bool writeIds) {
   const Gl gl(getProcAddress);
   const GLuint vertex = compile(gl, GL_VERTEX_SHADER, kVertexShader);
-  const GLuint fragment =
-      compile(gl, GL_FRAGMENT_SHADER, writeIds ? kFragmentShader : kColourShader);
+  const GLuint fragment = compile(gl, GL_FRAGMENT_SHADER,
+                                  !writeIds                            ? kColourShader
+                                  : bug == RenderBug::FragDepthWritten ? kFragDepthShader
+                                                                       : kFragmentShader);
   const GLuint program = gl.CreateProgram();
   gl.AttachShader(program, vertex);
   gl.AttachShader(program, fragment);
@@ -316,8 +345,17 @@ void render(const App& app, GetProcAddress getProcAddress,
     gl.EnableVertexAttribArray(0);
     gl.VertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
     if (writeIds) gl.Uniform1ui(firstIdLocation, firstIds.at(m));
+    const bool isDecal = app.decal && meshes[m] == &*app.decal;
+    if (isDecal) {
+      // Out of the face it lies on, toward the camera: the nearer surface has the smaller depth
+      // under GL_LESS, the greater under GL_GREATER (the bug: keep GL_LESS's sign there).
+      const double toward = bug == RenderBug::DecalOffsetNotFlipped ? -1.0 : app.decalOffset();
+      gl.Enable(GL_POLYGON_OFFSET_FILL);
+      gl.PolygonOffset(static_cast<float>(toward), static_cast<float>(toward));
+    }
     gl.DrawElements(GL_TRIANGLES, static_cast<GLsizei>(meshes[m]->indices.size()), GL_UNSIGNED_INT,
                     nullptr);
+    if (isDecal) gl.Disable(GL_POLYGON_OFFSET_FILL);
     gl.DeleteBuffers(2, buffers);
   }
   gl.BindVertexArray(0);

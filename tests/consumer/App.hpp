@@ -11,8 +11,11 @@
 // are wound counter-clockwise seen from outside; the Direct3D-style app's y-down projection
 // reverses that on screen, so it sets glFrontFace(GL_CW)). An app may also hang a one-sided sign
 // between the camera and the box, its back to the camera: culling leaves it out of the picture,
-// and the app's own picking (pickHit: its own ray-triangle test) must leave it out too. Each has
-// a knob for a classic bug, so the tests can show that clipray catches it.
+// and the app's own picking (pickHit: its own ray-triangle test) must leave it out too. An app may
+// put a decal on the box's front face, drawn last with glPolygonOffset to come forward out of the
+// face it lies on: negative under GL_LESS, positive under the reversed depth range's GL_GREATER.
+// The renderer draws into whatever framebuffer it is handed, multisampled or not. Each has a knob
+// for a classic bug, so the tests can show that clipray catches it.
 
 #include <cstddef>
 #include <cstdint>
@@ -65,13 +68,20 @@ struct PickedTriangle {
 // DepthFuncLess (reversed depth range): glDepthRange(1, 0) with the depth test left at GL_LESS.
 // FrontFaceNotFlipped (Direct3D style, culling back faces): glFrontFace left at GL_CCW, so the
 // y-down projection's reversed winding culls the outsides and keeps the insides.
+// DecalOffsetNotFlipped (reversed depth range): the decal keeps GL_LESS's glPolygonOffset(-1, -1),
+// which under GL_GREATER pushes it into the face behind it.
+// FragDepthWritten: the fragment shader writes gl_FragDepth = gl_FragCoord.z (as a shader that
+// passes depth through, or a log-depth shader's fallback, does): one depth per fragment, which in
+// a multisampled frame every covered sample gets, where fixed-function depth is each sample's own.
 enum class RenderBug {
   None,
   NoClipControl,
   DepthFuncGreater,
   LowerLeftOrigin,
   DepthFuncLess,
-  FrontFaceNotFlipped
+  FrontFaceNotFlipped,
+  DecalOffsetNotFlipped,
+  FragDepthWritten
 };
 
 struct App {
@@ -80,9 +90,13 @@ struct App {
   Window window;
   Camera camera;
   Mesh floor, box;
-  std::optional<Mesh> sign;  // drawn third, wound counter-clockwise seen from the box
+  std::optional<Mesh> sign;   // drawn third, wound counter-clockwise seen from the box
+  std::optional<Mesh> decal;  // drawn last, on the box's front face (z = 0.7), facing +z
+  // The decal's glPolygonOffset(factor, units): toward the camera under the app's depth test.
+  double decalOffset() const { return style == Style::ReversedDepthRange ? 1.0 : -1.0; }
 
-  explicit App(Style style = Style::OpenGl, bool cullBackFaces = false, bool withSign = false);
+  explicit App(Style style = Style::OpenGl, bool cullBackFaces = false, bool withSign = false,
+               bool withDecal = false);
   // The ray under the mouse at (x, y) window units, origin upper left.
   std::optional<PickRay> pick(glm::dvec2 mouse, PickingBug bug = PickingBug::None) const;
   // The nearest triangle under the mouse, culling back faces as the draw does (cullBackFaces);
@@ -95,8 +109,8 @@ struct App {
 // GL entry points, loaded through the function the context gives (as glad or epoxy would).
 using GlFunction = void (*)();
 using GetProcAddress = GlFunction (*)(const char* name);
-// Draws the floor and the box (one draw call each) into the bound framebuffer with the app's
-// shaders; with writeIds, the fragment shader also writes firstIds[mesh] + gl_PrimitiveID to
+// Draws the meshes (one draw call each, in meshes()' order) into the bound framebuffer with the
+// app's shaders; with writeIds, the fragment shader also writes firstIds[mesh] + gl_PrimitiveID to
 // colour attachment 1 (the app's picking id buffer).
 void render(const App& app, GetProcAddress getProcAddress,
             const std::vector<std::uint32_t>& firstIds, RenderBug bug = RenderBug::None,

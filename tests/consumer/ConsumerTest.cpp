@@ -34,6 +34,8 @@ const app::App theDirect3dApp(app::Style::Direct3D);
 const app::App theReversedRangeApp(app::Style::ReversedDepthRange);
 const app::App theCulledDirect3dApp(app::Style::Direct3D, true);
 const app::App theSignApp(app::Style::OpenGl, true, true);
+const app::App theDecalApp(app::Style::OpenGl, false, false, true);
+const app::App theReversedRangeDecalApp(app::Style::ReversedDepthRange, false, false, true);
 
 // What the Direct3D-style app draws under: glClipControl(GL_UPPER_LEFT, GL_ZERO_TO_ONE).
 constexpr clipray::DepthMode kZeroToOneUpperLeft{clipray::DepthConvention::ZeroToOne, false,
@@ -63,6 +65,13 @@ clipray::TestScene appScene(const app::App& app = theApp) {
     builder.mesh("sign", std::span<const float>(app.sign->positions),
                  std::span<const std::uint32_t>(app.sign->indices));
     culling();
+  }
+  if (app.decal) {
+    // The offset the app means to draw the decal with: toward the camera under its depth test.
+    builder.mesh("decal", std::span<const float>(app.decal->positions),
+                 std::span<const std::uint32_t>(app.decal->indices));
+    culling();
+    builder.objectPolygonOffset(app.decalOffset(), app.decalOffset());
   }
   builder.camera("main", app.camera.viewFromWorld, app.camera.clipFromView, viewport);
   if (direct3d) {
@@ -355,6 +364,92 @@ TEST(TestOfTheTest, RenderingWithoutClipControlFailsDrawCallByDrawCall) {
             std::vector<std::string>{"draws 1, 2: glClipControl(GL_LOWER_LEFT, "
                                      "GL_NEGATIVE_ONE_TO_ONE), but the run is zo (GL_LOWER_LEFT, "
                                      "GL_ZERO_TO_ONE)"});
+}
+
+// A decal on the box's front face, coplanar with it, drawn with glPolygonOffset(-1, -1) under
+// GL_LESS: the offset brings it forward, and the scene declares the same offset, so clipray's rays
+// see the decal where the picture shows it. Consistent, and nothing to note.
+TEST(DecalApp, RenderingAndPickingAgree) {
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(theDecalApp), appPicking(app::PickingBug::None, theDecalApp),
+      options(app::RenderBug::None, true, clipray::AppIds::Written, theDecalApp));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_TRUE(result.runs[0].consistent) << result.text();
+  EXPECT_TRUE(result.runs[0].notes.empty()) << result.text();
+}
+
+// Reversed depth range (GL_GREATER): the decal comes forward with glPolygonOffset(1, 1).
+TEST(ReversedDepthRangeApp, DecalWithTheOffsetFlippedAgrees) {
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(theReversedRangeDecalApp),
+      appPicking(app::PickingBug::None, theReversedRangeDecalApp),
+      options(app::RenderBug::None, true, clipray::AppIds::Written, theReversedRangeDecalApp));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_TRUE(result.runs[0].consistent) << result.text();
+  EXPECT_TRUE(result.runs[0].notes.empty()) << result.text();
+}
+
+// Its buggy twin keeps GL_LESS's glPolygonOffset(-1, -1): under GL_GREATER that pushes the decal
+// into the box, which hides it; the rays, offset as the scene declares, see the decal.
+TEST(TestOfTheTest, DecalOffsetNotFlippedUnderReversedDepthFails) {
+  const clipray::ReconcileResult result =
+      clipray::reconcile(appScene(theReversedRangeDecalApp),
+                         appPicking(app::PickingBug::None, theReversedRangeDecalApp),
+                         options(app::RenderBug::DecalOffsetNotFlipped, true,
+                                 clipray::AppIds::Written, theReversedRangeDecalApp));
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_FALSE(result.runs[0].consistent) << result.text();
+  EXPECT_GT(result.runs[0].idUnexplained, 1000) << result.text();
+  EXPECT_EQ(
+      result.runs[0].notes,
+      std::vector<std::string>{"draw 3: glPolygonOffsetClamp(-1, -1, 0), but the scene declares "
+                               "glPolygonOffsetClamp(1, 1, 0) for mesh \"decal\" (polygonOffset, "
+                               "SceneBuilder::objectPolygonOffset)"});
+}
+
+// The app draws into a multisampled framebuffer (4 samples, fixed locations): each sample is a run,
+// compared with the app's picking at that sample's window position.
+clipray::ReconcileOptions multisampled(app::RenderBug renderBug, const app::App& app) {
+  clipray::ReconcileOptions drawn = options(renderBug, true, clipray::AppIds::Written, app);
+  drawn.samples = 4;
+  return drawn;
+}
+
+TEST(MultisampledApp, RenderingAndPickingAgreeAtEverySample) {
+  for (const app::App* app : {&theApp, &theDecalApp}) {
+    const clipray::ReconcileResult result =
+        clipray::reconcile(appScene(*app), appPicking(app::PickingBug::None, *app),
+                           multisampled(app::RenderBug::None, *app));
+    ASSERT_EQ(result.runs.size(), 4u) << result.text();
+    for (int s = 0; s < 4; ++s) {
+      const clipray::RunResult& run = result.runs[static_cast<std::size_t>(s)];
+      EXPECT_TRUE(run.consistent) << result.text();
+      EXPECT_EQ(run.sample, s);
+      EXPECT_EQ(run.sampleCount, 4);
+      EXPECT_EQ(run.frameUnexplainedPixels, 0) << result.text();
+      // The box's and the floor's edges cross pixels: some are covered by part of their samples.
+      EXPECT_GT(run.framePartlyCoveredPixels, 0) << result.text();
+      EXPECT_GT(run.depthCompared, run.pixels / 2) << result.text();
+    }
+  }
+}
+
+// Its buggy twin passes depth through gl_FragDepth: one value per fragment, from the pixel centre,
+// on every sample it covers. Single-sampled that is the fixed-function depth and agrees...
+TEST(TestOfTheTest, DepthWrittenByTheShaderFailsOnlyMultisampled) {
+  const clipray::ReconcileResult single =
+      clipray::reconcile(appScene(), appPicking(), options(app::RenderBug::FragDepthWritten, true));
+  ASSERT_EQ(single.runs.size(), 1u);
+  EXPECT_TRUE(single.runs[0].consistent) << single.text();
+  // ...multisampled, each sample's depth is the centre's: off by the depth's slope times the
+  // sample's distance from the centre, where the sloped floor and box faces are.
+  const clipray::ReconcileResult result = clipray::reconcile(
+      appScene(), appPicking(), multisampled(app::RenderBug::FragDepthWritten, theApp));
+  ASSERT_EQ(result.runs.size(), 4u) << result.text();
+  for (const clipray::RunResult& run : result.runs) {
+    EXPECT_FALSE(run.consistent) << result.text();
+    EXPECT_GT(run.depthBeyondTolerance, run.depthCompared / 2) << result.text();
+  }
 }
 
 // The app's render function asks clipray about its own GL state as it draws (a debug build's

@@ -109,10 +109,14 @@ TEST(LibraryReconcile, EverySampleOfAMultisampledFrameIsARun) {
     EXPECT_EQ(run.frameUnexplainedPixels, 0);
     EXPECT_EQ(run.rasterHits, run.rayHits) << s;
   }
+  // An app's render function draws multisampled too (tests/consumer), but its draw calls cannot
+  // be numbered per sample.
   options.render = [](const AppFrame&) {};
+  options.appIds = AppIds::PerDrawCall;
   EXPECT_EQ(messageOf(options),
-            "ReconcileOptions: samples 4: the app's render function draws into clipray's "
-            "single-sample framebuffer; multisampled runs use clipray's renderer");
+            "ReconcileOptions: samples 4: one id per draw call (AppIds::PerDrawCall) is read from "
+            "the stencil buffer, one value per pixel; a multisampled app frame needs its ids "
+            "written per fragment (AppIds::Written)");
 }
 
 TEST(LibraryReconcile, AnAppThatDrawsDepthWithoutIdsIsTold) {

@@ -22,13 +22,14 @@ glm::dmat4 clipFromWorldAtSample(const glm::dmat4& clipFromWorld, ClipOrigin ori
 
 MultisampleCamera::MultisampleCamera(const Scene& scene, const Camera& camera, DepthMode mode,
                                      Viewport viewport, unsigned threadCount,
-                                     PickRayFunction rayFunction)
+                                     PickRayFunction rayFunction, PickHitFunction hitFunction)
     : scene_(&scene),
       camera_(&camera),
       mode_(mode),
       viewport_(viewport),
       threadCount_(threadCount),
       rayFunction_(std::move(rayFunction)),
+      hitFunction_(std::move(hitFunction)),
       drawnClipFromWorld_(camera.clipFromWorld(mode, viewport)) {}
 
 const std::vector<AnalyticPass>& MultisampleCamera::passesAt(
@@ -40,11 +41,31 @@ const std::vector<AnalyticPass>& MultisampleCamera::passesAt(
     Camera atSample = *camera_;
     atSample.rawClipFromWorld =
         clipFromWorldAtSample(drawnClipFromWorld_, mode_.origin, viewport_, position);
+    // The app's function is told which sample it is asked for (PickingCamera::samplePosition).
+    const auto asked = [position, drawn = drawnClipFromWorld_](const PickingCamera& camera) {
+      PickingCamera atPosition = camera;
+      atPosition.samplePosition = position;
+      atPosition.drawnClipFromWorld = drawn;
+      return atPosition;
+    };
     // The pass keeps its camera's name only: the sheared copy may go.
-    passes_.push_back(
-        rayFunction_
-            ? runAnalyticPass(*scene_, atSample, mode_, viewport_, rayFunction_, threadCount_)
-            : runAnalyticPass(*scene_, atSample, mode_, viewport_, threadCount_));
+    if (hitFunction_) {
+      const PickHitFunction atSampleHits = [hits = hitFunction_, asked](
+                                               int x, int y, const PickingCamera& camera) {
+        return hits(x, y, asked(camera));
+      };
+      passes_.push_back(
+          runAnalyticPass(*scene_, atSample, mode_, viewport_, atSampleHits, threadCount_));
+    } else if (rayFunction_) {
+      const PickRayFunction atSampleRays = [rays = rayFunction_, asked](
+                                               int x, int y, const PickingCamera& camera) {
+        return rays(x, y, asked(camera));
+      };
+      passes_.push_back(
+          runAnalyticPass(*scene_, atSample, mode_, viewport_, atSampleRays, threadCount_));
+    } else {
+      passes_.push_back(runAnalyticPass(*scene_, atSample, mode_, viewport_, threadCount_));
+    }
   }
   return passes_;
 }
@@ -65,10 +86,22 @@ SampleComparison MultisampleCamera::rasterAndCompare(gl::Renderer& renderer,
   if (frame.positions != result.positions) {
     throw gl::GlError("GL: the sample positions changed between the query and the draw");
   }
-  for (std::size_t s = 0; s < frame.samples.size(); ++s) {
-    result.samples.push_back(compareRasterFrame(passes[s], frame.samples[s], depthFormat,
-                                                vertexMode, renderer.info().subpixelBits, timings,
-                                                threadCount_));
+  return compareSamples(std::move(frame.samples), result.positions, depthFormat, vertexMode,
+                        renderer.info().subpixelBits, timings);
+}
+
+SampleComparison MultisampleCamera::compareSamples(std::vector<RasterFrame> rasters,
+                                                   const std::vector<glm::dvec2>& positions,
+                                                   DepthFormat depthFormat, VertexMode vertexMode,
+                                                   int subpixelBits,
+                                                   const gl::RenderTimings& timings) {
+  SampleComparison result;
+  result.positions = positions;
+  const std::vector<AnalyticPass>& passes = passesAt(positions);
+  const int samples = static_cast<int>(positions.size());
+  for (std::size_t s = 0; s < rasters.size(); ++s) {
+    result.samples.push_back(compareRasterFrame(passes[s], rasters[s], depthFormat, vertexMode,
+                                                subpixelBits, timings, threadCount_));
   }
 
   const std::size_t count = static_cast<std::size_t>(viewport_.width) * viewport_.height;
@@ -77,8 +110,8 @@ SampleComparison MultisampleCamera::rasterAndCompare(gl::Renderer& renderer,
   for (std::size_t i = 0; i < count; ++i) {
     bool anyCovered = false, anyBackground = false, unexplained = false, mixed = false;
     std::uint32_t firstId = 0;
-    for (std::size_t s = 0; s < frame.samples.size(); ++s) {
-      const std::uint32_t id = frame.samples[s].ids[i];
+    for (std::size_t s = 0; s < rasters.size(); ++s) {
+      const std::uint32_t id = rasters[s].ids[i];
       if (id == 0) {
         anyBackground = true;
       } else {
@@ -99,7 +132,7 @@ SampleComparison MultisampleCamera::rasterAndCompare(gl::Renderer& renderer,
     result.samples[s].run.sample =
         SampleRecord{static_cast<int>(s), samples, result.positions[s], pixels};
   }
-  result.rasters = std::move(frame.samples);
+  result.rasters = std::move(rasters);
   return result;
 }
 

@@ -42,14 +42,22 @@ struct SampleComparison {
 // format and vertex mode at one count shares them).
 class MultisampleCamera {
  public:
-  // With clipray's robust rays, or with the caller's ray function (the app's picking), asked with
-  // each sample's sheared camera as it is asked with the drawn one.
+  // With clipray's robust rays, or with the caller's ray function or hit function (the app's
+  // picking), asked with each sample's sheared camera, PickingCamera::samplePosition and
+  // drawnClipFromWorld set (pickingInWindow asks the app at the sample's window position).
   MultisampleCamera(const Scene& scene, const Camera& camera, DepthMode mode, Viewport viewport,
-                    unsigned threadCount = 0, PickRayFunction rayFunction = {});
+                    unsigned threadCount = 0, PickRayFunction rayFunction = {},
+                    PickHitFunction hitFunction = {});
   // The sample passes for these positions (made on first use).
   const std::vector<AnalyticPass>& passesAt(const std::vector<glm::dvec2>& positions);
   SampleComparison rasterAndCompare(gl::Renderer& renderer, DepthFormat depthFormat,
                                     VertexMode vertexMode, int samples);
+  // The same for a frame drawn elsewhere (the app's render function): `rasters` sample s of every
+  // pixel, at `positions`.
+  SampleComparison compareSamples(std::vector<RasterFrame> rasters,
+                                  const std::vector<glm::dvec2>& positions, DepthFormat depthFormat,
+                                  VertexMode vertexMode, int subpixelBits,
+                                  const gl::RenderTimings& timings);
   const glm::dmat4& drawnClipFromWorld() const { return drawnClipFromWorld_; }
 
  private:
@@ -59,6 +67,7 @@ class MultisampleCamera {
   Viewport viewport_;
   unsigned threadCount_;
   PickRayFunction rayFunction_;
+  PickHitFunction hitFunction_;
   glm::dmat4 drawnClipFromWorld_;
   std::vector<glm::dvec2> positions_;
   std::vector<AnalyticPass> passes_;

@@ -83,14 +83,17 @@ class Runner {
                  gl::Renderer& renderer, std::vector<RunRecord>& runs);
   // The same, multisampled: a run per sample (MultisampleRun.hpp).
   void runCameraSampled(unsigned round, const Scene& scene, const Camera& camera,
-                        gl::Renderer& renderer, std::vector<RunRecord>& runs);
+                        gl::GlContext& context, gl::Renderer& renderer,
+                        std::vector<RunRecord>& runs);
   // A compared run's outputs: its hits described, worst pixels and images in the last round.
   void keepRun(bool lastRound, const engine::AnalyticPass& pass, const RasterFrame& raster,
                engine::ComparedRun compared, std::vector<RunRecord>& runs);
-  // The app's frame, and the notes on the state its draws were made with (AppStateNotes.hpp).
-  RasterFrame drawWithApp(gl::GlContext& context, const Scene& scene, const Camera& camera,
-                          const engine::AnalyticPass& pass, DepthFormat format,
-                          gl::RenderTimings& timings, std::vector<std::string>& notes) const;
+  // The app's frame (every sample of it where `samples` is above 1), and the notes on the state
+  // its draws were made with (AppStateNotes.hpp). `drawnCamera` is the camera as drawn, unsheared.
+  gl::AppRaster drawWithApp(gl::GlContext& context, const Scene& scene, const Camera& camera,
+                            const engine::AnalyticPass& pass, const PickingCamera& drawnCamera,
+                            DepthFormat format, int samples, gl::RenderTimings& timings,
+                            std::vector<std::string>& notes) const;
   std::vector<DepthMode> conventionsOf(const Scene& scene) const;
   // The scene's cameras the plan runs: those it names, in its order, else all; within the shard.
   std::vector<const Camera*> camerasOf(const Scene& scene) const;
@@ -206,9 +209,11 @@ std::vector<const Camera*> Runner::camerasOf(const Scene& scene) const {
 }
 
 // The raster side drawn by the app's render function into a framebuffer of its window's size.
-RasterFrame Runner::drawWithApp(gl::GlContext& context, const Scene& scene, const Camera& camera,
-                                const engine::AnalyticPass& pass, DepthFormat format,
-                                gl::RenderTimings& timings, std::vector<std::string>& notes) const {
+gl::AppRaster Runner::drawWithApp(gl::GlContext& context, const Scene& scene, const Camera& camera,
+                                  const engine::AnalyticPass& pass,
+                                  const PickingCamera& drawnCamera, DepthFormat format, int samples,
+                                  gl::RenderTimings& timings,
+                                  std::vector<std::string>& notes) const {
   const Viewport viewport = pass.camera.viewport;
   AppFrame frame;
   frame.size = viewport;
@@ -230,16 +235,17 @@ RasterFrame Runner::drawWithApp(gl::GlContext& context, const Scene& scene, cons
                        std::to_string(frame.viewport.y) + ")");
     }
   }
-  frame.camera = pass.drawnCamera;
+  frame.camera = drawnCamera;
   frame.depthFormat = format;
+  frame.samples = samples;
   frame.firstIds = PrimitiveIdTable(scene).firstIdOfObject;
   gl::AppRaster drawn =
       gl::renderWithApp(context, plan_.appRender, std::move(frame), plan_.appIds, scene, &timings);
   if (plan_.appIds == AppIds::PerDrawCall) {
     drawn.frame.ids = idsFromDrawCalls(scene, pass.camera, drawn.meshOfPixel, pass.frame);
   }
-  notes = appStateNotes(drawn.draws, pass.drawnCamera.mode, scene, plan_.appIds);
-  return std::move(drawn.frame);
+  notes = appStateNotes(drawn.draws, drawnCamera.mode, scene, plan_.appIds);
+  return drawn;
 }
 
 // One scene camera: an analytic pass per convention, shared by its depth formats and vertex modes.
@@ -247,7 +253,7 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
                        gl::GlContext& context, gl::Renderer& renderer,
                        std::vector<RunRecord>& runs) {
   if (plan_.samples > 1) {
-    runCameraSampled(round, scene, camera, renderer, runs);
+    runCameraSampled(round, scene, camera, context, renderer, runs);
     return;
   }
   const bool lastRound = round == plan_.rounds;
@@ -280,7 +286,9 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
         RasterFrame raster;
         std::vector<std::string> notes;
         if (plan_.appRender) {
-          raster = drawWithApp(context, scene, camera, pass, format, timings, notes);
+          raster =
+              drawWithApp(context, scene, camera, pass, pass.drawnCamera, format, 1, timings, notes)
+                  .frame;
         } else {
           raster = renderer.render(renderRequest(pass, format, vertexMode), &timings);
         }
@@ -314,15 +322,11 @@ void Runner::checkSamples(gl::Renderer& renderer) const {
   if (plan_.samples == 1) return;
   const std::string field = plan_.samplesOption + " " + std::to_string(plan_.samples);
   if (plan_.samples < 1) throw InputError(field + ": expected a sample count of 1 or more");
-  if (plan_.appRender) {
+  if (plan_.appRender && plan_.appIds == AppIds::PerDrawCall) {
     throw InputError(field +
-                     ": the app's render function draws into clipray's single-sample "
-                     "framebuffer; multisampled runs use clipray's renderer");
-  }
-  if (plan_.pickHits) {
-    throw InputError(field +
-                     ": the app's picking hits are taken at pixel centres; multisampled runs "
-                     "trace rays through each sample's position");
+                     ": one id per draw call (AppIds::PerDrawCall) is read from the stencil "
+                     "buffer, one value per pixel; a multisampled app frame needs its ids "
+                     "written per fragment (AppIds::Written)");
   }
   for (const DepthFormat format : plan_.depthFormats) {
     const std::vector<int> offered = renderer.sampleCounts(format);
@@ -338,7 +342,8 @@ void Runner::checkSamples(gl::Renderer& renderer) const {
 }
 
 void Runner::runCameraSampled(unsigned round, const Scene& scene, const Camera& camera,
-                              gl::Renderer& renderer, std::vector<RunRecord>& runs) {
+                              gl::GlContext& context, gl::Renderer& renderer,
+                              std::vector<RunRecord>& runs) {
   if (!scene.primitives.empty()) {
     throw InputError(plan_.samplesOption + " " + std::to_string(plan_.samples) + ": scene \"" +
                      scene.name + "\" (" + scene.path +
@@ -356,7 +361,8 @@ void Runner::runCameraSampled(unsigned round, const Scene& scene, const Camera& 
   for (const DepthMode mode : conventionsOf(scene)) {
     step_ = "tracing " + scene.name + "/" + camera.name + " " + mode.name() + " at " +
             sizeText(viewport) + " for " + std::to_string(plan_.samples) + " samples";
-    engine::MultisampleCamera sampled(scene, camera, mode, viewport, plan_.threads, plan_.pickRays);
+    engine::MultisampleCamera sampled(scene, camera, mode, viewport, plan_.threads, plan_.pickRays,
+                                      plan_.pickHits);
     for (const DepthFormat format : plan_.depthFormats) {
       const std::vector<RunFinding> conventionFindings = runConventionFindings(
           scene, camera, sampled.drawnClipFromWorld(), mode, viewport, format);
@@ -364,11 +370,31 @@ void Runner::runCameraSampled(unsigned round, const Scene& scene, const Camera& 
         step_ = "running " + scene.name + "/" + camera.name + " " + mode.name() + " " +
                 depthFormatName(format) + " " + vertexModeName(vertexMode) + " at " +
                 std::to_string(plan_.samples) + " samples";
-        engine::SampleComparison sampledRun =
-            sampled.rasterAndCompare(renderer, format, vertexMode, plan_.samples);
+        std::vector<std::string> notes;
+        engine::SampleComparison sampledRun;
+        if (plan_.appRender) {
+          // The passes for the positions the renderer reports, whose drawn camera (unsheared) the
+          // app is handed; compared at the positions the app's framebuffer reports.
+          const engine::AnalyticPass& first =
+              sampled.passesAt(renderer.samplePositions(format, plan_.samples, viewport)).front();
+          PickingCamera drawnCamera = first.drawnCamera;
+          drawnCamera.clipFromWorld = sampled.drawnClipFromWorld();
+          gl::RenderTimings timings;
+          gl::AppRaster drawn = drawWithApp(context, scene, camera, first, drawnCamera, format,
+                                            plan_.samples, timings, notes);
+          sampledRun =
+              sampled.compareSamples(std::move(drawn.samples), drawn.samplePositions, format,
+                                     vertexMode, renderer.info().subpixelBits, timings);
+        } else {
+          sampledRun = sampled.rasterAndCompare(renderer, format, vertexMode, plan_.samples);
+        }
         const std::vector<engine::AnalyticPass>& passes = sampled.passesAt(sampledRun.positions);
         for (std::size_t s = 0; s < sampledRun.samples.size(); ++s) {
           sampledRun.samples[s].run.conventionFindings = conventionFindings;
+          sampledRun.samples[s].run.notes = notes;
+          sampledRun.samples[s].run.notes.insert(sampledRun.samples[s].run.notes.end(),
+                                                 passes[s].pickNotes.begin(),
+                                                 passes[s].pickNotes.end());
           keepRun(lastRound, passes[s], sampledRun.rasters[s], std::move(sampledRun.samples[s]),
                   runs);
         }

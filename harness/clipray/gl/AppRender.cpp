@@ -3,11 +3,13 @@
 #include <glad/gl.h>
 
 #include "clipray/gl/DepthFormats.hpp"
+#include "clipray/gl/MultisampleTarget.hpp"
 
 #include <algorithm>
 #include <cstdio>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -38,6 +40,7 @@ void resetToGlDefaults(Viewport size) {
   glDisable(GL_CULL_FACE);
   glDisable(GL_DEPTH_CLAMP);
   glDisable(GL_BLEND);
+  glEnable(GL_MULTISAMPLE);
   glUseProgram(0);
   glBindVertexArray(0);
 }
@@ -260,110 +263,13 @@ GlProc recordingLoader(const char* name) {
   return found != wrapped.end() ? found->second : drawCalls.loader(name);
 }
 
-}  // namespace
+// Not a clear value any convention uses: a frame whose depth the app never cleared shows it.
+constexpr GLfloat unclearedDepth = 0.5f;
 
-AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, AppFrame frame,
-                        AppIds ids, const Scene& scene, RenderTimings* timings) {
-  const bool perDrawCall = ids == AppIds::PerDrawCall;
-  if (perDrawCall && frame.depthFormat == DepthFormat::Unorm16) {
-    throw InputError(
-        "ReconcileOptions: depthFormats: one id per draw call (AppIds::PerDrawCall) "
-        "counts draws in the stencil buffer, which GL pairs with depth formats 24 "
-        "and 32f only; got 16");
-  }
-  AppFramebuffer target(frame.size, frame.depthFormat, perDrawCall);
-  const Viewport size{frame.viewport.z, frame.viewport.w};  // the region compared
-  glBindFramebuffer(GL_FRAMEBUFFER, target.framebuffer);
-  const GLuint zeroIds[4] = {0, 0, 0, 0};
-  const GLfloat zeroColour[4] = {0.0f, 0.0f, 0.0f, 0.0f};
-  // Not a clear value any convention uses: a frame whose depth the app never cleared shows it.
-  const GLfloat unclearedDepth = 0.5f;
-  glClearNamedFramebufferfv(target.framebuffer, GL_COLOR, 0, zeroColour);
-  glClearNamedFramebufferuiv(target.framebuffer, GL_COLOR, 1, zeroIds);
-  if (perDrawCall) {
-    glClearNamedFramebufferfi(target.framebuffer, GL_DEPTH_STENCIL, 0, unclearedDepth, 0);
-  } else {
-    glClearNamedFramebufferfv(target.framebuffer, GL_DEPTH, 0, &unclearedDepth);
-  }
-  resetToGlDefaults(frame.size);
-  glDisable(GL_STENCIL_TEST);
-  while (glGetError() != GL_NO_ERROR) {
-  }
-
-  const std::lock_guard<std::mutex> recordingDraws(drawCalls.lock);
-  drawCalls.loader = context.loader();
-  drawCalls.numberInStencil = perDrawCall;
-  {
-    GLint major = 0, minor = 0;
-    glGetIntegerv(GL_MAJOR_VERSION, &major);
-    glGetIntegerv(GL_MINOR_VERSION, &minor);
-    drawCalls.offsetClampReadable = major * 10 + minor >= 46 ||
-                                    hasGlExtension("GL_ARB_polygon_offset_clamp") ||
-                                    hasGlExtension("GL_EXT_polygon_offset_clamp");
-  }
-  drawCalls.draws.clear();
-  frame.getProcAddress = &recordingLoader;
-  frame.framebuffer = target.framebuffer;
-  const PhaseClock rasterClock;
-  render(frame);
-  glFinish();
-  if (const GLenum error = glGetError(); error != GL_NO_ERROR) {
-    throw GlError("GL: the app's render function left GL error " + hex(error));
-  }
-  GLint bound = 0;
-  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
-  if (static_cast<GLuint>(bound) != target.framebuffer) {
-    throw GlError("GL: the app's render function bound framebuffer " + std::to_string(bound) +
-                  " and left it bound; it must draw into AppFrame::framebuffer (" +
-                  std::to_string(target.framebuffer) + ") and leave it bound");
-  }
-  if (perDrawCall && drawCalls.draws.size() > std::min<std::size_t>(scene.objects.size(), 255)) {
-    throw GlError(
-        "the app's render function made " + std::to_string(drawCalls.draws.size()) +
-        " draw calls; with one id per draw call, call k draws mesh k, and the scene has " +
-        std::to_string(scene.objects.size()) + " meshes (at most 255)");
-  }
-  if (timings) {
-    timings->raster = rasterClock.wallMilliseconds();
-    timings->rasterCpu = rasterClock.cpuMilliseconds();
-  }
-
-  const PhaseClock readbackClock;
-  AppRaster result;
-  result.draws = std::move(drawCalls.draws);
-  drawCalls.draws.clear();
-  RasterFrame& raster = result.frame;
-  raster.viewport = size;
-  const std::size_t count = static_cast<std::size_t>(size.width) * size.height;
-  raster.depth.resize(count);
-  raster.ids.resize(count);
-  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
-  glPixelStorei(GL_PACK_SKIP_ROWS, 0);
-  glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, target.framebuffer);
-  glNamedFramebufferReadBuffer(target.framebuffer, GL_COLOR_ATTACHMENT1);
-  const int x0 = frame.viewport.x, y0 = frame.viewport.y;
-  glReadPixels(x0, y0, size.width, size.height, GL_DEPTH_COMPONENT, GL_FLOAT, raster.depth.data());
-  if (perDrawCall) {
-    result.meshOfPixel.resize(count);
-    glReadPixels(x0, y0, size.width, size.height, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE,
-                 result.meshOfPixel.data());
-  } else {
-    glReadPixels(x0, y0, size.width, size.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
-                 raster.ids.data());
-  }
-  if (const GLenum error = glGetError(); error != GL_NO_ERROR) {
-    throw GlError("GL: reading back the app's frame failed with GL error " + hex(error));
-  }
-  if (timings) {
-    timings->readback = readbackClock.wallMilliseconds();
-    timings->readbackCpu = readbackClock.cpuMilliseconds();
-  }
-  if (perDrawCall) return result;
-
-  // Ids the scene cannot have, or none where the app drew.
+// Ids the scene cannot have, or none where the app drew: GlError naming them.
+void checkAppIds(const RasterFrame& raster, const Scene& scene) {
+  const Viewport size = raster.viewport;
+  const std::size_t count = raster.ids.size();
   const PrimitiveIdTable table(scene);
   const std::uint64_t lastId =
       std::uint64_t{table.firstAnalyticId} + table.analyticCount - 1;  // 0 for an empty scene
@@ -389,6 +295,143 @@ AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, App
         "(layout(location = 1) out uint: firstId(mesh) + gl_PrimitiveID; or reconcile "
         "with one id per draw call, AppIds::PerDrawCall)");
   }
+}
+
+}  // namespace
+
+AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, AppFrame frame,
+                        AppIds ids, const Scene& scene, RenderTimings* timings) {
+  const bool perDrawCall = ids == AppIds::PerDrawCall;
+  if (perDrawCall && frame.depthFormat == DepthFormat::Unorm16) {
+    throw InputError(
+        "ReconcileOptions: depthFormats: one id per draw call (AppIds::PerDrawCall) "
+        "counts draws in the stencil buffer, which GL pairs with depth formats 24 "
+        "and 32f only; got 16");
+  }
+  const bool multisampled = frame.samples > 1;
+  if (perDrawCall && multisampled) {
+    throw InputError("ReconcileOptions: samples " + std::to_string(frame.samples) +
+                     ": one id per draw call (AppIds::PerDrawCall) is read from the stencil "
+                     "buffer, one value per pixel; a multisampled app frame needs its ids "
+                     "written per fragment (AppIds::Written)");
+  }
+  // One of the two is made: the single-sample framebuffer, or multisample textures read back one
+  // sample at a time (MultisampleTarget).
+  std::optional<AppFramebuffer> singleSample;
+  std::optional<MultisampleTarget> multisample;
+  GLuint framebuffer = 0;
+  if (multisampled) {
+    multisample.emplace();
+    multisample->create(frame.size, depthInternalFormat(frame.depthFormat, false), frame.samples,
+                        depthFormatName(frame.depthFormat).c_str(),
+                        MultisampleTarget::Attachments::AppColourAndIds);
+    framebuffer = multisample->framebuffer();
+  } else {
+    singleSample.emplace(frame.size, frame.depthFormat, perDrawCall);
+    framebuffer = singleSample->framebuffer;
+  }
+  const Viewport size{frame.viewport.z, frame.viewport.w};  // the region compared
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  AppRaster result;
+  if (multisampled) result.samplePositions = multisample->samplePositions();
+  glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
+  const GLuint zeroIds[4] = {0, 0, 0, 0};
+  const GLfloat zeroColour[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  glClearNamedFramebufferfv(framebuffer, GL_COLOR, 0, zeroColour);
+  glClearNamedFramebufferuiv(framebuffer, GL_COLOR, 1, zeroIds);
+  if (perDrawCall) {
+    glClearNamedFramebufferfi(framebuffer, GL_DEPTH_STENCIL, 0, unclearedDepth, 0);
+  } else {
+    glClearNamedFramebufferfv(framebuffer, GL_DEPTH, 0, &unclearedDepth);
+  }
+  resetToGlDefaults(frame.size);
+  glDisable(GL_STENCIL_TEST);
+  while (glGetError() != GL_NO_ERROR) {
+  }
+
+  const std::lock_guard<std::mutex> recordingDraws(drawCalls.lock);
+  drawCalls.loader = context.loader();
+  drawCalls.numberInStencil = perDrawCall;
+  {
+    GLint major = 0, minor = 0;
+    glGetIntegerv(GL_MAJOR_VERSION, &major);
+    glGetIntegerv(GL_MINOR_VERSION, &minor);
+    drawCalls.offsetClampReadable = major * 10 + minor >= 46 ||
+                                    hasGlExtension("GL_ARB_polygon_offset_clamp") ||
+                                    hasGlExtension("GL_EXT_polygon_offset_clamp");
+  }
+  drawCalls.draws.clear();
+  frame.getProcAddress = &recordingLoader;
+  frame.framebuffer = framebuffer;
+  const PhaseClock rasterClock;
+  render(frame);
+  glFinish();
+  if (const GLenum error = glGetError(); error != GL_NO_ERROR) {
+    throw GlError("GL: the app's render function left GL error " + hex(error));
+  }
+  GLint bound = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &bound);
+  if (static_cast<GLuint>(bound) != framebuffer) {
+    throw GlError("GL: the app's render function bound framebuffer " + std::to_string(bound) +
+                  " and left it bound; it must draw into AppFrame::framebuffer (" +
+                  std::to_string(framebuffer) + ") and leave it bound");
+  }
+  if (perDrawCall && drawCalls.draws.size() > std::min<std::size_t>(scene.objects.size(), 255)) {
+    throw GlError(
+        "the app's render function made " + std::to_string(drawCalls.draws.size()) +
+        " draw calls; with one id per draw call, call k draws mesh k, and the scene has " +
+        std::to_string(scene.objects.size()) + " meshes (at most 255)");
+  }
+  if (timings) {
+    timings->raster = rasterClock.wallMilliseconds();
+    timings->rasterCpu = rasterClock.cpuMilliseconds();
+  }
+
+  const PhaseClock readbackClock;
+  result.draws = std::move(drawCalls.draws);
+  drawCalls.draws.clear();
+  if (multisampled) {
+    result.samples = multisample->readSamples(frame.viewport);
+    if (timings) {
+      timings->readback = readbackClock.wallMilliseconds();
+      timings->readbackCpu = readbackClock.cpuMilliseconds();
+    }
+    for (const RasterFrame& sample : result.samples) checkAppIds(sample, scene);
+    result.frame = result.samples.front();
+    return result;
+  }
+  RasterFrame& raster = result.frame;
+  raster.viewport = size;
+  const std::size_t count = static_cast<std::size_t>(size.width) * size.height;
+  raster.depth.resize(count);
+  raster.ids.resize(count);
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  glPixelStorei(GL_PACK_SKIP_ROWS, 0);
+  glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer);
+  glNamedFramebufferReadBuffer(framebuffer, GL_COLOR_ATTACHMENT1);
+  const int x0 = frame.viewport.x, y0 = frame.viewport.y;
+  glReadPixels(x0, y0, size.width, size.height, GL_DEPTH_COMPONENT, GL_FLOAT, raster.depth.data());
+  if (perDrawCall) {
+    result.meshOfPixel.resize(count);
+    glReadPixels(x0, y0, size.width, size.height, GL_STENCIL_INDEX, GL_UNSIGNED_BYTE,
+                 result.meshOfPixel.data());
+  } else {
+    glReadPixels(x0, y0, size.width, size.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
+                 raster.ids.data());
+  }
+  if (const GLenum error = glGetError(); error != GL_NO_ERROR) {
+    throw GlError("GL: reading back the app's frame failed with GL error " + hex(error));
+  }
+  if (timings) {
+    timings->readback = readbackClock.wallMilliseconds();
+    timings->readbackCpu = readbackClock.cpuMilliseconds();
+  }
+  if (perDrawCall) return result;
+
+  checkAppIds(raster, scene);
   return result;
 }
 

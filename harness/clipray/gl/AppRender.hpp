@@ -31,7 +31,11 @@ struct AppDrawState {
 };
 
 struct AppRaster {
-  RasterFrame frame;                // depth; ids with AppIds::Written
+  RasterFrame frame;  // depth; ids with AppIds::Written (sample 0 if multisampled)
+  // A multisampled frame (AppFrame::samples above 1): sample s of every pixel, and where it lies
+  // in its pixel (MultisampleTarget::samplePositions).
+  std::vector<RasterFrame> samples;
+  std::vector<glm::dvec2> samplePositions;
   std::vector<AppDrawState> draws;  // one per draw call, in order
   // With AppIds::PerDrawCall: 0 background, else 1 + the mesh whose draw call shows at the pixel
   // (idsFromDrawCalls turns them into ids).
@@ -44,7 +48,9 @@ struct AppRaster {
 // GlError when the app leaves a GL error or no usable ids: every id 0 where it drew geometry, an id
 // no primitive of `scene` has (a colour clear of the integer attachment, or ids the app did not
 // write as firstId + gl_PrimitiveID), or more draw calls than the scene has meshes; InputError for
-// one id per draw call without a stencil (16).
+// one id per draw call without a stencil (16) or in a multisampled frame. With frame.samples above
+// 1 (a count the implementation offers) the framebuffer's attachments are multisample textures
+// with fixed sample locations, and every sample is read.
 AppRaster renderWithApp(GlContext& context, const AppRenderFunction& render, AppFrame frame,
                         AppIds ids, const Scene& scene, RenderTimings* timings = nullptr);
 

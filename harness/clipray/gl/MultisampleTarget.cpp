@@ -72,18 +72,20 @@ MultisampleTarget::~MultisampleTarget() {
 void MultisampleTarget::release() {
   glDeleteFramebuffers(1, &framebuffer_);
   glDeleteFramebuffers(1, &fetchFramebuffer_);
-  const GLuint textures[2] = {depthTexture_, idTexture_};
-  glDeleteTextures(2, textures);
+  const GLuint textures[3] = {depthTexture_, idTexture_, colourTexture_};
+  glDeleteTextures(3, textures);
   const GLuint renderbuffers[2] = {fetchDepth_, fetchIds_};
   glDeleteRenderbuffers(2, renderbuffers);
-  framebuffer_ = fetchFramebuffer_ = depthTexture_ = idTexture_ = fetchDepth_ = fetchIds_ = 0;
+  framebuffer_ = fetchFramebuffer_ = depthTexture_ = idTexture_ = colourTexture_ = fetchDepth_ =
+      fetchIds_ = 0;
 }
 
-void MultisampleTarget::create(Viewport viewport, GLenum depthInternalFormat, int samples,
-                               const char* depthFormatName) {
+void MultisampleTarget::create(Viewport size, GLenum depthInternalFormat, int samples,
+                               const char* depthFormatName, Attachments attachments) {
   release();
-  viewport_ = viewport;
+  size_ = size;
   samples_ = samples;
+  const Viewport viewport = size;
   glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &depthTexture_);
   glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &idTexture_);
   // Fixed sample locations: the same positions in every pixel, so that one sheared matrix per
@@ -93,7 +95,17 @@ void MultisampleTarget::create(Viewport viewport, GLenum depthInternalFormat, in
   glTextureStorage2DMultisample(idTexture_, samples, GL_R32UI, viewport.width, viewport.height,
                                 GL_TRUE);
   glCreateFramebuffers(1, &framebuffer_);
-  glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, idTexture_, 0);
+  if (attachments == Attachments::AppColourAndIds) {
+    glCreateTextures(GL_TEXTURE_2D_MULTISAMPLE, 1, &colourTexture_);
+    glTextureStorage2DMultisample(colourTexture_, samples, GL_RGBA8, viewport.width,
+                                  viewport.height, GL_TRUE);
+    glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, colourTexture_, 0);
+    glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT1, idTexture_, 0);
+    const GLenum drawBuffers[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glNamedFramebufferDrawBuffers(framebuffer_, 2, drawBuffers);
+  } else {
+    glNamedFramebufferTexture(framebuffer_, GL_COLOR_ATTACHMENT0, idTexture_, 0);
+  }
   glNamedFramebufferTexture(framebuffer_, GL_DEPTH_ATTACHMENT, depthTexture_, 0);
   requireComplete(framebuffer_, "depth format " + std::string(depthFormatName) + " at " +
                                     std::to_string(samples) + " samples");
@@ -125,9 +137,9 @@ std::vector<glm::dvec2> MultisampleTarget::samplePositions() {
   return positions;
 }
 
-std::vector<RasterFrame> MultisampleTarget::readSamples() {
+std::vector<RasterFrame> MultisampleTarget::readSamples(glm::ivec4 region) {
   glBindFramebuffer(GL_FRAMEBUFFER, fetchFramebuffer_);
-  glViewport(0, 0, viewport_.width, viewport_.height);
+  glViewport(0, 0, size_.width, size_.height);
   // The fetch draws every pixel: nothing of the frame's state may cut or test it.
   glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
   glDisable(GL_DEPTH_TEST);
@@ -135,24 +147,36 @@ std::vector<RasterFrame> MultisampleTarget::readSamples() {
   glDisable(GL_POLYGON_OFFSET_FILL);
   glDisable(GL_DEPTH_CLAMP);
   glDisable(GL_MULTISAMPLE);
+  // What an app's render function may have left on (AppRender.hpp).
+  glDisable(GL_SCISSOR_TEST);
+  glDisable(GL_STENCIL_TEST);
+  glDisable(GL_BLEND);
+  glDisable(GL_RASTERIZER_DISCARD);
+  glPolygonMode(GL_FRONT_AND_BACK, GL_FILL);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glUseProgram(fetchProgram_);
   glBindTextureUnit(0, depthTexture_);
   glBindTextureUnit(1, idTexture_);
   glBindVertexArray(emptyVertexArray_);
-  const std::size_t count = static_cast<std::size_t>(viewport_.width) * viewport_.height;
+  const Viewport read{region.z, region.w};
+  const std::size_t count = static_cast<std::size_t>(read.width) * read.height;
   std::vector<RasterFrame> frames;
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glPixelStorei(GL_PACK_ROW_LENGTH, 0);
+  glPixelStorei(GL_PACK_SKIP_ROWS, 0);
+  glPixelStorei(GL_PACK_SKIP_PIXELS, 0);
   for (int s = 0; s < samples_; ++s) {
     glUniform1i(sampleLocation_, s);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     RasterFrame& frame = frames.emplace_back();
-    frame.viewport = viewport_;
+    frame.viewport = read;
     frame.depth.resize(count);
     frame.ids.resize(count);
     glNamedFramebufferReadBuffer(fetchFramebuffer_, GL_COLOR_ATTACHMENT0);
-    glReadPixels(0, 0, viewport_.width, viewport_.height, GL_RED, GL_FLOAT, frame.depth.data());
+    glReadPixels(region.x, region.y, read.width, read.height, GL_RED, GL_FLOAT, frame.depth.data());
     glNamedFramebufferReadBuffer(fetchFramebuffer_, GL_COLOR_ATTACHMENT1);
-    glReadPixels(0, 0, viewport_.width, viewport_.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
+    glReadPixels(region.x, region.y, read.width, read.height, GL_RED_INTEGER, GL_UNSIGNED_INT,
                  frame.ids.data());
   }
   glBindTextureUnit(0, 0);

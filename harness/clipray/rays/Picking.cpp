@@ -55,8 +55,12 @@ double farPlaneDistance(const Ray& ray, const PickingCamera& camera) {
 }  // namespace
 
 glm::dvec2 windowPositionOfPixel(const AppWindow& window, int x, int y, Viewport viewport) {
-  const double framebufferX = window.viewportX + x + 0.5;
-  const double framebufferY = window.viewportY + y + 0.5;  // from the bottom
+  return windowPositionOfPoint(window, glm::dvec2(x + 0.5, y + 0.5), viewport);
+}
+
+glm::dvec2 windowPositionOfPoint(const AppWindow& window, glm::dvec2 point, Viewport viewport) {
+  const double framebufferX = window.viewportX + point.x;
+  const double framebufferY = window.viewportY + point.y;  // from the bottom
   const double windowY = window.origin == WindowOrigin::LowerLeft
                              ? framebufferY
                              : framebufferHeightOf(window, viewport) - framebufferY;
@@ -84,6 +88,25 @@ double normalizeAppRay(Ray& ray, const PickingCamera& camera) {
   return length;
 }
 
+// Where the app is asked for pixel (x, y), and the camera it is asked with: the pixel centre and
+// the run's camera, or in a multisampled run the sample's position with the drawn matrix (the
+// sheared one would move the app's ray twice).
+struct AppQuery {
+  glm::dvec2 window;
+  PickingCamera camera;
+};
+AppQuery appQuery(const AppWindow& window, int x, int y, const PickingCamera& camera) {
+  if (!camera.samplePosition) {
+    return {windowPositionOfPixel(window, x, y, camera.viewport), camera};
+  }
+  AppQuery query{
+      windowPositionOfPoint(window, glm::dvec2(x, y) + *camera.samplePosition, camera.viewport),
+      camera};
+  query.camera.clipFromWorld = camera.drawnClipFromWorld;
+  query.camera.samplePosition.reset();
+  return query;
+}
+
 }  // namespace
 
 PickRayFunction pickingInWindow(const AppWindow& window, AppPickFunction pick) {
@@ -91,7 +114,8 @@ PickRayFunction pickingInWindow(const AppWindow& window, AppPickFunction pick) {
   return [window, pick = std::move(pick)](int x, int y,
                                           const PickingCamera& camera) -> std::optional<Ray> {
     requireViewportInWindow(window, camera.viewport);
-    std::optional<Ray> ray = pick(windowPositionOfPixel(window, x, y, camera.viewport), camera);
+    const AppQuery query = appQuery(window, x, y, camera);
+    std::optional<Ray> ray = pick(query.window, query.camera);
     if (!ray || normalizeAppRay(*ray, camera) == 0.0) return std::nullopt;
     return ray;
   };
@@ -102,7 +126,8 @@ PickHitFunction pickHitsInWindow(const AppWindow& window, AppPickHitFunction pic
   return [window, pick = std::move(pick)](int x, int y,
                                           const PickingCamera& camera) -> std::optional<PickHit> {
     requireViewportInWindow(window, camera.viewport);
-    std::optional<PickHit> hit = pick(windowPositionOfPixel(window, x, y, camera.viewport), camera);
+    const AppQuery query = appQuery(window, x, y, camera);
+    std::optional<PickHit> hit = pick(query.window, query.camera);
     if (!hit) return std::nullopt;
     const double length = normalizeAppRay(hit->ray, camera);
     if (length == 0.0) return std::nullopt;

@@ -39,6 +39,16 @@ struct PickingCamera {
   // end is the depth buffer's clear value, which a strict depth test never passes: rays then end
   // at the far plane.
   bool depthClampBeyondFar = false;
+  // A multisampled run (ReconcileOptions::samples) asks for the ray through one sample of the
+  // pixel instead of its centre. samplePosition is where that sample lies in the pixel (pixels
+  // from its lower-left corner, framebuffer orientation, as glGetMultisamplefv reports it), and
+  // clipFromWorld is then the drawn matrix sheared to carry that position onto the pixel centre:
+  // a function that builds the centre's ray from clipFromWorld gets the sample's. The drawn matrix
+  // itself is drawnClipFromWorld. pickingInWindow and pickHitsInWindow ask the app at the sample's
+  // own window position with the drawn matrix, so an app's picking in window coordinates needs
+  // nothing of this.
+  std::optional<glm::dvec2> samplePosition{};
+  glm::dmat4 drawnClipFromWorld{1.0};
 };
 
 // A ray for pixel (x, y) (lower-left origin, integer pixel indices) or nullopt for "no ray": the
@@ -87,10 +97,14 @@ using AppPickFunction = std::function<std::optional<Ray>(glm::dvec2 window, cons
 
 // The centre of viewport pixel (x, y) (lower-left origin) in the app's window coordinates.
 glm::dvec2 windowPositionOfPixel(const AppWindow& window, int x, int y, Viewport viewport);
+// A point of the viewport (lower-left origin, pixels: pixel (x, y)'s centre is (x + 0.5, y + 0.5))
+// in the app's window coordinates.
+glm::dvec2 windowPositionOfPoint(const AppWindow& window, glm::dvec2 point, Viewport viewport);
 
-// A PickRayFunction that calls `pick` at each pixel centre's window position and normalizes the
-// ray it returns. Throws InputError for a window that cannot hold the viewport (pixelRatio not
-// positive and finite, framebufferHeight below viewportY + the viewport's height).
+// A PickRayFunction that calls `pick` at each pixel centre's window position (each sample's, in a
+// multisampled run: PickingCamera::samplePosition) and normalizes the ray it returns. Throws
+// InputError for a window that cannot hold the viewport (pixelRatio not positive and finite,
+// framebufferHeight below viewportY + the viewport's height).
 PickRayFunction pickingInWindow(const AppWindow& window, AppPickFunction pick);
 
 // The app's picking with its own hits, in its own terms: what it hit under the mouse at `window`

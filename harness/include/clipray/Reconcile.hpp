@@ -40,6 +40,10 @@ struct AppFrame {
   glm::ivec4 viewport{0};  // x, y, width, height: the region clipray compares
   PickingCamera camera;    // the run's camera and the convention the test expects
   DepthFormat depthFormat = DepthFormat::Float32;
+  // Samples per pixel of the attachments (ReconcileOptions::samples): above 1 they are multisample
+  // textures with fixed sample locations, GL_MULTISAMPLE is on (GL's default), and clipray reads
+  // every sample of depth and ids; the app draws as it draws into its own multisampled window.
+  int samples = 1;
   std::vector<std::uint32_t> firstIds;  // id of triangle 0 of each mesh, in the order added
   std::uint32_t firstId(std::size_t mesh) const { return firstIds.at(mesh); }
 };
@@ -79,9 +83,11 @@ struct ReconcileOptions {
   AppIds appIds = AppIds::Written;
   unsigned threads = 0;  // 0: every core
   // Samples per pixel: above 1 every frame is drawn multisampled (a count the GL implementation
-  // offers) and each sample is a run of its own (RunResult::sample), compared with rays through
-  // its position: the picking function is asked with the camera sheared to put the sample on the
-  // pixel centre. clipray's renderer only (no render function), and no picking hits.
+  // offers), by clipray's renderer or the app's render function (AppFrame::samples; its ids
+  // written, AppIds::Written), and each sample is a run of its own (RunResult::sample), compared
+  // with rays through its position: pickingInWindow asks the app at the sample's window position
+  // (a raw PickRayFunction gets the camera sheared to put the sample on the pixel centre,
+  // PickingCamera::samplePosition).
   int samples = 1;
 };
 
