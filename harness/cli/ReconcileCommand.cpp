@@ -59,7 +59,7 @@ struct ReconcileArguments {
   bool json = false;
   unsigned threads = 0;
   unsigned rounds = 1;
-  int samples = 1;
+  int samples = 0;        // 0: each scene's own
   std::string maxMemory;  // empty: what the machine (or the cgroup) has available
   std::string shard;      // "I/N": only the scene/camera pairs of shard I of N
   // --page: a three.js page's own picking against its depth buffer (PageReconcile.hpp).
@@ -280,9 +280,8 @@ CommandRunner addReconcileOptions(CLI::App& app) {
   app.add_option("--samples", arguments->samples,
                  "Samples per pixel: above 1 the frame is drawn multisampled and every sample is "
                  "compared with rays through its own position (a count the GL implementation "
-                 "offers; llvmpipe: 4)")
-      ->check(CLI::Range(1, 64))
-      ->capture_default_str();
+                 "offers; llvmpipe: 4); default: each scene's \"samples\", else 1")
+      ->check(CLI::Range(1, 64));
   app.add_option("--rounds", arguments->rounds,
                  "Make every run this many times, round after round; timings_ms then holds each "
                  "timing's median over rounds 2.. (the first, cold round is reported apart)")

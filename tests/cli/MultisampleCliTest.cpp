@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <fstream>
 #include <set>
 
 #include "support/RunCommand.hpp"
@@ -52,6 +53,42 @@ TEST(MultisampleCli, EverySampleIsARunOfItsOwnAndTheReportSaysWhere) {
   EXPECT_NE(junit.find("name=\"main zo-reversed-upper-left 24 world sample 3 of 4\""),
             std::string::npos)
       << junit;
+}
+
+// A scene whose app draws with MSAA says so ("samples"): its runs are multisampled without the
+// option, and --samples overrides it.
+TEST(MultisampleCli, AScenesOwnSampleCountIsUsedUnlessTheOptionSetsOne) {
+  TempFolder folder;
+  const auto writeScene = [&](int samples) {
+    nlohmann::json scene =
+        nlohmann::json::parse(testing::readText(kSource + "/scenes/standard.json"));
+    scene["samples"] = samples;
+    std::ofstream(folder.path() / "msaa.json") << scene.dump(1);
+  };
+  writeScene(4);
+  const std::string command =
+      "reconcile msaa.json --conventions zo-reversed-upper-left --depth-formats 24 --size 160x120 ";
+  auto result = runClipray(command + "--out out", folder.path());
+  ASSERT_EQ(result.status, 0) << result.err << result.out;
+  const auto report = nlohmann::json::parse(testing::readText(folder.path() / "out/report.json"));
+  ASSERT_EQ(report["runs"].size(), 4u);
+  // The same frame as --samples 4 draws (EverySampleIsARunOfItsOwnAndTheReportSaysWhere).
+  EXPECT_EQ(report["runs"][2]["sample"]["frame_pixels"]["covered"], 10086);
+  EXPECT_EQ(report["runs"][2]["sample"]["frame_pixels"]["partly_covered"], 151);
+  result = runClipray(command + "--samples 1 --out single", folder.path());
+  ASSERT_EQ(result.status, 0) << result.err << result.out;
+  const auto single =
+      nlohmann::json::parse(testing::readText(folder.path() / "single/report.json"));
+  ASSERT_EQ(single["runs"].size(), 1u);
+  EXPECT_FALSE(single["runs"][0].contains("sample"));
+  writeScene(3);
+  result = runClipray(command + "--out refused", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_NE(result.err.find("msaa.json: /samples 3: osmesa ("), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find(") offers no 3-sample depth format 24 (it offers 4)"),
+            std::string::npos)
+      << result.err;
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "refused/report.json"));
 }
 
 TEST(MultisampleCli, ACountTheImplementationDoesNotOfferIsRefusedWithTheCountsItDoes) {

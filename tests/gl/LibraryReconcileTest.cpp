@@ -119,6 +119,41 @@ TEST(LibraryReconcile, EverySampleOfAMultisampledFrameIsARun) {
             "written per fragment (AppIds::Written)");
 }
 
+// A scene that says its app draws with MSAA (SceneBuilder::samples) is reconciled per sample
+// unless the options say otherwise; a count the implementation does not offer names the scene.
+TEST(LibraryReconcile, AScenesOwnSampleCountIsUsedUnlessTheOptionsSetOne) {
+  const glm::dmat4 clipFromWorld =
+      perspectiveClipFromView(glm::radians(60.0), 4.0 / 3.0, 0.1, 100.0, kZeroToOne) *
+      viewFromWorldLookAt({0.0, 0.0, 3.0}, {0.0, 0.0, 0.0}, {0.0, 1.0, 0.0});
+  const auto scene = [&](int samples) {
+    return SceneBuilder("msaa-quad")
+        .samples(samples)
+        .mesh("quad", kQuadPositions, kQuadIndices)
+        .camera("main", clipFromWorld, {64, 48})
+        .build();
+  };
+  ReconcileOptions options = defaultOptions();
+  const ReconcileResult sampled = reconcile(scene(4), robustPickRays(), options);
+  ASSERT_EQ(sampled.runs.size(), 4u) << sampled.text();
+  EXPECT_EQ(sampled.runs[3].sample, 3);
+  EXPECT_EQ(sampled.runs[3].sampleCount, 4);
+  EXPECT_TRUE(sampled.consistent()) << sampled.text();
+  options.samples = 1;
+  const ReconcileResult single = reconcile(scene(4), robustPickRays(), options);
+  ASSERT_EQ(single.runs.size(), 1u) << single.text();
+  EXPECT_EQ(single.runs[0].sampleCount, 1);
+  options.samples = 0;
+  try {
+    reconcile(scene(3), robustPickRays(), options);
+    FAIL() << "expected InputError";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind("SceneBuilder \"msaa-quad\": /samples 3: ", 0), 0u) << message;
+    EXPECT_NE(message.find(") offers no 3-sample depth format 32f (it offers "), std::string::npos)
+        << message;
+  }
+}
+
 TEST(LibraryReconcile, AnAppThatDrawsDepthWithoutIdsIsTold) {
   ReconcileOptions options = defaultOptions();
   options.render = [](const AppFrame&) {

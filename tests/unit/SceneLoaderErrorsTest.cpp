@@ -71,10 +71,10 @@ TEST(SceneLoaderErrors, RootAndVersion) {
 }
 
 TEST(SceneLoaderErrors, UnknownKeys) {
-  EXPECT_EQ(
-      errorOf(R"({"version": 1, "camera": [], "objects": []})"),
-      "scenes/a.json: /camera: unknown key \"camera\"; valid keys are \"version\", "
-      "\"comment\", \"conventions\", \"depthRange\", \"depthClamp\", \"cameras\", \"objects\"");
+  EXPECT_EQ(errorOf(R"({"version": 1, "camera": [], "objects": []})"),
+            "scenes/a.json: /camera: unknown key \"camera\"; valid keys are \"version\", "
+            "\"comment\", \"conventions\", \"depthRange\", \"depthClamp\", \"samples\", "
+            "\"cameras\", \"objects\"");
   // A misspelt key is reported as unknown, not as a missing required field.
   EXPECT_EQ(errorOf(withCamera(R"({"name": "main", "veiwport": [640, 480]})")),
             "scenes/a.json: /cameras/0/veiwport: unknown key \"veiwport\"; valid keys are "
@@ -531,6 +531,37 @@ TEST(SceneLoaderErrors, DepthClamp) {
             "scenes/a.json: /depthClamp: depth clamp with analytic primitives (\"ball\") is not "
             "modelled: their fragment shader traces the ray from the near plane, and depth clamp "
             "draws what lies in front of it; use triangle meshes");
+}
+
+TEST(SceneLoaderErrors, Samples) {
+  const auto withSamples = [](const std::string& samples, const std::string& scene) {
+    std::string text = scene;
+    text.insert(text.find('{') + 1, "\"samples\": " + samples + ", ");
+    return errorOf(text);
+  };
+  const std::string plain = withObject(kObject);
+  EXPECT_EQ(withSamples("4", plain), "no error");
+  for (const char* bad : {"0", "65", "2.5", "\"4\""}) {
+    EXPECT_EQ(withSamples(bad, plain),
+              std::string("scenes/a.json: /samples: expected a sample count from 1 to 64 (samples "
+                          "per pixel), got ") +
+                  bad)
+        << bad;
+  }
+  const std::string ball = R"({"name": "ball", "type": "sphere", "centre": [0, 0, 0],
+      "radius": 1})";
+  EXPECT_EQ(withSamples("4", withObject(ball)),
+            "scenes/a.json: /samples: multisampling with analytic primitives (\"ball\") is not "
+            "modelled: their fragment shader writes one depth per pixel, at its centre; use "
+            "triangle meshes");
+  EXPECT_EQ(withSamples("1", withObject(ball)), "no error");
+  const std::string logDepth = withCamera(R"({"name": "main", "viewport": [640, 480],
+      "view": {"eye": [0, 0, 5], "target": [0, 0, 0], "up": [0, 1, 0]},
+      "projection": {"type": "perspective", "fovYDegrees": 60, "near": 0.1, "far": 100},
+      "logarithmicDepth": {"form": "threejs", "far": 100}})");
+  EXPECT_EQ(withSamples("4", logDepth),
+            "scenes/a.json: /samples: multisampling with a logarithmic depth (camera \"main\") is "
+            "not modelled: its fragment shader writes one depth per pixel, at its centre");
 }
 
 TEST(SceneLoaderErrors, ClipPlanes) {

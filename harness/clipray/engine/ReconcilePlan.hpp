@@ -57,7 +57,7 @@ struct ReconcilePlan {
   // Samples per pixel: above 1 every frame is drawn multisampled and each sample is a run of its
   // own, compared with rays through its position (MultisampleRun.hpp); clipray's renderer only,
   // and no picking hits.
-  int samples = 1;
+  int samples = 0;                          // 0: each scene's own (Scene::samples)
   std::string samplesOption = "--samples";  // the field that set it, for messages
 
   // The raster side: clipray's renderer on `backend`, or the app's render function drawing into

@@ -79,6 +79,10 @@ class Runner {
   // A sample count above 1: one the implementation offers for every depth format, with clipray's
   // renderer and rays.
   void checkSamples(gl::Renderer& renderer) const;
+  // The samples per pixel a scene's runs are drawn with: the plan's, else the scene's own; and the
+  // field that set it, for messages.
+  int samplesOf(const Scene& scene) const;
+  std::string samplesField(const Scene& scene) const;
   void runCamera(unsigned round, const Scene& scene, const Camera& camera, gl::GlContext& context,
                  gl::Renderer& renderer, std::vector<RunRecord>& runs);
   // The same, multisampled: a run per sample (MultisampleRun.hpp).
@@ -252,7 +256,7 @@ gl::AppRaster Runner::drawWithApp(gl::GlContext& context, const Scene& scene, co
 void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
                        gl::GlContext& context, gl::Renderer& renderer,
                        std::vector<RunRecord>& runs) {
-  if (plan_.samples > 1) {
+  if (samplesOf(scene) > 1) {
     runCameraSampled(round, scene, camera, context, renderer, runs);
     return;
   }
@@ -318,25 +322,40 @@ void Runner::keepRun(bool lastRound, const engine::AnalyticPass& pass, const Ras
   runs.push_back(std::move(compared.run));
 }
 
+int Runner::samplesOf(const Scene& scene) const {
+  return plan_.samples > 0 ? plan_.samples : scene.samples;
+}
+
+std::string Runner::samplesField(const Scene& scene) const {
+  return plan_.samples > 0 ? plan_.samplesOption + " " + std::to_string(plan_.samples)
+                           : scene.path + ": /samples " + std::to_string(scene.samples);
+}
+
 void Runner::checkSamples(gl::Renderer& renderer) const {
-  if (plan_.samples == 1) return;
-  const std::string field = plan_.samplesOption + " " + std::to_string(plan_.samples);
-  if (plan_.samples < 1) throw InputError(field + ": expected a sample count of 1 or more");
-  if (plan_.appRender && plan_.appIds == AppIds::PerDrawCall) {
-    throw InputError(field +
-                     ": one id per draw call (AppIds::PerDrawCall) is read from the stencil "
-                     "buffer, one value per pixel; a multisampled app frame needs its ids "
-                     "written per fragment (AppIds::Written)");
+  if (plan_.samples < 0) {
+    throw InputError(plan_.samplesOption + " " + std::to_string(plan_.samples) +
+                     ": expected a sample count of 1 or more (0: each scene's own)");
   }
-  for (const DepthFormat format : plan_.depthFormats) {
-    const std::vector<int> offered = renderer.sampleCounts(format);
-    if (std::find(offered.begin(), offered.end(), plan_.samples) == offered.end()) {
-      std::string counts;
-      for (const int n : offered) counts += (counts.empty() ? "" : ", ") + std::to_string(n);
-      throw InputError(field + ": " + renderer.info().backend + " (" + renderer.info().renderer +
-                       ") offers no " + std::to_string(plan_.samples) + "-sample depth format " +
-                       depthFormatName(format) + " (it offers " +
-                       (counts.empty() ? "no multisampling" : counts) + ")");
+  for (const Scene* scene : loaded_.scenes) {
+    const int samples = samplesOf(*scene);
+    if (samples == 1) continue;
+    const std::string field = samplesField(*scene);
+    if (plan_.appRender && plan_.appIds == AppIds::PerDrawCall) {
+      throw InputError(field +
+                       ": one id per draw call (AppIds::PerDrawCall) is read from the stencil "
+                       "buffer, one value per pixel; a multisampled app frame needs its ids "
+                       "written per fragment (AppIds::Written)");
+    }
+    for (const DepthFormat format : plan_.depthFormats) {
+      const std::vector<int> offered = renderer.sampleCounts(format);
+      if (std::find(offered.begin(), offered.end(), samples) == offered.end()) {
+        std::string counts;
+        for (const int n : offered) counts += (counts.empty() ? "" : ", ") + std::to_string(n);
+        throw InputError(field + ": " + renderer.info().backend + " (" + renderer.info().renderer +
+                         ") offers no " + std::to_string(samples) + "-sample depth format " +
+                         depthFormatName(format) + " (it offers " +
+                         (counts.empty() ? "no multisampling" : counts) + ")");
+      }
     }
   }
 }
@@ -344,15 +363,15 @@ void Runner::checkSamples(gl::Renderer& renderer) const {
 void Runner::runCameraSampled(unsigned round, const Scene& scene, const Camera& camera,
                               gl::GlContext& context, gl::Renderer& renderer,
                               std::vector<RunRecord>& runs) {
+  const int samples = samplesOf(scene);
   if (!scene.primitives.empty()) {
-    throw InputError(plan_.samplesOption + " " + std::to_string(plan_.samples) + ": scene \"" +
-                     scene.name + "\" (" + scene.path +
+    throw InputError(samplesField(scene) + ": scene \"" + scene.name + "\" (" + scene.path +
                      ") has analytic primitives, which are drawn with one depth per pixel "
                      "(gl_FragDepth at its centre); multisampled runs need triangle meshes only");
   }
   if (camera.logarithmicDepth) {
-    throw InputError(plan_.samplesOption + " " + std::to_string(plan_.samples) + ": camera \"" +
-                     camera.name + "\" of scene \"" + scene.name + "\" (" + scene.path +
+    throw InputError(samplesField(scene) + ": camera \"" + camera.name + "\" of scene \"" +
+                     scene.name + "\" (" + scene.path +
                      ") draws a logarithmic depth, written by the shader once per pixel "
                      "(gl_FragDepth at its centre); multisampled runs need the projective depth");
   }
@@ -360,7 +379,7 @@ void Runner::runCameraSampled(unsigned round, const Scene& scene, const Camera& 
   const Viewport viewport = plan_.size.value_or(camera.viewport);
   for (const DepthMode mode : conventionsOf(scene)) {
     step_ = "tracing " + scene.name + "/" + camera.name + " " + mode.name() + " at " +
-            sizeText(viewport) + " for " + std::to_string(plan_.samples) + " samples";
+            sizeText(viewport) + " for " + std::to_string(samples) + " samples";
     engine::MultisampleCamera sampled(scene, camera, mode, viewport, plan_.threads, plan_.pickRays,
                                       plan_.pickHits);
     for (const DepthFormat format : plan_.depthFormats) {
@@ -369,24 +388,24 @@ void Runner::runCameraSampled(unsigned round, const Scene& scene, const Camera& 
       for (const VertexMode vertexMode : plan_.vertexModes) {
         step_ = "running " + scene.name + "/" + camera.name + " " + mode.name() + " " +
                 depthFormatName(format) + " " + vertexModeName(vertexMode) + " at " +
-                std::to_string(plan_.samples) + " samples";
+                std::to_string(samples) + " samples";
         std::vector<std::string> notes;
         engine::SampleComparison sampledRun;
         if (plan_.appRender) {
           // The passes for the positions the renderer reports, whose drawn camera (unsheared) the
           // app is handed; compared at the positions the app's framebuffer reports.
           const engine::AnalyticPass& first =
-              sampled.passesAt(renderer.samplePositions(format, plan_.samples, viewport)).front();
+              sampled.passesAt(renderer.samplePositions(format, samples, viewport)).front();
           PickingCamera drawnCamera = first.drawnCamera;
           drawnCamera.clipFromWorld = sampled.drawnClipFromWorld();
           gl::RenderTimings timings;
           gl::AppRaster drawn = drawWithApp(context, scene, camera, first, drawnCamera, format,
-                                            plan_.samples, timings, notes);
+                                            samples, timings, notes);
           sampledRun =
               sampled.compareSamples(std::move(drawn.samples), drawn.samplePositions, format,
                                      vertexMode, renderer.info().subpixelBits, timings);
         } else {
-          sampledRun = sampled.rasterAndCompare(renderer, format, vertexMode, plan_.samples);
+          sampledRun = sampled.rasterAndCompare(renderer, format, vertexMode, samples);
         }
         const std::vector<engine::AnalyticPass>& passes = sampled.passesAt(sampledRun.positions);
         for (std::size_t s = 0; s < sampledRun.samples.size(); ++s) {

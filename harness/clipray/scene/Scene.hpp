@@ -154,6 +154,10 @@ struct Scene {
   // in front of the near plane (or beyond the far plane) is drawn at the depth range's near (far)
   // end. Everything in front of the eye is drawn (GL 4.6 13.7, 13.8.1).
   bool depthClamp = false;
+  // Samples per pixel the scene is drawn with ("samples"): above 1 reconcile draws it multisampled
+  // and compares every sample (engine/MultisampleRun), unless --samples or
+  // ReconcileOptions::samples says otherwise.
+  int samples = 1;
 
   std::size_t triangleCount() const;
 };

@@ -82,6 +82,11 @@ SceneBuilder& SceneBuilder::depthClamp(bool enabled) {
   return *this;
 }
 
+SceneBuilder& SceneBuilder::samples(int count) {
+  document_->root["samples"] = count;
+  return *this;
+}
+
 SceneBuilder& SceneBuilder::faceCulling(CullFace cull, FrontFace frontFace) {
   if (document_->objects().empty()) {
     throw InputError("SceneBuilder " + detail::jsonString(name_) +

@@ -100,9 +100,9 @@ Scene SceneReader::read(const json& root) {
     fail(top / "version", "unsupported version " + describe(version) +
                               "; this clipray reads version " + std::to_string(kFormatVersion));
   }
-  expectKnownKeys(
-      root, top,
-      {"version", "comment", "conventions", "depthRange", "depthClamp", "cameras", "objects"});
+  expectKnownKeys(root, top,
+                  {"version", "comment", "conventions", "depthRange", "depthClamp", "samples",
+                   "cameras", "objects"});
 
   Scene scene;
   scene.version = kFormatVersion;
@@ -120,6 +120,13 @@ Scene SceneReader::read(const json& root) {
       fail(top / "depthClamp", "expected true or false (GL_DEPTH_CLAMP), got " + describe(*clamp));
     }
     scene.depthClamp = clamp->get<bool>();
+  }
+  if (const json* samples = optional(root, "samples")) {
+    if (!samples->is_number_integer() || *samples < 1 || *samples > 64) {
+      fail(top / "samples",
+           "expected a sample count from 1 to 64 (samples per pixel), got " + describe(*samples));
+    }
+    scene.samples = samples->get<int>();
   }
 
   const json& cameras = required(root, top, "cameras");
@@ -169,6 +176,18 @@ Scene SceneReader::read(const json& root) {
          "depth clamp with analytic primitives (\"" + scene.primitives[0].name +
              "\") is not modelled: their fragment shader traces the ray from the near plane, "
              "and depth clamp draws what lies in front of it; use triangle meshes");
+  }
+  if (scene.samples > 1 && !scene.primitives.empty()) {
+    fail(top / "samples", "multisampling with analytic primitives (\"" + scene.primitives[0].name +
+                              "\") is not modelled: their fragment shader writes one depth per "
+                              "pixel, at its centre; use triangle meshes");
+  }
+  for (std::size_t i = 0; i < scene.cameras.size() && scene.samples > 1; ++i) {
+    if (!scene.cameras[i].logarithmicDepth) continue;
+    fail(top / "samples", "multisampling with a logarithmic depth (camera \"" +
+                              scene.cameras[i].name +
+                              "\") is not modelled: its fragment shader writes one depth per "
+                              "pixel, at its centre");
   }
   // GL_MAX_CLIP_DISTANCES holds the camera's and an object's planes together.
   for (const MeshObject& object : scene.objects) {

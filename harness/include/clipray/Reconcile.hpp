@@ -87,8 +87,8 @@ struct ReconcileOptions {
   // written, AppIds::Written), and each sample is a run of its own (RunResult::sample), compared
   // with rays through its position: pickingInWindow asks the app at the sample's window position
   // (a raw PickRayFunction gets the camera sheared to put the sample on the pixel centre,
-  // PickingCamera::samplePosition).
-  int samples = 1;
+  // PickingCamera::samplePosition). 0: the scene's own (SceneBuilder::samples), else 1.
+  int samples = 0;
 };
 
 // One pixel of a run, as both sides saw it.

@@ -66,6 +66,10 @@ class SceneBuilder {
   // glEnable(GL_DEPTH_CLAMP) (default off): nothing is clipped at the near and far planes, and
   // what lies in front of the near plane is drawn at the near end of the depth range.
   SceneBuilder& depthClamp(bool enabled);
+  // Samples per pixel the app draws with (MSAA): reconcile then draws every frame multisampled and
+  // compares each sample (ReconcileOptions::samples, which overrides it). Triangle meshes only,
+  // and no logarithmic depth (both write one depth per fragment).
+  SceneBuilder& samples(int count);
 
   // A triangle mesh from the app's arrays: x, y, z per vertex and 3 indices per triangle, in the
   // order the app draws them (triangle k gets id firstId + k, as gl_PrimitiveID counts).
