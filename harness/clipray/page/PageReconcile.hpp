@@ -18,6 +18,7 @@
 // picks.
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -30,6 +31,9 @@ namespace clipray::page {
 struct PageReconcileOptions {
   PageOptions page;
   int columns = 32, rows = 24;
+  // A second load of the page with its reversed depth buffer toggled (PageToggle.hpp), in the
+  // same browser; false: the page as it is only (--no-toggle).
+  bool toggle = true;
 };
 
 // One pick, as classified.
@@ -58,6 +62,16 @@ struct PageReconcileResult {
   int subpixelBits = 0;
   std::vector<PagePick> picks;
 
+  // The toggled run (PageToggle.hpp), on the result of the page as it is: made (run), or why not
+  // (notApplicable: the page does not allow it; skipped: --no-toggle), or failed (the toggled
+  // load did not give picks: why).
+  struct Toggle {
+    std::string notApplicable, skipped, failed;
+    std::shared_ptr<const PageReconcileResult> run;
+  };
+  Toggle toggle;
+  bool toggled = false;  // this result is the toggled run
+
   struct Counts {
     std::uint64_t agreeSurface = 0, agreeBackground = 0;
     std::uint64_t depthEdge = 0, depthUnexplained = 0;
@@ -68,14 +82,25 @@ struct PageReconcileResult {
   double maxDepthError() const;  // over the picks that hit a drawn pixel
   double maxErrorOverTolerance() const;
   bool consistent() const;
+  // consistent(), and the toggled run's where one was made; a failed toggled run is not.
+  bool allConsistent() const;
 };
 
 // Throws InputError (exit 2, nothing written) for what checkPage refuses, and for a page without
 // three.js (no renderer observed, none drew through a camera, its Raycaster out of reach: the
-// line says so and gives the state check's counts) or whose depth cannot be read.
+// line says so and gives the state check's counts) or whose depth cannot be read. The toggled
+// run's failures are reported in result.toggle.failed instead.
 PageReconcileResult reconcilePage(const PageReconcileOptions& options);
 
+// The report of the page as it is, with the toggled run under "toggled" (the same fields for
+// that run, or why there is none) and "overall" (allConsistent()).
 nlohmann::json pageReconcileJson(const PageReconcileResult& result);
 std::string pageReconcileText(const PageReconcileResult& result);
+
+// The class of a pick as the report names it: agree, depth-beyond-tolerance, ray-only,
+// raster-only.
+const char* pagePickClassName(PagePick::Kind kind);
+// "E errors, W warnings, N notes" of the state check (and each canvas not checked, why).
+std::string pageStateCheckCounts(const PageCheckResult& check);
 
 }  // namespace clipray::page
