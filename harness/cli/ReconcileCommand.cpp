@@ -239,10 +239,18 @@ int runPageReconcile(const ReconcileArguments& arguments, const CLI::App& app) {
   const std::string picks = page::pagePicksPng(result);
   const std::string toggledPicks = result.toggle.run ? page::pagePicksPng(*result.toggle.run) : "";
   const bool images = !picks.empty() && (!result.toggle.run || !toggledPicks.empty());
+  // A folder used before keeps no picks image of an earlier run that this index.html does not
+  // show.
+  std::error_code ignored;
   if (images) {
     std::ofstream(out / "picks.png", std::ios::binary) << picks;
-    if (result.toggle.run)
-      std::ofstream(out / "picks-toggled.png", std::ios::binary) << toggledPicks;
+  } else {
+    std::filesystem::remove(out / "picks.png", ignored);
+  }
+  if (images && result.toggle.run) {
+    std::ofstream(out / "picks-toggled.png", std::ios::binary) << toggledPicks;
+  } else {
+    std::filesystem::remove(out / "picks-toggled.png", ignored);
   }
   std::ofstream(out / "index.html") << page::pageReconcileHtml(result, images);
   std::ostream& summary = arguments.json ? std::cerr : std::cout;

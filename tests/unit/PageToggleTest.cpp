@@ -139,6 +139,20 @@ TEST(PageToggle, ARunNotMadeSaysWhy) {
       "\ntoggled: reversedDepthBuffer off: not made (--no-toggle)\n"));
 
   r.toggle.skipped.clear();
+  r.toggle.notApplicable = toggleRefusal(facts(true, true, true), true);
+  report = pageReconcileJson(r);
+  EXPECT_EQ(report["toggled"]["not_applicable"], r.toggle.notApplicable);
+  EXPECT_EQ(report["toggled"]["verdict"], nullptr);
+  EXPECT_EQ(report["overall"], "consistent");
+  EXPECT_TRUE(pageReconcileText(r).ends_with(
+      "\ntoggled: reversedDepthBuffer off: not applicable: the page uses a logarithmic depth "
+      "buffer (three.js turns it off under a reversed depth buffer: the toggled page would not be "
+      "one three.js makes)\n"));
+  EXPECT_NE(pageReconcileHtml(r, true).find("<tr><th>reversedDepthBuffer toggled off</th><td>not "
+                                            "applicable: the page uses a logarithmic depth buffer"),
+            std::string::npos);
+
+  r.toggle.notApplicable.clear();
   r.toggle.failed = "page.html: never drew in 30 s (1 WebGL context)";
   EXPECT_FALSE(r.allConsistent());
   report = pageReconcileJson(r);
