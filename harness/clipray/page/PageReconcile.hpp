@@ -1,14 +1,14 @@
 #pragma once
-// `clipray reconcile --page URL|file.html [--grid CxR] [--frames N] [--timeout S]`: a three.js
-// page's own picking against its own picture. The page is loaded as `check --page --verify` loads
-// it (PageCheck.hpp), with window.__THREE_DEVTOOLS__ defined before its scripts so that three.js
-// announces its renderers; each renderer's render is wrapped to keep the scene and camera it drew
-// last. After the N frames, the page's own Raycaster (from window.THREE or the module the page
-// imported) is set from the camera at the centres of a C x R grid of the drawing buffer's pixels
-// (NDC as a pointer handler computes it from CSS pixels), its first hit is mapped through the
-// camera's projection * view to window depth under the page's depth state (EXT_clip_control's
-// depth mode, depthRange) and compared with the depth buffer the last frame left at that pixel,
-// read in the same task (PageRecorder.cpp's readDepth).
+// `clipray reconcile --page URL|file.html [--grid CxR] [--frames N] [--timeout S] [--no-toggle]`: a
+// three.js page's own picking against its own picture. The page is loaded as `check --page
+// --verify` loads it (PageCheck.hpp), with window.__THREE_DEVTOOLS__ defined before its scripts so
+// that three.js announces its renderers; each renderer's render is wrapped to keep the scene and
+// camera it drew last. After the N frames, the page's own Raycaster (from window.THREE or the
+// module the page imported) is set from the camera at the centres of a C x R grid of the drawing
+// buffer's pixels (NDC as a pointer handler computes it from CSS pixels), its first hit is mapped
+// through the camera's projection * view to window depth under the page's depth state
+// (EXT_clip_control's depth mode, depthRange) and compared with the depth buffer the last frame
+// left at that pixel, read in the same task (PageRecorder.cpp's readDepth).
 //
 // Each pick is one class, as a reconcile's pixel: agree (a hit whose depth is within the
 // tolerance of the buffer's, or no hit over a pixel that kept the clear depth), depth beyond the
@@ -16,6 +16,10 @@
 // reverse); the last two are edge-ambiguous where the rays 2^-SUBPIXEL_BITS pixel around the
 // centre reach different objects, else unexplained. The page is consistent without unexplained
 // picks.
+//
+// Then, where the page allows, the same browser loads the page again with its renderer's
+// reversed depth buffer toggled and picks it the same way (PageToggle.hpp): the toggled run,
+// reported beside the first; index.html and the picks images are PageHtml.hpp's.
 
 #include <cstdint>
 #include <memory>
