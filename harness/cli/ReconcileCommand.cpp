@@ -20,6 +20,7 @@
 #include "clipray/engine/MemoryBudget.hpp"
 #include "clipray/engine/ReconcilePlan.hpp"
 #include "clipray/engine/ReconcileRunner.hpp"
+#include "clipray/page/PageHtml.hpp"
 #include "clipray/page/PageReconcile.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/util/OptionValues.hpp"
@@ -67,6 +68,7 @@ struct ReconcileArguments {
   std::string grid = "32x24";
   std::optional<std::uint64_t> frames;
   std::optional<double> timeout;
+  bool noToggle = false;
 };
 
 // "I/N" with 1 <= I <= N <= 100000 (a CI matrix of any size); throws InputError otherwise.
@@ -226,16 +228,36 @@ int runPageReconcile(const ReconcileArguments& arguments, const CLI::App& app) {
   if (std::filesystem::exists(out) && !std::filesystem::is_directory(out)) {
     throw InputError("--out: " + arguments.out + " is a file, not a folder");
   }
+  options.toggle = !arguments.noToggle;
   const page::PageReconcileResult result = page::reconcilePage(options);
   const std::string report =
       page::pageReconcileJson(result).dump(2, ' ', false, nlohmann::json::error_handler_t::replace);
   std::filesystem::create_directories(out);
   const std::filesystem::path file = out / "page-report.json";
   std::ofstream(file) << report << "\n";
+  // index.html beside it, with the picks images it shows (PageHtml.hpp).
+  const std::string picks = page::pagePicksPng(result);
+  const std::string toggledPicks = result.toggle.run ? page::pagePicksPng(*result.toggle.run) : "";
+  const bool images = !picks.empty() && (!result.toggle.run || !toggledPicks.empty());
+  // A folder used before keeps no picks image of an earlier run that this index.html does not
+  // show.
+  std::error_code ignored;
+  if (images) {
+    std::ofstream(out / "picks.png", std::ios::binary) << picks;
+  } else {
+    std::filesystem::remove(out / "picks.png", ignored);
+  }
+  if (images && result.toggle.run) {
+    std::ofstream(out / "picks-toggled.png", std::ios::binary) << toggledPicks;
+  } else {
+    std::filesystem::remove(out / "picks-toggled.png", ignored);
+  }
+  std::ofstream(out / "index.html") << page::pageReconcileHtml(result, images);
   std::ostream& summary = arguments.json ? std::cerr : std::cout;
-  summary << page::pageReconcileText(result) << "report: " << file.string() << "\n";
+  summary << page::pageReconcileText(result) << "report: " << file.string() << " ("
+          << (out / "index.html").string() << " beside it)\n";
   if (arguments.json) std::cout << report << "\n";
-  return result.consistent() ? 0 : 1;
+  return result.allConsistent() ? 0 : 1;
 }
 
 CommandRunner addReconcileOptions(CLI::App& app) {
@@ -297,11 +319,15 @@ CommandRunner addReconcileOptions(CLI::App& app) {
                  "With --page: animation frames to let the page draw first (default 3)");
   app.add_option("--timeout", arguments->timeout,
                  "With --page: seconds to wait for the page's frames (default 30)");
+  app.add_flag("--no-toggle", arguments->noToggle,
+               "With --page: only the page as it is, not also a second load with its "
+               "reversedDepthBuffer toggled (which costs about one more page load and its picks)");
   return [arguments, &app] {
     if (!arguments->page.empty()) return runPageReconcile(*arguments, app);
     if (app.count("--grid") > 0 || arguments->frames || arguments->timeout) {
       throw InputError("--grid, --frames and --timeout need --page");
     }
+    if (arguments->noToggle) throw InputError("--no-toggle needs --page");
     const engine::ReconcilePlan plan = planOf(*arguments);
     return printOutcome(plan, engine::runReconcilePlan(plan), arguments->json);
   };

@@ -8,8 +8,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "support/RunCommand.hpp"
 
@@ -56,21 +60,61 @@ std::vector<std::string> stateFindings(const nlohmann::json& canvas) {
   return result;
 }
 
-struct Expected {
-  const char* page;
-  int status;
-  const char* camera;
-  bool reversed;  // reversedDepthBuffer: clip zero-to-one, cleared to 0
+// The run with reversedDepthBuffer toggled (the page loaded again in the same browser, its
+// renderer's depth buffer flipped before its first frame).
+struct Toggled {
+  int status;  // 0 consistent, 1 inconsistent
   const char* classes;
   std::vector<std::string> findings;
 };
 
-void expectReconcile(const Expected& e) {
+struct Expected {
+  const char* page;
+  int status;  // of the page as it is: 0 consistent, 1 inconsistent
+  const char* camera;
+  bool reversed;  // reversedDepthBuffer: clip zero-to-one, cleared to 0
+  const char* classes;
+  std::vector<std::string> findings;
+  // None: run with --no-toggle (one load: the CI budget has a toggled run only where it pins
+  // something).
+  std::optional<Toggled> toggled = std::nullopt;
+};
+
+// The depth state and the state check of a run.
+void expectRun(const nlohmann::json& run, bool reversed, int status, const char* classesText,
+               const std::vector<std::string>& findings) {
+  const nlohmann::json& depth = run["depth"];
+  EXPECT_EQ(depth["reversed_depth_buffer"], reversed);
+  EXPECT_EQ(depth["clip_depth"], reversed ? "zero-to-one" : "negative-one-to-one");
+  EXPECT_EQ(depth["clear_depth"], reversed ? 0.0 : 1.0);
+  EXPECT_EQ(depth["format"], "GL_DEPTH24_STENCIL8");
+  EXPECT_EQ(depth["subpixel_bits"], 4);
+  EXPECT_EQ(run["picks"]["total"], 768);
+  EXPECT_EQ(classes(run["picks"]), classesText);
+  EXPECT_EQ(run["verdict"], status == 0 ? "consistent" : "inconsistent");
+  // Every agreeing pick within its tolerance: the largest error over the tolerance is below 1.
+  if (status == 0) {
+    EXPECT_LT(run["picks"]["max_error_over_tolerance"].get<double>(), 1.0);
+  }
+  // The state check of the same recording (three frames of five draws).
+  const nlohmann::json& state = run["state_check"];
+  EXPECT_EQ(state["frames"], 3);
+  EXPECT_EQ(state["draws"], 15);
+  ASSERT_EQ(state["canvases"].size(), 1u);
+  EXPECT_EQ(stateFindings(state["canvases"][0]), findings);
+}
+
+// Runs reconcile --page on the page and checks its report; returns the index.html written beside
+// it.
+std::string expectReconcile(const Expected& e) {
   SCOPED_TRACE(e.page);
   TempFolder folder;
-  const auto result =
-      runClipray("reconcile --page '" + threePage(e.page) + "' --json --out out", folder.path());
-  ASSERT_EQ(result.status, e.status) << result.err;
+  const auto result = runClipray("reconcile --page '" + threePage(e.page) + "' --json --out out" +
+                                     (e.toggled ? "" : " --no-toggle"),
+                                 folder.path());
+  const int status = std::max(e.status, e.toggled ? e.toggled->status : 0);
+  EXPECT_EQ(result.status, status) << result.err;
+  if (result.status != status) return "";
   const auto report = nlohmann::json::parse(result.out);
   EXPECT_EQ(report["tool"], "clipray reconcile --page");
   EXPECT_EQ(report["three_revision"], "187");
@@ -79,33 +123,44 @@ void expectReconcile(const Expected& e) {
   EXPECT_EQ(report["device_pixel_ratio"], 1.0);
   EXPECT_EQ(report["grid"], nlohmann::json::array({32, 24}));
   EXPECT_EQ(report["camera"]["type"], e.camera);
-  const nlohmann::json& depth = report["depth"];
-  EXPECT_EQ(depth["reversed_depth_buffer"], e.reversed);
-  EXPECT_EQ(depth["clip_depth"], e.reversed ? "zero-to-one" : "negative-one-to-one");
-  EXPECT_EQ(depth["clear_depth"], e.reversed ? 0.0 : 1.0);
-  EXPECT_EQ(depth["format"], "GL_DEPTH24_STENCIL8");
-  EXPECT_EQ(depth["subpixel_bits"], 4);
-  EXPECT_EQ(report["picks"]["total"], 768);
-  EXPECT_EQ(classes(report["picks"]), e.classes);
-  EXPECT_EQ(report["verdict"], e.status == 0 ? "consistent" : "inconsistent");
-  // Every agreeing pick within its tolerance: the largest error over the tolerance is below 1.
-  if (e.status == 0) {
-    EXPECT_LT(report["picks"]["max_error_over_tolerance"].get<double>(), 1.0);
+  expectRun(report, e.reversed, e.status, e.classes, e.findings);
+  const nlohmann::json& toggled = report["toggled"];
+  EXPECT_EQ(toggled["made"], e.toggled.has_value());
+  EXPECT_EQ(toggled["reversed_depth_buffer"], !e.reversed);
+  if (e.toggled) {
+    SCOPED_TRACE("toggled");
+    EXPECT_EQ(toggled["camera"]["type"], e.camera);
+    expectRun(toggled, !e.reversed, e.toggled->status, e.toggled->classes, e.toggled->findings);
+    EXPECT_NE(result.err.find(std::string("\ntoggled: reversedDepthBuffer ") +
+                              (e.reversed ? "off (the page: on)" : "on (the page: off)") +
+                              ", the page loaded again with its renderer's depth buffer flipped "
+                              "before its first frame\n"),
+              std::string::npos)
+        << result.err;
+  } else {
+    EXPECT_EQ(toggled["skipped"], "--no-toggle");
+    EXPECT_EQ(toggled["verdict"], nullptr);
   }
-  // The state check of the same recording (three frames of five draws).
-  const nlohmann::json& state = report["state_check"];
-  EXPECT_EQ(state["frames"], 3);
-  EXPECT_EQ(state["draws"], 15);
-  ASSERT_EQ(state["canvases"].size(), 1u);
-  EXPECT_EQ(stateFindings(state["canvases"][0]), e.findings);
-  // The report written beside the summary, which went to stderr.
+  EXPECT_EQ(report["overall"], status == 0 ? "consistent" : "inconsistent");
+  // The report written beside the summary, which went to stderr, and index.html with the picks
+  // images.
   EXPECT_TRUE(fs::is_regular_file(folder.path() / "out" / "page-report.json"));
-  EXPECT_NE(result.err.find("report: out/page-report.json\n"), std::string::npos) << result.err;
+  EXPECT_TRUE(fs::is_regular_file(folder.path() / "out" / "index.html"));
+  EXPECT_TRUE(fs::is_regular_file(folder.path() / "out" / "picks.png"));
+  EXPECT_EQ(fs::is_regular_file(folder.path() / "out" / "picks-toggled.png"),
+            e.toggled.has_value());
+  EXPECT_NE(result.err.find("report: out/page-report.json (out/index.html beside it)\n"),
+            std::string::npos)
+      << result.err;
+  std::ifstream html(folder.path() / "out" / "index.html");
+  return std::string(std::istreambuf_iterator<char>(html), std::istreambuf_iterator<char>());
 }
 
 // Correct pages in both depth modes, perspective and orthographic: every pick agrees but one in
 // the perspective views, the ray and the raster at an occluding edge of the small box
-// (edge-ambiguous: the rays 1/16 pixel around the centre reach different meshes).
+// (edge-ambiguous: the rays 1/16 pixel around the centre reach different meshes). The perspective
+// pages toggled (off to on, on to off) give the other's counts; the other correct pages run with
+// --no-toggle (their toggled runs, consistent too, would add a page load each to CI).
 TEST(PageReconcileCli, CorrectPagesAreConsistentInBothDepthModes) {
   requireThree();
   expectReconcile({"perspective.html",
@@ -113,13 +168,15 @@ TEST(PageReconcileCli, CorrectPagesAreConsistentInBothDepthModes) {
                    "PerspectiveCamera",
                    false,
                    "agree 503+264 >tol 1/0 ray-only 0/0 raster-only 0/0",
-                   {}});
+                   {},
+                   Toggled{0, "agree 503+264 >tol 1/0 ray-only 0/0 raster-only 0/0", {}}});
   expectReconcile({"perspective-reversed.html",
                    0,
                    "PerspectiveCamera",
                    true,
                    "agree 503+264 >tol 1/0 ray-only 0/0 raster-only 0/0",
-                   {}});
+                   {},
+                   Toggled{0, "agree 503+264 >tol 1/0 ray-only 0/0 raster-only 0/0", {}}});
   // A ShaderMaterial of the page's own: three.js reverses its depthFunc under reversed depth.
   expectReconcile({"shader-reversed.html",
                    0,
@@ -148,21 +205,49 @@ TEST(PageReconcileCli, CorrectPagesAreConsistentInBothDepthModes) {
 // (a) A reversed-Z camera built by hand on a default renderer, a ShaderMaterial with the default
 // depthFunc (LEQUAL) over a depth cleared to 1: where surfaces overlap the farther one wins, so
 // the depth the ray's first hit predicts is nearer than the buffer's (76 picks); the state check
-// names the mismatch.
+// names the mismatch. Toggled on, three.js reverses the ShaderMaterial's depthFunc (GEQUAL), clears
+// to 0 under ZERO_TO_ONE and keeps the page's reversed projection (the page disabled
+// updateProjectionMatrix): the page as its author meant it, consistent, nothing to find.
+// index.html shows both runs.
 TEST(PageReconcileCli, ReversedCameraWithTheDefaultDepthFunctionIsInconsistent) {
   requireThree();
-  expectReconcile({"reversed-camera-default-depth.html",
-                   1,
-                   "PerspectiveCamera",
-                   false,
-                   "agree 426+264 >tol 2/76 ray-only 0/0 raster-only 0/0",
-                   {"warning:reversed-z-without-zero-to-one", "error:reversed-z-mismatch",
-                    "warning:infinite-far-plane", "error:clear-depth-mismatch"}});
+  const std::string html =
+      expectReconcile({"reversed-camera-default-depth.html",
+                       1,
+                       "PerspectiveCamera",
+                       false,
+                       "agree 426+264 >tol 2/76 ray-only 0/0 raster-only 0/0",
+                       {"warning:reversed-z-without-zero-to-one", "error:reversed-z-mismatch",
+                        "warning:infinite-far-plane", "error:clear-depth-mismatch"},
+                       Toggled{0, "agree 503+264 >tol 1/0 ray-only 0/0 raster-only 0/0", {}}});
+  EXPECT_NE(html.find("<p id=\"verdict\" class=\"verdict inconsistent\">inconsistent: the page "
+                      "as it is inconsistent, reversedDepthBuffer toggled on consistent</p>"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<tr><th>three.js</th><td>r187</td></tr>"), std::string::npos);
+  EXPECT_NE(html.find("<tr class=\"run inconsistent\" data-run=\"page\"><td>the page as it "
+                      "is</td><td class=\"verdict\">inconsistent</td><td class=\"figures\">off, "
+                      "negative-one-to-one, cleared to 1, depthRange 0, 1, "
+                      "GL_DEPTH24_STENCIL8</td><td class=\"figures\">426+264</td><td "
+                      "class=\"figures\">2/76</td>"),
+            std::string::npos)
+      << html;
+  EXPECT_NE(html.find("<tr class=\"run consistent\" data-run=\"toggled\"><td>reversedDepthBuffer "
+                      "toggled on</td>"),
+            std::string::npos);
+  // The worst picks: the ray's first hit nearer than the surface the buffer kept, by thousands
+  // of tolerances.
+  EXPECT_NE(html.find("<h3>The worst picks (10 of 78 mismatches; unexplained first, largest "
+                      "error over tolerance first)</h3>"),
+            std::string::npos);
+  EXPECT_NE(html.find("<li data-code=\"reversed-z-mismatch\"><span class=\"error\">error "
+                      "reversed-z-mismatch</span>"),
+            std::string::npos);
 }
 
 // (b) three.js's orthographic ray before reversed depth: its origin at z_ndc = (near + far) /
 // (near - far) unprojects beyond the far plane under reversed depth, and every ray misses: each
-// of the 640 drawn pixels is raster-only.
+// of the 640 drawn pixels is raster-only. Toggled off, the old ray is right again: consistent.
 TEST(PageReconcileCli, OldOrthographicRaycastUnderReversedDepthMissesEverything) {
   requireThree();
   expectReconcile({"orthographic-raycast-reversed.html",
@@ -170,13 +255,17 @@ TEST(PageReconcileCli, OldOrthographicRaycastUnderReversedDepthMissesEverything)
                    "OrthographicCamera",
                    true,
                    "agree 0+128 >tol 0/0 ray-only 0/0 raster-only 0/640",
-                   {}});
+                   {},
+                   Toggled{0,
+                           "agree 640+128 >tol 0/0 ray-only 0/0 raster-only 0/0",
+                           {"info:depth-convention-ambiguous"}}});
 }
 
 // (c) A picker that unprojects z_ndc -1 and 1 as [-1, 1] depth under EXT_clip_control's
 // ZERO_TO_ONE: the ray starts beyond the far plane and runs toward the camera, and its first hit
 // (double-sided materials) is the farthest surface, not the drawn one, wherever a box stands on
-// the ground (112 picks); the bare ground still agrees.
+// the ground (112 picks); the bare ground still agrees. Toggled off, [-1, 1] is the page's depth
+// and the picker is right: consistent.
 TEST(PageReconcileCli, PickerUnprojectingNoDepthUnderZeroToOneHitsTheFarthestSurface) {
   requireThree();
   expectReconcile({"orthographic-picker-no-under-zo.html",
@@ -184,7 +273,10 @@ TEST(PageReconcileCli, PickerUnprojectingNoDepthUnderZeroToOneHitsTheFarthestSur
                    "OrthographicCamera",
                    true,
                    "agree 501+128 >tol 27/112 ray-only 0/0 raster-only 0/0",
-                   {}});
+                   {},
+                   Toggled{0,
+                           "agree 640+128 >tol 0/0 ray-only 0/0 raster-only 0/0",
+                           {"info:depth-convention-ambiguous"}}});
 }
 
 // `clipray check --page` itself on the three.js pages: the same findings, its own exit statuses.
@@ -254,6 +346,7 @@ TEST(PageReconcileCli, BadInputIsOneLineAndNothingWritten) {
   expectBadInput("reconcile scenes/standard.json --page '" + noThree + "'",
                  "--page: the page is the scene; give no scene files (got scenes/standard.json)");
   expectBadInput("reconcile --grid 8x8", "--grid, --frames and --timeout need --page");
+  expectBadInput("reconcile --no-toggle", "--no-toggle needs --page");
   expectBadInput("reconcile --page '" + threePage("perspective.html") + "'",
                  "chromium not found at /no/such/chromium (CLIPRAY_CHROMIUM): install Debian's "
                  "package chromium (harness/install-deps.sh does)",

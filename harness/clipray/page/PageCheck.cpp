@@ -147,7 +147,10 @@ std::string pageUrl(const std::string& target) {
   return "file://" + percentEncoded(absolute.lexically_normal().string());
 }
 
-PageCheckResult checkPage(const PageOptions& options, const AfterRecording& after) {
+namespace {
+
+// The options' target as a URL; throws InputError for bad options (checkPage's).
+std::string checkedUrl(const PageOptions& options) {
   const std::string url = pageUrl(options.target);
   if (!(options.timeoutSeconds > 0.0) || options.timeoutSeconds > 3600.0) {
     throw InputError("--timeout: expected seconds in (0, 3600], got " +
@@ -156,8 +159,21 @@ PageCheckResult checkPage(const PageOptions& options, const AfterRecording& afte
   if (options.frames == 0 || options.frames > 100000) {
     throw InputError("--frames: expected a number of frames from 1 to 100000 with --page");
   }
+  return url;
+}
+
+}  // namespace
+
+PageCheckResult checkPage(const PageOptions& options, const AfterRecording& after) {
+  PageBrowser browser(options);
+  return browser.load(options, after);
+}
+
+PageBrowser::~PageBrowser() = default;
+
+PageBrowser::PageBrowser(const PageOptions& options) {
+  checkedUrl(options);
   const std::string browser = findChromium();
-  const std::string timeout = seconds(options.timeoutSeconds);
   // The browser's start has its own allowance: --timeout is the page's (a loaded machine takes
   // seconds to start chromium).
   const auto startDeadline = Clock::now() + kStartupTimeout;
@@ -168,14 +184,16 @@ PageCheckResult checkPage(const PageOptions& options, const AfterRecording& afte
   // counts as hidden to some of chromium's throttles). --allow-file-access-from-files: a file
   // page's module scripts and import maps (three.js from node_modules) load; without it chromium
   // refuses them as cross-origin.
-  DevToolsPipe browserPipe(
-      browser, {"--headless=new", "--no-sandbox", "--disable-gpu-sandbox",
-                "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-first-run",
-                "--no-default-browser-check", "--disable-extensions", "--mute-audio",
-                "--hide-scrollbars", "--window-size=800,600", "--disable-dev-shm-usage",
-                "--disable-background-timer-throttling", "--disable-renderer-backgrounding",
-                "--disable-backgrounding-occluded-windows", "--allow-file-access-from-files"});
-  std::string session;
+  pipe_ = std::make_unique<DevToolsPipe>(
+      browser, std::vector<std::string>{
+                   "--headless=new", "--no-sandbox", "--disable-gpu-sandbox",
+                   "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--no-first-run",
+                   "--no-default-browser-check", "--disable-extensions", "--mute-audio",
+                   "--hide-scrollbars", "--window-size=800,600", "--disable-dev-shm-usage",
+                   "--disable-background-timer-throttling", "--disable-renderer-backgrounding",
+                   "--disable-backgrounding-occluded-windows", "--allow-file-access-from-files"});
+  DevToolsPipe& browserPipe = *pipe_;
+  std::string& session = session_;
   try {
     const nlohmann::json targets = browserPipe.call("Target.getTargets", {}, "", startDeadline);
     std::string pageTarget;
@@ -196,16 +214,40 @@ PageCheckResult checkPage(const PageOptions& options, const AfterRecording& afte
                   .value("sessionId", "");
     browserPipe.call("Page.enable", nlohmann::json::object(), session, startDeadline);
     browserPipe.call("Page.bringToFront", nlohmann::json::object(), session, startDeadline);
-    browserPipe.call(
-        "Page.addScriptToEvaluateOnNewDocument",
-        {{"source", pageRecorderScript(options.frames, options.verify, options.three)}}, session,
-        startDeadline);
   } catch (const DevToolsPipe::TimedOut&) {
     const std::string tail = browserPipe.stderrTail();
     throw InputError("chromium did not answer on the DevTools pipe in " +
                      std::to_string(kStartupTimeout.count()) + " s" +
                      (tail.empty() ? std::string() : "; its stderr ends:\n" + tail));
   }
+}
+
+PageCheckResult PageBrowser::load(const PageOptions& options, const AfterRecording& after) {
+  const std::string url = checkedUrl(options);
+  const std::string timeout = seconds(options.timeoutSeconds);
+  DevToolsPipe& browserPipe = *pipe_;
+  const std::string& session = session_;
+  try {
+    const auto ready = Clock::now() + kStartupTimeout;
+    // A second load starts from a blank document: navigating to the page's own URL again may be
+    // a same-document navigation (a fragment), which would keep the first load's recorder.
+    if (loaded_) browserPipe.call("Page.navigate", {{"url", "about:blank"}}, session, ready);
+    if (!script_.empty()) {
+      browserPipe.call("Page.removeScriptToEvaluateOnNewDocument", {{"identifier", script_}},
+                       session, ready);
+    }
+    script_ =
+        browserPipe
+            .call("Page.addScriptToEvaluateOnNewDocument",
+                  {{"source", pageRecorderScript(options.frames, options.verify, options.three,
+                                                 options.toggleReversedDepth)}},
+                  session, ready)
+            .value("identifier", "");
+  } catch (const DevToolsPipe::TimedOut&) {
+    throw InputError("chromium did not answer on the DevTools pipe in " +
+                     std::to_string(kStartupTimeout.count()) + " s");
+  }
+  loaded_ = true;
   const auto deadline = Clock::now() + std::chrono::duration_cast<Clock::duration>(
                                            std::chrono::duration<double>(options.timeoutSeconds));
   try {

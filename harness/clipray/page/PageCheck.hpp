@@ -10,6 +10,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -26,6 +27,10 @@ struct PageOptions {
   bool verify = false;
   // Define window.__THREE_DEVTOOLS__ before the page's scripts (reconcile --page).
   bool three = false;
+  // With three: flip each observed WebGLRenderer's reversed depth buffer (its state's depth
+  // buffer setReversed) when the renderer announces itself, before its first frame
+  // (PageToggle.hpp).
+  bool toggleReversedDepth = false;
 };
 
 class DevToolsPipe;
@@ -41,6 +46,26 @@ std::string pageUrl(const std::string& target);
 // Throws InputError (exit 2) for a bad target, chromium missing or failing to start (with the
 // end of its stderr), a page that does not load, makes no WebGL context or never draws.
 PageCheckResult checkPage(const PageOptions& options, const AfterRecording& after = {});
+
+// One browser for several loads of pages (reconcile --page loads its page twice: as it is and
+// with the reversed depth buffer toggled); the browser's start is paid once. The constructor
+// checks the options' target, frames and timeout and starts chromium (the InputErrors of
+// checkPage); each load() navigates to about:blank, replaces the recorder script with one made
+// for its options, loads the page and records and checks it as checkPage does.
+class PageBrowser {
+ public:
+  explicit PageBrowser(const PageOptions& options);
+  ~PageBrowser();
+  PageBrowser(const PageBrowser&) = delete;
+  PageBrowser& operator=(const PageBrowser&) = delete;
+  PageCheckResult load(const PageOptions& options, const AfterRecording& after = {});
+
+ private:
+  std::unique_ptr<DevToolsPipe> pipe_;
+  std::string session_;
+  std::string script_;  // the identifier of the recorder script added for the last load
+  bool loaded_ = false;
+};
 
 nlohmann::json pageCheckJson(const PageCheckResult& result);
 std::string pageCheckText(const PageCheckResult& result);

@@ -39,6 +39,7 @@
 #include "clipray/InputError.hpp"
 #include "clipray/check/CheckText.hpp"
 #include "clipray/page/DevToolsPipe.hpp"
+#include "clipray/page/PageToggle.hpp"
 
 namespace clipray::page {
 
@@ -391,59 +392,81 @@ bool PageReconcileResult::consistent() const {
   return c.depthUnexplained == 0 && c.rayOnlyUnexplained == 0 && c.rasterOnlyUnexplained == 0;
 }
 
-PageReconcileResult reconcilePage(const PageReconcileOptions& options) {
-  if (options.columns < 1 || options.rows < 1 || options.columns > 4096 || options.rows > 4096) {
-    throw InputError("--grid: expected CxR with 1 to 4096 columns and rows, got " +
-                     std::to_string(options.columns) + "x" + std::to_string(options.rows));
+bool PageReconcileResult::allConsistent() const {
+  return consistent() && toggle.failed.empty() && (!toggle.run || toggle.run->consistent());
+}
+
+const char* pagePickClassName(PagePick::Kind kind) {
+  return kindName(kind);
+}
+
+std::string pageStateCheckCounts(const PageCheckResult& check) {
+  return stateCheckCounts(check);
+}
+
+namespace {
+
+// The picks of one load: finds the page's three.js and runs its Raycaster (PageRecorder.cpp's
+// findThree and pick); the answer, or InputError.
+nlohmann::json pickAnswer(DevToolsPipe& browser, const std::string& session,
+                          const PageCheckResult& check, const PageReconcileOptions& options) {
+  const std::string page = check.page;
+  const auto deadline = Clock::now() + kPickTimeout;
+  std::string why;
+  try {
+    // import() is the evaluation's own: the page's import map applies to it.
+    const auto found = evaluated(
+        browser.call("Runtime.evaluate",
+                     {{"expression", "__clipray.findThree((specifier) => import(specifier))"},
+                      {"awaitPromise", true},
+                      {"returnByValue", true}},
+                     session, deadline));
+    why = found && found->is_string() ? found->get<std::string>() : "the page did not answer";
+  } catch (const DevToolsPipe::TimedOut&) {
+    why = "the page did not answer in " + std::to_string(kPickTimeout.count()) + " s";
   }
+  if (!why.empty()) {
+    throw InputError(page + ": no three.js picking to reconcile (" + why +
+                     "); picking skipped; the state check found " + stateCheckCounts(check) +
+                     " (clipray check --page tells them)");
+  }
+  nlohmann::json answer;
+  try {
+    const auto picked =
+        evaluated(browser.call("Runtime.evaluate",
+                               {{"expression", "__clipray.pick(" + std::to_string(options.columns) +
+                                                   ", " + std::to_string(options.rows) + ")"},
+                                {"returnByValue", true}},
+                               session, deadline));
+    if (picked && picked->is_string()) {
+      answer = nlohmann::json::parse(picked->get<std::string>(), nullptr, false);
+    }
+  } catch (const DevToolsPipe::TimedOut&) {
+    throw InputError(page + ": the picks did not finish in " +
+                     std::to_string(kPickTimeout.count()) + " s");
+  }
+  if (!answer.is_object() || answer.contains("failure")) {
+    throw InputError(page + ": the page's Raycaster could not be run" +
+                     (answer.is_object() ? " (" + answer.value("failure", "") + ")" : ""));
+  }
+  return answer;
+}
+
+// One load of the page, picked and classified.
+PageReconcileResult reconcileLoad(PageBrowser& browser, const PageReconcileOptions& options,
+                                  bool toggled, nlohmann::json& toggleFacts) {
   PageOptions pageOptions = options.page;
   // The depth buffer must outlive the frame and be single-sampled (--verify's contexts).
   pageOptions.verify = true;
   pageOptions.three = true;
+  pageOptions.toggleReversedDepth = toggled;
   nlohmann::json answer;
-  const AfterRecording pick = [&](DevToolsPipe& browser, const std::string& session,
-                                  PageCheckResult& check) {
-    const std::string page = check.page;
-    const auto deadline = Clock::now() + kPickTimeout;
-    std::string why;
-    try {
-      // import() is the evaluation's own: the page's import map applies to it.
-      const auto found = evaluated(
-          browser.call("Runtime.evaluate",
-                       {{"expression", "__clipray.findThree((specifier) => import(specifier))"},
-                        {"awaitPromise", true},
-                        {"returnByValue", true}},
-                       session, deadline));
-      why = found && found->is_string() ? found->get<std::string>() : "the page did not answer";
-    } catch (const DevToolsPipe::TimedOut&) {
-      why = "the page did not answer in " + std::to_string(kPickTimeout.count()) + " s";
-    }
-    if (!why.empty()) {
-      throw InputError(page + ": no three.js picking to reconcile (" + why +
-                       "); picking skipped; the state check found " + stateCheckCounts(check) +
-                       " (clipray check --page tells them)");
-    }
-    try {
-      const auto picked = evaluated(
-          browser.call("Runtime.evaluate",
-                       {{"expression", "__clipray.pick(" + std::to_string(options.columns) + ", " +
-                                           std::to_string(options.rows) + ")"},
-                        {"returnByValue", true}},
-                       session, deadline));
-      if (picked && picked->is_string()) {
-        answer = nlohmann::json::parse(picked->get<std::string>(), nullptr, false);
-      }
-    } catch (const DevToolsPipe::TimedOut&) {
-      throw InputError(page + ": the picks did not finish in " +
-                       std::to_string(kPickTimeout.count()) + " s");
-    }
-    if (!answer.is_object() || answer.contains("failure")) {
-      throw InputError(page + ": the page's Raycaster could not be run" +
-                       (answer.is_object() ? " (" + answer.value("failure", "") + ")" : ""));
-    }
-  };
   PageReconcileResult result;
-  result.check = checkPage(pageOptions, pick);
+  result.check = browser.load(
+      pageOptions, [&](DevToolsPipe& pipe, const std::string& session, PageCheckResult& check) {
+        answer = pickAnswer(pipe, session, check, options);
+      });
+  result.toggled = toggled;
   result.revision = answer.value("revision", "");
   result.canvas = answer.value("canvas", "");
   result.width = answer.value("width", 0);
@@ -461,11 +484,44 @@ PageReconcileResult reconcilePage(const PageReconcileOptions& options) {
   result.depthRangeNear = range.size() == 2 ? range[0].get<double>() : 0.0;
   result.depthRangeFar = range.size() == 2 ? range[1].get<double>() : 1.0;
   result.subpixelBits = answer.value("subpixelBits", 4);
+  toggleFacts = answer.value("toggle", nlohmann::json::object());
   classify(result, answer);
   return result;
 }
 
-nlohmann::json pageReconcileJson(const PageReconcileResult& r) {
+}  // namespace
+
+PageReconcileResult reconcilePage(const PageReconcileOptions& options) {
+  if (options.columns < 1 || options.rows < 1 || options.columns > 4096 || options.rows > 4096) {
+    throw InputError("--grid: expected CxR with 1 to 4096 columns and rows, got " +
+                     std::to_string(options.columns) + "x" + std::to_string(options.rows));
+  }
+  PageBrowser browser(options.page);
+  nlohmann::json facts;
+  PageReconcileResult result = reconcileLoad(browser, options, false, facts);
+  if (!options.toggle) {
+    result.toggle.skipped = "--no-toggle";
+    return result;
+  }
+  result.toggle.notApplicable = toggleRefusal(facts, result.reversedDepthBuffer);
+  if (!result.toggle.notApplicable.empty()) return result;
+  try {
+    nlohmann::json toggledFacts;
+    auto toggled =
+        std::make_shared<PageReconcileResult>(reconcileLoad(browser, options, true, toggledFacts));
+    result.toggle.failed =
+        toggleFailure(toggledFacts, toggled->reversedDepthBuffer, !result.reversedDepthBuffer);
+    if (result.toggle.failed.empty()) result.toggle.run = std::move(toggled);
+  } catch (const InputError& error) {
+    result.toggle.failed = error.what();
+  }
+  return result;
+}
+
+namespace {
+
+// The fields of one run: its camera, depth state, picks, mismatches, state check and verdict.
+nlohmann::json runJson(const PageReconcileResult& r) {
   const PageReconcileResult::Counts c = r.counts();
   nlohmann::json unexplained = nlohmann::json::array();
   for (const PagePick& pick : r.picks) {
@@ -484,15 +540,6 @@ nlohmann::json pageReconcileJson(const PageReconcileResult& r) {
   nlohmann::json check = pageCheckJson(r.check);
   check.erase("tool");
   return {
-      {"tool", "clipray reconcile --page"},
-      {"page", r.check.page},
-      {"url", r.check.url},
-      {"three_revision", r.revision},
-      {"canvas", r.canvas},
-      {"drawing_buffer", {r.width, r.height}},
-      {"css_size", {r.cssWidth, r.cssHeight}},
-      {"device_pixel_ratio", r.devicePixelRatio},
-      {"grid", {r.columns, r.rows}},
       {"camera", r.camera},
       {"depth",
        {{"reversed_depth_buffer", r.reversedDepthBuffer},
@@ -516,16 +563,17 @@ nlohmann::json pageReconcileJson(const PageReconcileResult& r) {
       {"verdict", r.consistent() ? "consistent" : "inconsistent"}};
 }
 
-std::string pageReconcileText(const PageReconcileResult& r) {
+std::string onOff(bool on) {
+  return on ? "on" : "off";
+}
+
+// The lines of one run under the page's line: depth state, state check, picks, the first
+// unexplained mismatches.
+void runText(std::ostream& out, const PageReconcileResult& r) {
   const PageReconcileResult::Counts c = r.counts();
-  std::ostringstream out;
-  out << "page " << r.check.page << ": three.js r" << r.revision << ", " << r.canvas << " "
-      << r.width << "x" << r.height << " (devicePixelRatio " << number(r.devicePixelRatio) << "), "
-      << r.camera.value("type", std::string("camera")) << "\n";
-  out << "  depth: clip " << r.clipDepth << ", reversedDepthBuffer "
-      << (r.reversedDepthBuffer ? "on" : "off") << ", cleared to " << number(r.clearDepth)
-      << ", depthRange " << number(r.depthRangeNear) << ", " << number(r.depthRangeFar) << ", "
-      << r.depthFormat << "\n";
+  out << "  depth: clip " << r.clipDepth << ", reversedDepthBuffer " << onOff(r.reversedDepthBuffer)
+      << ", cleared to " << number(r.clearDepth) << ", depthRange " << number(r.depthRangeNear)
+      << ", " << number(r.depthRangeFar) << ", " << r.depthFormat << "\n";
   out << "  state check (clipray check --page): " << stateCheckCounts(r.check) << "\n";
   out << "  picks: the page's Raycaster.setFromCamera at " << r.columns << "x" << r.rows
       << " pixel centres, first hit against the depth buffer\n";
@@ -549,6 +597,63 @@ std::string pageReconcileText(const PageReconcileResult& r) {
           << number(pick.tolerance) << ")";
     }
     out << "\n";
+  }
+}
+
+}  // namespace
+
+nlohmann::json pageReconcileJson(const PageReconcileResult& r) {
+  nlohmann::json report = {{"tool", "clipray reconcile --page"},
+                           {"page", r.check.page},
+                           {"url", r.check.url},
+                           {"three_revision", r.revision},
+                           {"canvas", r.canvas},
+                           {"drawing_buffer", {r.width, r.height}},
+                           {"css_size", {r.cssWidth, r.cssHeight}},
+                           {"device_pixel_ratio", r.devicePixelRatio},
+                           {"grid", {r.columns, r.rows}}};
+  report.update(runJson(r));
+  nlohmann::json toggled = {{"made", r.toggle.run != nullptr},
+                            {"reversed_depth_buffer", !r.reversedDepthBuffer}};
+  if (r.toggle.run) {
+    toggled.update(runJson(*r.toggle.run));
+  } else if (!r.toggle.skipped.empty()) {
+    toggled["skipped"] = r.toggle.skipped;
+    toggled["verdict"] = nullptr;
+  } else if (!r.toggle.notApplicable.empty()) {
+    toggled["not_applicable"] = r.toggle.notApplicable;
+    toggled["verdict"] = nullptr;
+  } else {
+    toggled["failed"] = r.toggle.failed;
+    toggled["verdict"] = "failed";
+  }
+  report["toggled"] = std::move(toggled);
+  report["overall"] = r.allConsistent() ? "consistent" : "inconsistent";
+  return report;
+}
+
+std::string pageReconcileText(const PageReconcileResult& r) {
+  std::ostringstream out;
+  out << "page " << r.check.page << ": three.js r" << r.revision << ", " << r.canvas << " "
+      << r.width << "x" << r.height << " (devicePixelRatio " << number(r.devicePixelRatio) << "), "
+      << r.camera.value("type", std::string("camera")) << "\n";
+  runText(out, r);
+  const std::string toggle = "toggled: reversedDepthBuffer " + onOff(!r.reversedDepthBuffer);
+  if (r.toggle.run) {
+    out << toggle << " (the page: " << onOff(r.reversedDepthBuffer)
+        << "), the page loaded again with its renderer's depth buffer flipped before its first "
+           "frame\n";
+    runText(out, *r.toggle.run);
+  } else if (!r.toggle.skipped.empty()) {
+    out << toggle << ": not made (" << r.toggle.skipped << ")\n";
+  } else if (!r.toggle.notApplicable.empty()) {
+    out << toggle << ": not applicable: " << r.toggle.notApplicable << "\n";
+  } else {
+    out << toggle << ": failed: " << r.toggle.failed << "\n";
+  }
+  if (r.toggle.run || !r.toggle.failed.empty()) {
+    out << "overall: " << (r.allConsistent() ? "consistent" : "inconsistent")
+        << " (the page as it is and toggled)\n";
   }
   return out.str();
 }

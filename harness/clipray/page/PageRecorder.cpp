@@ -19,7 +19,7 @@ namespace {
 
 // Called with the number of frames to record (PageRecorder.hpp).
 constexpr std::string_view kScript = R"js(
-((frameLimit, verify, withThree) => {
+((frameLimit, verify, withThree, toggleReversedDepth) => {
   'use strict';
   if (window.__clipray) return;
   const kMaxCalls = 500000;
@@ -378,7 +378,7 @@ constexpr std::string_view kScript = R"js(
   // window.__THREE_DEVTOOLS__ (an 'observe' event carrying the object) when that exists before
   // three.js runs, and its REVISION with a 'register' event. Each observed renderer's render is
   // wrapped on the instance to keep the scene and camera it last drew.
-  const three = {renderers: [], scenes: 0, revision: '', module: null, found: ''};
+  const three = {renderers: [], scenes: 0, revision: '', module: null, found: '', toggles: []};
   if (withThree && typeof window.__THREE_DEVTOOLS__ === 'undefined') {
     const devtools = new EventTarget();
     devtools.addEventListener('observe', (event) => {
@@ -386,6 +386,25 @@ constexpr std::string_view kScript = R"js(
       if (object && object.isWebGLRenderer && typeof object.render === 'function') {
         const entry = {renderer: object, scene: null, camera: null, renders: 0};
         three.renderers.push(entry);
+        // The toggled run (PageToggle.hpp): the renderer announces itself at the end of its
+        // constructor, after it has set up its state (and, asked for reversedDepthBuffer, turned
+        // it on) and before it draws; flipping its depth buffer here is what the constructor's
+        // parameter does (WebGLRenderer's initGLContext calls the same setReversed), and no
+        // camera has been given a reversed projection yet. What happened is kept for the report.
+        if (toggleReversedDepth) {
+          try {
+            const depth = object.state.buffers.depth;
+            const was = depth.getReversed();
+            if (!was && !object.extensions.has('EXT_clip_control')) {
+              three.toggles.push({from: was, to: was, failure: 'no EXT_clip_control'});
+            } else {
+              depth.setReversed(!was);
+              three.toggles.push({from: was, to: depth.getReversed()});
+            }
+          } catch (error) {
+            three.toggles.push({failure: String(error)});
+          }
+        }
         const render = object.render;
         object.render = function(scene, camera) {
           if (scene && scene.isObject3D && camera && camera.isCamera) {
@@ -505,9 +524,26 @@ constexpr std::string_view kScript = R"js(
         picks.push([x, y, reading, ambiguous]);
       }
     }
-    const reversedDepthBuffer = !!(renderer.state && renderer.state.buffers &&
-                                   renderer.state.buffers.depth.getReversed &&
-                                   renderer.state.buffers.depth.getReversed());
+    const depthBuffer = renderer.state && renderer.state.buffers && renderer.state.buffers.depth;
+    const reversedDepthBuffer = !!(depthBuffer && depthBuffer.getReversed &&
+                                   depthBuffer.getReversed());
+    // What the toggled run needs (PageToggle.hpp): three.js's reversed depth (r169 and later:
+    // the depth buffer's setReversed), EXT_clip_control on the page's context, and no
+    // logarithmic depth buffer (three.js turns that off under reversed depth).
+    const hasExtension = (name) => {
+      try {
+        return !!(renderer.extensions && renderer.extensions.has(name));
+      } catch (error) {
+        return false;
+      }
+    };
+    const toggle = {
+      setReversed: !!(depthBuffer && typeof depthBuffer.setReversed === 'function'),
+      clipControl: hasExtension('EXT_clip_control'),
+      logarithmicDepthBuffer: !!(renderer.capabilities &&
+                                 renderer.capabilities.logarithmicDepthBuffer),
+      toggled: three.toggles,
+    };
     const {clipDepth, clearDepth, depthRange, subpixelBits} = state;
     // The last thing done on the page: readDepth changes bindings behind three.js's state cache
     // (renderer.resetState would also turn its reversed depth off), and no frame is read after.
@@ -520,7 +556,8 @@ constexpr std::string_view kScript = R"js(
                near: camera.near, far: camera.far,
                projection: Array.from(camera.projectionMatrix.elements),
                view: Array.from(camera.matrixWorldInverse.elements)},
-      reversedDepthBuffer, clipDepth, clearDepth, depthRange, subpixelBits, objects, picks, depth,
+      reversedDepthBuffer, toggle, clipDepth, clearDepth, depthRange, subpixelBits, objects, picks,
+      depth,
     });
   };
   rec.threeProgress = () => three.renderers.length + ' ' + three.scenes + ' ' + three.revision;
@@ -547,12 +584,14 @@ constexpr std::string_view kScript = R"js(
 
 }  // namespace
 
-std::string pageRecorderScript(std::uint64_t frames, bool verify, bool three) {
+std::string pageRecorderScript(std::uint64_t frames, bool verify, bool three,
+                               bool toggleReversedDepth) {
   std::string script(kScript);
   script += "(";
   script += std::to_string(frames);
   script += verify ? ", true" : ", false";
   script += three ? ", true" : ", false";
+  script += toggleReversedDepth ? ", true" : ", false";
   script += ");\n";
   return script;
 }

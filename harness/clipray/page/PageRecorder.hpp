@@ -16,7 +16,9 @@ namespace clipray::page {
 // `window.__clipray.snapshot()` the whole recording as one JSON string.
 // With `three`, window.__THREE_DEVTOOLS__ is defined before the page's scripts and
 // `window.__clipray.findThree(importer)` / `pick(columns, rows)` serve reconcile --page
-// (PageReconcile.hpp).
-std::string pageRecorderScript(std::uint64_t frames, bool verify, bool three = false);
+// (PageReconcile.hpp). With `toggleReversedDepth` too, each observed WebGLRenderer's reversed
+// depth buffer is flipped as it announces itself, before its first frame (PageToggle.hpp).
+std::string pageRecorderScript(std::uint64_t frames, bool verify, bool three = false,
+                               bool toggleReversedDepth = false);
 
 }  // namespace clipray::page

@@ -447,6 +447,10 @@ std::string legendSection() {
 
 }  // namespace
 
+const char* reportStyle() {
+  return kStyle;
+}
+
 std::string reportHtml(const std::vector<RunRecord>& runs, const GlInfo& gl,
                        const ReportProvenance& provenance) {
   bool anyImages = false;

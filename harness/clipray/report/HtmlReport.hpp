@@ -12,6 +12,9 @@
 
 namespace clipray {
 
+// The style sheet index.html carries inline (reconcile --page's index.html uses it too).
+const char* reportStyle();
+
 std::string reportHtml(const std::vector<RunRecord>& runs, const GlInfo& gl,
                        const ReportProvenance& provenance = {});
 

@@ -254,6 +254,23 @@ int thumbnailBlock(Viewport frame) {
 
 }  // namespace
 
+std::string encodeRgbPng(int width, int height, const std::vector<std::uint8_t>& rgb) {
+  if (width < 1 || height < 1 ||
+      rgb.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3) {
+    throw std::runtime_error("could not encode a " + std::to_string(width) + "x" +
+                             std::to_string(height) + " PNG from " + std::to_string(rgb.size()) +
+                             " bytes");
+  }
+  Image image(width, height, Rgb{});
+  for (int y = 0; y < height; ++y) {
+    for (int x = 0; x < width; ++x) {
+      const std::size_t i = (static_cast<std::size_t>(y) * width + x) * 3;
+      image.set(x, y, {rgb[i], rgb[i + 1], rgb[i + 2]});
+    }
+  }
+  return encodePng(image);
+}
+
 Rgb pixelClassColour(PixelClass value) {
   switch (value) {
     case PixelClass::Background:

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "clipray/compare/MismatchClusters.hpp"
 #include "clipray/compare/Reconcile.hpp"
@@ -17,6 +18,10 @@ struct Rgb {
   std::uint8_t r = 0, g = 0, b = 0;
   friend bool operator==(const Rgb&, const Rgb&) = default;
 };
+
+// A PNG of width x height RGB pixels, top row first (rgb: 3 bytes a pixel); for pictures drawn
+// elsewhere (reconcile --page's picks.png).
+std::string encodeRgbPng(int width, int height, const std::vector<std::uint8_t>& rgb);
 
 // mismatch.png's colour of a class.
 Rgb pixelClassColour(PixelClass value);
