@@ -107,10 +107,8 @@ int runCaptureCheck(const CheckOptions& options) {
         "--trace or field options with it");
   }
   if (!options.frames.empty()) throw InputError("--frames needs --trace (--capture takes --draws)");
-  if (options.verify) {
-    throw InputError("--capture --verify: reading the captured depth is not implemented yet");
-  }
-  const trace::CaptureCheckResult result = trace::checkCapture(options.capture, options.draws);
+  trace::CaptureCheckResult result = trace::checkCapture(options.capture, options.draws);
+  if (options.verify) trace::verifyCapture(options.capture, result);
   if (options.json) {
     std::cout << trace::captureCheckJson(result).dump(2, ' ', false,
                                                       nlohmann::json::error_handler_t::replace)

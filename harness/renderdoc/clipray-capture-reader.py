@@ -6,12 +6,18 @@ Debian ships RenderDoc's replay API only as this Python module (python3-renderdo
 replay stays in this script and the C++ core parses its lines; no Python in the core.
 
   clipray-capture-reader.py CAPTURE.rdc
+  clipray-capture-reader.py CAPTURE.rdc --depth-after EID[,EID...]   (check --capture --verify)
 
 Lines:
   {"kind": "capture", "api": "OpenGL", "events": N, "draws": N}
   {"kind": "draw", "event": EID, "name": ..., "frame": F, "state": {...}, "calls": {...},
    "program": ..., "matrices": [...], "shaders": {...}}   one per draw, in event order
   {"kind": "error", "message": ...}                       then exit status 3
+With --depth-after, instead of the draws, one line per EID: the draw framebuffer's depth
+attachment as that event leaves it (mip 0, sample 0), as window depths:
+  {"kind": "depth", "event": EID, "width": W, "height": H, "format": "D32" | ...,
+   "depth": base64 of W*H little-endian float32, rows from the bottom}
+  {"kind": "depth", "event": EID, "failure": "..."}       where it cannot be read
 
 Matrices are the vertex stage's float 4x4 variables of its uniform blocks ($Globals: the plain
 uniforms) as GetCBufferVariableContents reports them, written as rows: RenderDoc 1.24 keeps a
@@ -21,9 +27,11 @@ computed here. Calls are RenderDoc event IDs (EIDs) of the chunks that set each 
 walking the capture's chunks in event order.
 """
 
+import base64
 import json
 import os
 import re
+import struct
 import sys
 
 
@@ -134,8 +142,14 @@ def shader_text(pipe, stage):
 
 
 def main():
-    if len(sys.argv) != 2:
-        fail("usage: clipray-capture-reader.py CAPTURE.rdc")
+    depth_events = None
+    if len(sys.argv) == 4 and sys.argv[2] == "--depth-after":
+        try:
+            depth_events = [int(e) for e in sys.argv[3].split(",")]
+        except ValueError:
+            fail("--depth-after: expected event IDs separated by commas, got " + sys.argv[3])
+    elif len(sys.argv) != 2:
+        fail("usage: clipray-capture-reader.py CAPTURE.rdc [--depth-after EID[,EID...]]")
     path = sys.argv[1]
     # Headless replay on Mesa (llvmpipe without a GPU): EGL's surfaceless platform.
     os.environ.setdefault("EGL_PLATFORM", "surfaceless")
@@ -155,13 +169,18 @@ def main():
                  str(capture.LocalReplaySupport()) + ")")
         options = rd.ReplayOptions()
         # Only state and uniforms are read: the replay need not keep resources' contents between
-        # events (half the time to open a small capture on llvmpipe).
-        options.optimisation = rd.ReplayOptimisationLevel.Fastest
+        # events (half the time to open a small capture on llvmpipe). Depth is read as replayed.
+        if depth_events is None:
+            options.optimisation = rd.ReplayOptimisationLevel.Fastest
         result, controller = capture.OpenCapture(options, None)
         if result.code != rd.ResultCode.Succeeded:
             fail(path + ": RenderDoc cannot replay the capture (" + result.Message() + ")")
         try:
-            read(path, controller)
+            if depth_events is None:
+                read(path, controller)
+            else:
+                for event in depth_events:
+                    emit(depth_line(controller, event))
         finally:
             controller.Shutdown()
     finally:
@@ -245,6 +264,68 @@ def draw_line(controller, structured, action, frame, calls, cleared, textures, p
                     "geometry": shader_text(pipe, rd.ShaderStage.Geometry),
                     "fragment": shader_text(pipe, rd.ShaderStage.Fragment)},
     }
+
+
+def decode_depth(texture, data):
+    """Window depths from GetTextureData's bytes of a depth texture: float32 for D32 (D32S8:
+    the float, then the stencil word), unsigned normalized for D16 and D24 (D24S8 packs depth in
+    the upper 24 bits of each word, GL_UNSIGNED_INT_24_8's layout)."""
+    fmt = texture.format
+    count = texture.width * texture.height
+    width = len(data) // count if count else 0
+    if fmt.type == rd.ResourceFormatType.D32S8 or (fmt.compType == rd.CompType.Depth and
+                                                   fmt.compByteWidth == 4):
+        step = width // 4
+        values = struct.unpack("<%df" % (count * step), data[:count * width])
+        return list(values[::step]), "32f"
+    if fmt.type == rd.ResourceFormatType.D24S8 or (fmt.compType == rd.CompType.Depth and
+                                                   fmt.compByteWidth == 3):
+        words = struct.unpack("<%dI" % count, data[:count * 4])
+        return [(w >> 8) / 16777215.0 for w in words], "24"
+    if fmt.type == rd.ResourceFormatType.D16S8 or (fmt.compType == rd.CompType.Depth and
+                                                   fmt.compByteWidth == 2):
+        step = width // 2
+        values = struct.unpack("<%dH" % (count * step), data[:count * width])
+        return [v / 65535.0 for v in values[::step]], "16"
+    return None, fmt.Name()
+
+
+def depth_line(controller, event):
+    controller.SetFrameEvent(event, True)
+    gl = controller.GetGLPipelineState()
+    resource = gl.framebuffer.drawFBO.depthAttachment.resourceId
+    line = {"kind": "depth", "event": event}
+    if resource == rd.ResourceId.Null():
+        line["failure"] = "the draw framebuffer has no depth attachment at event " + str(event)
+        return line
+    texture = next((t for t in controller.GetTextures() if t.resourceId == resource), None)
+    if texture is None:
+        line["failure"] = "RenderDoc lists no texture for the depth attachment"
+        return line
+    data = controller.GetTextureData(resource, rd.Subresource(0, 0, 0))
+    depth, name = decode_depth(texture, bytes(data))
+    if depth is None:
+        line["failure"] = "a depth attachment of format " + name + " is not read"
+        return line
+    # The decoding checked against RenderDoc's own reading of one pixel (its centre).
+    x, y = texture.width // 2, texture.height // 2
+    picked = controller.PickPixel(resource, x, y, rd.Subresource(0, 0, 0), rd.CompType.Depth)
+    expected = picked.floatValue[0]
+    # GetTextureData's rows run from the bottom (GL's) or from the top; the pick is in RenderDoc's
+    # top-down texel coordinates.
+    bottom_up = depth[(texture.height - 1 - y) * texture.width + x]
+    top_down = depth[y * texture.width + x]
+    tolerance = 2.0 ** -23 if name == "32f" else 2.0 ** -15
+    if abs(top_down - expected) <= tolerance and abs(bottom_up - expected) > tolerance:
+        rows = [depth[r * texture.width:(r + 1) * texture.width] for r in range(texture.height)]
+        depth = [v for row in reversed(rows) for v in row]
+    elif abs(bottom_up - expected) > tolerance:
+        line["failure"] = ("the decoded depth %.9g at texel (%d, %d) is not RenderDoc's %.9g" %
+                           (bottom_up, x, y, expected))
+        return line
+    line.update({"width": texture.width, "height": texture.height, "format": name,
+                 "depth": base64.b64encode(struct.pack("<%df" % len(depth), *depth)).decode()})
+    return line
 
 
 if __name__ == "__main__":

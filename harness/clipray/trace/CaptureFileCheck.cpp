@@ -16,6 +16,7 @@
 #include <cstring>
 #include <deque>
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -25,6 +26,7 @@
 #include "clipray/check/CheckText.hpp"
 #include "clipray/io/InputFile.hpp"
 #include "clipray/trace/CaptureDraw.hpp"
+#include "clipray/trace/ReplayDepth.hpp"
 
 namespace clipray::trace {
 
@@ -35,6 +37,7 @@ constexpr int kExecFailed = 127;
 constexpr std::size_t kMaxReaderLineBytes = 64u << 20;
 constexpr std::size_t kKeptOtherLines = 8;
 constexpr const char* kReaderName = "clipray-capture-reader.py";
+constexpr std::size_t kMaxVerifiedGroups = 8;  // as --trace --verify replays at most
 
 std::string environment(const char* name) {
   const char* value = std::getenv(name);
@@ -279,6 +282,104 @@ CaptureCheckResult checkCapture(const std::string& capturePath, const std::strin
                      std::to_string(status) + " (" + lines.otherLines() + ")");
   }
   return lines.finish(draws);
+}
+
+namespace {
+
+// The reader's depth line: the image, or why there is none.
+std::optional<DepthImage> depthImageOf(const nlohmann::json& line, std::string& failure) {
+  if (line.contains("failure")) {
+    failure = line.value("failure", std::string("the reader gave no depth"));
+    return std::nullopt;
+  }
+  DepthImage image;
+  image.width = line.value("width", 0);
+  image.height = line.value("height", 0);
+  image.format = "depth format " + line.value("format", std::string("?"));
+  const std::string bytes = decodeBase64(line.value("depth", std::string()));
+  const std::size_t count = static_cast<std::size_t>(std::max(image.width, 0)) *
+                            static_cast<std::size_t>(std::max(image.height, 0));
+  if (count == 0 || bytes.size() != 4 * count) {
+    failure = "the reader's depth line holds " + std::to_string(bytes.size()) + " bytes for " +
+              std::to_string(image.width) + "x" + std::to_string(image.height) + " floats";
+    return std::nullopt;
+  }
+  image.depth.resize(count);
+  std::memcpy(image.depth.data(), bytes.data(), bytes.size());  // little-endian, as the host's
+  return image;
+}
+
+}  // namespace
+
+void verifyCapture(const std::string& capturePath, CaptureCheckResult& result) {
+  result.check.verifiedBy = "replayed by RenderDoc";
+  std::vector<TracePairGroup*> verified;
+  std::string events;
+  for (TracePairGroup& group : result.check.groups) {
+    const bool textureSpace =
+        std::any_of(group.report.findings.begin(), group.report.findings.end(),
+                    [](const Finding& f) { return f.code == "texture-space-matrix"; });
+    if (!group.unusable.empty() || textureSpace) continue;
+    if (verified.size() == kMaxVerifiedGroups) {
+      group.verifyObservations.push_back("not replayed: at most " +
+                                         std::to_string(kMaxVerifiedGroups) + " groups are");
+      continue;
+    }
+    verified.push_back(&group);
+    events += (events.empty() ? "" : ",") + std::to_string(group.first.completedAtCall);
+  }
+  if (verified.empty()) return;
+  std::string python = environment("CLIPRAY_CAPTURE_PYTHON");
+  if (python.empty()) python = "/usr/bin/python3";
+  ReaderProcess process({python, findReader(), capturePath, "--depth-after", events});
+  std::string output;
+  std::vector<char> buffer(1 << 16);
+  while (const std::size_t got = process.read(buffer.data(), buffer.size())) {
+    output.append(buffer.data(), got);
+  }
+  const int status = process.finish();
+  std::map<std::uint64_t, nlohmann::json> depthLines;
+  std::string others;
+  std::size_t start = 0;
+  while (start < output.size()) {
+    std::size_t end = output.find('\n', start);
+    if (end == std::string::npos) end = output.size();
+    const std::string_view text(output.data() + start, end - start);
+    start = end + 1;
+    const nlohmann::json line =
+        text.starts_with("{") ? nlohmann::json::parse(text, nullptr, false) : nlohmann::json();
+    if (line.is_object() && line.value("kind", "") == "depth") {
+      depthLines[line.value("event", std::uint64_t{0})] = line;
+    } else if (line.is_object() && line.value("kind", "") == "error") {
+      others = line.value("message", std::string());
+    } else if (!text.empty() && others.size() < 400) {
+      others += (others.empty() ? "" : " | ") + std::string(text);
+    }
+  }
+  for (TracePairGroup* group : verified) {
+    const std::uint64_t event = group->first.completedAtCall;
+    std::string failure;
+    std::optional<DepthImage> image;
+    const auto found = depthLines.find(event);
+    if (found == depthLines.end()) {
+      failure = "the capture reader exited with status " + std::to_string(status) + " (" +
+                (others.empty() ? std::string("no output") : others) + ")";
+    } else {
+      try {
+        image = depthImageOf(found->second, failure);
+      } catch (const std::invalid_argument& error) {
+        failure = error.what();
+      }
+    }
+    if (!image) {
+      group->verifyObservations.push_back("not verified: " + failure);
+      group->verify = {{"call", event}, {"failure", failure}};
+      continue;
+    }
+    const DepthUse use = analyseDepthUse(*image, *group);
+    group->verifyObservations = use.observations;
+    group->verify = depthUseJson(use);
+  }
 }
 
 nlohmann::json captureCheckJson(const CaptureCheckResult& result) {

@@ -39,6 +39,12 @@ FrameRange parseDrawRange(const std::string& text);
 // python3-renderdoc is built for).
 CaptureCheckResult checkCapture(const std::string& capturePath, const std::string& draws);
 
+// `--verify`: the depth attachment as each group's first draw leaves it, replayed by RenderDoc
+// (the reader's --depth-after), set against the group's convention as `--trace --verify` sets a
+// replayed one (ReplayDepth.hpp): at most 8 groups; a depth that cannot be read is noted in the
+// group ("not verified: ..."), never an error.
+void verifyCapture(const std::string& capturePath, CaptureCheckResult& result);
+
 nlohmann::json captureCheckJson(const CaptureCheckResult& result);
 std::string captureCheckText(const CaptureCheckResult& result);
 

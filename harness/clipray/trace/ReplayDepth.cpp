@@ -10,12 +10,6 @@
 
 namespace clipray::trace {
 
-namespace {
-
-std::string number(double value) {
-  return detail::checkNumber(value);
-}
-
 std::string decodeBase64(const std::string& text) {
   static const std::string alphabet =
       "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -35,6 +29,12 @@ std::string decodeBase64(const std::string& text) {
     }
   }
   return bytes;
+}
+
+namespace {
+
+std::string number(double value) {
+  return detail::checkNumber(value);
 }
 
 // The view depth s along the view direction from the eye at which the matrix gives z_ndc:

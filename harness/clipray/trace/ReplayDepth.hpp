@@ -42,6 +42,9 @@ struct DepthUse {
   std::vector<std::string> observations;
 };
 
+// Base64 (RFC 4648, padding optional) to bytes; std::invalid_argument for other characters.
+std::string decodeBase64(const std::string& text);
+
 // What the depth image says about the group's matrix under its traced depth state.
 DepthUse analyseDepthUse(const DepthImage& image, const TracePairGroup& group);
 

@@ -150,6 +150,8 @@ struct TraceCheckResult {
   std::size_t distinctPairs = 0;
   std::vector<TracePairGroup> groups;
   std::vector<Finding> findings;  // about the trace as a whole
+  // What --verify read the groups' depth from, for the report's heading.
+  std::string verifiedBy = "replayed by eglretrace";
   bool hasErrors() const;
 };
 

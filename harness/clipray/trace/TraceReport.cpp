@@ -238,7 +238,7 @@ std::string traceCheckText(const TraceCheckResult& r) {
             << " (the lines below read the first)\n";
       }
     }
-    if (!g.verifyObservations.empty()) out << "  verify (replayed by eglretrace):\n";
+    if (!g.verifyObservations.empty()) out << "  verify (" << r.verifiedBy << "):\n";
     for (const std::string& observation : g.verifyObservations) {
       out << "    " << observation << "\n";
     }
