@@ -227,6 +227,12 @@ TEST(HostileInput, TheMemoryGuardCountsScenesAndLoadsThemOneAtATimeWhenTheyDoNot
   EXPECT_EQ(result.err, "clipray: " + standard +
                             ": one run needs about 15.4 MiB (18 triangles, 76800 pixels); "
                             "--max-memory allows 1.0 MiB\n");
+  // Four samples hold three more passes, comparisons and rasters: 210 + 3 x 80 B per pixel.
+  result = runClipray("reconcile '" + standard + "' --samples 4 --max-memory 20M", folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err, "clipray: " + standard +
+                            ": one run needs about 33.0 MiB (18 triangles, 76800 pixels); "
+                            "--max-memory allows 20.0 MiB\n");
   result = runClipray("reconcile '" + standard + "' --max-memory lots", folder.path());
   EXPECT_EQ(result.status, 2);
   EXPECT_EQ(result.err,

@@ -135,7 +135,8 @@ void Runner::loadScenes() {
       const Viewport v = plan_.size.value_or(camera.viewport);
       pixels = std::max(pixels, static_cast<double>(v.width) * v.height);
     }
-    const double runBytes = kRunBytesPerTriangle * triangles + kRunBytesPerPixel * pixels;
+    const double runBytes =
+        kRunBytesPerTriangle * triangles + runBytesPerPixel(samplesOf(scene)) * pixels;
     if (budget > 0.0 && runBytes > budget) {
       throw InputError(loaded_.paths.back() + ": one run needs about " + memoryText(runBytes) +
                        " (" + std::to_string(scene.triangleCount()) + " triangles, " +
@@ -163,24 +164,26 @@ void Runner::loadScenes() {
 // The limits only the GL implementation knows.
 void Runner::checkViewports(const gl::Renderer& renderer) const {
   const Viewport maxViewport = renderer.maxViewport();
-  auto checkViewport = [&](Viewport v, const std::string& where) {
+  auto checkViewport = [&](Viewport v, int samples, const std::string& where) {
     if (v.width > maxViewport.width || v.height > maxViewport.height) {
       throw InputError(where + ": " + sizeText(v) + " exceeds GL_MAX_VIEWPORT_DIMS " +
                        sizeText(maxViewport) + " of " + renderer.info().renderer);
     }
-    const double needed = kRunBytesPerPixel * v.width * v.height;
+    const double needed = runBytesPerPixel(samples) * v.width * v.height;
     if (plan_.memory.bytes > 0.0 && needed > plan_.memory.bytes) {
       throw InputError(where + ": " + sizeText(v) + " needs about " + memoryText(needed) +
                        " of memory for one run; " + plan_.memory.text);
     }
   };
   if (plan_.size) {
-    checkViewport(*plan_.size, plan_.sizeOption);
+    int samples = 1;
+    for (const Scene* scene : loaded_.scenes) samples = std::max(samples, samplesOf(*scene));
+    checkViewport(*plan_.size, samples, plan_.sizeOption);
     return;
   }
   for (const Scene* scene : loaded_.scenes) {
     for (std::size_t c = 0; c < scene->cameras.size(); ++c) {
-      checkViewport(scene->cameras[c].viewport,
+      checkViewport(scene->cameras[c].viewport, samplesOf(*scene),
                     scene->path + ": /cameras/" + std::to_string(c) + "/viewport");
     }
   }
