@@ -415,6 +415,14 @@ TEST(SceneLoaderErrors, LogarithmicDepth) {
   };
   EXPECT_EQ(camera(R"({"form": "threejs", "far": 100})"), "no error");
   EXPECT_EQ(camera(R"({"form": "outerra", "far": 100, "constant": 0.01})"), "no error");
+  // Beyond the projection's far plane nothing is drawn; before it, past the log far, the written
+  // depth would pass 1.
+  EXPECT_EQ(camera(R"({"form": "threejs", "far": 1000})"), "no error");
+  EXPECT_EQ(camera(R"({"form": "threejs", "far": 50})"),
+            "scenes/a.json: /cameras/0/logarithmicDepth/far: a logarithmic depth whose far (50) "
+            "lies before the projection's far plane (100) is not modelled: what lies between is "
+            "written at a depth past 1, which GL clamps and the depth test then hides; give both "
+            "the same far, as three.js's logarithmicDepthBuffer does (camera.far)");
   EXPECT_EQ(camera("true"),
             "scenes/a.json: /cameras/0/logarithmicDepth: expected {\"form\", \"far\", "
             "\"constant\"} of a logarithmic depth, got true");

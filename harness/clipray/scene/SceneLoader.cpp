@@ -247,6 +247,20 @@ void SceneReader::refuseUnmodelledLogDepth(const Scene& scene, const Camera& cam
        glm::dvec3((*camera.rawClipFromWorld)[0][3], (*camera.rawClipFromWorld)[1][3],
                   (*camera.rawClipFromWorld)[2][3]) == glm::dvec3(0.0));
   if (parallel) refuse("a parallel projection (clip w is 1 everywhere)");
+  // Past the log far, L(w) > 1: GL clamps the written depth to the depth range, and the depth
+  // test against the cleared far value then hides it, which the rays do not model.
+  if (const auto* perspective = std::get_if<PerspectiveProjection>(&camera.projection)) {
+    const double logFar = camera.logarithmicDepth->far;
+    if (!perspective->farDistance || *perspective->farDistance > logFar) {
+      fail(at / "far", "a logarithmic depth whose far (" + shortNumber(logFar) +
+                           ") lies before the projection's far plane (" +
+                           (perspective->farDistance ? shortNumber(*perspective->farDistance)
+                                                     : std::string("infinite")) +
+                           ") is not modelled: what lies between is written at a depth past 1, "
+                           "which GL clamps and the depth test then hides; give both the same far, "
+                           "as three.js's logarithmicDepthBuffer does (camera.far)");
+    }
+  }
 }
 
 void SceneReader::object(const json& value, const Pointer& at,
