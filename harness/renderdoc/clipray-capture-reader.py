@@ -7,6 +7,7 @@ replay stays in this script and the C++ core parses its lines; no Python in the 
 
   clipray-capture-reader.py CAPTURE.rdc
   clipray-capture-reader.py CAPTURE.rdc --depth-after EID[,EID...]   (check --capture --verify)
+  clipray-capture-reader.py CAPTURE.rdc --geometry            (the draws' clip-space triangles)
 
 Lines:
   {"kind": "capture", "api": "OpenGL", "events": N, "draws": N}
@@ -18,6 +19,11 @@ attachment as that event leaves it (mip 0, sample 0), as window depths:
   {"kind": "depth", "event": EID, "width": W, "height": H, "format": "D32" | ...,
    "depth": base64 of W*H little-endian float32, rows from the bottom}
   {"kind": "depth", "event": EID, "failure": "..."}       where it cannot be read
+With --geometry, after the capture line, one line per draw: its vertex shader's output positions
+(gl_Position, RenderDoc's post-VS data of instance 0), as triangles in clip coordinates:
+  {"kind": "geometry", "event": EID, "depth_target": "...", "instances": N,
+   "triangles": T, "clip": base64 of T*3 vertices x, y, z, w little-endian float32}
+  {"kind": "geometry", "event": EID, "skipped": "..."}   not triangles, or no post-VS data
 
 Matrices are the vertex stage's float 4x4 variables of its uniform blocks ($Globals: the plain
 uniforms) as GetCBufferVariableContents reports them, written as rows: RenderDoc 1.24 keeps a
@@ -148,6 +154,8 @@ def main():
             depth_events = [int(e) for e in sys.argv[3].split(",")]
         except ValueError:
             fail("--depth-after: expected event IDs separated by commas, got " + sys.argv[3])
+    elif len(sys.argv) == 3 and sys.argv[2] == "--geometry":
+        depth_events = "geometry"
     elif len(sys.argv) != 2:
         fail("usage: clipray-capture-reader.py CAPTURE.rdc [--depth-after EID[,EID...]]")
     path = sys.argv[1]
@@ -178,6 +186,8 @@ def main():
         try:
             if depth_events is None:
                 read(path, controller)
+            elif depth_events == "geometry":
+                read_geometry(controller)
             else:
                 for event in depth_events:
                     emit(depth_line(controller, event))
@@ -264,6 +274,71 @@ def draw_line(controller, structured, action, frame, calls, cleared, textures, p
                     "geometry": shader_text(pipe, rd.ShaderStage.Geometry),
                     "fragment": shader_text(pipe, rd.ShaderStage.Fragment)},
     }
+
+
+TRIANGLE_TOPOLOGIES = (rd.Topology.TriangleList, rd.Topology.TriangleStrip,
+                       rd.Topology.TriangleFan)
+
+
+def triangle_corners(topology, count):
+    """The vertex order of each triangle a draw of `count` vertices makes (GL 4.6 10.1): strips
+    alternate their winding back, fans share the first vertex."""
+    if topology == rd.Topology.TriangleList:
+        return [(k, k + 1, k + 2) for k in range(0, count - 2, 3)]
+    if topology == rd.Topology.TriangleStrip:
+        return [(k, k + 1, k + 2) if k % 2 == 0 else (k + 1, k, k + 2) for k in range(count - 2)]
+    return [(0, k + 1, k + 2) for k in range(count - 2)]
+
+
+def read_geometry(controller):
+    structured = controller.GetStructuredFile()
+    actions = []
+
+    def walk(level):
+        for action in level:
+            actions.append(action)
+            walk(action.children)
+
+    walk(controller.GetRootActions())
+    draws = [a for a in actions if a.flags & rd.ActionFlags.Drawcall]
+    emit({"kind": "capture", "api": "OpenGL", "events": actions[-1].eventId if actions else 0,
+          "draws": len(draws)})
+    for action in draws:
+        emit(geometry_line(controller, action))
+
+
+def geometry_line(controller, action):
+    controller.SetFrameEvent(action.eventId, True)
+    line = {"kind": "geometry", "event": action.eventId}
+    mesh = controller.GetPostVSData(0, 0, rd.MeshDataStage.VSOut)
+    if mesh.vertexResourceId == rd.ResourceId.Null() or mesh.numIndices == 0:
+        line["skipped"] = "no vertex shader output (RenderDoc's post-VS data is empty)"
+        return line
+    if mesh.topology not in TRIANGLE_TOPOLOGIES:
+        line["skipped"] = "draws " + str(mesh.topology).split(".")[-1] + ", not triangles"
+        return line
+    if mesh.format.compCount != 4 or mesh.format.compByteWidth != 4:
+        line["skipped"] = "gl_Position as " + mesh.format.Name() + ", not four floats"
+        return line
+    data = controller.GetBufferData(mesh.vertexResourceId, mesh.vertexByteOffset, 0)
+    count = mesh.numIndices
+    if mesh.indexResourceId != rd.ResourceId.Null() and mesh.indexByteStride in (1, 2, 4):
+        raw = controller.GetBufferData(mesh.indexResourceId, mesh.indexByteOffset, 0)
+        code = {1: "B", 2: "H", 4: "I"}[mesh.indexByteStride]
+        indices = struct.unpack("<%d%s" % (len(raw) // mesh.indexByteStride, code),
+                                raw[:len(raw) - len(raw) % mesh.indexByteStride])[:count]
+        indices = [i + mesh.baseVertex for i in indices]
+    else:
+        indices = list(range(count))
+    clip = []
+    for corners in triangle_corners(mesh.topology, len(indices)):
+        for corner in corners:
+            clip.extend(struct.unpack_from("<4f", data, indices[corner] * mesh.vertexByteStride))
+    gl = controller.GetGLPipelineState()
+    line.update({"depth_target": str(gl.framebuffer.drawFBO.depthAttachment.resourceId),
+                 "instances": action.numInstances, "triangles": len(clip) // 12,
+                 "clip": base64.b64encode(struct.pack("<%df" % len(clip), *clip)).decode()})
+    return line
 
 
 def decode_depth(texture, data):

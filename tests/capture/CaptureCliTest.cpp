@@ -18,10 +18,12 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "clipray/trace/CaptureGeometry.hpp"
 #include "support/RunCommand.hpp"
 
 namespace clipray {
@@ -216,6 +218,48 @@ TEST(CaptureCli, VerifyReadsTheCapturedDepthAsTheTraceReplayDoes) {
                           "cleared depth 1\n"),
             std::string::npos)
       << text.out;
+}
+
+// The reader's --geometry (groundwork for reconcile --capture): the draw's gl_Position per vertex
+// as RenderDoc's post-VS data holds it, which for the test app is the uploaded matrix (the draw
+// line's rows) times each vertex of its triangle at world z = 0, computed in float by the shader:
+// within 4 float32 roundings of the largest term.
+TEST(CaptureCli, GeometryHoldsTheVertexShadersClipPositions) {
+  TempFolder folder;
+  ASSERT_EQ(captureCase("zo", folder), "");
+  const std::string reader =
+      (std::filesystem::path(CLIPRAY_BINARY).parent_path() / "clipray-capture-reader.py").string();
+  ASSERT_EQ(runIn(folder, "(/usr/bin/python3 '" + reader + "' zo.rdc >draws.jsonl)", "the reader"),
+            "");
+  ASSERT_EQ(runIn(folder, "(/usr/bin/python3 '" + reader + "' zo.rdc --geometry >geometry.jsonl)",
+                  "the reader's --geometry"),
+            "");
+  std::vector<nlohmann::json> draws, geometry;
+  for (const auto& [file, lines] :
+       {std::pair{"draws.jsonl", &draws}, {"geometry.jsonl", &geometry}}) {
+    std::istringstream text(testing::readText(folder.path() / file));
+    for (std::string line; std::getline(text, line);) {
+      if (line.starts_with("{")) lines->push_back(nlohmann::json::parse(line));
+    }
+  }
+  ASSERT_EQ(draws.size(), 2u);  // the capture line and the one draw
+  ASSERT_EQ(geometry.size(), 2u);
+  const trace::CapturedDrawGeometry drawn = trace::capturedDrawGeometry(geometry[1]);
+  EXPECT_EQ(drawn.event, draws[1]["event"].get<std::uint64_t>());
+  ASSERT_EQ(drawn.clip.size(), 3u);
+  const nlohmann::json& rows = draws[1]["matrices"][0]["rows"];
+  const glm::dvec3 triangle[3] = {{-1, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  for (int v = 0; v < 3; ++v) {
+    for (int r = 0; r < 4; ++r) {
+      double exact = rows[r][3].get<double>(), largest = std::abs(exact);
+      for (int c = 0; c < 3; ++c) {
+        exact += rows[r][c].get<double>() * triangle[v][c];
+        largest = std::max(largest, std::abs(rows[r][c].get<double>() * triangle[v][c]));
+      }
+      EXPECT_NEAR(drawn.clip[static_cast<std::size_t>(v)][r], exact, 4 * 0x1p-24 * largest)
+          << "vertex " << v << " row " << r;
+    }
+  }
 }
 
 // The event IDs the findings cite are the capture's own: the reversed-Z mismatch names the
