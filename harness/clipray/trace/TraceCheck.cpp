@@ -663,7 +663,7 @@ TraceCheckResult TraceCheckCollector::finish() {
     result.findings.push_back(
         {"info", "uniform-block-not-read", unread,
          "a projection kept in this block is not checked: std140 blocks whose bytes the trace "
-         "shows are (docs/check.md, --trace)"});
+         "shows are (docs/check-trace.md)"});
   }
   if (framesWithChanges_ > 0) {
     result.findings.push_back(
