@@ -198,8 +198,8 @@ def main():
         rd.ShutdownReplay()
 
 
-def read(path, controller):
-    structured = controller.GetStructuredFile()
+def capture_actions(controller):
+    """Every action in event order, and the draws among them; emits the capture line."""
     actions = []
 
     def walk(level):
@@ -211,6 +211,12 @@ def read(path, controller):
     draws = [a for a in actions if a.flags & rd.ActionFlags.Drawcall]
     emit({"kind": "capture", "api": "OpenGL", "events": actions[-1].eventId if actions else 0,
           "draws": len(draws)})
+    return actions, draws
+
+
+def read(path, controller):
+    structured = controller.GetStructuredFile()
+    actions, _ = capture_actions(controller)
     textures = {t.resourceId: t for t in controller.GetTextures()}
     programs = {r.resourceId: r.name for r in controller.GetResources()}
     calls = {}
@@ -291,18 +297,7 @@ def triangle_corners(topology, count):
 
 
 def read_geometry(controller):
-    structured = controller.GetStructuredFile()
-    actions = []
-
-    def walk(level):
-        for action in level:
-            actions.append(action)
-            walk(action.children)
-
-    walk(controller.GetRootActions())
-    draws = [a for a in actions if a.flags & rd.ActionFlags.Drawcall]
-    emit({"kind": "capture", "api": "OpenGL", "events": actions[-1].eventId if actions else 0,
-          "draws": len(draws)})
+    _, draws = capture_actions(controller)
     for action in draws:
         emit(geometry_line(controller, action))
 

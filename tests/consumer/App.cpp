@@ -239,7 +239,8 @@ layout(location = 0) out vec4 colour;
 void main() { colour = vec4(0.8, 0.7, 0.5, 1.0); }
 )";
 
-// Colour for the screen, and the picking id buffer the app reads under the mouse.
+// Colour for the screen, and the picking id buffer the app reads under the mouse; with
+// kFragDepthWrite, the depth passed through gl_FragDepth too (RenderBug::FragDepthWritten).
 const char* const kFragmentShader = R"(#version 450 core
 layout(location = 0) out vec4 colour;
 layout(location = 1) out uint pickId;
@@ -247,20 +248,8 @@ uniform uint firstId;
 void main() {
   colour = vec4(0.8, 0.7, 0.5, 1.0);
   pickId = firstId + uint(gl_PrimitiveID);
-}
 )";
-
-// The same, passing the depth through gl_FragDepth (RenderBug::FragDepthWritten).
-const char* const kFragDepthShader = R"(#version 450 core
-layout(location = 0) out vec4 colour;
-layout(location = 1) out uint pickId;
-uniform uint firstId;
-void main() {
-  colour = vec4(0.8, 0.7, 0.5, 1.0);
-  pickId = firstId + uint(gl_PrimitiveID);
-  gl_FragDepth = gl_FragCoord.z;
-}
-)";
+const char* const kFragDepthWrite = "  gl_FragDepth = gl_FragCoord.z;\n";
 
 GLuint compile(const Gl& gl, GLenum kind, const char* source) {
   const GLuint shader = gl.CreateShader(kind);
@@ -282,10 +271,10 @@ void render(const App& app, GetProcAddress getProcAddress,
             const std::vector<std::uint32_t>& firstIds, RenderBug bug, bool writeIds) {
   const Gl gl(getProcAddress);
   const GLuint vertex = compile(gl, GL_VERTEX_SHADER, kVertexShader);
-  const GLuint fragment = compile(gl, GL_FRAGMENT_SHADER,
-                                  !writeIds                            ? kColourShader
-                                  : bug == RenderBug::FragDepthWritten ? kFragDepthShader
-                                                                       : kFragmentShader);
+  const std::string idShader = std::string(kFragmentShader) +
+                               (bug == RenderBug::FragDepthWritten ? kFragDepthWrite : "") + "}\n";
+  const GLuint fragment =
+      compile(gl, GL_FRAGMENT_SHADER, writeIds ? idShader.c_str() : kColourShader);
   const GLuint program = gl.CreateProgram();
   gl.AttachShader(program, vertex);
   gl.AttachShader(program, fragment);
