@@ -7,6 +7,9 @@
 #include <memory>
 #include <vector>
 
+#include "clipray/compare/DepthMapping.hpp"
+#include "clipray/engine/DrawStateGroups.hpp"
+
 namespace clipray::demo {
 
 std::string rayChoiceName(RayChoice choice) {
@@ -179,7 +182,18 @@ PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
   std::uint32_t rayPrimitive = 0;
   double rayHitT = 0.0;
   if (analytic.ray) {
-    const Hit hit = view.intersector->closestHit(*analytic.ray);
+    // The hit the picture keeps: where objects are drawn with state of their own (a depth range,
+    // clip planes, a polygon offset), the one the depth test keeps, as the reconcile decides it.
+    PickingCamera camera;
+    camera.clipFromWorld = view.camera.clipFromWorld;
+    camera.mode = view.camera.mode;
+    camera.viewport = viewport;
+    camera.clipPlanes = view.clipPlanes;
+    // The lower-left view's y row negated back for an upper-left origin: the matrix as drawn,
+    // which decides facing.
+    const Hit hit = engine::closestHitByDrawState(
+        *analytic.ray, *view.intersector, scene,
+        lowerLeftClipFromWorld(view.camera.clipFromWorld, view.drawnOrigin), camera);
     rayPrimitive = hit.primitiveId;
     rayHitT = hit.t;
     if (hit.hit()) {
@@ -196,9 +210,15 @@ PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
   result.primitiveId = raster.ids[index];
   result.idObject = surfaceIndex(scene, ids, result.primitiveId);
   const glm::dmat4 worldFromClip = glm::inverse(view.camera.clipFromWorld);
-  const float clearDepth = view.camera.mode.reversed ? 0.0f : 1.0f;
+  // The depth readback undoes the mapping the pixel was drawn with: glDepthRange, the scene's or
+  // the object's own (a weapon in [0, 0.1]), whose object the id buffer names. The clear value is
+  // the far end the depth test starts from.
+  const DepthMapping drawnMapping{
+      view.camera.mode, PrimitiveDepthRanges(scene).rangeOf(result.primitiveId, scene.depthRange),
+      false};
+  const float clearDepth = nearerIsGreater(view.camera.mode, scene.depthRange) ? 0.0f : 1.0f;
   if (result.windowDepth != clearDepth) {
-    const double zNdc = ndcFromWindowDepth(result.windowDepth, view.camera.mode.convention);
+    const double zNdc = drawnMapping.ndcOfWindowDepth(result.windowDepth);
     result.depthPoint = unproject(worldFromClip, glm::dvec3(clipXY, zNdc));
   }
 
@@ -216,7 +236,7 @@ PickResult pick(const PickView& view, RayChoice ray, glm::ivec2 pixel) {
   if (result.rayPoint && result.depthPoint) {
     result.gapWorld = glm::distance(*result.rayPoint, *result.depthPoint);
     // One pixel's footprint at the depth point: the next pixel centre at the same NDC depth.
-    const double zNdc = ndcFromWindowDepth(result.windowDepth, view.camera.mode.convention);
+    const double zNdc = drawnMapping.ndcOfWindowDepth(result.windowDepth);
     const glm::dvec3 neighbour =
         unproject(worldFromClip, glm::dvec3(clipXY.x + 2.0 / viewport.width, clipXY.y, zNdc));
     const double footprint = glm::distance(neighbour, *result.depthPoint);

@@ -348,6 +348,31 @@ TEST_F(PickDemoUnderX, CoplanarMismatchesAreAmbiguousAsTheReconcileSays) {
   EXPECT_GT(agreements, 0);
 }
 
+// A weapon drawn in glDepthRange(0, 0.1) before a world in [0.1, 1]: the depth readback undoes
+// the range of the object the id buffer names, so it lands where the ray does (unprojected through
+// the scene's [0, 1], the wall's depths came back 55 pixel footprints short).
+TEST_F(PickDemoUnderX, TheDepthReadbackUndoesEachObjectsDepthRange) {
+  std::string script;
+  for (int j = 20; j < 240; j += 40) {
+    for (int i = 20; i < 320; i += 40) script += clickInside({i, j}, 240);
+  }
+  const auto result = run("'" + kSource +
+                              "/scenes/object_depth_range.json' --size 320x240 --convention zo "
+                              "--depth-format 24",
+                          script);
+  ASSERT_EQ(result.status, 0) << result.err;
+  const std::vector<nlohmann::json> picks = jsonLines(result.out);
+  ASSERT_EQ(picks.size(), 6u * 8u) << result.out;
+  std::set<std::string> objects;
+  for (const nlohmann::json& p : picks) {
+    SCOPED_TRACE(p.dump());
+    if (p["gap_px"].is_null()) continue;
+    objects.insert(p["id"]["object"].get<std::string>());
+    EXPECT_LT(p["gap_px"].get<double>(), demo::kPickAgreementPixels);
+  }
+  EXPECT_EQ(objects, (std::set<std::string>{"ground", "wall", "weapon"}));
+}
+
 TEST_F(PickDemoUnderX, KeysSwitchConventionAndDepthFormat) {
   const auto result = run("'" + kStandard + "' --size 320x240",
                           "key c\nclick 160 120\nkey c\nkey d\nclick 160 120\n");

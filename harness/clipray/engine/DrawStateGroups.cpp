@@ -103,7 +103,47 @@ std::vector<double> offsetsOf(const GroupScene& part, const DrawStateGroup& grou
   return offsets;
 }
 
+// Whether a group's hit at `depth` (window depth, offset included) is the one the depth test keeps
+// over what is kept so far: the nearer under the test's direction, ties to the smaller primitive
+// id (the object drawn first).
+bool depthTestKeeps(const Hit& hit, double depth, const Hit& kept, double keptDepth, bool greater) {
+  return !kept.hit() || (greater ? depth > keptDepth : depth < keptDepth) ||
+         (depth == keptDepth && hit.primitiveId < kept.primitiveId);
+}
+
 }  // namespace
+
+Hit closestHitByDrawState(const Ray& ray, const SceneIntersector& wholeScene, const Scene& scene,
+                          const glm::dmat4& drawnClipFromWorld, const PickingCamera& camera) {
+  const std::vector<DrawStateGroup> groups = drawStateGroups(scene);
+  if (groups.size() == 1) return wholeScene.closestHit(ray);
+  const bool greater = nearerIsGreater(camera.mode, scene.depthRange);
+  Hit kept;
+  double keptDepth = 0.0;
+  for (const DrawStateGroup& group : groups) {
+    const GroupScene part = groupScene(scene, group);
+    const SceneIntersector intersector(part.scene, wholeScene.reference(),
+                                       SceneIntersector::BvhBuild::WhenFirstNeeded,
+                                       drawnClipFromWorld);
+    Ray cut = ray;
+    cutToClipPlanes(cut, group.clipPlanes);
+    Hit hit = intersector.closestHit(cut);
+    if (!hit.hit()) continue;
+    const DepthMapping mapping{camera.mode, group.range, false};
+    const std::vector<double> offsets = offsetsOf(part, group, mapping, camera, camera.viewport);
+    const double offset = offsets.empty() ? 0.0 : offsets[hit.primitiveId];
+    hit.primitiveId = part.globalIdOfLocal[hit.primitiveId];
+    const glm::dvec3 point = cut.origin + hit.t * cut.direction;
+    hit.t = glm::dot(point - ray.origin, ray.direction) / glm::dot(ray.direction, ray.direction);
+    const glm::dvec4 clip = camera.clipFromWorld * glm::dvec4(point, 1.0);
+    const double depth = mapping.windowDepth(clip.z / clip.w) + offset;
+    if (depthTestKeeps(hit, depth, kept, keptDepth, greater)) {
+      kept = hit;
+      keptDepth = depth;
+    }
+  }
+  return kept;
+}
 
 void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
                           const Scene& scene, const glm::dmat4& drawnClipFromWorld,
@@ -157,10 +197,7 @@ void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeSce
           }
           const glm::dvec4 clip = camera.clipFromWorld * glm::dvec4(point, 1.0);
           const double depth = mapping.windowDepth(clip.z / clip.w) + offset;
-          const bool wins = !kept[i].hit() ||
-                            (greater ? depth > keptDepth[i] : depth < keptDepth[i]) ||
-                            (depth == keptDepth[i] && hit.primitiveId < kept[i].primitiveId);
-          if (wins) {
+          if (depthTestKeeps(hit, depth, kept[i], keptDepth[i], greater)) {
             kept[i] = hit;
             keptDepth[i] = depth;
           }

@@ -49,4 +49,10 @@ void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeSce
                           const Scene& scene, const glm::dmat4& drawnClipFromWorld,
                           const PickingCamera& camera, unsigned threadCount);
 
+// The same decision for one ray (a click: the picking demo's ray pick), t along that ray; camera
+// as for intersectByDrawState, its viewport the frame's (polygon offsets depend on the pixel size).
+// Builds each group's intersector anew: meant for a pick, not a frame.
+Hit closestHitByDrawState(const Ray& ray, const SceneIntersector& wholeScene, const Scene& scene,
+                          const glm::dmat4& drawnClipFromWorld, const PickingCamera& camera);
+
 }  // namespace clipray::engine
