@@ -39,12 +39,15 @@ struct Captured {
   std::string output;
 };
 
-// FOLDER/OUT.rdc: one presented frame of PROGRAM under a 640x480 Xvfb screen, on llvmpipe.
+// FOLDER/OUT.rdc: one presented frame of PROGRAM under a 640x480 Xvfb screen, on llvmpipe. The
+// display search starts at a number of this shell's own, so that tests run in parallel do not
+// race for the same free display.
 Captured captureProgram(const std::string& out, const std::string& program,
                         const TempFolder& folder) {
   const std::filesystem::path log = folder.path() / ".capture.log";
   const std::string line = "cd '" + folder.path().string() +
-                           "' && xvfb-run -a -s '-screen 0 640x480x24' env LIBGL_ALWAYS_SOFTWARE=1 "
+                           "' && xvfb-run -a -n $((100 + $$ % 800)) -s '-screen 0 640x480x24' "
+                           "env LIBGL_ALWAYS_SOFTWARE=1 "
                            "/usr/bin/python3 '" CLIPRAY_CAPTURE_FRAME_SCRIPT "' '" +
                            out + "' --timeout 15 -- " + program + " >'" + log.string() + "' 2>&1";
   const int raw = std::system(line.c_str());
