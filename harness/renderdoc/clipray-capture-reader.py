@@ -165,10 +165,11 @@ def main():
         # RenderDoc's GL driver captures GLES through EGL too (its DriverName "OpenGLES"): the
         # same pipeline state (GetGLPipelineState), no clip control (lower-left, -1 to 1).
         if api not in ("OpenGL", "OpenGLES"):
-            fail(path + ": a " + api + " capture: clipray checks OpenGL and OpenGL ES captures only")
+            fail(path + ": a " + api +
+                 " capture: clipray checks OpenGL and OpenGL ES captures only")
         if capture.LocalReplaySupport() != rd.ReplaySupport.Supported:
-            fail(path + ": RenderDoc cannot replay this " + api + " capture here (replay support: " +
-                 str(capture.LocalReplaySupport()) + ")")
+            fail(path + ": RenderDoc cannot replay this " + api +
+                 " capture here (replay support: " + str(capture.LocalReplaySupport()) + ")")
         options = rd.ReplayOptions()
         # Only state and uniforms are read: the replay need not keep resources' contents between
         # events (half the time to open a small capture on llvmpipe). Depth is read as replayed.
