@@ -25,8 +25,8 @@ packages=(
   libtinygltf-dev libtinyobjloader-dev clang-14 libclang-rt-14-dev
   libimgui-dev xvfb xauth
   assimp-testmodels chromium fonts-liberation
-  apitrace apitrace-tracers mesa-utils glmark2-x11
-  python3-renderdoc librenderdoc librenderdoc-dev
+  apitrace apitrace-tracers mesa-utils mesa-utils-bin glmark2-x11 glmark2-es2-x11
+  renderdoccmd python3-renderdoc librenderdoc librenderdoc-dev
 )
 # npm (and nodejs) from Debian, unless an npm is there already: NodeSource's nodejs package
 # brings its own and conflicts with Debian's npm.

@@ -10,7 +10,7 @@ replay stays in this script and the C++ core parses its lines; no Python in the 
   clipray-capture-reader.py CAPTURE.rdc --geometry            (the draws' clip-space triangles)
 
 Lines:
-  {"kind": "capture", "api": "OpenGL", "events": N, "draws": N}
+  {"kind": "capture", "api": "OpenGL" | "OpenGLES", "events": N, "draws": N}
   {"kind": "draw", "event": EID, "name": ..., "frame": F, "state": {...}, "calls": {...},
    "program": ..., "matrices": [...], "shaders": {...}}   one per draw, in event order
   {"kind": "error", "message": ...}                       then exit status 3
@@ -170,11 +170,14 @@ def main():
         if result.code != rd.ResultCode.Succeeded:
             fail(path + ": not a RenderDoc capture (RenderDoc: " + result.Message() + ")")
         api = capture.DriverName()
-        if api != "OpenGL":
-            fail(path + ": a " + api + " capture: clipray checks OpenGL captures only")
+        # RenderDoc's GL driver captures GLES through EGL too (its DriverName "OpenGLES"): the
+        # same pipeline state (GetGLPipelineState), no clip control (lower-left, -1 to 1).
+        if api not in ("OpenGL", "OpenGLES"):
+            fail(path + ": a " + api +
+                 " capture: clipray checks OpenGL and OpenGL ES captures only")
         if capture.LocalReplaySupport() != rd.ReplaySupport.Supported:
-            fail(path + ": RenderDoc cannot replay this OpenGL capture here (replay support: " +
-                 str(capture.LocalReplaySupport()) + ")")
+            fail(path + ": RenderDoc cannot replay this " + api +
+                 " capture here (replay support: " + str(capture.LocalReplaySupport()) + ")")
         options = rd.ReplayOptions()
         # Only state and uniforms are read: the replay need not keep resources' contents between
         # events (half the time to open a small capture on llvmpipe). Depth is read as replayed.
@@ -185,9 +188,9 @@ def main():
             fail(path + ": RenderDoc cannot replay the capture (" + result.Message() + ")")
         try:
             if depth_events is None:
-                read(path, controller)
+                read(path, api, controller)
             elif depth_events == "geometry":
-                read_geometry(controller)
+                read_geometry(api, controller)
             else:
                 for event in depth_events:
                     emit(depth_line(controller, event))
@@ -198,7 +201,7 @@ def main():
         rd.ShutdownReplay()
 
 
-def capture_actions(controller):
+def capture_actions(api, controller):
     """Every action in event order, and the draws among them; emits the capture line."""
     actions = []
 
@@ -209,14 +212,14 @@ def capture_actions(controller):
 
     walk(controller.GetRootActions())
     draws = [a for a in actions if a.flags & rd.ActionFlags.Drawcall]
-    emit({"kind": "capture", "api": "OpenGL", "events": actions[-1].eventId if actions else 0,
+    emit({"kind": "capture", "api": api, "events": actions[-1].eventId if actions else 0,
           "draws": len(draws)})
     return actions, draws
 
 
-def read(path, controller):
+def read(path, api, controller):
     structured = controller.GetStructuredFile()
-    actions, _ = capture_actions(controller)
+    actions, _ = capture_actions(api, controller)
     textures = {t.resourceId: t for t in controller.GetTextures()}
     programs = {r.resourceId: r.name for r in controller.GetResources()}
     calls = {}
@@ -296,8 +299,8 @@ def triangle_corners(topology, count):
     return [(0, k + 1, k + 2) for k in range(count - 2)]
 
 
-def read_geometry(controller):
-    _, draws = capture_actions(controller)
+def read_geometry(api, controller):
+    _, draws = capture_actions(api, controller)
     for action in draws:
         emit(geometry_line(controller, action))
 

@@ -343,9 +343,9 @@ TEST(CaptureCli, BadCaptures) {
                 "truncated.rdc: a truncated or corrupted capture (RenderDoc: File is corrupted: "
                 "Error seeking past binary section 'renderdoc/internal/framecapture' data)");
   expectRefused("--capture Vulkan.rdc", folder,
-                "Vulkan.rdc: a Vulkan capture: clipray checks OpenGL captures only");
+                "Vulkan.rdc: a Vulkan capture: clipray checks OpenGL and OpenGL ES captures only");
   expectRefused("--capture D3D11.rdc", folder,
-                "D3D11.rdc: a D3D11 capture: clipray checks OpenGL captures only");
+                "D3D11.rdc: a D3D11 capture: clipray checks OpenGL and OpenGL ES captures only");
   expectRefused("--capture clear-only.rdc", folder, "clear-only.rdc: no draws in the capture");
   expectRefused("--capture identity.rdc", folder,
                 "identity.rdc: none of the 1 draws has a matrix with a projection's structure "

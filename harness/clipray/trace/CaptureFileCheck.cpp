@@ -169,6 +169,7 @@ class LineReader {
     const std::string kind = line.value("kind", "");
     if (kind == "error") throw InputError(line.value("message", path_ + ": capture reader error"));
     if (kind == "capture") {
+      result_.api = line.value("api", std::string("OpenGL"));
       result_.events = line.value("events", std::uint64_t{0});
       sawCapture_ = true;
       return;
@@ -388,7 +389,7 @@ nlohmann::json captureCheckJson(const CaptureCheckResult& result) {
   json.erase("trace");
   json["capture"] = {
       {"file", result.check.traceName},
-      {"api", "OpenGL"},
+      {"api", result.api},
       {"events", result.events},
       {"draws_in_capture", result.drawsInCapture},
       {"draw_range", result.drawRange

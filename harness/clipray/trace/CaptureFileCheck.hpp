@@ -20,6 +20,8 @@ inline constexpr std::size_t kMaxListedCaptureDraws = 1000;
 
 struct CaptureCheckResult {
   TraceCheckResult check;  // occurrences' calls are RenderDoc event IDs (EIDs)
+  // The capture's API as RenderDoc names its driver: "OpenGL" or "OpenGLES".
+  std::string api = "OpenGL";
   std::uint64_t events = 0;
   std::uint64_t drawsInCapture = 0;
   std::optional<FrameRange> drawRange;  // --draws, in EIDs
