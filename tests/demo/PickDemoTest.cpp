@@ -143,6 +143,16 @@ std::string clickInside(glm::ivec2 pixel, int height) {
   return line.str();
 }
 
+// Clicks inside pixels (20 + k step, 20 + l step) of a 320x240 framebuffer, short of its right
+// and top edges: row by row from the bottom.
+std::string clickGrid320x240(int step) {
+  std::string script;
+  for (int j = 20; j < 240; j += step) {
+    for (int i = 20; i < 320; i += step) script += clickInside({i, j}, 240);
+  }
+  return script;
+}
+
 class PickDemoUnderX : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -316,10 +326,7 @@ TEST_F(PickDemoUnderX, TeleportedTwoPointFloatDriftsWhileRobustFloatHolds) {
 // The coplanar scene z-fights by design: where the ray and the id buffer name different quads,
 // the reconcile counts the pixel as depth-ambiguous, and so must the demo, instead of "DISAGREE".
 TEST_F(PickDemoUnderX, CoplanarMismatchesAreAmbiguousAsTheReconcileSays) {
-  std::string script;
-  for (int j = 20; j < 240; j += 20) {
-    for (int i = 20; i < 320; i += 20) script += clickInside({i, j}, 240);
-  }
+  const std::string script = clickGrid320x240(20);
   const auto result = run("'" + kSource +
                               "/scenes/coplanar.json' --size 320x240 --convention zo "
                               "--depth-format 24",
@@ -352,10 +359,7 @@ TEST_F(PickDemoUnderX, CoplanarMismatchesAreAmbiguousAsTheReconcileSays) {
 // the range of the object the id buffer names, so it lands where the ray does (unprojected through
 // the scene's [0, 1], the wall's depths came back 55 pixel footprints short).
 TEST_F(PickDemoUnderX, TheDepthReadbackUndoesEachObjectsDepthRange) {
-  std::string script;
-  for (int j = 20; j < 240; j += 40) {
-    for (int i = 20; i < 320; i += 40) script += clickInside({i, j}, 240);
-  }
+  const std::string script = clickGrid320x240(40);
   const auto result = run("'" + kSource +
                               "/scenes/object_depth_range.json' --size 320x240 --convention zo "
                               "--depth-format 24",
