@@ -17,6 +17,7 @@
 
 #include "Commands.hpp"
 #include "clipray/InputError.hpp"
+#include "clipray/engine/CaptureReconcile.hpp"
 #include "clipray/engine/MemoryBudget.hpp"
 #include "clipray/engine/ReconcilePlan.hpp"
 #include "clipray/engine/ReconcileRunner.hpp"
@@ -69,6 +70,9 @@ struct ReconcileArguments {
   std::optional<std::uint64_t> frames;
   std::optional<double> timeout;
   bool noToggle = false;
+  // --capture: a RenderDoc capture's frame against its camera's rays (CaptureReconcile.hpp).
+  std::string capture;
+  std::string draws;
 };
 
 // "I/N" with 1 <= I <= N <= 100000 (a CI matrix of any size); throws InputError otherwise.
@@ -260,6 +264,46 @@ int runPageReconcile(const ReconcileArguments& arguments, const CLI::App& app) {
   return result.allConsistent() ? 0 : 1;
 }
 
+// reconcile --capture: the frame's summary on stdout (stderr with --json, which prints
+// report.json there instead), the scene report's files under --out; 0 consistent, 1 otherwise.
+int runCaptureReconcile(const ReconcileArguments& arguments, const CLI::App& app) {
+  if (!arguments.scenes.empty()) {
+    throw InputError("--capture: the capture is the scene; give no scene files (got " +
+                     arguments.scenes.front() + ")");
+  }
+  if (!arguments.page.empty()) throw InputError("--capture: not with --page");
+  for (const char* option :
+       {"--backend", "--conventions", "--depth-formats", "--vertex-modes", "--size", "--images",
+        "--junit", "--kernels", "--shard", "--max-memory", "--rounds", "--samples", "--grid",
+        "--frames", "--timeout", "--no-toggle"}) {
+    if (app.count(option) > 0) {
+      throw InputError(std::string(option) + ": not with --capture (the capture holds the frame)");
+    }
+  }
+  const std::filesystem::path out(arguments.out);
+  if (std::filesystem::exists(out) && !std::filesystem::is_directory(out)) {
+    throw InputError("--out: " + arguments.out + " is a file, not a folder");
+  }
+  engine::CaptureReconcileOptions options;
+  options.capture = arguments.capture;
+  options.draws = arguments.draws;
+  options.threads = arguments.threads;
+  const engine::CaptureReconcileResult result = engine::reconcileCapture(options);
+  const std::vector<RunRecord> runs = {result.run};
+  const ReportProvenance provenance{commandLine(), utcNow()};
+  writeReport(out, runs, engine::captureGlInfo(result), provenance);
+  std::ostream& summary = arguments.json ? std::cerr : std::cout;
+  summary << textSummary(runs);
+  for (const std::string& note : result.run.notes) summary << "note: " << note << "\n";
+  summary << "report: " << (out / "index.html").string() << " (report.json beside it)\n";
+  if (arguments.json) {
+    std::cout << reportJson(runs, engine::captureGlInfo(result), provenance)
+                     .dump(2, ' ', false, nlohmann::json::error_handler_t::replace)
+              << "\n";
+  }
+  return runVerdict(result.run) == RunVerdict::Consistent ? 0 : 1;
+}
+
 CommandRunner addReconcileOptions(CLI::App& app) {
   auto arguments = std::make_shared<ReconcileArguments>();
   app.add_option("scenes", arguments->scenes,
@@ -322,7 +366,15 @@ CommandRunner addReconcileOptions(CLI::App& app) {
   app.add_flag("--no-toggle", arguments->noToggle,
                "With --page: only the page as it is, not also a second load with its "
                "reversedDepthBuffer toggled (which costs about one more page load and its picks)");
+  app.add_option("--capture", arguments->capture,
+                 "A RenderDoc capture (.rdc) of an OpenGL app: its frame's depth buffer against "
+                 "the picking rays of the camera matrix in its uniforms, through the draws' own "
+                 "vertex shader output");
+  app.add_option("--draws", arguments->draws,
+                 "With --capture: only the draws with RenderDoc event IDs A-B (or A)");
   return [arguments, &app] {
+    if (!arguments->capture.empty()) return runCaptureReconcile(*arguments, app);
+    if (!arguments->draws.empty()) throw InputError("--draws needs --capture");
     if (!arguments->page.empty()) return runPageReconcile(*arguments, app);
     if (app.count("--grid") > 0 || arguments->frames || arguments->timeout) {
       throw InputError("--grid, --frames and --timeout need --page");

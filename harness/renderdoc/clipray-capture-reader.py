@@ -8,6 +8,7 @@ replay stays in this script and the C++ core parses its lines; no Python in the 
   clipray-capture-reader.py CAPTURE.rdc
   clipray-capture-reader.py CAPTURE.rdc --depth-after EID[,EID...]   (check --capture --verify)
   clipray-capture-reader.py CAPTURE.rdc --geometry            (the draws' clip-space triangles)
+  clipray-capture-reader.py CAPTURE.rdc --geometry --depth-after EID[,EID...]   (reconcile --capture)
 
 Lines:
   {"kind": "capture", "api": "OpenGL" | "OpenGLES", "events": N, "draws": N}
@@ -16,7 +17,8 @@ Lines:
   {"kind": "error", "message": ...}                       then exit status 3
 With --depth-after, instead of the draws, one line per EID: the draw framebuffer's depth
 attachment as that event leaves it (mip 0, sample 0), as window depths:
-  {"kind": "depth", "event": EID, "width": W, "height": H, "format": "D32" | ...,
+  {"kind": "depth", "event": EID, "width": W, "height": H, "format": "32f" | "24" | "16",
+   "samples": N,
    "depth": base64 of W*H little-endian float32, rows from the bottom}
   {"kind": "depth", "event": EID, "failure": "..."}       where it cannot be read
 With --geometry, after the capture line, one line per draw: its vertex shader's output positions
@@ -24,6 +26,8 @@ With --geometry, after the capture line, one line per draw: its vertex shader's 
   {"kind": "geometry", "event": EID, "depth_target": "...", "instances": N,
    "triangles": T, "clip": base64 of T*3 vertices x, y, z, w little-endian float32}
   {"kind": "geometry", "event": EID, "skipped": "..."}   not triangles, or no post-VS data
+With both, the geometry lines come first, only for the EIDs --depth-after names (one replay
+serves both).
 
 Matrices are the vertex stage's float 4x4 variables of its uniform blocks ($Globals: the plain
 uniforms) as GetCBufferVariableContents reports them, written as rows: RenderDoc 1.24 keeps a
@@ -149,15 +153,25 @@ def shader_text(pipe, stage):
 
 def main():
     depth_events = None
-    if len(sys.argv) == 4 and sys.argv[2] == "--depth-after":
-        try:
-            depth_events = [int(e) for e in sys.argv[3].split(",")]
-        except ValueError:
-            fail("--depth-after: expected event IDs separated by commas, got " + sys.argv[3])
-    elif len(sys.argv) == 3 and sys.argv[2] == "--geometry":
-        depth_events = "geometry"
-    elif len(sys.argv) != 2:
-        fail("usage: clipray-capture-reader.py CAPTURE.rdc [--depth-after EID[,EID...]]")
+    geometry = False
+    words = sys.argv[2:]
+    while words:
+        if words[0] == "--geometry":
+            geometry = True
+            words = words[1:]
+        elif words[0] == "--depth-after" and len(words) > 1:
+            try:
+                depth_events = [int(e) for e in words[1].split(",")]
+            except ValueError:
+                fail("--depth-after: expected event IDs separated by commas, got " + words[1])
+            words = words[2:]
+        else:
+            fail("usage: clipray-capture-reader.py CAPTURE.rdc [--geometry] "
+                 "[--depth-after EID[,EID...]]")
+    if len(sys.argv) < 2:
+        fail("usage: clipray-capture-reader.py CAPTURE.rdc [--geometry] "
+             "[--depth-after EID[,EID...]]")
+    state_only = depth_events is None and not geometry
     path = sys.argv[1]
     # Headless replay on Mesa (llvmpipe without a GPU): EGL's surfaceless platform.
     os.environ.setdefault("EGL_PLATFORM", "surfaceless")
@@ -181,19 +195,18 @@ def main():
         options = rd.ReplayOptions()
         # Only state and uniforms are read: the replay need not keep resources' contents between
         # events (half the time to open a small capture on llvmpipe). Depth is read as replayed.
-        if depth_events is None:
+        if state_only:
             options.optimisation = rd.ReplayOptimisationLevel.Fastest
         result, controller = capture.OpenCapture(options, None)
         if result.code != rd.ResultCode.Succeeded:
             fail(path + ": RenderDoc cannot replay the capture (" + result.Message() + ")")
         try:
-            if depth_events is None:
+            if state_only:
                 read(path, api, controller)
-            elif depth_events == "geometry":
-                read_geometry(api, controller)
-            else:
-                for event in depth_events:
-                    emit(depth_line(controller, event))
+            if geometry:
+                read_geometry(api, controller, depth_events)
+            for event in depth_events or []:
+                emit(depth_line(controller, event))
         finally:
             controller.Shutdown()
     finally:
@@ -223,6 +236,7 @@ def read(path, api, controller):
     textures = {t.resourceId: t for t in controller.GetTextures()}
     programs = {r.resourceId: r.name for r in controller.GetResources()}
     calls = {}
+    enabled = {}
     cleared = None
     frame = 0
     for action in actions:
@@ -235,6 +249,7 @@ def read(path, api, controller):
                 cap = chunk.GetChild(0).AsString()
                 if cap in CAPS:
                     calls[CAPS[cap]] = event.eventId
+                    enabled[CAPS[cap]] = chunk.name == "glEnable"
                 elif cap.startswith("GL_CLIP_DISTANCE"):
                     calls["clip_distances"] = event.eventId
         if action.flags & rd.ActionFlags.Clear:
@@ -243,13 +258,14 @@ def read(path, api, controller):
                 cleared = float(found.group(1))
                 calls["clear"] = action.eventId
         if action.flags & rd.ActionFlags.Drawcall:
-            emit(draw_line(controller, structured, action, frame, calls, cleared, textures,
-                           programs))
+            emit(draw_line(controller, structured, action, frame, calls, enabled, cleared,
+                           textures, programs))
         if action.flags & rd.ActionFlags.Present:
             frame += 1
 
 
-def draw_line(controller, structured, action, frame, calls, cleared, textures, programs):
+def draw_line(controller, structured, action, frame, calls, enabled, cleared, textures,
+              programs):
     controller.SetFrameEvent(action.eventId, True)
     gl = controller.GetGLPipelineState()
     pipe = controller.GetPipelineState()
@@ -269,6 +285,9 @@ def draw_line(controller, structured, action, frame, calls, cleared, textures, p
         "clip_distances": sum(1 << i for i, on in enumerate(gl.vertexProcessing.clipPlanes) if on),
         "polygon_offset": {"factor": raster.slopeScaledDepthBias, "units": raster.depthBias,
                            "clamp": raster.offsetClamp},
+        # GL_POLYGON_OFFSET_FILL as the capture's glEnable/glDisable calls left it; null where
+        # none was captured (set before the capture began: RenderDoc's state does not say).
+        "polygon_offset_fill": enabled.get("polygon_offset_fill"),
         "depth_format": depth_format(controller, textures,
                                      gl.framebuffer.drawFBO.depthAttachment.resourceId),
         "cleared_depth": cleared,
@@ -299,10 +318,12 @@ def triangle_corners(topology, count):
     return [(0, k + 1, k + 2) for k in range(count - 2)]
 
 
-def read_geometry(api, controller):
+def read_geometry(api, controller, events):
+    """Each draw's geometry line; only those of `events` where --depth-after names them."""
     _, draws = capture_actions(api, controller)
     for action in draws:
-        emit(geometry_line(controller, action))
+        if events is None or action.eventId in events:
+            emit(geometry_line(controller, action))
 
 
 def geometry_line(controller, action):
@@ -397,6 +418,7 @@ def depth_line(controller, event):
                            (bottom_up, x, y, expected))
         return line
     line.update({"width": texture.width, "height": texture.height, "format": name,
+                 "samples": texture.msSamp,
                  "depth": base64.b64encode(struct.pack("<%df" % len(depth), *depth)).decode()})
     return line
 

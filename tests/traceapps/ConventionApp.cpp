@@ -15,7 +15,9 @@
 // d3d-style-culled (a y-down projection under GL_UPPER_LEFT, back faces culled, GL_CW) and its
 // twin d3d-style-culled-ccw (glFrontFace left at GL_CCW: the insides are kept); zo-depth-clamp
 // (zo with GL_DEPTH_CLAMP enabled); arb-shader-objects (no, the camera a GLSL 1.10 uniform set
-// through the ARB_shader_objects entry points).
+// through the ARB_shader_objects entry points); overlap-reversed (reversed-Z done right, two
+// draws: the triangle, then a larger one behind it) and its twin overlap-reversed-with-less
+// (GL_LESS over a clear of 1: the one behind wins where they overlap).
 // Capture mode: with CLIPRAY_CAPTURE_RDC naming a file and RenderDoc's librenderdoc.so preloaded
 // (LD_PRELOAD), the app captures everything it draws after creating its context (all FRAMES) as
 // one RenderDoc frame through the in-app API and writes it to that file (`clipray check
@@ -263,6 +265,39 @@ void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Co
   for (int frame = 0; frame < frames; ++frame) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glUniformMatrix4fv(location, 1, transpose, uploaded.data());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    eglSwapBuffers(context.display, context.surface);
+  }
+}
+
+// Two draws of the shader path per frame: the triangle at world z = 0, then a larger one at
+// z = -1 behind it that covers it on screen (the depth test decides what the overlap shows).
+void drawOverlapping(const Matrix& uploaded, int frames, Context context) {
+  const char* vertexSource =
+      "#version 450 core\n"
+      "layout(location = 0) in vec3 position;\n"
+      "uniform mat4 clipFromWorld;\n"
+      "void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }\n";
+  const GLuint program = useProgram(vertexSource);
+  const GLint location = glGetUniformLocation(program, "clipFromWorld");
+  const float behind[] = {-3.0f, -1.0f, -1.0f, 3.0f, -1.0f, -1.0f, 0.0f, 3.0f, -1.0f};
+  GLuint behindArray = 0, behindBuffer = 0;
+  glGenVertexArrays(1, &behindArray);
+  glBindVertexArray(behindArray);
+  glGenBuffers(1, &behindBuffer);
+  glBindBuffer(GL_ARRAY_BUFFER, behindBuffer);
+  glBufferData(GL_ARRAY_BUFFER, sizeof behind, behind, GL_STATIC_DRAW);
+  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
+  glEnableVertexAttribArray(0);
+  bindTriangle();
+  GLint front = 0;
+  glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &front);
+  for (int frame = 0; frame < frames; ++frame) {
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    glUniformMatrix4fv(location, 1, GL_FALSE, uploaded.data());
+    glBindVertexArray(static_cast<GLuint>(front));
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(behindArray);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     eglSwapBuffers(context.display, context.surface);
   }
@@ -586,6 +621,15 @@ int main(int argc, char** argv) {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LESS);
     drawWithShaders(multiply(reversedInfinitePerspective(), view), GL_FALSE, frames, context);
+  } else if (name == "overlap-reversed") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_GREATER);
+    glClearDepth(0.0);
+    drawOverlapping(multiply(reversedInfinitePerspective(), view), frames, context);
+  } else if (name == "overlap-reversed-with-less") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawOverlapping(multiply(reversedInfinitePerspective(), view), frames, context);
   } else if (name == "row-major-untransposed") {
     // The matrix written out row by row (a C array m[row][col]) uploaded as if column-major.
     glDepthFunc(GL_LESS);

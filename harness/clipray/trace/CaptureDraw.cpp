@@ -1,9 +1,11 @@
 #include "clipray/trace/CaptureDraw.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
 
+#include "clipray/trace/FragDepthWrite.hpp"
 #include "clipray/trace/ProjectionStructure.hpp"
 
 namespace clipray::trace {
@@ -103,6 +105,16 @@ TraceDraw captureDrawOf(const nlohmann::json& line) {
   const auto clipDistances = value<std::uint32_t>(state, "clip_distances");
   if (clipDistances > 0xFFu) throw std::invalid_argument("more than 8 clip distances");
   depth.clipDistances = static_cast<std::uint8_t>(clipDistances);
+  depth.depthWrite = value<bool>(state, "depth_write");
+  // The offset's values as RenderDoc's state holds them; whether GL_POLYGON_OFFSET_FILL is on as
+  // the capture's glEnable/glDisable left it (null: not set within the capture, GL's default off).
+  const nlohmann::json& offset = field(state, "polygon_offset");
+  depth.offsetFactor = value<double>(offset, "factor");
+  depth.offsetUnits = value<double>(offset, "units");
+  depth.offsetClamp = value<double>(offset, "clamp");
+  if (state.contains("polygon_offset_fill") && !state["polygon_offset_fill"].is_null()) {
+    depth.polygonOffsetFill = value<bool>(state, "polygon_offset_fill");
+  }
   const nlohmann::json& shaders = field(line, "shaders");
   depth.writesClipDistance =
       mentionsClipDistance(shaders, "vertex") || mentionsClipDistance(shaders, "geometry");
@@ -115,7 +127,20 @@ TraceDraw captureDrawOf(const nlohmann::json& line) {
   depth.frontFaceCall = callOf(calls, "front_face");
   depth.depthClampCall = callOf(calls, "depth_clamp");
   depth.clipDistancesCall = callOf(calls, "clip_distances");
+  depth.depthMaskCall = callOf(calls, "depth_mask");
+  depth.polygonOffsetCall = callOf(calls, "polygon_offset");
+  depth.polygonOffsetFillCall = callOf(calls, "polygon_offset_fill");
   const std::string program = value<std::string>(line, "program");
+  // The trace names the program writing gl_FragDepth by its GL name; RenderDoc's resource name
+  // ends in it ("Program 29").
+  if (shaders.contains("fragment") && shaders["fragment"].is_string() &&
+      writesFragDepth(shaders["fragment"].get<std::string>())) {
+    const std::size_t digits = program.find_last_not_of("0123456789");
+    const std::string number = digits == std::string::npos ? program : program.substr(digits + 1);
+    depth.fragDepthProgram = number.empty() || number.size() > 9
+                                 ? 1u
+                                 : std::max(1u, static_cast<std::uint32_t>(std::stoul(number)));
+  }
   for (const nlohmann::json& matrix : field(line, "matrices")) {
     const glm::dmat4 read = matrixOf(field(matrix, "rows"));
     if (!hasProjectionStructure(read)) continue;

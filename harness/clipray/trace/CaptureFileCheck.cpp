@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <cstdlib>
 #include <cstring>
 #include <deque>
@@ -190,6 +191,9 @@ class LineReader {
       result_.draws.push_back(drawSummary(line, draw));
     }
     ++drawsInRange_;
+    const nlohmann::json& viewport = line["state"]["viewport"];
+    result_.drawStates.push_back({draw, static_cast<int>(std::lround(viewport[0].get<double>())),
+                                  static_cast<int>(std::lround(viewport[1].get<double>()))});
     framesSeen_ = std::max(framesSeen_, draw.frame + 1);
     collector_.addDraw(draw);
   }
@@ -285,10 +289,7 @@ CaptureCheckResult checkCapture(const std::string& capturePath, const std::strin
   return lines.finish(draws);
 }
 
-namespace {
-
-// The reader's depth line: the image, or why there is none.
-std::optional<DepthImage> depthImageOf(const nlohmann::json& line, std::string& failure) {
+std::optional<DepthImage> captureDepthImage(const nlohmann::json& line, std::string& failure) {
   if (line.contains("failure")) {
     failure = line.value("failure", std::string("the reader gave no depth"));
     return std::nullopt;
@@ -310,7 +311,54 @@ std::optional<DepthImage> depthImageOf(const nlohmann::json& line, std::string& 
   return image;
 }
 
-}  // namespace
+std::vector<nlohmann::json> readCaptureLines(const std::string& capturePath,
+                                             const std::vector<std::string>& arguments) {
+  std::string python = environment("CLIPRAY_CAPTURE_PYTHON");
+  if (python.empty()) python = "/usr/bin/python3";
+  std::vector<std::string> words = {python, findReader(), capturePath};
+  words.insert(words.end(), arguments.begin(), arguments.end());
+  ReaderProcess process(words);
+  std::vector<nlohmann::json> lines;
+  std::deque<std::string> others;
+  std::string pending, error;
+  std::vector<char> buffer(1 << 16);
+  const auto add = [&](std::string_view text) {
+    const nlohmann::json line =
+        text.starts_with("{") ? nlohmann::json::parse(text, nullptr, false) : nlohmann::json();
+    if (!line.is_object()) {
+      if (!text.empty()) others.emplace_back(text);
+      if (others.size() > kKeptOtherLines) others.pop_front();
+    } else if (line.value("kind", "") == "error") {
+      error = line.value("message", capturePath + ": capture reader error");
+    } else if (line.value("kind", "") != "capture") {
+      lines.push_back(line);
+    }
+  };
+  while (const std::size_t got = process.read(buffer.data(), buffer.size())) {
+    pending.append(buffer.data(), got);
+    std::size_t start = 0;
+    for (std::size_t end = pending.find('\n'); end != std::string::npos;
+         end = pending.find('\n', start)) {
+      add(std::string_view(pending).substr(start, end - start));
+      start = end + 1;
+    }
+    pending.erase(0, start);
+    if (pending.size() > kMaxReaderLineBytes) {
+      throw InputError(capturePath + ": a capture reader line longer than " +
+                       std::to_string(kMaxReaderLineBytes) + " bytes");
+    }
+  }
+  if (!pending.empty()) add(pending);
+  const int status = process.finish();
+  if (!error.empty()) throw InputError(error);
+  if (status != 0) {
+    std::string text;
+    for (const std::string& line : others) text += (text.empty() ? "" : " | ") + line;
+    throw InputError(capturePath + ": the capture reader exited with status " +
+                     std::to_string(status) + " (" + (text.empty() ? "no output" : text) + ")");
+  }
+  return lines;
+}
 
 void verifyCapture(const std::string& capturePath, CaptureCheckResult& result) {
   result.check.verifiedBy = "replayed by RenderDoc";
@@ -367,7 +415,7 @@ void verifyCapture(const std::string& capturePath, CaptureCheckResult& result) {
                 (others.empty() ? std::string("no output") : others) + ")";
     } else {
       try {
-        image = depthImageOf(found->second, failure);
+        image = captureDepthImage(found->second, failure);
       } catch (const std::invalid_argument& error) {
         failure = error.what();
       }

@@ -6,11 +6,13 @@
 // line; this side runs it and parses the lines (CaptureDraw.hpp). No Python in the core.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "clipray/trace/ReplayDepth.hpp"
 #include "clipray/trace/TraceCheck.hpp"
 
 namespace clipray::trace {
@@ -28,6 +30,13 @@ struct CaptureCheckResult {
   // Per draw in the range: what the state model does not follow (depth writes, polygon offset,
   // the program and its shaders' text), as the reader wrote it.
   std::vector<nlohmann::json> draws;
+  // Every draw in the range as the state model read it, in event order (reconcile --capture),
+  // with its viewport's lower-left corner (the state keeps the viewport's size only).
+  struct DrawState {
+    TraceDraw draw;
+    int viewportX = 0, viewportY = 0;
+  };
+  std::vector<DrawState> drawStates;
 };
 
 // "A-B" or "A": RenderDoc event IDs. Throws InputError naming --draws.
@@ -46,6 +55,17 @@ CaptureCheckResult checkCapture(const std::string& capturePath, const std::strin
 // replayed one (ReplayDepth.hpp): at most 8 groups; a depth that cannot be read is noted in the
 // group ("not verified: ..."), never an error.
 void verifyCapture(const std::string& capturePath, CaptureCheckResult& result);
+
+// The reader run on the capture with these arguments (--geometry, --depth-after EIDs): its JSON
+// lines other than "capture" ones, in order. Throws InputError for an "error" line, or a reader
+// that exits with another status than 0 (naming the status and its last other output).
+std::vector<nlohmann::json> readCaptureLines(const std::string& capturePath,
+                                             const std::vector<std::string>& arguments);
+
+// The reader's --depth-after line: the image (window depths, rows from the bottom), or nullopt
+// and why there is none in failure (the reader's own failure, or a line whose bytes do not match
+// its size). Throws std::invalid_argument for base64 that is not.
+std::optional<DepthImage> captureDepthImage(const nlohmann::json& line, std::string& failure);
 
 nlohmann::json captureCheckJson(const CaptureCheckResult& result);
 std::string captureCheckText(const CaptureCheckResult& result);
