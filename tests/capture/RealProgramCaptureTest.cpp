@@ -116,6 +116,14 @@ TEST(RealProgramCapture, Es2gearsChecksWithoutFalseFindings) {
   const std::string failure = group["verify"].value("failure", "");
   EXPECT_EQ(failure.rfind("the decoded depth 0 at texel (150, 150) is not RenderDoc's ", 0), 0u)
       << failure;
+  // reconcile --capture needs that depth: it refuses the frame, saying why, and writes nothing.
+  const auto reconciled = runClipray("reconcile --capture es2gears.rdc --out out", folder.path());
+  EXPECT_EQ(reconciled.status, 2);
+  EXPECT_NE(
+      reconciled.err.find(": the decoded depth 0 at texel (150, 150) is not RenderDoc's 0.95"),
+      std::string::npos)
+      << reconciled.err;
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "out"));
 }
 
 // glmark2-es2's build scene (the horse model, 160x120): perspective(fovy, aspect, 2, 2 + d) with
@@ -154,6 +162,18 @@ TEST(RealProgramCapture, Glmark2Es2BuildChecksWithoutFindings) {
   EXPECT_GT(verify["written"].get<int>(), 0);
   EXPECT_GE(verify["nearest_view_depth"].get<double>(), 2.0);
   EXPECT_LE(verify["farthest_view_depth"].get<double>(), far);
+  // The frame's depth against the rays of that matrix, through the horse's post-VS positions:
+  // consistent, on the pixels the depth buffer shows written.
+  const auto reconciled =
+      runClipray("reconcile --capture glmark2.rdc --out out --json", folder.path());
+  ASSERT_EQ(reconciled.status, 0) << reconciled.err;
+  const nlohmann::json run = nlohmann::json::parse(reconciled.out)["runs"][0];
+  EXPECT_EQ(run["verdict"], "consistent");
+  EXPECT_EQ(run["convention"], "no");
+  EXPECT_EQ(run["raster_hits"], verify["written"]);
+  EXPECT_EQ(run["coverage_mismatch"]["unexplained"], 0);
+  EXPECT_EQ(run["id_mismatch"]["unexplained"], 0);
+  EXPECT_EQ(run["depth_beyond_tolerance"], 0);
 }
 
 // glxgears draws with legacy GL (glBegin, display lists): RenderDoc registers the context as not

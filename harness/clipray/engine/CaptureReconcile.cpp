@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <optional>
 #include <stdexcept>
@@ -16,6 +17,7 @@
 #include "clipray/SceneBuilder.hpp"
 #include "clipray/check/CheckText.hpp"
 #include "clipray/check/FacingCheck.hpp"
+#include "clipray/compare/DepthMapping.hpp"
 #include "clipray/compare/DrawCallIds.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/engine/WorstPixels.hpp"
@@ -106,8 +108,97 @@ DepthMode capturedMode(const TraceDepthState& depth) {
 struct FrameDraw {
   const CaptureCheckResult::DrawState* state = nullptr;
   trace::CapturedDrawGeometry geometry;
-  std::vector<float> depthAfter;  // the viewport's pixels, rows from the bottom
+  std::vector<float> depthAfter;    // the viewport's pixels, rows from the bottom
+  std::vector<std::size_t> traced;  // the mesh's triangle k is geometry's triangle traced[k]
 };
+
+// The raster side knows each pixel's draw, not its triangle: idsFromDrawCalls names the triangle
+// of that draw the pixel's ray hit. Where that triangle's depth is beyond the tolerance of the
+// stored one, the stored depth may be another triangle's of the same draw whose edge passes
+// within the rasterizer's snapping of the pixel centre (a sliver in front, covered by GL's fixed
+// point, missed by the ray in double). Such a pixel is given the triangle of its draw, within
+// `reach` pixels of its centre, whose depth at the centre (as GL interpolates it: NDC z is affine
+// in window x and y, mapped by the captured convention and depth range) is nearest the stored
+// one, when nearer than the first triangle's; the comparison then classifies the id mismatch
+// (edge-ambiguous where the centre lies within either triangle's edge epsilon). Returns how many
+// pixels changed.
+std::size_t refineIdsByDepth(const std::vector<FrameDraw>& draws, const Scene& scene,
+                             const DepthMapping& captured, bool upperLeft, Viewport viewport,
+                             const std::vector<std::uint8_t>& drawOfPixel,
+                             const PixelComparison& pixels, const std::vector<float>& depth,
+                             double reach, std::vector<std::uint32_t>& ids) {
+  const std::size_t count = drawOfPixel.size();
+  std::vector<std::uint8_t> flagged(count, 0);
+  bool any = false;
+  for (std::size_t p = 0; p < count; ++p) {
+    if (pixels.classes[p] == PixelClass::DepthBeyondTolerance) flagged[p] = 1, any = true;
+  }
+  if (!any) return 0;
+  const PrimitiveIdTable table(scene);
+  std::vector<double> bestError(count, std::numeric_limits<double>::infinity());
+  std::vector<std::uint32_t> bestId(count, 0);
+  for (std::size_t k = 0; k < draws.size(); ++k) {
+    const std::vector<glm::dvec4>& clip = draws[k].geometry.clip;
+    for (std::size_t t = 0; t < draws[k].traced.size(); ++t) {
+      const std::size_t first = 3 * draws[k].traced[t];
+      glm::dvec3 window[3];
+      bool inFront = true;
+      for (std::size_t c = 0; c < 3; ++c) {
+        const glm::dvec4& v = clip[first + c];
+        if (!(v.w > 0.0)) inFront = false;
+        const double y = upperLeft ? -v.y / v.w : v.y / v.w;
+        window[c] = {(v.x / v.w * 0.5 + 0.5) * viewport.width, (y * 0.5 + 0.5) * viewport.height,
+                     v.z / v.w};
+      }
+      if (!inFront) continue;
+      const glm::dvec2 a(window[0]), b(window[1]), c(window[2]);
+      const double area = (b.x - a.x) * (c.y - a.y) - (c.x - a.x) * (b.y - a.y);
+      if (area == 0.0) continue;
+      const int x0 = std::max(0, static_cast<int>(std::floor(std::min({a.x, b.x, c.x}) - reach)));
+      const int x1 = std::min(viewport.width - 1,
+                              static_cast<int>(std::ceil(std::max({a.x, b.x, c.x}) + reach)));
+      const int y0 = std::max(0, static_cast<int>(std::floor(std::min({a.y, b.y, c.y}) - reach)));
+      const int y1 = std::min(viewport.height - 1,
+                              static_cast<int>(std::ceil(std::max({a.y, b.y, c.y}) + reach)));
+      const std::uint32_t id = table.firstIdOfObject[k] + static_cast<std::uint32_t>(t);
+      for (int y = y0; y <= y1; ++y) {
+        for (int x = x0; x <= x1; ++x) {
+          const std::size_t p = static_cast<std::size_t>(y) * viewport.width + x;
+          if (!flagged[p] || drawOfPixel[p] != k + 1) continue;
+          const glm::dvec2 centre(x + 0.5, y + 0.5);
+          // Barycentric coordinates of the centre, and its distance outside each edge in pixels.
+          const double l1 =
+              ((centre.x - a.x) * (c.y - a.y) - (c.x - a.x) * (centre.y - a.y)) / area;
+          const double l2 =
+              ((b.x - a.x) * (centre.y - a.y) - (centre.x - a.x) * (b.y - a.y)) / area;
+          const double l0 = 1.0 - l1 - l2;
+          const double lengths[3] = {glm::length(c - b), glm::length(a - c), glm::length(b - a)};
+          const double weights[3] = {l0, l1, l2};
+          double outside = 0.0;
+          for (int e = 0; e < 3; ++e) {
+            // Weight e is 0 on the opposite edge and 1 at vertex e: its distance from that edge
+            // is the weight times the triangle's height over it, |area| / length.
+            outside = std::max(outside, -weights[e] * std::abs(area) / lengths[e]);
+          }
+          if (outside > reach) continue;
+          const double z = l0 * window[0].z + l1 * window[1].z + l2 * window[2].z;
+          const double error = std::abs(captured.mappedWindowDepth(z) - depth[p]);
+          if (error < bestError[p]) {
+            bestError[p] = error;
+            bestId[p] = id;
+          }
+        }
+      }
+    }
+  }
+  std::size_t changed = 0;
+  for (std::size_t p = 0; p < count; ++p) {
+    if (!flagged[p] || bestId[p] == 0 || bestId[p] == ids[p]) continue;
+    ids[p] = bestId[p];
+    ++changed;
+  }
+  return changed;
+}
 
 }  // namespace
 
@@ -337,6 +428,7 @@ CaptureReconcileResult reconcileCapture(const CaptureReconcileOptions& options) 
         ++unplaced;
         continue;
       }
+      draw.traced.push_back(t / 3);
       for (const glm::dvec3& corner : corners) {
         indices.push_back(static_cast<std::uint32_t>(positions.size() / 3));
         positions.insert(positions.end(), {corner.x, corner.y, corner.z});
@@ -388,6 +480,21 @@ CaptureReconcileResult reconcileCapture(const CaptureReconcileOptions& options) 
   ComparedRun compared =
       compareRasterFrame(pass, raster, *lastDepth.depthFormat, VertexMode::Pretransformed,
                          kAssumedSubpixelBits, timings, options.threads);
+  const DepthMapping capturedMapping{capturedMode(lastDepth), lastDepth.depthRange,
+                                     lastDepth.depthClamp};
+  const std::size_t refined = refineIdsByDepth(
+      draws, model, capturedMapping, lastDepth.clipUpperLeft, viewport, drawOfPixel,
+      compared.pixels, raster.depth, 1.0 / (1 << kAssumedSubpixelBits), raster.ids);
+  if (refined > 0) {
+    // The tolerance model holds the screen polygons of the triangles the raster showed.
+    pass.toleranceModel.reset();
+    compared = compareRasterFrame(pass, raster, *lastDepth.depthFormat, VertexMode::Pretransformed,
+                                  kAssumedSubpixelBits, timings, options.threads);
+    notes.push_back(std::to_string(refined) +
+                    " pixels' triangle taken from the depth they store: another triangle of "
+                    "their draw within the rasterizer's snapping of their centre (the ray hit "
+                    "one whose depth is beyond tolerance)");
+  }
   RunRecord& run = compared.run;
   run.camera = "events " + std::to_string(draws.front().state->draw.call) + "-" +
                std::to_string(draws.back().state->draw.call);
