@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <span>
 #include <string>
 #include <vector>
@@ -224,6 +226,62 @@ TEST(Direct3dStyleApp, CullingBackFacesRenderingAndPickingAgree) {
 // Its buggy twin leaves glFrontFace at GL_CCW: the floor (seen from above) is culled and the box
 // shows its inside, where the app meant its outside: the rays, culling as the scene says the app
 // means to, disagree with the picture.
+// A failing frame handed to the developer as a RenderDoc capture
+// (ReconcileOptions::renderDocCaptures). run-consumer-test.cmake runs these tests a second time
+// with librenderdoc.so preloaded and CLIPRAY_CONSUMER_CAPTURES naming the folder, on the EGL
+// backend (RenderDoc hooks EGL, not OSMesa); without them they are skipped.
+TEST(RenderDocCapture, AFailingFrameIsKeptAndAPassingOneIsNot) {
+  const char* folder = std::getenv("CLIPRAY_CONSUMER_CAPTURES");
+  if (!folder || !*folder) GTEST_SKIP() << "run by run-consumer-test.cmake under RenderDoc";
+  clipray::ReconcileOptions failing =
+      direct3dOptions(app::RenderBug::FrontFaceNotFlipped, theCulledDirect3dApp);
+  failing.backend = "egl";
+  failing.renderDocCaptures = folder;
+  const clipray::ReconcileResult result =
+      clipray::reconcile(appScene(theCulledDirect3dApp),
+                         appPicking(app::PickingBug::None, theCulledDirect3dApp), failing);
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_FALSE(result.runs[0].consistent) << result.text();
+  const std::string kept = std::string(folder) + "/direct3d-app-main-zo-upper-left-32f.rdc";
+  EXPECT_EQ(result.runs[0].capture, kept) << result.text();
+  EXPECT_NE(result.text().find(": the app's frame, captured by RenderDoc: " + kept),
+            std::string::npos)
+      << result.text();
+  // The correct app's frame passes: its capture is removed, and none is named.
+  clipray::ReconcileOptions passing = direct3dOptions(app::RenderBug::None, theCulledDirect3dApp);
+  passing.backend = "egl";
+  passing.renderDocCaptures = folder;
+  const clipray::ReconcileResult passed =
+      clipray::reconcile(appScene(theCulledDirect3dApp),
+                         appPicking(app::PickingBug::None, theCulledDirect3dApp), passing);
+  ASSERT_EQ(passed.runs.size(), 1u);
+  EXPECT_TRUE(passed.runs[0].consistent) << passed.text();
+  EXPECT_EQ(passed.runs[0].capture, "");
+  std::size_t files = 0;
+  for (const auto& entry : std::filesystem::directory_iterator(folder)) {
+    ++files;
+    EXPECT_EQ(entry.path().string(), kept);
+  }
+  EXPECT_EQ(files, 1u);
+}
+
+// Without RenderDoc in the process, a failing run says why it has no capture.
+TEST(RenderDocCapture, WithoutRenderDocAFailingRunSaysWhy) {
+  if (std::getenv("CLIPRAY_CONSUMER_CAPTURES")) GTEST_SKIP() << "RenderDoc is loaded";
+  clipray::ReconcileOptions failing =
+      direct3dOptions(app::RenderBug::FrontFaceNotFlipped, theCulledDirect3dApp);
+  failing.renderDocCaptures = ::testing::TempDir() + "clipray-consumer-captures";
+  const clipray::ReconcileResult result =
+      clipray::reconcile(appScene(theCulledDirect3dApp),
+                         appPicking(app::PickingBug::None, theCulledDirect3dApp), failing);
+  ASSERT_EQ(result.runs.size(), 1u);
+  EXPECT_EQ(result.runs[0].capture, "");
+  EXPECT_EQ(result.runs[0].notes.back(),
+            "ReconcileOptions::renderDocCaptures: no capture of this frame: RenderDoc is not "
+            "loaded into the process (run the test with LD_PRELOAD=librenderdoc.so, Debian's "
+            "librenderdoc)");
+}
+
 TEST(TestOfTheTest, Direct3dStyleCullingWithTheFrontFaceLeftAtCcwFails) {
   const clipray::ReconcileResult result = clipray::reconcile(
       appScene(theCulledDirect3dApp), appPicking(app::PickingBug::None, theCulledDirect3dApp),

@@ -5,7 +5,8 @@
 #      with those flags alone (and GoogleTest's)
 # Variables: CLIPRAY_BUILD_DIR, WORK_DIR, VERSION (expected
 # from pkg-config), LIBDIR (CMAKE_INSTALL_LIBDIR), GENERATOR, MAKE_PROGRAM, CXX, BUILD_TYPE,
-# PKG_CONFIG, and EXTRA_FLAGS (the sanitizer flags a sanitized clipray needs at compile and link
+# PKG_CONFIG, RENDERDOC_LIBRARY (librenderdoc.so, for the capture tests; empty: none), and
+# EXTRA_FLAGS (the sanitizer flags a sanitized clipray needs at compile and link
 # time; space-separated). The consumer's own CMake and compiler processes run unsanitized.
 cmake_minimum_required(VERSION 3.25)
 
@@ -62,6 +63,27 @@ if(NOT found_dir STREQUAL "clipray_DIR:PATH=${prefix}/${LIBDIR}/cmake/clipray")
 endif()
 step("build the consumer" ${CMAKE_COMMAND} --build ${build})
 step("run the consumer's tests" ${build}/clipray_consumer)
+# The captures of failing frames (ReconcileOptions::renderDocCaptures): the RenderDocCapture
+# tests again under RenderDoc, then the kept capture read by the installed clipray. Not with a
+# sanitized build: the sanitizer runtime must come first in the process, before any preload.
+if(RENDERDOC_LIBRARY AND EXTRA_FLAGS STREQUAL "")
+  set(captures ${WORK_DIR}/captures)
+  step("run the consumer's capture tests under RenderDoc"
+       ${CMAKE_COMMAND} -E env LD_PRELOAD=${RENDERDOC_LIBRARY} CLIPRAY_CONSUMER_CAPTURES=${captures}
+       ${build}/clipray_consumer --gtest_filter=RenderDocCapture.*)
+  execute_process(COMMAND ${prefix}/bin/clipray reconcile --capture
+                          ${captures}/direct3d-app-main-zo-upper-left-32f.rdc
+                          --out ${WORK_DIR}/capture-report
+                  RESULT_VARIABLE result OUTPUT_VARIABLE output ERROR_VARIABLE errors)
+  if(NOT result EQUAL 1 OR NOT output MATCHES "INCONSISTENT direct3d-app-main-zo-upper-left-32f/")
+    message(FATAL_ERROR "consumer test: reconcile --capture of the kept frame: exit ${result}, "
+                        "expected 1 (inconsistent): ${output}${errors}")
+  endif()
+  message(STATUS "consumer test: the kept capture reconciles: ${output}")
+else()
+  message(STATUS "consumer test: no RenderDoc capture tests (RENDERDOC_LIBRARY \"${RENDERDOC_LIBRARY}\", "
+                 "sanitizer flags \"${EXTRA_FLAGS}\")")
+endif()
 
 # pkg-config, from this prefix.
 set(ENV{PKG_CONFIG_PATH} ${prefix}/${LIBDIR}/pkgconfig)

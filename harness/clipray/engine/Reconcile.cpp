@@ -45,6 +45,11 @@ void checkOptions(const ReconcileOptions& options) {
         "vertices; expected world, got " +
         vertexModeName(options.vertexMode));
   }
+  if (!options.renderDocCaptures.empty() && !options.render) {
+    throw InputError(
+        "ReconcileOptions: renderDocCaptures: it captures the frames the app's render function "
+        "draws; set render (clipray's own frames are drawn again by any reconcile)");
+  }
 }
 
 engine::ReconcilePlan planOf(const Scene& scene, const PickRayFunction& pick,
@@ -61,6 +66,7 @@ engine::ReconcilePlan planOf(const Scene& scene, const PickRayFunction& pick,
   plan.appRender = options.render;
   plan.appIds = options.appIds;
   plan.window = options.window;
+  plan.renderDocCaptures = options.renderDocCaptures;
   plan.pickRays = pick;
   plan.pickHits = pickHits;
   plan.memory = engine::machineMemoryBudget();
@@ -116,6 +122,7 @@ RunResult runResult(const RunRecord& run, const std::string& summaryLine, bool a
   result.maxDepthErrorQuanta = m.depthErrorQuanta.max;
   result.maxDistanceRelError = m.distanceRelError.max;
   result.notes = run.notes;
+  result.capture = run.capture;
   result.summaryLine = summaryLine + (appRender ? "  (app render)" : "");
   return result;
 }
@@ -206,6 +213,11 @@ std::string ReconcileResult::text() const {
            ": worst pixels\n";
     for (const PixelReport& pixel : run.worstPixels) out += "  " + pixel.text() + "\n";
     for (const std::string& image : run.images) out += "  image " + image + "\n";
+  }
+  for (const RunResult& run : runs) {
+    if (run.capture.empty()) continue;
+    out += run.scene + "/" + run.camera + " " + run.convention + " " + run.depthFormat +
+           ": the app's frame, captured by RenderDoc: " + run.capture + "\n";
   }
   out += std::to_string(runs.size()) +
          " runs: " + std::to_string(runs.size() - inconsistent - conventionErrors) +

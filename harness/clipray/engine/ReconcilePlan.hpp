@@ -68,6 +68,9 @@ struct ReconcilePlan {
   // The app's window: the app's render function draws into a framebuffer of its size, and the
   // described pixels are named in its coordinates too.
   std::optional<AppWindow> window;
+  // Where the RenderDoc captures of failing runs' app frames go (AppFrameCaptures.hpp); empty:
+  // no capture.
+  std::string renderDocCaptures;
 
   // The ray side: the app's picking function; empty: clipray's robust rays. Or the app's picking
   // with its own hits (pickHits, when set, in place of both).

@@ -13,6 +13,7 @@
 
 #include "clipray/InputError.hpp"
 #include "clipray/compare/DrawCallIds.hpp"
+#include "clipray/engine/AppFrameCaptures.hpp"
 #include "clipray/engine/AppStateNotes.hpp"
 #include "clipray/engine/MultisampleRun.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
@@ -107,6 +108,8 @@ class Runner {
   LoadedScenes loaded_;
   ImageEncoder encoder_;
   std::vector<std::vector<PixelReport>> worstPixels_;
+  // With ReconcilePlan::renderDocCaptures and the app's render function.
+  std::unique_ptr<AppFrameCaptures> captures_;
 };
 
 void Runner::loadScenes() {
@@ -246,8 +249,10 @@ gl::AppRaster Runner::drawWithApp(gl::GlContext& context, const Scene& scene, co
   frame.depthFormat = format;
   frame.samples = samples;
   frame.firstIds = PrimitiveIdTable(scene).firstIdOfObject;
+  if (captures_) captures_->start();
   gl::AppRaster drawn =
       gl::renderWithApp(context, plan_.appRender, std::move(frame), plan_.appIds, scene, &timings);
+  if (captures_) captures_->end();
   if (plan_.appIds == AppIds::PerDrawCall) {
     drawn.frame.ids = idsFromDrawCalls(scene, pass.camera, drawn.meshOfPixel, pass.frame);
   }
@@ -305,6 +310,10 @@ void Runner::runCamera(unsigned round, const Scene& scene, const Camera& camera,
         compared.run.notes.insert(compared.run.notes.end(), pass.pickNotes.begin(),
                                   pass.pickNotes.end());
         compared.run.conventionFindings = conventionFindings;
+        if (plan_.appRender && captures_) {
+          RunRecord* const frameRuns[] = {&compared.run};
+          captures_->settle(frameRuns);
+        }
         keepRun(lastRound, pass, raster, std::move(compared), runs);
       }
     }
@@ -411,12 +420,17 @@ void Runner::runCameraSampled(unsigned round, const Scene& scene, const Camera& 
           sampledRun = sampled.rasterAndCompare(renderer, format, vertexMode, samples);
         }
         const std::vector<engine::AnalyticPass>& passes = sampled.passesAt(sampledRun.positions);
+        std::vector<RunRecord*> frameRuns;
         for (std::size_t s = 0; s < sampledRun.samples.size(); ++s) {
           sampledRun.samples[s].run.conventionFindings = conventionFindings;
           sampledRun.samples[s].run.notes = notes;
           sampledRun.samples[s].run.notes.insert(sampledRun.samples[s].run.notes.end(),
                                                  passes[s].pickNotes.begin(),
                                                  passes[s].pickNotes.end());
+          frameRuns.push_back(&sampledRun.samples[s].run);
+        }
+        if (plan_.appRender && captures_) captures_->settle(frameRuns);
+        for (std::size_t s = 0; s < sampledRun.samples.size(); ++s) {
           keepRun(lastRound, passes[s], sampledRun.rasters[s], std::move(sampledRun.samples[s]),
                   runs);
         }
@@ -447,6 +461,9 @@ ReconcileOutcome Runner::runSteps() {
   gl::Renderer renderer(*context);  // loads GL and checks for 4.5 (glClipControl)
   checkViewports(renderer);
   checkSamples(renderer);
+  if (plan_.appRender && !plan_.renderDocCaptures.empty()) {
+    captures_ = std::make_unique<AppFrameCaptures>(plan_.renderDocCaptures);
+  }
 
   // The runs, round after round (images in the last round only), encoded on worker threads
   // beside the next runs.

@@ -237,6 +237,7 @@ nlohmann::json runJson(const RunRecord& run) {
                         {"unexplained", p.unexplained}}}};
   }
   if (!run.notes.empty()) json["notes"] = run.notes;
+  if (!run.capture.empty()) json["capture"] = run.capture;
   return json;
 }
 

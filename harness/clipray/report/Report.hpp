@@ -151,6 +151,9 @@ struct RunRecord {
   // The run's worst pixel as both sides saw it (engine::worstPixels' order: unexplained first,
   // then by error / tolerance); none where no pixel shows anything.
   std::optional<PixelHits> worstPixel;
+  // The RenderDoc capture of the app's frame kept for this failing run
+  // (ReconcileOptions::renderDocCaptures); empty: none.
+  std::string capture;
   // Filled by encodeRunImages (the four full-size PNGs), encodeThumbnails and encodeClusterCrops.
   std::vector<EncodedImage> images;
 };

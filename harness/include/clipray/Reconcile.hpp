@@ -89,6 +89,14 @@ struct ReconcileOptions {
   // (a raw PickRayFunction gets the camera sheared to put the sample on the pixel centre,
   // PickingCamera::samplePosition). 0: the scene's own (SceneBuilder::samples), else 1.
   int samples = 0;
+  // A folder for RenderDoc captures of the app's frames that fail: while RenderDoc is loaded into
+  // the process (LD_PRELOAD=librenderdoc.so, Debian's librenderdoc) and with the "egl" backend
+  // (RenderDoc hooks EGL, not OSMesa), each frame the render function draws is captured through
+  // RenderDoc's in-app API; a failing run's frame is kept as
+  // <scene>-<camera>-<convention>-<depth format>.rdc (RunResult::capture), to open in RenderDoc or
+  // give to `clipray reconcile --capture`; a passing run's is removed. Without RenderDoc a failing
+  // run notes why it has no capture. Empty: nothing is captured.
+  std::string renderDocCaptures;
 };
 
 // One pixel of a run, as both sides saw it.
@@ -136,6 +144,8 @@ struct RunResult {
   std::vector<std::string> notes;
   // The run's full-size PNGs and cluster crops written under ReconcileOptions::reportDirectory.
   std::vector<std::string> images;
+  // The RenderDoc capture of the app's frame, kept for a failing run (renderDocCaptures).
+  std::string capture;
   std::string summaryLine;  // the line `clipray reconcile` prints for this run
 };
 
