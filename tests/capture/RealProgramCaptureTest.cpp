@@ -50,10 +50,15 @@ Captured captureProgram(const std::string& out, const std::string& program,
                            "env LIBGL_ALWAYS_SOFTWARE=1 "
                            "/usr/bin/python3 '" CLIPRAY_CAPTURE_FRAME_SCRIPT "' '" +
                            out + "' --timeout 15 -- " + program + " >'" + log.string() + "' 2>&1";
-  const int raw = std::system(line.c_str());
   Captured captured;
-  captured.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  captured.output = testing::readText(log);
+  // xvfb-run -a can lose a race for a free display to another test's Xvfb starting at the same
+  // moment ("Xvfb failed to start"): then it is asked again, a few times.
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    const int raw = std::system(line.c_str());
+    captured.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+    captured.output = testing::readText(log);
+    if (captured.output.find("Xvfb failed to start") == std::string::npos) break;
+  }
   return captured;
 }
 

@@ -223,23 +223,25 @@ TEST(Direct3dStyleApp, CullingBackFacesRenderingAndPickingAgree) {
   EXPECT_TRUE(result.runs[0].notes.empty()) << result.text();
 }
 
-// Its buggy twin leaves glFrontFace at GL_CCW: the floor (seen from above) is culled and the box
-// shows its inside, where the app meant its outside: the rays, culling as the scene says the app
-// means to, disagree with the picture.
-// A failing frame handed to the developer as a RenderDoc capture
-// (ReconcileOptions::renderDocCaptures). run-consumer-test.cmake runs these tests a second time
-// with librenderdoc.so preloaded and CLIPRAY_CONSUMER_CAPTURES naming the folder, on the EGL
-// backend (RenderDoc hooks EGL, not OSMesa); without them they are skipped.
+// The culled Direct3D-style app's frame reconciled with its own picking, its frames captured into
+// `captures` while RenderDoc is loaded (ReconcileOptions::renderDocCaptures).
+clipray::ReconcileResult culledDirect3dRun(app::RenderBug bug, const std::string& backend,
+                                           const std::string& captures) {
+  clipray::ReconcileOptions options = direct3dOptions(bug, theCulledDirect3dApp);
+  if (!backend.empty()) options.backend = backend;
+  options.renderDocCaptures = captures;
+  return clipray::reconcile(appScene(theCulledDirect3dApp),
+                            appPicking(app::PickingBug::None, theCulledDirect3dApp), options);
+}
+
+// A failing frame handed to the developer as a RenderDoc capture. run-consumer-test.cmake runs
+// these tests a second time with librenderdoc.so preloaded and CLIPRAY_CONSUMER_CAPTURES naming
+// the folder, on the EGL backend (RenderDoc hooks EGL, not OSMesa); without them they are skipped.
 TEST(RenderDocCapture, AFailingFrameIsKeptAndAPassingOneIsNot) {
   const char* folder = std::getenv("CLIPRAY_CONSUMER_CAPTURES");
   if (!folder || !*folder) GTEST_SKIP() << "run by run-consumer-test.cmake under RenderDoc";
-  clipray::ReconcileOptions failing =
-      direct3dOptions(app::RenderBug::FrontFaceNotFlipped, theCulledDirect3dApp);
-  failing.backend = "egl";
-  failing.renderDocCaptures = folder;
   const clipray::ReconcileResult result =
-      clipray::reconcile(appScene(theCulledDirect3dApp),
-                         appPicking(app::PickingBug::None, theCulledDirect3dApp), failing);
+      culledDirect3dRun(app::RenderBug::FrontFaceNotFlipped, "egl", folder);
   ASSERT_EQ(result.runs.size(), 1u);
   EXPECT_FALSE(result.runs[0].consistent) << result.text();
   const std::string kept = std::string(folder) + "/direct3d-app-main-zo-upper-left-32f.rdc";
@@ -248,12 +250,7 @@ TEST(RenderDocCapture, AFailingFrameIsKeptAndAPassingOneIsNot) {
             std::string::npos)
       << result.text();
   // The correct app's frame passes: its capture is removed, and none is named.
-  clipray::ReconcileOptions passing = direct3dOptions(app::RenderBug::None, theCulledDirect3dApp);
-  passing.backend = "egl";
-  passing.renderDocCaptures = folder;
-  const clipray::ReconcileResult passed =
-      clipray::reconcile(appScene(theCulledDirect3dApp),
-                         appPicking(app::PickingBug::None, theCulledDirect3dApp), passing);
+  const clipray::ReconcileResult passed = culledDirect3dRun(app::RenderBug::None, "egl", folder);
   ASSERT_EQ(passed.runs.size(), 1u);
   EXPECT_TRUE(passed.runs[0].consistent) << passed.text();
   EXPECT_EQ(passed.runs[0].capture, "");
@@ -268,12 +265,8 @@ TEST(RenderDocCapture, AFailingFrameIsKeptAndAPassingOneIsNot) {
 // Without RenderDoc in the process, a failing run says why it has no capture.
 TEST(RenderDocCapture, WithoutRenderDocAFailingRunSaysWhy) {
   if (std::getenv("CLIPRAY_CONSUMER_CAPTURES")) GTEST_SKIP() << "RenderDoc is loaded";
-  clipray::ReconcileOptions failing =
-      direct3dOptions(app::RenderBug::FrontFaceNotFlipped, theCulledDirect3dApp);
-  failing.renderDocCaptures = ::testing::TempDir() + "clipray-consumer-captures";
-  const clipray::ReconcileResult result =
-      clipray::reconcile(appScene(theCulledDirect3dApp),
-                         appPicking(app::PickingBug::None, theCulledDirect3dApp), failing);
+  const clipray::ReconcileResult result = culledDirect3dRun(
+      app::RenderBug::FrontFaceNotFlipped, "", ::testing::TempDir() + "clipray-consumer-captures");
   ASSERT_EQ(result.runs.size(), 1u);
   EXPECT_EQ(result.runs[0].capture, "");
   EXPECT_EQ(result.runs[0].notes.back(),
@@ -282,6 +275,9 @@ TEST(RenderDocCapture, WithoutRenderDocAFailingRunSaysWhy) {
             "librenderdoc)");
 }
 
+// Its buggy twin leaves glFrontFace at GL_CCW: the floor (seen from above) is culled and the box
+// shows its inside, where the app meant its outside: the rays, culling as the scene says the app
+// means to, disagree with the picture.
 TEST(TestOfTheTest, Direct3dStyleCullingWithTheFrontFaceLeftAtCcwFails) {
   const clipray::ReconcileResult result = clipray::reconcile(
       appScene(theCulledDirect3dApp), appPicking(app::PickingBug::None, theCulledDirect3dApp),

@@ -239,9 +239,11 @@ GLuint useProgram(const char* vertexSource) {
   return program;
 }
 
-// One triangle at world z = 0 in a vertex array (attribute 0), bound for the draws.
-void bindTriangle() {
-  const float triangle[] = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+// The triangle every case draws: at world z = 0.
+constexpr float kTriangle[9] = {-1.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f};
+
+// A triangle (kTriangle unless told) in a vertex array (attribute 0), bound for the draws.
+GLuint bindTriangle(const float (&triangle)[9] = kTriangle) {
   GLuint vertexArray = 0, buffer = 0;
   glGenVertexArrays(1, &vertexArray);
   glBindVertexArray(vertexArray);
@@ -250,17 +252,22 @@ void bindTriangle() {
   glBufferData(GL_ARRAY_BUFFER, sizeof triangle, triangle, GL_STATIC_DRAW);
   glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
   glEnableVertexAttribArray(0);
+  return vertexArray;
 }
 
-// The shader path: a program with a `clipFromWorld` uniform and one triangle at world z = 0.
-void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Context context) {
+// The shader path's program, in use: its `clipFromWorld` uniform's location.
+GLint useCameraProgram() {
   const char* vertexSource =
       "#version 450 core\n"
       "layout(location = 0) in vec3 position;\n"
       "uniform mat4 clipFromWorld;\n"
       "void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }\n";
-  const GLuint program = useProgram(vertexSource);
-  const GLint location = glGetUniformLocation(program, "clipFromWorld");
+  return glGetUniformLocation(useProgram(vertexSource), "clipFromWorld");
+}
+
+// The shader path: a program with a `clipFromWorld` uniform and one triangle at world z = 0.
+void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Context context) {
+  const GLint location = useCameraProgram();
   bindTriangle();
   for (int frame = 0; frame < frames; ++frame) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
@@ -273,29 +280,14 @@ void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Co
 // Two draws of the shader path per frame: the triangle at world z = 0, then a larger one at
 // z = -1 behind it that covers it on screen (the depth test decides what the overlap shows).
 void drawOverlapping(const Matrix& uploaded, int frames, Context context) {
-  const char* vertexSource =
-      "#version 450 core\n"
-      "layout(location = 0) in vec3 position;\n"
-      "uniform mat4 clipFromWorld;\n"
-      "void main() { gl_Position = clipFromWorld * vec4(position, 1.0); }\n";
-  const GLuint program = useProgram(vertexSource);
-  const GLint location = glGetUniformLocation(program, "clipFromWorld");
-  const float behind[] = {-3.0f, -1.0f, -1.0f, 3.0f, -1.0f, -1.0f, 0.0f, 3.0f, -1.0f};
-  GLuint behindArray = 0, behindBuffer = 0;
-  glGenVertexArrays(1, &behindArray);
-  glBindVertexArray(behindArray);
-  glGenBuffers(1, &behindBuffer);
-  glBindBuffer(GL_ARRAY_BUFFER, behindBuffer);
-  glBufferData(GL_ARRAY_BUFFER, sizeof behind, behind, GL_STATIC_DRAW);
-  glVertexAttribPointer(0, 3, GL_FLOAT, GL_FALSE, 0, nullptr);
-  glEnableVertexAttribArray(0);
-  bindTriangle();
-  GLint front = 0;
-  glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &front);
+  const GLint location = useCameraProgram();
+  const float behind[9] = {-3.0f, -1.0f, -1.0f, 3.0f, -1.0f, -1.0f, 0.0f, 3.0f, -1.0f};
+  const GLuint behindArray = bindTriangle(behind);
+  const GLuint front = bindTriangle();
   for (int frame = 0; frame < frames; ++frame) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glUniformMatrix4fv(location, 1, GL_FALSE, uploaded.data());
-    glBindVertexArray(static_cast<GLuint>(front));
+    glBindVertexArray(front);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(behindArray);
     glDrawArrays(GL_TRIANGLES, 0, 3);
