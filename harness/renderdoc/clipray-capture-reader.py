@@ -9,6 +9,7 @@ replay stays in this script and the C++ core parses its lines; no Python in the 
   clipray-capture-reader.py CAPTURE.rdc --depth-after EID[,EID...]   (check --capture --verify)
   clipray-capture-reader.py CAPTURE.rdc --geometry            (the draws' clip-space triangles)
   clipray-capture-reader.py CAPTURE.rdc --geometry --depth-after EID[,EID...]   (reconcile --capture)
+  clipray-capture-reader.py CAPTURE.rdc --geometry-of EID[,EID...]  (those draws' triangles only)
 
 Lines:
   {"kind": "capture", "api": "OpenGL" | "OpenGLES", "events": N, "draws": N}
@@ -154,20 +155,29 @@ def shader_text(pipe, stage):
 def main():
     depth_events = None
     geometry = False
+    geometry_events = None
     words = sys.argv[2:]
+
+    def event_list(option, text):
+        try:
+            return [int(e) for e in text.split(",")]
+        except ValueError:
+            fail(option + ": expected event IDs separated by commas, got " + text)
+
     while words:
         if words[0] == "--geometry":
             geometry = True
             words = words[1:]
+        elif words[0] == "--geometry-of" and len(words) > 1:
+            geometry = True
+            geometry_events = event_list(words[0], words[1])
+            words = words[2:]
         elif words[0] == "--depth-after" and len(words) > 1:
-            try:
-                depth_events = [int(e) for e in words[1].split(",")]
-            except ValueError:
-                fail("--depth-after: expected event IDs separated by commas, got " + words[1])
+            depth_events = event_list(words[0], words[1])
             words = words[2:]
         else:
-            fail("usage: clipray-capture-reader.py CAPTURE.rdc [--geometry] "
-                 "[--depth-after EID[,EID...]]")
+            fail("usage: clipray-capture-reader.py CAPTURE.rdc [--geometry | --geometry-of "
+                 "EID[,EID...]] [--depth-after EID[,EID...]]")
     if len(sys.argv) < 2:
         fail("usage: clipray-capture-reader.py CAPTURE.rdc [--geometry] "
              "[--depth-after EID[,EID...]]")
@@ -204,7 +214,8 @@ def main():
             if state_only:
                 read(path, api, controller)
             if geometry:
-                read_geometry(api, controller, depth_events)
+                read_geometry(api, controller,
+                              geometry_events if geometry_events is not None else depth_events)
             for event in depth_events or []:
                 emit(depth_line(controller, event))
         finally:
@@ -237,7 +248,9 @@ def read(path, api, controller):
     programs = {r.resourceId: r.name for r in controller.GetResources()}
     calls = {}
     enabled = {}
-    cleared = None
+    # The last depth clear of each depth attachment: (its EID, the value), so that a draw is
+    # paired with the clear of the buffer it draws into, not of another pass's.
+    clears = {}
     frame = 0
     for action in actions:
         for event in action.events:
@@ -255,11 +268,14 @@ def read(path, api, controller):
         if action.flags & rd.ActionFlags.Clear:
             found = CLEAR_DEPTH.search(action.GetName(structured))
             if found:
-                cleared = float(found.group(1))
-                calls["clear"] = action.eventId
+                clears[str(action.depthOut)] = (action.eventId, float(found.group(1)))
         if action.flags & rd.ActionFlags.Drawcall:
-            emit(draw_line(controller, structured, action, frame, calls, enabled, cleared,
-                           textures, programs))
+            clear = clears.get(str(action.depthOut))
+            draw_calls = dict(calls)
+            if clear:
+                draw_calls["clear"] = clear[0]
+            emit(draw_line(controller, structured, action, frame, draw_calls, enabled,
+                           clear[1] if clear else None, textures, programs))
         if action.flags & rd.ActionFlags.Present:
             frame += 1
 
@@ -291,11 +307,12 @@ def draw_line(controller, structured, action, frame, calls, enabled, cleared, te
         "depth_format": depth_format(controller, textures,
                                      gl.framebuffer.drawFBO.depthAttachment.resourceId),
         "cleared_depth": cleared,
+        "depth_target": str(action.depthOut),
     }
     program = gl.vertexShader.programResourceId
     return {
         "kind": "draw", "event": action.eventId, "name": action.GetName(structured),
-        "frame": frame, "state": state, "calls": dict(calls),
+        "frame": frame, "state": state, "calls": calls,
         "program": programs.get(program, str(program)),
         "matrices": matrices_of(controller, pipe, gl),
         "shaders": {"vertex": shader_text(pipe, rd.ShaderStage.Vertex),

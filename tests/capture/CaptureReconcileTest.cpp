@@ -80,6 +80,8 @@ INSTANTIATE_TEST_SUITE_P(
         ReconcileCase{"d3d-style-culled", 0, "consistent", "zo-upper-left", 56, 56, 0, 0, 0},
         ReconcileCase{"d3d-style-culled-ccw", 1, "inconsistent", "zo-upper-left", 0, 56, 56, 0, 0},
         ReconcileCase{"overlap-reversed", 0, "consistent", "zo-reversed", 516, 516, 0, 0, 0},
+        // The shadow map's draw (its own depth buffer, cleared, 32x32) is not the frame's.
+        ReconcileCase{"zo-shadow-pass", 0, "consistent", "zo", 56, 56, 0, 0, 0},
         ReconcileCase{"overlap-reversed-with-less", 1, "inconsistent", "zo-reversed", 516, 516, 0,
                       56, 0},
         // One triangle: nothing lies behind it for GL_LESS to keep instead, so the pixels agree

@@ -181,6 +181,38 @@ TEST(RealProgramCapture, Glmark2Es2BuildChecksWithoutFindings) {
   EXPECT_EQ(run["depth_beyond_tolerance"], 0);
 }
 
+// glmark2-es2's refract scene: the horse drawn into a 640x480 refraction target of its own, then
+// into the window with that target projected onto it through a second projection, LightMatrix,
+// whose near plane (1.237) reads as a ZO build. gl_Position is computed with
+// ModelViewProjectionMatrix: the post-VS positions fit its depth row and not LightMatrix's, so
+// LightMatrix is left out with a note instead of a false depth-convention-mismatch error, and the
+// frame reconciles consistent, its refraction pass (another depth target) left out of it.
+TEST(RealProgramCapture, Glmark2Es2RefractChecksTheCameraNotTheLight) {
+  SKIP_WITHOUT("glmark2-es2");
+  TempFolder folder;
+  const Captured captured =
+      captureProgram("refract.rdc", "glmark2-es2 -s 160x120 -b refract:duration=30", folder);
+  ASSERT_EQ(captured.status, 0) << captured.output;
+  const nlohmann::json report = checkJson("--capture refract.rdc", folder, 0);
+  EXPECT_EQ(report["verdict"], "ok");
+  const nlohmann::json& findings = report["findings"];
+  ASSERT_EQ(codes(findings), std::vector<std::string>{"info:matrix-not-the-camera"});
+  EXPECT_EQ(findings[0]["message"].get<std::string>().rfind("uniform LightMatrix (Program ", 0), 0u)
+      << findings[0]["message"];
+  for (const nlohmann::json& group : report["groups"]) {
+    EXPECT_EQ(codes(group["findings"]), std::vector<std::string>{}) << group["source"];
+    EXPECT_EQ(group["properties"]["built_for"], "no") << group["source"];
+  }
+  const auto reconciled =
+      runClipray("reconcile --capture refract.rdc --out out --json", folder.path());
+  ASSERT_EQ(reconciled.status, 0) << reconciled.err;
+  const nlohmann::json run = nlohmann::json::parse(reconciled.out)["runs"][0];
+  EXPECT_EQ(run["verdict"], "consistent");
+  EXPECT_EQ(run["convention"], "no");
+  EXPECT_EQ(run["size"], (nlohmann::json{{"width", 160}, {"height", 120}}));
+  EXPECT_GT(run["raster_hits"].get<int>(), 1000);
+}
+
 // glxgears draws with legacy GL (glBegin, display lists): RenderDoc registers the context as not
 // supported and captures nothing; the capture script says so.
 TEST(RealProgramCapture, LegacyGlxgearsIsRefusedByRenderDoc) {

@@ -17,7 +17,8 @@
 // (zo with GL_DEPTH_CLAMP enabled); arb-shader-objects (no, the camera a GLSL 1.10 uniform set
 // through the ARB_shader_objects entry points); overlap-reversed (reversed-Z done right, two
 // draws: the triangle, then a larger one behind it) and its twin overlap-reversed-with-less
-// (GL_LESS over a clear of 1: the one behind wins where they overlap).
+// (GL_LESS over a clear of 1: the one behind wins where they overlap); zo-shadow-pass (zo, the
+// triangle first drawn into a 32x32 shadow map of its own, then into the app's framebuffer).
 // Capture mode: with CLIPRAY_CAPTURE_RDC naming a file and RenderDoc's librenderdoc.so preloaded
 // (LD_PRELOAD), the app captures everything it draws after creating its context (all FRAMES) as
 // one RenderDoc frame through the in-app API and writes it to that file (`clipray check
@@ -272,6 +273,40 @@ void drawWithShaders(const Matrix& uploaded, GLboolean transpose, int frames, Co
   for (int frame = 0; frame < frames; ++frame) {
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glUniformMatrix4fv(location, 1, transpose, uploaded.data());
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    eglSwapBuffers(context.display, context.surface);
+  }
+}
+
+// A shadow-map pass before the frame's own: the triangle drawn into a 32x32 depth-only
+// framebuffer of its own (cleared, its own viewport), then into the app's framebuffer as
+// drawWithShaders draws it. The camera is the same in both: what matters is which depth buffer
+// each draw writes.
+void drawWithShadowPass(const Matrix& uploaded, int frames, Context context) {
+  GLint appFramebuffer = 0;
+  glGetIntegerv(GL_DRAW_FRAMEBUFFER_BINDING, &appFramebuffer);
+  GLuint shadow = 0, shadowDepth = 0;
+  glGenFramebuffers(1, &shadow);
+  glBindFramebuffer(GL_FRAMEBUFFER, shadow);
+  glGenTextures(1, &shadowDepth);
+  glBindTexture(GL_TEXTURE_2D, shadowDepth);
+  glTexStorage2D(GL_TEXTURE_2D, 1, GL_DEPTH_COMPONENT32F, 32, 32);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, shadowDepth, 0);
+  glDrawBuffer(GL_NONE);
+  if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
+    fail("shadow framebuffer incomplete");
+  }
+  const GLint location = useCameraProgram();
+  bindTriangle();
+  for (int frame = 0; frame < frames; ++frame) {
+    glUniformMatrix4fv(location, 1, GL_FALSE, uploaded.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, shadow);
+    glViewport(0, 0, 32, 32);
+    glClear(GL_DEPTH_BUFFER_BIT);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindFramebuffer(GL_FRAMEBUFFER, static_cast<GLuint>(appFramebuffer));
+    glViewport(0, 0, 64, 48);
+    glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     eglSwapBuffers(context.display, context.surface);
   }
@@ -596,6 +631,10 @@ int main(int argc, char** argv) {
     glDepthFunc(GL_LESS);
     glEnable(GL_DEPTH_CLAMP);
     drawWithShaders(multiply(perspective(true), view), GL_FALSE, frames, context);
+  } else if (name == "zo-shadow-pass") {
+    glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+    glDepthFunc(GL_LESS);
+    drawWithShadowPass(multiply(perspective(true), view), frames, context);
   } else if (name == "zo-depth-texture") {
     glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
     glDepthFunc(GL_LESS);

@@ -221,7 +221,8 @@ CaptureReconcileResult reconcileCapture(const CaptureReconcileOptions& options) 
   std::vector<const CaptureCheckResult::DrawState*> frame;
   for (const auto& state : states) {
     const TraceDepthState& depth = state.draw.depth;
-    if (depth.clearCall != lastDepth.clearCall) continue;
+    // The frame: the draws into the last draw's depth attachment since its clear.
+    if (state.depthTarget != last.depthTarget || depth.clearCall != lastDepth.clearCall) continue;
     const std::string name = eventText(state.draw.call);
     if (!depth.depthTest || !depth.depthWrite) {
       notes.push_back(name + ": not compared (" +

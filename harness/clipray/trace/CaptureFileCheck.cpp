@@ -27,6 +27,7 @@
 #include "clipray/check/CheckText.hpp"
 #include "clipray/io/InputFile.hpp"
 #include "clipray/trace/CaptureDraw.hpp"
+#include "clipray/trace/CaptureGeometry.hpp"
 #include "clipray/trace/ReplayDepth.hpp"
 
 namespace clipray::trace {
@@ -155,7 +156,7 @@ nlohmann::json drawSummary(const nlohmann::json& line, const TraceDraw& draw) {
 class LineReader {
  public:
   LineReader(const std::string& path, std::optional<FrameRange> range)
-      : path_(path), range_(range), collector_(path, FrameRange{}) {}
+      : path_(path), range_(range) {}
 
   void add(std::string_view text) {
     if (!text.starts_with("{")) {
@@ -193,9 +194,9 @@ class LineReader {
     ++drawsInRange_;
     const nlohmann::json& viewport = line["state"]["viewport"];
     result_.drawStates.push_back({draw, static_cast<int>(std::lround(viewport[0].get<double>())),
-                                  static_cast<int>(std::lround(viewport[1].get<double>()))});
+                                  static_cast<int>(std::lround(viewport[1].get<double>())),
+                                  line["state"].value("depth_target", std::string())});
     framesSeen_ = std::max(framesSeen_, draw.frame + 1);
-    collector_.addDraw(draw);
   }
 
   std::string otherLines() const {
@@ -224,16 +225,14 @@ class LineReader {
       throw InputError(message);
     }
     result_.drawRange = range_;
-    result_.check = collector_.finish();
-    // The collector counts the frames a dump's swaps end; a capture's draws carry their frame.
-    result_.check.framesSeen = framesSeen_;
     return std::move(result_);
   }
+
+  std::uint64_t framesSeen() const { return framesSeen_; }
 
  private:
   std::string path_;
   std::optional<FrameRange> range_;
-  TraceCheckCollector collector_;
   CaptureCheckResult result_;
   std::deque<std::string> others_;
   bool sawCapture_ = false;
@@ -246,6 +245,65 @@ class LineReader {
 FrameRange parseDrawRange(const std::string& text) {
   return parseNumberRange(text, "--draws", "RenderDoc event IDs");
 }
+
+namespace {
+
+// A draw with more than one projective matrix among its uniforms (a camera and a light's or a
+// texture's projection): its vertex shader's output positions tell which one gl_Position is
+// computed with (fitsClipPositions); the others are left out of the draw's matrices, so that a
+// light's projection is not checked as the camera. One info finding per matrix left out.
+std::vector<Finding> keepCameraMatrices(const std::string& capturePath,
+                                        CaptureCheckResult& result) {
+  std::string events;
+  for (const CaptureCheckResult::DrawState& state : result.drawStates) {
+    if (state.draw.matrices.size() > 1) {
+      events += (events.empty() ? "" : ",") + std::to_string(state.draw.call);
+    }
+  }
+  if (events.empty()) return {};
+  std::map<std::uint64_t, CapturedDrawGeometry> geometries;
+  for (const nlohmann::json& line : readCaptureLines(capturePath, {"--geometry-of", events})) {
+    if (line.value("kind", "") != "geometry") continue;
+    try {
+      CapturedDrawGeometry geometry = capturedDrawGeometry(line);
+      geometries[geometry.event] = std::move(geometry);
+    } catch (const std::invalid_argument& error) {
+      throw InputError(capturePath + ": the capture reader's geometry line: " + error.what());
+    }
+  }
+  std::vector<Finding> findings;
+  std::map<std::string, std::uint64_t> reported;  // a source left out, at its first draw
+  for (CaptureCheckResult::DrawState& state : result.drawStates) {
+    std::vector<TracedMatrix>& matrices = state.draw.matrices;
+    const auto geometry = geometries.find(state.draw.call);
+    if (matrices.size() < 2 || geometry == geometries.end()) continue;
+    std::vector<TracedMatrix> kept;
+    std::vector<std::string> leftOut;
+    for (const TracedMatrix& matrix : matrices) {
+      if (fitsClipPositions(matrix.matrix, geometry->second.clip) == ClipFit::DoesNotFit) {
+        leftOut.push_back(matrix.source);
+      } else {
+        kept.push_back(matrix);
+      }
+    }
+    // Where none fits, which one is the camera is unknown: all stay.
+    if (kept.empty() || leftOut.empty()) continue;
+    matrices = std::move(kept);
+    for (const std::string& source : leftOut) {
+      if (!reported.emplace(source, state.draw.call).second) continue;
+      findings.push_back(
+          {"info", "matrix-not-the-camera",
+           source + " (at draw " + std::to_string(state.draw.call) +
+               ") is a projection gl_Position is not computed with: the draw's post-vertex-shader "
+               "positions do not fit its depth row (z = A w + B), so it is not checked as the "
+               "camera (a light's or a projected texture's matrix)",
+           ""});
+    }
+  }
+  return findings;
+}
+
+}  // namespace
 
 CaptureCheckResult checkCapture(const std::string& capturePath, const std::string& draws) {
   std::optional<FrameRange> range;
@@ -286,7 +344,16 @@ CaptureCheckResult checkCapture(const std::string& capturePath, const std::strin
     throw InputError(capturePath + ": the capture reader exited with status " +
                      std::to_string(status) + " (" + lines.otherLines() + ")");
   }
-  return lines.finish(draws);
+  CaptureCheckResult result = lines.finish(draws);
+  std::vector<Finding> notCameras = keepCameraMatrices(capturePath, result);
+  TraceCheckCollector collector(capturePath, FrameRange{});
+  for (const CaptureCheckResult::DrawState& state : result.drawStates)
+    collector.addDraw(state.draw);
+  result.check = collector.finish();
+  // The collector counts the frames a dump's swaps end; a capture's draws carry their frame.
+  result.check.framesSeen = lines.framesSeen();
+  result.check.findings.insert(result.check.findings.end(), notCameras.begin(), notCameras.end());
+  return result;
 }
 
 std::optional<DepthImage> captureDepthImage(const nlohmann::json& line, std::string& failure) {

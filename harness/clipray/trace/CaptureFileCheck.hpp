@@ -31,10 +31,12 @@ struct CaptureCheckResult {
   // the program and its shaders' text), as the reader wrote it.
   std::vector<nlohmann::json> draws;
   // Every draw in the range as the state model read it, in event order (reconcile --capture),
-  // with its viewport's lower-left corner (the state keeps the viewport's size only).
+  // with its viewport's lower-left corner (the state keeps the viewport's size only) and its
+  // depth attachment (RenderDoc's resource id; the depth clear the state names is that one's).
   struct DrawState {
     TraceDraw draw;
     int viewportX = 0, viewportY = 0;
+    std::string depthTarget;
   };
   std::vector<DrawState> drawStates;
 };

@@ -1,5 +1,6 @@
 #include "clipray/trace/CaptureGeometry.hpp"
 
+#include <cmath>
 #include <cstring>
 #include <stdexcept>
 
@@ -33,6 +34,29 @@ CapturedDrawGeometry capturedDrawGeometry(const nlohmann::json& line) {
     draw.clip.emplace_back(values[k], values[k + 1], values[k + 2], values[k + 3]);
   }
   return draw;
+}
+
+ClipFit fitsClipPositions(const glm::dmat4& clipFromWorld, const std::vector<glm::dvec4>& clip) {
+  // Rows of a column-major glm matrix: row r is (m[0][r], m[1][r], m[2][r], m[3][r]).
+  const glm::dvec4 rowZ(clipFromWorld[0][2], clipFromWorld[1][2], clipFromWorld[2][2],
+                        clipFromWorld[3][2]);
+  const glm::dvec4 rowW(clipFromWorld[0][3], clipFromWorld[1][3], clipFromWorld[2][3],
+                        clipFromWorld[3][3]);
+  const glm::dvec3 zPart(rowZ), wPart(rowW);
+  const double wLength2 = glm::dot(wPart, wPart);
+  if (clip.empty() || !(wLength2 > 0.0)) return ClipFit::CannotTell;
+  // The least-squares A of zPart = A wPart; the matrix has the structure where the rest is noise
+  // (its float32 entries: a relative 1e-5 leaves room for their rounding through V M).
+  const double a = glm::dot(zPart, wPart) / wLength2;
+  if (glm::length(zPart - a * wPart) > 1e-5 * glm::length(zPart)) return ClipFit::CannotTell;
+  const double b = rowZ.w - a * rowW.w;
+  // Each position as the vertex shader wrote it (float32): z against A w + B, within a tolerance
+  // of float rounding through a few operations on terms of those sizes.
+  for (const glm::dvec4& p : clip) {
+    const double scale = std::abs(p.z) + std::abs(a * p.w) + std::abs(b);
+    if (std::abs(p.z - (a * p.w + b)) > 1e-4 * scale) return ClipFit::DoesNotFit;
+  }
+  return ClipFit::Fits;
 }
 
 }  // namespace clipray::trace

@@ -25,4 +25,13 @@ struct CapturedDrawGeometry {
 // what is wrong: missing fields, base64 that does not hold 12 floats per triangle).
 CapturedDrawGeometry capturedDrawGeometry(const nlohmann::json& line);
 
+// Whether `clipFromWorld` (a projective matrix among a draw's uniforms) is the one its vertex
+// shader computed gl_Position with. A perspective matrix P V M (any affine V M) has a depth row
+// that is an affine function of its w row, row_z = A row_w + B (0, 0, 0, 1), so every clip position
+// it produces satisfies z = A w + B; another projection's (a light's or a texture's, with other
+// near and far planes) A and B do not fit the draw's positions. CannotTell for a matrix without
+// that structure (orthographic: w constant; an oblique near plane) or a draw without positions.
+enum class ClipFit { Fits, DoesNotFit, CannotTell };
+ClipFit fitsClipPositions(const glm::dmat4& clipFromWorld, const std::vector<glm::dvec4>& clip);
+
 }  // namespace clipray::trace
