@@ -349,6 +349,29 @@ TEST(CaptureCli, BadCaptures) {
                 "CLIPRAY_CAPTURE_PYTHON=/nonexistent/python3");
 }
 
+// RenderDoc's replay now and then dies by a signal as it starts (runReader in
+// CaptureFileCheck.cpp): a reader killed before its first line runs once more, and a second such
+// death is reported with its status.
+TEST(CaptureCli, ReaderKilledAsItStartsRunsOnceMore) {
+  TempFolder folder;
+  ASSERT_EQ(captureCase("zo", folder), "");
+  // Stand-ins for Python, given the reader's path and arguments.
+  std::ofstream(folder.path() / "crash-once")
+      << "#!/bin/sh\nif [ ! -e crashed ]; then : > crashed; kill -SEGV $$; fi\n"
+         "exec /usr/bin/python3 \"$@\"\n";
+  std::ofstream(folder.path() / "crash-always") << "#!/bin/sh\nkill -SEGV $$\n";
+  for (const char* name : {"crash-once", "crash-always"}) {
+    std::filesystem::permissions(folder.path() / name, std::filesystem::perms::owner_all);
+  }
+  const auto once =
+      runClipray("check --capture zo.rdc", folder.path(), "CLIPRAY_CAPTURE_PYTHON=./crash-once");
+  EXPECT_EQ(once.status, 0) << once.err;
+  EXPECT_TRUE(std::filesystem::exists(folder.path() / "crashed"));
+  expectRefused("--capture zo.rdc", folder,
+                "zo.rdc: the capture reader exited with status 139 (no output)",
+                "CLIPRAY_CAPTURE_PYTHON=./crash-always");
+}
+
 // RenderDoc captures core-profile contexts only: the compatibility-profile app (the fixed-function
 // case) gets no capture, and says so.
 TEST(CaptureCli, CompatibilityProfileIsNotCaptured) {
