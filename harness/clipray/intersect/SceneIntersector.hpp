@@ -39,6 +39,7 @@ struct Hit {
 
 namespace detail {
 struct PacketKernels;
+struct ScreenTriangles;
 // Storage layout of SceneIntersector (internal; shared with the packet kernels).
 struct BvhTriangle {
   glm::dvec3 a, b, c;  // relative to the reference point
@@ -135,6 +136,7 @@ class SceneIntersector {
 
  private:
   friend struct detail::PacketKernels;
+  friend struct detail::ScreenTriangles;
   friend class FrameBins;
   using Triangle = detail::BvhTriangle;
   using Node = detail::BvhNode;

@@ -1,0 +1,53 @@
+#pragma once
+// The closest triangle of every pixel decided in screen space, as a rasterizer decides it, with a
+// bound on every decision that makes it the ray path's decision (intersectFrame with the camera's
+// robust rays, RobustRays.hpp): a pixel the bounds decide is the hit the ray path finds, bit for
+// bit; a pixel they cannot decide is traced by the ray path. PickingCamera::clipFromWorld:
+// column-major, p_clip = clipFromWorld * p_world, a lower-left origin's, built for its mode.
+//
+// Per triangle, the three edge functions of homogeneous rasterization (Olano and Greer 1997:
+// E_k(s) = det[h_j, h_l, s] over the vertices' clip (x, y, w) and the pixel centre's NDC
+// s = (x, y, 1), positive inside where det[h0, h1, h2] is) and the NDC depth plane
+// z(s) = sum_k E_k(s) z_k / det, in double. A pixel centre whose every edge function exceeds its
+// margin is inside the projection of the triangle's part in front of the eye, and every ray that
+// stays within Delta of the centre (the ray path's rays do: ScreenEvaluator.cpp bounds their
+// deviation from the camera's matrices) crosses the triangle; one below minus its margin is
+// outside, and no such ray meets it. The nearest of the triangles a pixel's ray crosses is decided
+// on the depth plane with the same margins. Pixels where a margin is not cleared, or where two
+// triangles lie within it of each other, are the ray path's.
+
+#include <cstddef>
+#include <string>
+
+#include "clipray/Picking.hpp"
+#include "clipray/compare/Frames.hpp"
+#include "clipray/intersect/SceneIntersector.hpp"
+
+namespace clipray {
+
+// What the evaluator did with a frame's pixels.
+struct ScreenEvaluation {
+  // Whether the frame was evaluated in screen space; else `reason` says why not, and the frame's
+  // hits are the ray path's (intersectFrame with the camera).
+  bool used = false;
+  std::string reason;
+  std::size_t background = 0;  // no triangle can be hit: no ray computed
+  std::size_t decided = 0;     // one triangle is the nearest: its watertight test gives t
+  std::size_t contested = 0;   // several triangles within the depth margin: each tested
+  std::size_t traced = 0;      // a margin not cleared: the ray path's full search
+  // Decided or contested pixels whose tested triangles all missed (a bound that did not hold):
+  // traced too. Zero unless a bound is wrong; the tests hold it at zero.
+  std::size_t boundMisses = 0;
+  // The bound on how far the ray path's rays stray from their pixel centres, in NDC.
+  double rayDeviationNdc = 0.0;
+};
+
+// Fills frame.hits for the camera's robust rays (frame from robustRayFrame(camera)) with the same
+// hits intersectFrame(frame, intersector, camera) gives, bit for bit. Frames outside what the
+// screen decisions cover (analytic primitives, user clip planes, depth clamp, stored rays, a
+// camera whose rays' deviation has no bound) are traced by the ray path, with the reason.
+ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
+                                             const SceneIntersector& intersector,
+                                             const PickingCamera& camera, unsigned threadCount = 0);
+
+}  // namespace clipray

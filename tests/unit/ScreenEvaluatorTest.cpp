@@ -1,0 +1,149 @@
+// The screen-space evaluator (ScreenEvaluator.hpp) gives the ray path's hits bit for bit: the
+// fast-path scene through the binned cameras, and random mesh scenes through every hard-case
+// camera (telephoto, far from the origin, reversed-Z, infinite far, oblique, orthographic, tiny
+// and odd viewports). No decided pixel's test may miss (a bound that did not hold), and most
+// pixels must be decided without the ray path's search.
+
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include "clipray/intersect/ScreenEvaluator.hpp"
+#include "support/FastPathScenes.hpp"
+#include "support/RandomScenes.hpp"
+
+namespace clipray {
+namespace {
+
+using testing::fast_path::intersectorSeenFrom;
+
+// The frame's hits through the screen and through the rays; the evaluation.
+ScreenEvaluation expectTheRayPathsHits(const Scene& scene, const PickingCamera& camera,
+                                       const std::string& what) {
+  const SceneIntersector intersector = intersectorSeenFrom(scene, camera);
+  AnalyticFrame byRays = robustRayFrame(camera);
+  intersectFrame(byRays, intersector, camera, 2);
+  AnalyticFrame byScreen = robustRayFrame(camera);
+  const ScreenEvaluation evaluation = intersectFrameInScreenSpace(byScreen, intersector, camera, 2);
+  EXPECT_EQ(byScreen.hits.size(), byRays.hits.size()) << what;
+  for (std::size_t i = 0; i < byRays.hits.size() && i < byScreen.hits.size(); ++i) {
+    const Hit& a = byScreen.hits[i];
+    const Hit& b = byRays.hits[i];
+    if (a.primitiveId != b.primitiveId ||
+        std::bit_cast<std::uint64_t>(a.t) != std::bit_cast<std::uint64_t>(b.t)) {
+      ADD_FAILURE() << what << ", pixel " << i % camera.viewport.width << ","
+                    << i / camera.viewport.width << ": screen " << a.primitiveId << " at " << a.t
+                    << ", rays " << b.primitiveId << " at " << b.t;
+      break;
+    }
+  }
+  EXPECT_EQ(evaluation.boundMisses, 0u) << what;
+  if (evaluation.used) {
+    EXPECT_EQ(evaluation.background + evaluation.decided + evaluation.contested + evaluation.traced,
+              byRays.hits.size())
+        << what;
+  }
+  return evaluation;
+}
+
+TEST(ScreenEvaluator, TheBinnedCamerasGetTheRayPathsHits) {
+  Scene scene = testing::fast_path::testScene();
+  for (const Viewport size : {Viewport{61, 47}, Viewport{320, 240}}) {
+    for (const testing::fast_path::BinnedCase& c : testing::fast_path::binnedCases(size)) {
+      const std::string what = std::string(c.name) + " at " + std::to_string(size.width);
+      const ScreenEvaluation e = expectTheRayPathsHits(scene, c.camera, what);
+      ASSERT_TRUE(e.used) << what << ": " << e.reason;
+      const std::size_t pixels = static_cast<std::size_t>(size.width) * size.height;
+      // The decisions' margins are 10^-8 of a pixel and less here: the ray path's search is
+      // left for the pixels where two triangles meet within them (coplanar decals, shared
+      // edges through a centre) and for triangles crossing the near plane.
+      EXPECT_LT(e.traced * 20, pixels)
+          << what << ": " << e.traced << " traced, " << e.decided << " decided, " << e.contested
+          << " contested, " << e.background << " background";
+      EXPECT_GT(e.decided, pixels / 4) << what;
+      EXPECT_GT(e.rayDeviationNdc, 0.0) << what;
+      EXPECT_LT(e.rayDeviationNdc, 1e-9) << what;
+    }
+  }
+}
+
+TEST(ScreenEvaluator, RandomMeshScenesThroughTheHardCaseCamerasGetTheRayPathsHits) {
+  std::uint64_t seed = 1;
+  int evaluated = 0, scenes = 0;
+  std::size_t traced = 0, pixels = 0;
+  for (const Viewport size : {Viewport{96, 64}, Viewport{101, 61}}) {
+    for (const HardCase& hardCase : hardCases(size)) {
+      const Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
+      if (scene.objects.empty()) continue;
+      ++scenes;
+      const PickingCamera camera{hardCase.inputs.clipFromWorld, hardCase.inputs.mode,
+                                 hardCase.viewport};
+      const std::string what = scene.name + " " + hardCase.convention() + " " +
+                               std::to_string(size.width) + "x" + std::to_string(size.height);
+      const ScreenEvaluation e = expectTheRayPathsHits(scene, camera, what);
+      if (!e.used) {
+        std::cout << what << ": rays (" << e.reason << ")\n";
+        continue;
+      }
+      ++evaluated;
+      traced += e.traced;
+      pixels += e.background + e.decided + e.contested + e.traced;
+    }
+  }
+  std::cout << evaluated << " of " << scenes << " scenes evaluated in screen space, " << traced
+            << " of " << pixels << " pixels traced\n";
+  EXPECT_GT(evaluated * 4, scenes * 3);
+}
+
+// A bumpy grid whose vertices lie on pixel centres' lines of sight, every third pixel: its
+// edges and vertices pass through pixel centres (up to the vertices' rounding), where the edge
+// functions are zero and only the ray path can decide.
+TEST(ScreenEvaluator, EdgesAndVerticesThroughPixelCentresAreTracedAndMatch) {
+  for (const testing::fast_path::BinnedCase& c : testing::fast_path::binnedCases({64, 48})) {
+    const RobustRayGenerator generator(c.camera.clipFromWorld, c.camera.mode);
+    MeshObject grid;
+    grid.name = "grid";
+    const int cells = 12;
+    for (int j = 0; j <= cells; ++j) {
+      for (int i = 0; i <= cells; ++i) {
+        const Ray ray = generator.generateForPixel(8 + 3 * i, 5 + 3 * j, c.camera.viewport);
+        const double t = (std::isfinite(ray.tMax) ? 0.05 * ray.tMax : 5.0) *
+                         (1.0 + 0.2 * std::sin(0.7 * i) * std::cos(0.5 * j));
+        grid.worldPositions.push_back(ray.origin + t * ray.direction);
+      }
+    }
+    grid.triangles = testing::gridTriangles(cells);
+    Scene scene;
+    scene.objects.push_back(grid);
+    const ScreenEvaluation e = expectTheRayPathsHits(scene, c.camera, c.name);
+    ASSERT_TRUE(e.used) << c.name << ": " << e.reason;
+    // Every shared edge crosses pixel centres: those pixels are the ray path's.
+    EXPECT_GT(e.traced, 100u) << c.name;
+    EXPECT_GT(e.decided, 100u) << c.name;
+  }
+}
+
+TEST(ScreenEvaluator, FramesOutsideItsDecisionsAreTheRayPathsWithTheReason) {
+  const Scene withPrimitives = testing::fast_path::testSceneWithPrimitives();
+  const PickingCamera camera = testing::fast_path::binnedCases()[0].camera;
+  const ScreenEvaluation e = expectTheRayPathsHits(withPrimitives, camera, "primitives");
+  EXPECT_FALSE(e.used);
+  EXPECT_EQ(e.reason, "analytic primitives stay on rays");
+
+  const Scene scene = testing::fast_path::testScene();
+  PickingCamera clipped = camera;
+  clipped.clipPlanes = {glm::dvec4(0.0, 1.0, 0.0, -0.5)};
+  AnalyticFrame frame = robustRayFrame(clipped);
+  const SceneIntersector intersector = intersectorSeenFrom(scene, clipped);
+  const ScreenEvaluation planes = intersectFrameInScreenSpace(frame, intersector, clipped, 2);
+  EXPECT_FALSE(planes.used);
+  EXPECT_EQ(planes.reason, "user clip planes are not evaluated yet");
+}
+
+}  // namespace
+}  // namespace clipray
