@@ -57,6 +57,7 @@ struct ReconcileArguments {
   std::string out = "report";
   std::string images = "failing";
   std::string kernels = "simd";
+  std::string analytic = "rays";
   std::string junit;  // empty: no JUnit file
   bool json = false;
   unsigned threads = 0;
@@ -137,6 +138,11 @@ engine::ReconcilePlan planOf(const ReconcileArguments& arguments) {
                      "\"; expected one of: simd, portable");
   }
   plan.kernels = arguments.kernels == "simd" ? KernelChoice::Simd : KernelChoice::Portable;
+  plan.analytic = analyticPathNamed(arguments.analytic);
+  if (!plan.analytic) {
+    throw InputError("--analytic: unknown value \"" + arguments.analytic +
+                     "\"; expected one of: rays, screen");
+  }
   if (!arguments.conventions.empty()) {
     plan.conventions =
         parseList<DepthMode>("--conventions", arguments.conventions, DepthMode::parse,
@@ -212,7 +218,7 @@ int runPageReconcile(const ReconcileArguments& arguments, const CLI::App& app) {
   }
   for (const char* option :
        {"--backend", "--conventions", "--depth-formats", "--vertex-modes", "--size", "--images",
-        "--junit", "--kernels", "--shard", "--max-memory", "--threads", "--rounds"}) {
+        "--junit", "--kernels", "--analytic", "--shard", "--max-memory", "--threads", "--rounds"}) {
     if (app.count(option) > 0) {
       throw InputError(std::string(option) + ": not with --page (the page draws itself)");
     }
@@ -274,8 +280,8 @@ int runCaptureReconcile(const ReconcileArguments& arguments, const CLI::App& app
   if (!arguments.page.empty()) throw InputError("--capture: not with --page");
   for (const char* option :
        {"--backend", "--conventions", "--depth-formats", "--vertex-modes", "--size", "--images",
-        "--junit", "--kernels", "--shard", "--max-memory", "--rounds", "--samples", "--grid",
-        "--frames", "--timeout", "--no-toggle"}) {
+        "--junit", "--kernels", "--analytic", "--shard", "--max-memory", "--rounds", "--samples",
+        "--grid", "--frames", "--timeout", "--no-toggle"}) {
     if (app.count(option) > 0) {
       throw InputError(std::string(option) + ": not with --capture (the capture holds the frame)");
     }
@@ -333,6 +339,12 @@ CommandRunner addReconcileOptions(CLI::App& app) {
                  "Code for the analytic side: simd (AVX2 kernels where the CPU has them), or "
                  "portable (one ray and one pixel at a time in double: the same report and "
                  "images, slower; shows the kernels change nothing)")
+      ->capture_default_str();
+  app.add_option("--analytic", arguments->analytic,
+                 "How clipray's own rays find their hits: rays (each pixel's robust ray traced), "
+                 "or screen (each triangle's coverage and depth decided at the pixel centres, "
+                 "with bounds that make every decision the ray path's; the pixels they cannot "
+                 "decide traced): the same hits bit for bit")
       ->capture_default_str();
   app.add_option("--shard", arguments->shard,
                  "I/N: only shard I of N (1-based) of the scene/camera pairs, split by their "

@@ -1,7 +1,8 @@
-// `clipray reconcile --kernels portable` writes what the SIMD kernels write: every shipped scene
-// under every convention and depth format, report.json equal but for what is measured (timings)
-// or stamped (command line, start time), and every other file byte for byte (random scenes through
-// the hard-case cameras are checked in process: tests/gl/KernelSamenessTest.cpp).
+// `clipray reconcile --kernels portable` and `--analytic screen` write what the SIMD kernels on the
+// ray path write: every shipped scene under every convention and depth format, report.json equal
+// but for what is measured (timings) or stamped (command line, start time), and every other file
+// byte for byte (random scenes through the hard-case cameras are checked in process:
+// tests/gl/KernelSamenessTest.cpp, tests/unit/ScreenEvaluatorTest.cpp).
 
 #include <gtest/gtest.h>
 
@@ -42,7 +43,38 @@ nlohmann::json withoutMeasurements(nlohmann::json report) {
   return report;
 }
 
-TEST(KernelSamenessCli, ThePortableCodeWritesWhatTheKernelsWriteForEveryShippedScene) {
+// Every file of `other` as `base` wrote it, but for what is measured or stamped.
+void expectTheSameOutput(const std::filesystem::path& base, const std::filesystem::path& other,
+                         const std::string& what) {
+  std::map<std::string, std::string> baseFiles = filesUnder(base);
+  std::map<std::string, std::string> otherFiles = filesUnder(other);
+  const auto baseReport = nlohmann::json::parse(baseFiles.at("report.json"));
+  const auto otherReport = nlohmann::json::parse(otherFiles.at("report.json"));
+  ASSERT_GT(baseReport["runs"].size(), testing::kUnderAddressSanitizer ? 40u : 200u);
+  const nlohmann::json patch =
+      nlohmann::json::diff(withoutMeasurements(baseReport), withoutMeasurements(otherReport));
+  EXPECT_TRUE(patch.empty()) << what << ": report.json differs by " << patch;
+  // index.html shows the timings and the command line; the lock file is the output folder's.
+  for (const char* measured : {"report.json", "index.html", ".clipray.lock"}) {
+    baseFiles.erase(measured);
+    otherFiles.erase(measured);
+  }
+  ASSERT_EQ(baseFiles.size(), otherFiles.size()) << what;
+  int images = 0;
+  for (const auto& [path, bytes] : baseFiles) {
+    const auto found = otherFiles.find(path);
+    ASSERT_NE(found, otherFiles.end()) << path << " is missing from " << what;
+    EXPECT_TRUE(bytes == found->second) << what << ": " << path << " differs";
+    images += path.ends_with(".png") ? 1 : 0;
+  }
+  // Every run's four images and two thumbnails, and crops.
+  EXPECT_GT(images, 4 * (testing::kUnderAddressSanitizer ? 40 : 200)) << what;
+}
+
+// The portable code and the screen path (--analytic screen, ScreenEvaluator.hpp) against the
+// default, the SIMD kernels on the ray path.
+TEST(KernelSamenessCli,
+     ThePortableCodeAndTheScreenPathWriteWhatTheKernelsWriteForEveryShippedScene) {
   TempFolder folder;
   // Under AddressSanitizer (ten times slower) the conventions and formats most runs differ by,
   // a third of the sweep: what it adds is the check of the kernels' memory accesses.
@@ -51,36 +83,26 @@ TEST(KernelSamenessCli, ThePortableCodeWritesWhatTheKernelsWriteForEveryShippedS
                                 : "--conventions no,zo,zo-reversed --depth-formats 16,24,32f ";
   const std::string common = "reconcile '" + kSource + "'/scenes/*.json " + sweep +
                              "--vertex-modes world --images all --threads 2";
-  for (const char* kernels : {"simd", "portable"}) {
-    const auto result =
-        runClipray(common + " --kernels " + kernels + " --out " + kernels, folder.path());
+  for (const char* choice : {"--kernels simd", "--kernels portable", "--analytic screen"}) {
+    const std::string folderName = std::string(choice).substr(std::string(choice).find(' ') + 1);
+    const auto result = runClipray(common + " " + choice + " --out " + folderName, folder.path());
     // 1: some runs are inconsistent (reflection matrices drawn reversed, 16-bit depth under an
     // infinite far plane), and that is part of what must come out the same.
-    ASSERT_EQ(result.status, 1) << kernels << ": " << result.err;
+    ASSERT_EQ(result.status, 1) << choice << ": " << result.err;
   }
-  std::map<std::string, std::string> simd = filesUnder(folder.path() / "simd");
-  std::map<std::string, std::string> portable = filesUnder(folder.path() / "portable");
-  const auto simdReport = nlohmann::json::parse(simd.at("report.json"));
-  const auto portableReport = nlohmann::json::parse(portable.at("report.json"));
-  ASSERT_GT(simdReport["runs"].size(), testing::kUnderAddressSanitizer ? 40u : 200u);
-  const nlohmann::json patch =
-      nlohmann::json::diff(withoutMeasurements(simdReport), withoutMeasurements(portableReport));
-  EXPECT_TRUE(patch.empty()) << "report.json differs by " << patch;
-  // index.html shows the timings and the command line; the lock file is the output folder's.
-  for (const char* measured : {"report.json", "index.html", ".clipray.lock"}) {
-    simd.erase(measured);
-    portable.erase(measured);
-  }
-  ASSERT_EQ(simd.size(), portable.size());
-  int images = 0;
-  for (const auto& [path, bytes] : simd) {
-    const auto other = portable.find(path);
-    ASSERT_NE(other, portable.end()) << path << " is missing from the portable code's output";
-    EXPECT_TRUE(bytes == other->second) << path << " differs";
-    images += path.ends_with(".png") ? 1 : 0;
-  }
-  // Every run's four images and two thumbnails, and crops.
-  EXPECT_GT(images, 4 * (testing::kUnderAddressSanitizer ? 40 : 200));
+  expectTheSameOutput(folder.path() / "simd", folder.path() / "portable", "the portable code");
+  expectTheSameOutput(folder.path() / "simd", folder.path() / "screen", "the screen path");
+}
+
+TEST(KernelSamenessCli, AnUnknownAnalyticPathIsRefused) {
+  TempFolder folder;
+  const auto result =
+      runClipray("reconcile '" + kSource + "'/scenes/standard.json --analytic raster --out out",
+                 folder.path());
+  EXPECT_EQ(result.status, 2);
+  EXPECT_EQ(result.err,
+            "clipray: --analytic: unknown value \"raster\"; expected one of: rays, screen\n");
+  EXPECT_FALSE(std::filesystem::exists(folder.path() / "out"));
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include "clipray/compare/DepthMapping.hpp"
 #include "clipray/compare/PolygonOffset.hpp"
 #include "clipray/rays/RobustRays.hpp"
+#include "clipray/util/AnalyticChoice.hpp"
 
 namespace clipray::engine {
 
@@ -145,13 +146,16 @@ Hit closestHitByDrawState(const Ray& ray, const SceneIntersector& wholeScene, co
   return kept;
 }
 
-void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
-                          const Scene& scene, const glm::dmat4& drawnClipFromWorld,
-                          const PickingCamera& camera, unsigned threadCount) {
+ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
+                                      const Scene& scene, const glm::dmat4& drawnClipFromWorld,
+                                      const PickingCamera& camera, unsigned threadCount) {
   const std::vector<DrawStateGroup> groups = drawStateGroups(scene);
   if (groups.size() == 1) {
+    if (chosenAnalyticPath() == AnalyticPath::Screen) {
+      return intersectFrameInScreenSpace(frame, wholeScene, camera, threadCount);
+    }
     intersectFrame(frame, wholeScene, camera, threadCount);
-    return;
+    return {};
   }
   const glm::dvec3& reference = wholeScene.reference();
   const bool greater = nearerIsGreater(camera.mode, scene.depthRange);
@@ -206,6 +210,7 @@ void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeSce
     });
   }
   frame.hits = std::move(kept);
+  return {};
 }
 
 }  // namespace clipray::engine

@@ -21,6 +21,7 @@
 #include "clipray/Picking.hpp"
 #include "clipray/compare/Frames.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
+#include "clipray/intersect/ScreenEvaluator.hpp"
 #include "clipray/scene/Scene.hpp"
 
 namespace clipray::engine {
@@ -44,10 +45,12 @@ std::vector<DrawStateGroup> drawStateGroups(const Scene& scene);
 // pixel (ties to the smaller primitive id: the object drawn first), each group traced by an
 // intersector of its own along the frame's rays cut by the group's planes (t given along the
 // frame's own ray). drawnClipFromWorld decides face culling as the frame is drawn; camera is the
-// lower-left view the rays were made for (its clipFromWorld maps hits to window depth).
-void intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
-                          const Scene& scene, const glm::dmat4& drawnClipFromWorld,
-                          const PickingCamera& camera, unsigned threadCount);
+// lower-left view the rays were made for (its clipFromWorld maps hits to window depth). Where the
+// screen path is chosen (AnalyticChoice.hpp) a scene of one group is evaluated in screen space;
+// what that did is returned (ScreenEvaluation::used false otherwise).
+ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
+                                      const Scene& scene, const glm::dmat4& drawnClipFromWorld,
+                                      const PickingCamera& camera, unsigned threadCount);
 
 // The same decision for one ray (a click: the picking demo's ray pick), t along that ray; camera
 // as for intersectByDrawState, its viewport the frame's (polygon offsets depend on the pixel size).

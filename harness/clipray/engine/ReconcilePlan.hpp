@@ -19,6 +19,7 @@
 #include "clipray/report/ImageEncoder.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/Scene.hpp"
+#include "clipray/util/AnalyticChoice.hpp"
 #include "clipray/util/KernelChoice.hpp"
 
 namespace clipray::engine {
@@ -78,12 +79,13 @@ struct ReconcilePlan {
   PickHitFunction pickHits;
 
   // How.
-  MemoryBudget memory;                  // what the runs may take (MemoryBudget.hpp)
-  std::optional<KernelChoice> kernels;  // chosen for the process before the runs; unset: as is
-  unsigned threads = 0;                 // for the analytic pass and the compare; 0: every core
-  unsigned rounds = 1;                  // every run made this many times (mergeRounds)
-  bool progress = false;                // a progress line on stderr
-  std::size_t worstPixelsPerRun = 0;    // pixels each run describes (ReconcileOutcome)
+  MemoryBudget memory;                   // what the runs may take (MemoryBudget.hpp)
+  std::optional<KernelChoice> kernels;   // chosen for the process before the runs; unset: as is
+  std::optional<AnalyticPath> analytic;  // the same for the analytic path (AnalyticChoice.hpp)
+  unsigned threads = 0;                  // for the analytic pass and the compare; 0: every core
+  unsigned rounds = 1;                   // every run made this many times (mergeRounds)
+  bool progress = false;                 // a progress line on stderr
+  std::size_t worstPixelsPerRun = 0;     // pixels each run describes (ReconcileOutcome)
 
   // The outputs: nothing written where `out` is empty. Images under `images` (thumbnails for
   // index.html under any policy but none).

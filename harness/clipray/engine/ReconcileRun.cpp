@@ -99,8 +99,8 @@ AnalyticPass analyticPass(const Scene& scene, const Camera& camera, DepthMode mo
   pass.intersector = std::make_unique<SceneIntersector>(scene, pass.reference,
                                                         SceneIntersector::BvhBuild::WhenFirstNeeded,
                                                         pass.drawnCamera.clipFromWorld);
-  intersectByDrawState(pass.frame, *pass.intersector, scene, pass.drawnCamera.clipFromWorld,
-                       pass.camera, threadCount);
+  pass.screen = intersectByDrawState(pass.frame, *pass.intersector, scene,
+                                     pass.drawnCamera.clipFromWorld, pass.camera, threadCount);
   pass.intersectMilliseconds = intersectClock.wallMilliseconds();
   pass.intersectCpuMilliseconds = intersectClock.cpuMilliseconds();
   return pass;

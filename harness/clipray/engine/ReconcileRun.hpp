@@ -21,6 +21,7 @@
 #include "clipray/compare/Reconcile.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
+#include "clipray/intersect/ScreenEvaluator.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/Scene.hpp"
 
@@ -45,6 +46,8 @@ struct AnalyticPass {
   // Behind a pointer: the tolerance model below refers to it, and the pass may move.
   std::unique_ptr<SceneIntersector> intersector;
   AnalyticFrame frame;
+  // What the screen path did with the frame (AnalyticChoice.hpp); used is false on the ray path.
+  ScreenEvaluation screen;
   // What the app's own picking hits say beyond the pixels (AppPickHits.hpp): one line each.
   std::vector<std::string> pickNotes;
   // The tolerance model of the pass's last compare: the next run reuses it when only the depth

@@ -441,6 +441,7 @@ void Runner::runCameraSampled(unsigned round, const Scene& scene, const Camera& 
 
 ReconcileOutcome Runner::runSteps() {
   if (plan_.kernels) chooseKernels(*plan_.kernels);
+  if (plan_.analytic) chooseAnalyticPath(*plan_.analytic);
 
   // The output folder is claimed before any work is done (it is written only at the end): created,
   // proven writable and locked against a second run writing into it at the same time. Whatever

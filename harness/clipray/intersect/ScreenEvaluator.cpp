@@ -241,13 +241,21 @@ TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& 
   }
 
   // The pixels it may matter to: its vertices' projections, when all lie in front of the eye,
-  // padded by a pixel and a half (far more than any margin the bins allow); else every pixel.
+  // padded by half a pixel, where each edge's margin reaches less than a quarter pixel from the
+  // edge (|E| <= margin lies within sqrt(2) margin / (|2 a / width| + |2 b / height|) pixels of
+  // it); else every pixel.
   const Viewport viewport = frame.viewport;
   setup.x0 = 0;
   setup.x1 = viewport.width - 1;
   setup.y0 = 0;
   setup.y1 = viewport.height - 1;
-  if (clip[0].w > 0.0 && clip[1].w > 0.0 && clip[2].w > 0.0) {
+  bool narrowMargins = true;
+  for (int k = 0; k < 3; ++k) {
+    const double slope =
+        std::abs(2.0 * setup.a[k] / viewport.width) + std::abs(2.0 * setup.b[k] / viewport.height);
+    narrowMargins = narrowMargins && 1.5 * setup.margin[k] < 0.25 * slope;
+  }
+  if (narrowMargins && clip[0].w > 0.0 && clip[1].w > 0.0 && clip[2].w > 0.0) {
     double xMin = kInf, xMax = -kInf, yMin = kInf, yMax = -kInf;
     for (const glm::dvec4& c : clip) {
       xMin = std::min(xMin, c.x / c.w);
@@ -257,7 +265,7 @@ TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& 
     }
     // Pixel i's centre is at NDC (2 i + 1) / width - 1.
     const auto toPixel = [](double ndc, int extent) { return ((ndc + 1.0) * extent - 1.0) * 0.5; };
-    const double pad = 1.5;
+    const double pad = 0.5;
     const double px0 = toPixel(xMin, viewport.width) - pad,
                  px1 = toPixel(xMax, viewport.width) + pad;
     const double py0 = toPixel(yMin, viewport.height) - pad,
@@ -430,6 +438,21 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   for (int x = 0; x < viewport.width; ++x) {
     clipX[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, viewport).x;
   }
+  std::vector<double> clipY(static_cast<std::size_t>(viewport.height));
+  for (int y = 0; y < viewport.height; ++y) {
+    clipY[static_cast<std::size_t>(y)] = clipXYOfPixelCentre(0, y, viewport).y;
+  }
+  // Each triangle's setup once (a triangle is listed in every tile it may cover).
+  std::vector<TriangleSetup> setups(triangles.size());
+  parallelForRows(static_cast<int>((triangles.size() + 1023) / 1024), threadCount,
+                  [&](int blockBegin, int blockEnd) {
+                    const std::size_t end =
+                        std::min(triangles.size(), static_cast<std::size_t>(blockEnd) * 1024);
+                    for (std::size_t k = static_cast<std::size_t>(blockBegin) * 1024; k < end;
+                         ++k) {
+                      setups[k] = setupTriangle(terms, triangles[k]);
+                    }
+                  });
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
     std::size_t counts[5] = {0, 0, 0, 0, 0};
     std::array<PixelState, FrameBins::kTile * FrameBins::kTile> states;
@@ -441,11 +464,11 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
         states.fill(PixelState{});
         for (int chunk = 0; chunk < bins.listChunkCount(); ++chunk) {
           for (const BinnedTriangle& entry : bins.list(chunk, tileX, tileY)) {
-            const TriangleSetup setup = setupTriangle(terms, triangles[entry.slot]);
+            const TriangleSetup& setup = setups[entry.slot];
             const int ly0 = std::max(0, setup.y0 - y0), ly1 = std::min(rows - 1, setup.y1 - y0);
             const int lx0 = std::max(0, setup.x0 - x0), lx1 = std::min(columns - 1, setup.x1 - x0);
             for (int ly = ly0; ly <= ly1; ++ly) {
-              const double y = clipXYOfPixelCentre(0, y0 + ly, viewport).y;
+              const double y = clipY[static_cast<std::size_t>(y0 + ly)];
               for (int lx = lx0; lx <= lx1; ++lx) {
                 evaluate(terms, setup, clipX[static_cast<std::size_t>(x0 + lx)], y,
                          states[static_cast<std::size_t>(ly * kTile + lx)]);
