@@ -8,8 +8,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 
 #include "support/RunCommand.hpp"
@@ -38,7 +40,10 @@ nlohmann::json withoutMeasurements(nlohmann::json report) {
   report.erase("command_line");
   report.erase("started_at");
   for (auto& run : report["runs"]) {
-    for (const char* timing : {"timings_ms", "cpu_ms", "analytic_over_raster"}) run.erase(timing);
+    // How the analytic side was timed and, on the screen path, which pixels it traced.
+    for (const char* measured : {"timings_ms", "cpu_ms", "analytic_over_raster", "screen_path"}) {
+      run.erase(measured);
+    }
   }
   return report;
 }
@@ -92,6 +97,29 @@ TEST(KernelSamenessCli,
   }
   expectTheSameOutput(folder.path() / "simd", folder.path() / "portable", "the portable code");
   expectTheSameOutput(folder.path() / "simd", folder.path() / "screen", "the screen path");
+  // The screen path evaluated the scenes it covers (meshes drawn alike: no analytic primitives,
+  // clip planes, depth clamp or objects with state of their own), the hard cases among them
+  // included, and no bound failed.
+  const nlohmann::json screen =
+      nlohmann::json::parse(testing::readText(folder.path() / "screen" / "report.json"));
+  const std::set<std::string> covered = {
+      "standard",        "terrain_100k",          "grazing_floor", "near_plane_straddle",
+      "far_from_origin", "ortho_far_from_origin", "infinite_far",  "coplanar"};
+  std::size_t evaluated = 0;
+  for (const nlohmann::json& run : screen["runs"]) {
+    const std::string scene = run["scene"];
+    EXPECT_TRUE(!covered.contains(scene) || run.contains("screen_path")) << scene;
+    EXPECT_TRUE(scene != "primitives" || !run.contains("screen_path"));
+    if (!run.contains("screen_path")) continue;
+    ++evaluated;
+    const nlohmann::json& path = run["screen_path"];
+    EXPECT_EQ(path["bound_misses"], 0) << scene;
+    EXPECT_EQ(path["background"].get<std::int64_t>() + path["decided"].get<std::int64_t>() +
+                  path["contested"].get<std::int64_t>() + path["traced"].get<std::int64_t>(),
+              run["pixels"].get<std::int64_t>())
+        << scene;
+  }
+  EXPECT_GT(evaluated, testing::kUnderAddressSanitizer ? 30u : 100u);
 }
 
 TEST(KernelSamenessCli, AnUnknownAnalyticPathIsRefused) {

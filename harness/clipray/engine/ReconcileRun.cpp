@@ -211,6 +211,13 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   run.metrics = comparison.metrics;
   run.polygonOffsets = offsetRecords(*pass.scene, raster, pass.frame, comparison.pixels, *model);
   run.clusters = std::move(clusters);
+  if (pass.screen.used) {
+    const ScreenEvaluation& s = pass.screen;
+    run.screenPath = ScreenPathRecord{
+        static_cast<std::int64_t>(s.background),  static_cast<std::int64_t>(s.decided),
+        static_cast<std::int64_t>(s.contested),   static_cast<std::int64_t>(s.traced),
+        static_cast<std::int64_t>(s.boundMisses), s.rayDeviationNdc};
+  }
   run.timings = {renderTimings.raster, renderTimings.readback, pass.raysMilliseconds,
                  pass.intersectMilliseconds, compareMilliseconds};
   run.cpu = {renderTimings.rasterCpu, renderTimings.readbackCpu, pass.raysCpuMilliseconds,

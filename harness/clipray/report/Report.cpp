@@ -238,6 +238,13 @@ nlohmann::json runJson(const RunRecord& run) {
   }
   if (!run.notes.empty()) json["notes"] = run.notes;
   if (!run.capture.empty()) json["capture"] = run.capture;
+  if (run.screenPath) {
+    const ScreenPathRecord& s = *run.screenPath;
+    json["screen_path"] = {
+        {"background", s.background},    {"decided", s.decided},
+        {"contested", s.contested},      {"traced", s.traced},
+        {"bound_misses", s.boundMisses}, {"ray_deviation_ndc", s.rayDeviationNdc}};
+  }
   return json;
 }
 

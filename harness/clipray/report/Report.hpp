@@ -112,6 +112,20 @@ struct SampleRecord {
   bool operator==(const SampleRecord&) const = default;
 };
 
+// What the screen path (clipray reconcile --analytic screen, ScreenEvaluator.hpp) did with the
+// run's frame: pixels no triangle can be hit at, decided by one watertight test, by several (the
+// nearest within the depth margin), and traced by the ray path; tests that missed where the
+// bounds said hit (zero unless a bound is wrong); the bound on the rays' deviation (NDC).
+struct ScreenPathRecord {
+  std::int64_t background = 0;
+  std::int64_t decided = 0;
+  std::int64_t contested = 0;
+  std::int64_t traced = 0;
+  std::int64_t boundMisses = 0;
+  double rayDeviationNdc = 0.0;
+  bool operator==(const ScreenPathRecord&) const = default;
+};
+
 struct RunRecord {
   std::string scene;
   std::string camera;
@@ -123,6 +137,7 @@ struct RunRecord {
   bool depthClamp = false;          // drawn with GL_DEPTH_CLAMP (Scene::depthClamp)
   std::vector<OffsetRecord> polygonOffsets{};  // the objects drawn with a polygon offset
   std::optional<SampleRecord> sample;          // set for the runs of a multisampled frame
+  std::optional<ScreenPathRecord> screenPath;  // set where the screen path evaluated the frame
   RunMetrics metrics;
   RunTimings timings;
   // The CPU time the process spent in each phase, every thread's (the GL driver's in the raster
