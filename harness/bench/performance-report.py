@@ -10,12 +10,14 @@ frames and fewer repetitions, for checking the script itself, never for the page
   3. the analytic primitives' float rays against the CPU's double rays (report by_kind);
   4. `clipray bench` on every hard case and the Google Benchmark ray rows side by side;
   5. `clipray_intersect_bench`: the intersection side by side with Embree, and its scaling;
-  6. the terrain multisampled: 4 samples against 1, the analytic time of a frame's sample runs
+  6. the screen path (--analytic screen) against the ray path, intersect phase side by side
+     (screen_path.py);
+  7. the terrain multisampled: 4 samples against 1, the analytic time of a frame's sample runs
      summed against the single-sample run's;
-  7. a real program's 1080p frame captured with RenderDoc, checked, verified and reconciled
+  8. a real program's 1080p frame captured with RenderDoc, checked, verified and reconciled
      (capture_timings.py; skipped with a line saying why where RenderDoc or the program is
      missing);
-  8. where the analytic CPU time goes, from `perf record` samples (analytic_profile.py; skipped
+  9. where the analytic CPU time goes, from `perf record` samples (analytic_profile.py; skipped
      with a line saying why where perf cannot record).
 Every table is computed here from what those commands print or write; the page's prose says
 what the columns mean, never a figure of its own. The machine, date and commit go on top.
@@ -32,6 +34,7 @@ import tempfile
 
 from analytic_profile import profile_section
 from capture_timings import capture_section
+from screen_path import screen_path_section
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 PHASES = ["raster", "readback", "rays", "intersect", "compare"]
@@ -357,6 +360,8 @@ def main():
             "## Reconcile, every shipped scene\n\n" + suite,
             "\n## The 100k-triangle terrain in steady state\n\n" +
             terrain_section(build, work, options.quick),
+            "\n## The screen path\n\n" +
+            screen_path_section(ROOT, build, work, options.quick, reconcile, fmt, table),
             "\n## Multisampling\n\n" + multisample_section(build, work, options.quick),
             "\n## A RenderDoc capture of a 1080p frame\n\n" +
             capture_section(ROOT, build, work, options.quick, fmt, table),
