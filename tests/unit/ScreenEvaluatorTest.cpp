@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "clipray/intersect/ScreenEvaluator.hpp"
+#include "clipray/compare/ScreenEvaluator.hpp"
 #include "support/FastPathScenes.hpp"
 #include "support/RandomScenes.hpp"
 

@@ -20,8 +20,8 @@
 
 #include "clipray/Picking.hpp"
 #include "clipray/compare/Frames.hpp"
+#include "clipray/compare/ScreenEvaluator.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
-#include "clipray/intersect/ScreenEvaluator.hpp"
 #include "clipray/scene/Scene.hpp"
 
 namespace clipray::engine {

@@ -19,9 +19,9 @@
 
 #include "clipray/compare/LogarithmicDepth.hpp"
 #include "clipray/compare/Reconcile.hpp"
+#include "clipray/compare/ScreenEvaluator.hpp"
 #include "clipray/gl/Renderer.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
-#include "clipray/intersect/ScreenEvaluator.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/scene/Scene.hpp"
 

@@ -19,7 +19,7 @@
 // the exact line of sight. The bins (FrameBins) list for each tile every triangle a ray within
 // kRayTolerancePx of its pixels can hit; Delta is held well below that.
 
-#include "clipray/intersect/ScreenEvaluator.hpp"
+#include "clipray/compare/ScreenEvaluator.hpp"
 
 #include <algorithm>
 #include <array>
