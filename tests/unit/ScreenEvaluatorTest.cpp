@@ -2,7 +2,8 @@
 // fast-path scene through the binned cameras, and random mesh scenes through every hard-case
 // camera (telephoto, far from the origin, reversed-Z, infinite far, oblique, orthographic, tiny
 // and odd viewports). No decided pixel's test may miss (a bound that did not hold), and most
-// pixels must be decided without the ray path's search.
+// pixels must be decided without the ray path's search. Each frame is evaluated under both
+// kernel choices.
 
 #include <gtest/gtest.h>
 
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "clipray/compare/ScreenEvaluator.hpp"
+#include "clipray/util/KernelChoice.hpp"
 #include "support/FastPathScenes.hpp"
 #include "support/RandomScenes.hpp"
 
@@ -22,12 +24,19 @@ namespace {
 
 using testing::fast_path::intersectorSeenFrom;
 
-// The frame's hits through the screen and through the rays; the evaluation.
-ScreenEvaluation expectTheRayPathsHits(const Scene& scene, const PickingCamera& camera,
-                                       const std::string& what) {
-  const SceneIntersector intersector = intersectorSeenFrom(scene, camera);
-  AnalyticFrame byRays = robustRayFrame(camera);
-  intersectFrame(byRays, intersector, camera, 2);
+// The kernel choice for one scope (the screen walk runs on AVX2 lanes or on the baseline's).
+struct KernelsFor {
+  explicit KernelsFor(KernelChoice choice) { chooseKernels(choice); }
+  ~KernelsFor() { chooseKernels(KernelChoice::Simd); }
+  KernelsFor(const KernelsFor&) = delete;
+  KernelsFor& operator=(const KernelsFor&) = delete;
+};
+
+// The frame's hits through the screen and through the rays, under one kernel choice.
+ScreenEvaluation expectTheRayPathsHits(const SceneIntersector& intersector,
+                                       const PickingCamera& camera, const AnalyticFrame& byRays,
+                                       KernelChoice kernels, const std::string& what) {
+  const KernelsFor scope(kernels);
   AnalyticFrame byScreen = robustRayFrame(camera);
   const ScreenEvaluation evaluation = intersectFrameInScreenSpace(byScreen, intersector, camera, 2);
   EXPECT_EQ(byScreen.hits.size(), byRays.hits.size()) << what;
@@ -49,6 +58,26 @@ ScreenEvaluation expectTheRayPathsHits(const Scene& scene, const PickingCamera& 
         << what;
   }
   return evaluation;
+}
+
+// The same under both kernel choices, which make the same decisions: the walk's operations are
+// the same on AVX2 lanes as on the baseline's (no multiply-add is fused in ISO C++), so the
+// counts agree too. Returns the SIMD walk's evaluation.
+ScreenEvaluation expectTheRayPathsHits(const Scene& scene, const PickingCamera& camera,
+                                       const std::string& what) {
+  const SceneIntersector intersector = intersectorSeenFrom(scene, camera);
+  AnalyticFrame byRays = robustRayFrame(camera);
+  intersectFrame(byRays, intersector, camera, 2);
+  const ScreenEvaluation simd =
+      expectTheRayPathsHits(intersector, camera, byRays, KernelChoice::Simd, what + " (simd)");
+  const ScreenEvaluation portable = expectTheRayPathsHits(
+      intersector, camera, byRays, KernelChoice::Portable, what + " (portable)");
+  EXPECT_EQ(simd.used, portable.used) << what;
+  EXPECT_EQ(simd.background, portable.background) << what;
+  EXPECT_EQ(simd.decided, portable.decided) << what;
+  EXPECT_EQ(simd.contested, portable.contested) << what;
+  EXPECT_EQ(simd.traced, portable.traced) << what;
+  return simd;
 }
 
 TEST(ScreenEvaluator, TheBinnedCamerasGetTheRayPathsHits) {

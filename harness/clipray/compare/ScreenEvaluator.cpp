@@ -1,36 +1,26 @@
-// Screen-space decisions for the closest triangle of each pixel, with the bounds that make them
-// the ray path's. Notation: u = 2^-53 (double's unit roundoff), gamma(n) = n u / (1 - n u) the
-// bound on n roundings (Higham, "Accuracy and Stability of Numerical Algorithms", 3.1; pbrt-v4's
-// gamma, src/pbrt/util/float.h). |M| is the matrix of absolute values, so |M v| <= |M| |v|.
-//
-// What a pixel's ray does (RobustRays.cpp, Watertight.hpp) and what bounds it:
-//   1. The ray strays from the pixel centre's line of sight by at most Delta in NDC at every point
-//      along it (rayDeviation below: the near point from worldFromClip, the direction from the
-//      plane-cross terms, each bounded from its operations).
-//   2. The watertight test decides on the triangle's vertices moved by at most eta (world units)
-//      each: the subtraction of the ray origin, the shear and the products of the edge functions
-//      each round once per coordinate, and a rounded product's sign is that of the exact product
-//      of a coordinate moved by one rounding (the subtraction keeps the sign of its exact result).
-//   3. Its t is compared with 0 and tMax: a hit decided on depth needs the crossing to be clear of
-//      the near and far planes (kRangeMargin), and of another triangle's crossing (kOrderMargin,
-//      the margin the bins' depth culling uses, FrameBins.hpp).
-// So a pixel centre whose edge functions clear their margins (the vertices' clip rounding, eta
-// and Delta carried through each function) is inside or outside the triangle for its ray as for
-// the exact line of sight. The bins (FrameBins) list for each tile every triangle a ray within
-// kRayTolerancePx of its pixels can hit; Delta is held well below that.
+// Screen-space decisions for the closest triangle of each pixel (ScreenEvaluator.hpp), with the
+// bounds of ScreenTriangleSetup.cpp. A tile's pixels keep, per pixel, the nearest upper depth key
+// of a surely crossed triangle, the two smallest lower keys of those (and the first one's id) and
+// the smallest lower key of a triangle perhaps crossed: enough to tell one nearest triangle (its
+// watertight test gives t), several within the order margin (the ray path's search decides) and
+// a pixel a margin cannot decide (traced), without a list per pixel. Four pixel centres of a tile
+// row are evaluated per step, on AVX2 lanes where the CPU has them and the SIMD kernels are chosen
+// (KernelChoice.hpp), else on the baseline's: the same operations, and every decision certified
+// either way, so the hits are the ray path's bits on both.
 
 #include "clipray/compare/ScreenEvaluator.hpp"
 
 #include <algorithm>
 #include <array>
 #include <atomic>
-#include <cmath>
 #include <cstdint>
-#include <limits>
+#include <cstring>
 #include <optional>
 #include <vector>
 
+#include "clipray/compare/ScreenTriangleSetup.hpp"
 #include "clipray/intersect/FrameBins.hpp"
+#include "clipray/intersect/PacketKernels.hpp"
 #include "clipray/rays/RobustRays.hpp"
 
 namespace clipray {
@@ -46,321 +36,164 @@ struct ScreenTriangles {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kUnit = 0x1p-53;
-constexpr double gamma(int n) {
-  return n * kUnit / (1.0 - n * kUnit);
-}
-// Every bound below is doubled: the bounds' own arithmetic rounds (down by a few ulps at most),
-// and the second-order terms of the perturbations are far below the first.
-constexpr double kSlack = 2.0;
-// How far (in NDC depth) a crossing must lie from the near and the far plane to be decided in or
-// out of the ray's interval: far more than the rounding of t against 0 and tMax.
-constexpr double kRangeMargin = 0x1p-24;
-// Two crossings whose NDC depths lie within this fraction of each other are both tested (the
-// watertight t of each then decides, with its tie rule): far more than the rounding of t.
-constexpr double kOrderMargin = 0x1p-20;
-// At most this many triangles per pixel may share the nearest depth before the pixel is traced.
-constexpr int kContenders = 4;
+using namespace screen;
 
-glm::dmat4 absolute(const glm::dmat4& m) {
-  glm::dmat4 a;
-  for (int c = 0; c < 4; ++c) a[c] = glm::abs(m[c]);
-  return a;
-}
+constexpr int kTile = FrameBins::kTile;
+constexpr int kTilePixels = kTile * kTile;
+constexpr int kLanes = 4;
+static_assert(kTile % kLanes == 0);
 
-glm::dvec3 row3(const glm::dmat4& m, int r) {
-  return {m[0][r], m[1][r], m[2][r]};
-}
+// Four doubles and four lane masks (each lane all ones or zero), in GCC's vector extensions: the
+// walk below compiles to AVX2 inside walkTileAvx2 and to pairs of SSE2 operations elsewhere. No
+// function takes or returns one by value (that ABI differs between the two).
+using Lanes = double __attribute__((vector_size(32)));
+using Mask = long long __attribute__((vector_size(32)));
 
-// |a| x |b| as the cross product's error bound uses it: per component, the two products' sizes.
-glm::dvec3 absCross(const glm::dvec3& a, const glm::dvec3& b) {
-  const glm::dvec3 x = glm::abs(a), y = glm::abs(b);
-  return {x.y * y.z + x.z * y.y, x.z * y.x + x.x * y.z, x.x * y.y + x.y * y.x};
-}
+// A tile's pixels while its triangles are walked, a field per array (four neighbours per load).
+struct alignas(32) TileState {
+  double nearestHigh[kTilePixels];  // the smallest upper key of a surely crossed triangle
+  double firstLow[kTilePixels];     // the smallest lower key of a surely crossed triangle,
+  double firstId[kTilePixels];      //   that triangle's primitive id (exact in a double),
+  double secondLow[kTilePixels];    //   and the second smallest
+  double unsureLow[kTilePixels];    // the smallest lower key of one perhaps crossed; -inf: any
 
-double maxAbs(const glm::dvec3& v) {
-  return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
-}
-
-// Delta: how far, in NDC, any point of a pixel's robust ray may project from the pixel centre
-// s = (x, y) (|x|, |y| < 1); nullopt where the camera's rays have no such bound here.
-//  - The near point o = worldFromClip (x, y, z_n, 1), divided by its w. With P = worldFromClip as
-//    computed and R = M P - I (|R| <= |fl(M P) - I| + gamma(5) |M| |P|), M (o, 1) is proportional
-//    to (I + R) s~ + M e with |e| <= gamma(5) |P| |s~| (the product and the division), s~ =
-//    (x, y, z_n, 1): clip error q = |R| |s~| + gamma(6) |M| |P| |s~| against a w of 1, and an NDC
-//    error (q_xy + q_w) / (1 - q_w).
-//  - The direction d = x (m_y x m_w) + y (m_w x m_x) + m_x x m_y (rows' xyz, each cross product
-//    within gamma(2) |a| x |b|, two fused multiply-adds within gamma(2) of the sum of the terms'
-//    sizes, then normalized within gamma(5) of each component): |delta d| <= e_D + gamma(8) S_D.
-//    Along o + t d, clip x - x w grows by (m_x - x m_w) . delta d per unit t while w grows by
-//    m_w . d = det(m_x, m_y, m_w) (the same for every pixel): the NDC error stays below
-//    (|m_x| + |m_w|) . |delta d| / (|det| - its error). A parallel camera's w is constant: the
-//    error grows with t up to tMax (the same for every pixel: the near and far planes are
-//    parallel), |m_x| . |delta d| tMax / (|d| w).
-std::optional<double> rayDeviation(const RobustRayGenerator& generator, std::string& reason) {
-  const glm::dmat4& m = generator.clipFromWorld();
-  const glm::dmat4& p = generator.worldFromClip();
-  const glm::dmat4 absM = absolute(m), absP = absolute(p);
-  glm::dmat4 residual = absolute(m * p - glm::dmat4(1.0));
-  const glm::dmat4 sizes = absM * absP;
-  for (int c = 0; c < 4; ++c) residual[c] += gamma(5) * sizes[c];
-  const glm::dvec4 s(1.0, 1.0, std::abs(generator.mode().nearNdcZ()), 1.0);
-  const glm::dvec4 q = residual * s + gamma(6) * (absM * (absP * s));
-  if (!(q.w < 0.25)) {
-    reason = "the near points' rounding has no bound (matrix times its inverse is far from I)";
-    return std::nullopt;
+  void reset() {
+    std::fill(std::begin(nearestHigh), std::end(nearestHigh), kInf);
+    std::fill(std::begin(firstLow), std::end(firstLow), kInf);
+    std::fill(std::begin(firstId), std::end(firstId), 0.0);
+    std::fill(std::begin(secondLow), std::end(secondLow), kInf);
+    std::fill(std::begin(unsureLow), std::end(unsureLow), kInf);
   }
-  const double nearPoint = (std::max(q.x, q.y) + q.w) / (1.0 - q.w);
-
-  const glm::dvec3 mx = row3(m, 0), my = row3(m, 1), mw = row3(m, 3);
-  const glm::dvec3 d1 = glm::cross(my, mw), d2 = glm::cross(mw, mx), d3 = glm::cross(mx, my);
-  const glm::dvec3 crossError = gamma(2) * (absCross(my, mw) + absCross(mw, mx) + absCross(mx, my));
-  const glm::dvec3 sizeD = glm::abs(d1) + glm::abs(d2) + glm::abs(d3);
-  const glm::dvec3 deltaD = crossError + gamma(8) * sizeD;
-  double direction = 0.0;
-  if (mw == glm::dvec3(0.0)) {
-    const double w = std::abs(m[3][3]);
-    const double tMax = generator.generate({0.0, 0.0}).tMax;
-    const double length = glm::length(d3) - glm::length(deltaD);
-    if (!std::isfinite(tMax) || !(w > 0.0) || !(length > 0.0)) {
-      reason = "a parallel camera without a finite far plane";
-      return std::nullopt;
-    }
-    const double stray = std::max(glm::dot(glm::abs(mx), deltaD), glm::dot(glm::abs(my), deltaD));
-    direction = stray * tMax * (1.0 + 0x1p-20) / (length * w);
-  } else {
-    // The bound needs w to grow along the ray (the robust direction's sign: away from the eye).
-    if (!(generator.facingSign() > 0.0)) {
-      reason = "rays along which clip w falls (a near plane on the eye's visible side)";
-      return std::nullopt;
-    }
-    const double det = glm::dot(mw, d3);
-    const double detError = gamma(3) * glm::dot(glm::abs(mw), glm::abs(d3)) +
-                            glm::dot(glm::abs(mw), crossError + deltaD);
-    const double rate = std::abs(det) - detError;
-    if (!(rate > 0.0)) {
-      reason = "the rays' rate of clip w has no bound";
-      return std::nullopt;
-    }
-    direction = std::max(glm::dot(glm::abs(mx) + glm::abs(mw), deltaD),
-                         glm::dot(glm::abs(my) + glm::abs(mw), deltaD)) /
-                rate;
-  }
-  return kSlack * (nearPoint + direction);
-}
-
-// What every triangle's setup needs from the frame.
-struct FrameTerms {
-  glm::dmat4 clipFromRelative{1.0};
-  glm::dmat4 absClipFromRelative{1.0};
-  glm::dvec4 translationError{0.0};  // of folding the reference into clipFromRelative
-  glm::dvec4 rowSize{0.0};           // per clip row, sum_k |m[k][r]|: a world move's clip size
-  double delta = 0.0;                // rayDeviation
-  double nearExtent = 0.0;           // the largest |o - reference| (inf-norm) of a ray origin
-  double zNear = 0.0, sigma = 1.0;   // the near plane's NDC z; sigma: the depth's direction
-  double keyFar = kInf;              // sigma (z_far - z_near); +inf for an infinite far plane
-  Viewport viewport;
 };
 
-// A triangle's edge functions, depth plane and their margins, for one camera.
-struct TriangleSetup {
-  double a[3], b[3], c[3];  // E_k(x, y) = a x + b y + c, edge k opposite vertex k
-  double margin[3];
-  double sign = 0.0;                     // sign(det) when it is certain; 0: not
-  double za = 0.0, zb = 0.0, zc = 0.0;   // NDC depth z(x, y) = za x + zb y + zc
-  double depthError = kInf;              // |z - exact z| over the ray's reach: the key's error
-  int x0 = 0, x1 = -1, y0 = 0, y1 = -1;  // pixels the triangle may matter to (inclusive)
-  std::uint32_t primitiveId = 0;
+// One tile's walk over the triangles its bins list.
+struct TileWalk {
+  const FrameTerms* terms;
+  const TriangleSetup* setups;
+  const FrameBins* bins;
+  const double* clipX;  // NDC x of every pixel column's centre, padded to whole tiles
+  const double* clipY;  // NDC y of every pixel row's centre
+  int tileX, tileY;
+  int rows, columns;  // of the tile inside the viewport
+  TileState* state;
 };
 
-TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& tri) {
-  TriangleSetup setup;
-  setup.primitiveId = tri.primitiveId;
-  const glm::dvec3 vertex[3] = {tri.a, tri.b, tri.c};
-  glm::dvec4 clip[3];
-  double error[3], zError[3], size[3];
-  for (int j = 0; j < 3; ++j) {
-    clip[j] = frame.clipFromRelative * glm::dvec4(vertex[j], 1.0);
-    // The watertight test's vertex moves (eta, item 2 above): the origin's subtraction, the shear
-    // and the edge function's product round once each per coordinate, on coordinates no larger
-    // than |vertex| + |origin| (the shear factors are at most 1).
-    const double eta = gamma(8) * (maxAbs(vertex[j]) + frame.nearExtent);
-    const glm::dvec4 e =
-        gamma(6) * (frame.absClipFromRelative * glm::dvec4(glm::abs(vertex[j]), 1.0)) +
-        frame.translationError + eta * frame.rowSize;
-    error[j] = std::max({e.x, e.y, e.w});
-    zError[j] = e.z;
-    size[j] = std::abs(clip[j].x) + std::abs(clip[j].y) + std::abs(clip[j].w);
-  }
-  double magnitude[3], evaluation[3];
-  for (int k = 0; k < 3; ++k) {
-    const int j = (k + 1) % 3, l = (k + 2) % 3;
-    const glm::dvec4 &p = clip[j], &r = clip[l];
-    setup.a[k] = p.y * r.w - p.w * r.y;
-    setup.b[k] = p.w * r.x - p.x * r.w;
-    setup.c[k] = p.x * r.y - p.y * r.x;
-    magnitude[k] = std::abs(p.y * r.w) + std::abs(p.w * r.y) + std::abs(p.w * r.x) +
-                   std::abs(p.x * r.w) + std::abs(p.x * r.y) + std::abs(p.y * r.x);
-    // det[p, r, s] with |s| <= (1, 1, 1): the coefficients' and the evaluation's roundings
-    // (gamma(4) of the terms' sizes), and each vertex's move times the size of the other's cross
-    // product with s (at most 2 |other|_1).
-    evaluation[k] = gamma(4) * magnitude[k] + 2.0 * (error[j] * size[l] + error[l] * size[j]);
-    setup.margin[k] =
-        kSlack * (evaluation[k] + frame.delta * (std::abs(setup.a[k]) + std::abs(setup.b[k])));
-  }
-  // det[h0, h1, h2] = E_0 at h0; a vertex's move changes it by at most its size times the
-  // cofactor's, which is that vertex's edge function's coefficients.
-  const double det = setup.a[0] * clip[0].x + setup.b[0] * clip[0].y + setup.c[0] * clip[0].w;
-  const double hSize = std::max({std::abs(clip[0].x), std::abs(clip[0].y), std::abs(clip[0].w)});
-  const double detError = kSlack * (gamma(5) * magnitude[0] * hSize + error[0] * magnitude[0] +
-                                    error[1] * magnitude[1] + error[2] * magnitude[2]);
-  if (std::abs(det) > detError) setup.sign = det > 0.0 ? 1.0 : -1.0;
-
-  // The depth plane: z(s) = sum_k E_k(s) z_k / det (barycentrics E_k / sum E, clip w det / sum E).
-  // Its error: each E_k's (as above) times |z_k|, each z_k's times |E_k| <= magnitude_k, the
-  // sums' and products' roundings (gamma(4)), det's error times |z|, and the ray's reach Delta
-  // times the plane's slopes.
-  if (setup.sign != 0.0) {
-    double sa = 0.0, sb = 0.0, sc = 0.0, spread = 0.0;
-    for (int k = 0; k < 3; ++k) {
-      sa += setup.a[k] * clip[k].z;
-      sb += setup.b[k] * clip[k].z;
-      sc += setup.c[k] * clip[k].z;
-      spread += (evaluation[k] + gamma(4) * magnitude[k]) * std::abs(clip[k].z) +
-                magnitude[k] * zError[k];
-    }
-    setup.za = sa / det;
-    setup.zb = sb / det;
-    setup.zc = sc / det;
-    const double zSize = std::abs(setup.za) + std::abs(setup.zb) + std::abs(setup.zc);
-    setup.depthError =
-        kSlack * (spread / std::abs(det) + gamma(4) * zSize + zSize * detError / std::abs(det) +
-                  frame.delta * (std::abs(setup.za) + std::abs(setup.zb)));
-    if (!std::isfinite(setup.depthError)) setup.depthError = kInf;
-  }
-
-  // The pixels it may matter to: its vertices' projections, when all lie in front of the eye,
-  // padded by half a pixel, where each edge's margin reaches less than a quarter pixel from the
-  // edge (|E| <= margin lies within sqrt(2) margin / (|2 a / width| + |2 b / height|) pixels of
-  // it); else every pixel.
-  const Viewport viewport = frame.viewport;
-  setup.x0 = 0;
-  setup.x1 = viewport.width - 1;
-  setup.y0 = 0;
-  setup.y1 = viewport.height - 1;
-  bool narrowMargins = true;
-  for (int k = 0; k < 3; ++k) {
-    const double slope =
-        std::abs(2.0 * setup.a[k] / viewport.width) + std::abs(2.0 * setup.b[k] / viewport.height);
-    narrowMargins = narrowMargins && 1.5 * setup.margin[k] < 0.25 * slope;
-  }
-  if (narrowMargins && clip[0].w > 0.0 && clip[1].w > 0.0 && clip[2].w > 0.0) {
-    double xMin = kInf, xMax = -kInf, yMin = kInf, yMax = -kInf;
-    for (const glm::dvec4& c : clip) {
-      xMin = std::min(xMin, c.x / c.w);
-      xMax = std::max(xMax, c.x / c.w);
-      yMin = std::min(yMin, c.y / c.w);
-      yMax = std::max(yMax, c.y / c.w);
-    }
-    // Pixel i's centre is at NDC (2 i + 1) / width - 1.
-    const auto toPixel = [](double ndc, int extent) { return ((ndc + 1.0) * extent - 1.0) * 0.5; };
-    const double pad = 0.5;
-    const double px0 = toPixel(xMin, viewport.width) - pad,
-                 px1 = toPixel(xMax, viewport.width) + pad;
-    const double py0 = toPixel(yMin, viewport.height) - pad,
-                 py1 = toPixel(yMax, viewport.height) + pad;
-    if (std::isfinite(px0 + px1 + py0 + py1)) {
-      setup.x0 = static_cast<int>(std::clamp(std::ceil(px0), -1.0, double(viewport.width)));
-      setup.x1 = static_cast<int>(std::clamp(std::floor(px1), -1.0, double(viewport.width)));
-      setup.y0 = static_cast<int>(std::clamp(std::ceil(py0), -1.0, double(viewport.height)));
-      setup.y1 = static_cast<int>(std::clamp(std::floor(py1), -1.0, double(viewport.height)));
-    }
-  }
-  return setup;
+[[gnu::always_inline]] inline void load(Lanes& lanes, const double* p) {
+  std::memcpy(&lanes, p, sizeof lanes);
+}
+[[gnu::always_inline]] inline void store(double* p, const Lanes& lanes) {
+  std::memcpy(p, &lanes, sizeof lanes);
+}
+[[gnu::always_inline]] inline bool everyLane(const Mask& mask) {
+  return (mask[0] & mask[1] & mask[2] & mask[3]) != 0;
 }
 
-// A pixel's state while a tile's triangles are evaluated: the triangles its ray surely crosses
-// within the interval that may be the nearest, and the nearest a triangle it may cross could be.
-struct PixelState {
-  std::array<std::uint32_t, kContenders> id;
-  std::array<double, kContenders> lo;
-  int count = 0;
-  bool overflow = false;
-  double nearestHigh = kInf;  // the smallest upper depth key of a surely crossed triangle
-  double unsureLow = kInf;    // the smallest lower depth key of a triangle perhaps crossed
-};
+// Every triangle the tile's bins list, at the pixel centres of its bounds that the tile holds,
+// four centres of a row at a time: the decisions of ScreenTriangleSetup.hpp per lane.
+[[gnu::always_inline]] inline void walkTile(const TileWalk& walk) {
+  const FrameTerms& frame = *walk.terms;
+  TileState& s = *walk.state;
+  const Lanes inf = Lanes{} + kInf;
+  const Lanes minusInf = Lanes{} - kInf;
+  const double farOut = frame.keyFar + kRangeMargin, farIn = frame.keyFar - kRangeMargin;
+  const int x0 = walk.tileX * kTile, y0 = walk.tileY * kTile;
+  for (int chunk = 0; chunk < walk.bins->listChunkCount(); ++chunk) {
+    for (const BinnedTriangle& entry : walk.bins->list(chunk, walk.tileX, walk.tileY)) {
+      const TriangleSetup& t = walk.setups[entry.slot];
+      const int ly0 = std::max(0, t.y0 - y0), ly1 = std::min(walk.rows - 1, t.y1 - y0);
+      const int lx0 = std::max(0, t.x0 - x0), lx1 = std::min(walk.columns - 1, t.x1 - x0);
+      if (ly0 > ly1 || lx0 > lx1) continue;
+      const Lanes id = Lanes{} + static_cast<double>(t.primitiveId);
+      for (int ly = ly0; ly <= ly1; ++ly) {
+        const double y = walk.clipY[y0 + ly];
+        const double c0 = t.b[0] * y + t.c[0], c1 = t.b[1] * y + t.c[1], c2 = t.b[2] * y + t.c[2];
+        const double zRow = t.zb * y + t.zc;
+        for (int lx = lx0 - lx0 % kLanes; lx <= lx1; lx += kLanes) {
+          const int i = ly * kTile + lx;
+          Lanes x;
+          load(x, walk.clipX + x0 + lx);
+          const Lanes e0 = t.a[0] * x + c0, e1 = t.a[1] * x + c1, e2 = t.a[2] * x + c2;
+          if (t.sign == 0.0) {
+            // The orientation is not certain: only edge functions of both signs say outside.
+            const Mask positive = (e0 > t.margin[0]) | (e1 > t.margin[1]) | (e2 > t.margin[2]);
+            const Mask negative = (e0 < -t.margin[0]) | (e1 < -t.margin[1]) | (e2 < -t.margin[2]);
+            Lanes unsureLow;
+            load(unsureLow, s.unsureLow + i);
+            store(s.unsureLow + i, (positive & negative) ? unsureLow : minusInf);
+            continue;
+          }
+          // Outside an edge over the ray's whole reach; inside every edge over it.
+          const Mask outside = (e0 < -t.margin[0]) | (e1 < -t.margin[1]) | (e2 < -t.margin[2]);
+          if (everyLane(outside)) continue;
+          const Mask inside = (e0 > t.margin[0]) & (e1 > t.margin[1]) & (e2 > t.margin[2]);
+          const Lanes key = frame.sigma * ((t.za * x + zRow) - frame.zNear);
+          const Lanes low = key - t.depthError, high = key + t.depthError;
+          const Mask outOfRange = (high < -kRangeMargin) | (low > farOut);
+          const Mask sure = inside & (low > kRangeMargin) & (high < farIn);
+          const Mask perhaps = ~(outside | outOfRange | sure);
 
-// Whether a crossing with keys from `low` up could tie with or beat the nearest sure one.
-bool mayBeNearest(double low, double nearestHigh) {
-  return low <= nearestHigh + kOrderMargin * std::abs(nearestHigh);
-}
-
-void addSure(PixelState& state, std::uint32_t id, double low, double high) {
-  if (!mayBeNearest(low, state.nearestHigh)) return;
-  state.nearestHigh = std::min(state.nearestHigh, high);
-  // Drop those the new bound leaves behind, then keep this one.
-  int kept = 0;
-  for (int k = 0; k < state.count; ++k) {
-    if (mayBeNearest(state.lo[k], state.nearestHigh)) {
-      state.id[kept] = state.id[k];
-      state.lo[kept] = state.lo[k];
-      ++kept;
+          Lanes nearestHigh, firstLow, firstId, secondLow, unsureLow;
+          load(nearestHigh, s.nearestHigh + i);
+          load(firstLow, s.firstLow + i);
+          load(firstId, s.firstId + i);
+          load(secondLow, s.secondLow + i);
+          load(unsureLow, s.unsureLow + i);
+          const Lanes lowSure = sure ? low : inf, highSure = sure ? high : inf;
+          const Mask first = lowSure < firstLow;
+          const Lanes second = first ? firstLow : lowSure;
+          store(s.nearestHigh + i, highSure < nearestHigh ? highSure : nearestHigh);
+          store(s.secondLow + i, second < secondLow ? second : secondLow);
+          store(s.firstLow + i, first ? lowSure : firstLow);
+          store(s.firstId + i, first ? id : firstId);
+          // A lower key that is not a number (a depth plane out of double's range) bounds nothing.
+          const Lanes lowOrAny = ((low > minusInf) & (low < inf)) ? low : minusInf;
+          const Lanes unsure = perhaps ? lowOrAny : inf;
+          store(s.unsureLow + i, unsure < unsureLow ? unsure : unsureLow);
+        }
+      }
     }
-  }
-  state.count = kept;
-  if (state.count == kContenders) {
-    state.overflow = true;
-    return;
-  }
-  state.id[state.count] = id;
-  state.lo[state.count] = low;
-  ++state.count;
-}
-
-// One triangle at one pixel centre (x, y).
-void evaluate(const FrameTerms& frame, const TriangleSetup& t, double x, double y,
-              PixelState& state) {
-  double e[3];
-  for (int k = 0; k < 3; ++k) e[k] = t.a[k] * x + t.b[k] * y + t.c[k];
-  bool inside = true;
-  if (t.sign != 0.0) {
-    for (int k = 0; k < 3; ++k) {
-      const double v = t.sign * e[k];
-      if (v < -t.margin[k]) return;  // outside an edge over the ray's whole reach
-      inside = inside && v > t.margin[k];
-    }
-  } else {
-    // The orientation is not certain: only edge functions of both signs say outside.
-    bool positive = false, negative = false;
-    for (int k = 0; k < 3; ++k) {
-      positive = positive || e[k] > t.margin[k];
-      negative = negative || e[k] < -t.margin[k];
-    }
-    if (positive && negative) return;
-    state.unsureLow = -kInf;
-    return;
-  }
-  const double z = t.za * x + t.zb * y + t.zc;
-  const double key = frame.sigma * (z - frame.zNear);
-  const double low = key - t.depthError, high = key + t.depthError;
-  if (high < -kRangeMargin || low > frame.keyFar + kRangeMargin) return;  // outside [near, far]
-  const bool inRange = low > kRangeMargin && high < frame.keyFar - kRangeMargin;
-  if (inside && inRange) {
-    addSure(state, t.primitiveId, low, high);
-  } else {
-    state.unsureLow = std::min(state.unsureLow, std::isfinite(low) ? low : -kInf);
   }
 }
 
-// The closest of the tested triangles by closestHit's rule: the smaller t, ties to the smaller id.
-void keepCloser(const Hit& candidate, Hit& best) {
-  if (!candidate.hit()) return;
-  if (!best.hit() || candidate.t < best.t ||
-      (candidate.t == best.t && candidate.primitiveId < best.primitiveId)) {
-    best = candidate;
+// The hit of a pixel with several triangles within the depth margin of the nearest: each of the
+// tile's listed triangles whose edges do not put the pixel centre surely outside (a superset of
+// those that may be the nearest: the pixel has no uncertain triangle within reach) tested with
+// the watertight test, the closest kept by closestHit's rule (the smaller t, ties to the smaller
+// id). The BVH is not needed.
+Hit closestOfListed(const TileWalk& walk, int lx, int ly, const SceneIntersector& intersector,
+                    const Ray& ray) {
+  const int px = walk.tileX * kTile + lx, py = walk.tileY * kTile + ly;
+  const double x = walk.clipX[px], y = walk.clipY[py];
+  Hit best;
+  for (int chunk = 0; chunk < walk.bins->listChunkCount(); ++chunk) {
+    for (const BinnedTriangle& entry : walk.bins->list(chunk, walk.tileX, walk.tileY)) {
+      const TriangleSetup& t = walk.setups[entry.slot];
+      if (px < t.x0 || px > t.x1 || py < t.y0 || py > t.y1) continue;
+      bool outside = false;
+      for (int k = 0; k < 3 && t.sign != 0.0; ++k) {
+        outside = outside || t.a[k] * x + (t.b[k] * y + t.c[k]) < -t.margin[k];
+      }
+      if (outside) continue;
+      const Hit candidate = intersector.intersectOne(t.primitiveId, ray);
+      if (candidate.hit() &&
+          (!best.hit() || candidate.t < best.t ||
+           (candidate.t == best.t && candidate.primitiveId < best.primitiveId))) {
+        best = candidate;
+      }
+    }
   }
+  return best;
 }
+
+void walkTilePortable(const TileWalk& walk) {
+  walkTile(walk);
+}
+
+#if defined(__x86_64__) || defined(__i386__)
+__attribute__((target("avx2,fma"))) void walkTileAvx2(const TileWalk& walk) {
+  walkTile(walk);
+}
+#endif
 
 }  // namespace
 
@@ -400,42 +233,18 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, viewport, threadCount);
   if (!bins.usable()) return traceByRays("no screen bins for this camera");
 
-  FrameTerms terms;
-  terms.viewport = viewport;
-  terms.delta = *delta;
-  terms.clipFromRelative = bins.clipFromRelative();
-  terms.absClipFromRelative = absolute(terms.clipFromRelative);
-  const glm::dvec3 reference = intersector.reference();
-  terms.translationError =
-      gamma(5) * (absolute(camera.clipFromWorld) * glm::dvec4(glm::abs(reference), 1.0));
-  for (int r = 0; r < 4; ++r) {
-    terms.rowSize[r] = std::abs(camera.clipFromWorld[0][r]) + std::abs(camera.clipFromWorld[1][r]) +
-                       std::abs(camera.clipFromWorld[2][r]);
-  }
-  const DepthMode mode = camera.mode;
-  for (const double x : {-1.0, 1.0}) {
-    for (const double y : {-1.0, 1.0}) {
-      const glm::dvec4 p = generator.worldFromClip() * glm::dvec4(x, y, mode.nearNdcZ(), 1.0);
-      terms.nearExtent = std::max(terms.nearExtent, maxAbs(glm::dvec3(p) / p.w - reference));
-    }
-  }
-  terms.nearExtent *= 1.0 + 0x1p-20;
-  terms.zNear = mode.nearNdcZ();
-  terms.sigma = mode.farNdcZ() > mode.nearNdcZ() ? 1.0 : -1.0;
-  // An infinite far plane: row 2 - z_far row 3 has no xyz part (RobustRays' far plane).
-  const glm::dvec3 farXyz =
-      row3(camera.clipFromWorld, 2) - mode.farNdcZ() * row3(camera.clipFromWorld, 3);
-  terms.keyFar = farXyz == glm::dvec3(0.0) ? kInf : std::abs(mode.farNdcZ() - mode.nearNdcZ());
+  const FrameTerms terms =
+      frameTerms(camera, generator, bins.clipFromRelative(), intersector.reference(), *delta);
   result.rayDeviationNdc = *delta;
   result.used = true;
 
   const std::vector<detail::BvhTriangle>& triangles = detail::ScreenTriangles::of(intersector);
   frame.hits.resize(frame.pixelCount());
-  const int kTile = FrameBins::kTile;
   const int tileRows = (viewport.height + kTile - 1) / kTile;
   std::atomic<std::size_t> background{0}, decided{0}, contested{0}, traced{0}, misses{0};
-  std::vector<double> clipX(static_cast<std::size_t>(viewport.width));
-  for (int x = 0; x < viewport.width; ++x) {
+  const int tileColumns = (viewport.width + kTile - 1) / kTile;
+  std::vector<double> clipX(static_cast<std::size_t>(tileColumns * kTile));
+  for (int x = 0; x < tileColumns * kTile; ++x) {
     clipX[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, viewport).x;
   }
   std::vector<double> clipY(static_cast<std::size_t>(viewport.height));
@@ -453,38 +262,36 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                       setups[k] = setupTriangle(terms, triangles[k]);
                     }
                   });
+  const bool avx2 = detail::PacketKernels::available();
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
     std::size_t counts[5] = {0, 0, 0, 0, 0};
-    std::array<PixelState, FrameBins::kTile * FrameBins::kTile> states;
-    std::array<Ray, FrameBins::kTile> rayRow;
+    TileState state;
+    std::array<Ray, kTile> rayRow;
     for (int tileY = tileRowBegin; tileY < tileRowEnd; ++tileY) {
       const int y0 = tileY * kTile, rows = std::min(kTile, viewport.height - y0);
-      for (int tileX = 0; tileX * kTile < viewport.width; ++tileX) {
+      for (int tileX = 0; tileX < tileColumns; ++tileX) {
         const int x0 = tileX * kTile, columns = std::min(kTile, viewport.width - x0);
-        states.fill(PixelState{});
-        for (int chunk = 0; chunk < bins.listChunkCount(); ++chunk) {
-          for (const BinnedTriangle& entry : bins.list(chunk, tileX, tileY)) {
-            const TriangleSetup& setup = setups[entry.slot];
-            const int ly0 = std::max(0, setup.y0 - y0), ly1 = std::min(rows - 1, setup.y1 - y0);
-            const int lx0 = std::max(0, setup.x0 - x0), lx1 = std::min(columns - 1, setup.x1 - x0);
-            for (int ly = ly0; ly <= ly1; ++ly) {
-              const double y = clipY[static_cast<std::size_t>(y0 + ly)];
-              for (int lx = lx0; lx <= lx1; ++lx) {
-                evaluate(terms, setup, clipX[static_cast<std::size_t>(x0 + lx)], y,
-                         states[static_cast<std::size_t>(ly * kTile + lx)]);
-              }
-            }
-          }
+        state.reset();
+        const TileWalk walk{&terms, setups.data(), &bins, clipX.data(), clipY.data(),
+                            tileX,  tileY,         rows,  columns,      &state};
+#if defined(__x86_64__) || defined(__i386__)
+        if (avx2) {
+          walkTileAvx2(walk);
+        } else {
+          walkTilePortable(walk);
         }
+#else
+        walkTilePortable(walk);
+#endif
         for (int ly = 0; ly < rows; ++ly) {
           bool raysMade = false;
           for (int lx = 0; lx < columns; ++lx) {
-            const PixelState& state = states[static_cast<std::size_t>(ly * kTile + lx)];
+            const int i = ly * kTile + lx;
+            const double nearestHigh = state.nearestHigh[i];
             Hit& hit = frame.hits[static_cast<std::size_t>(y0 + ly) * viewport.width + x0 + lx];
             const bool traceIt =
-                state.overflow ||
-                (state.unsureLow < kInf && mayBeNearest(state.unsureLow, state.nearestHigh));
-            if (!traceIt && state.count == 0) {
+                state.unsureLow[i] < kInf && mayBeNearest(state.unsureLow[i], nearestHigh);
+            if (!traceIt && state.firstLow[i] == kInf) {
               hit = Hit{};
               ++counts[0];
               continue;
@@ -500,16 +307,12 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
               continue;
             }
             if (!traceIt) {
-              Hit best;
-              int tested = 0;
-              for (int k = 0; k < state.count; ++k) {
-                if (!mayBeNearest(state.lo[k], state.nearestHigh)) continue;
-                keepCloser(intersector.intersectOne(state.id[k], ray), best);
-                ++tested;
-              }
-              if (best.hit()) {
-                hit = best;
-                ++counts[tested == 1 ? 1 : 2];
+              const bool alone = !mayBeNearest(state.secondLow[i], nearestHigh);
+              hit = alone ? intersector.intersectOne(static_cast<std::uint32_t>(state.firstId[i]),
+                                                     ray)
+                          : closestOfListed(walk, lx, ly, intersector, ray);
+              if (hit.hit()) {
+                ++counts[alone ? 1 : 2];
                 continue;
               }
               ++counts[4];

@@ -1,0 +1,274 @@
+// The bounds that make the screen evaluator's decisions the ray path's (ScreenTriangleSetup.hpp).
+// Notation: u = 2^-53 (double's unit roundoff), gamma(n) = n u / (1 - n u) the bound on n roundings
+// (Higham, "Accuracy and Stability of Numerical Algorithms", 3.1; pbrt-v4's gamma,
+// src/pbrt/util/float.h). |M| is the matrix of absolute values, so |M v| <= |M| |v|.
+//
+// What a pixel's ray does (RobustRays.cpp, Watertight.hpp) and what bounds it:
+//   1. The ray strays from the pixel centre's line of sight by at most Delta in NDC at every point
+//      along it (rayDeviation below: the near point from worldFromClip, the direction from the
+//      plane-cross terms, each bounded from its operations).
+//   2. The watertight test decides on the triangle's vertices moved by at most eta (world units)
+//      each: the subtraction of the ray origin, the shear and the products of the edge functions
+//      each round once per coordinate, and a rounded product's sign is that of the exact product
+//      of a coordinate moved by one rounding (the subtraction keeps the sign of its exact result).
+//   3. Its t is compared with 0 and tMax: a hit decided on depth needs the crossing to be clear of
+//      the near and far planes (kRangeMargin), and of another triangle's crossing (kOrderMargin,
+//      the margin the bins' depth culling uses, FrameBins.hpp).
+// So a pixel centre whose edge functions clear their margins (the vertices' clip rounding, eta
+// and Delta carried through each function) is inside or outside the triangle for its ray as for
+// the exact line of sight. The bins (FrameBins) list for each tile every triangle a ray within
+// kRayTolerancePx of its pixels can hit; Delta is held well below that.
+
+#include "clipray/compare/ScreenTriangleSetup.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace clipray::screen {
+
+namespace {
+
+constexpr double kUnit = 0x1p-53;
+constexpr double gamma(int n) {
+  return n * kUnit / (1.0 - n * kUnit);
+}
+// Every bound below is doubled: the bounds' own arithmetic rounds (down by a few ulps at most),
+// and the second-order terms of the perturbations are far below the first.
+constexpr double kSlack = 2.0;
+
+glm::dmat4 absolute(const glm::dmat4& m) {
+  glm::dmat4 a;
+  for (int c = 0; c < 4; ++c) a[c] = glm::abs(m[c]);
+  return a;
+}
+
+glm::dvec3 row3(const glm::dmat4& m, int r) {
+  return {m[0][r], m[1][r], m[2][r]};
+}
+
+// |a| x |b| as the cross product's error bound uses it: per component, the two products' sizes.
+glm::dvec3 absCross(const glm::dvec3& a, const glm::dvec3& b) {
+  const glm::dvec3 x = glm::abs(a), y = glm::abs(b);
+  return {x.y * y.z + x.z * y.y, x.z * y.x + x.x * y.z, x.x * y.y + x.y * y.x};
+}
+
+double maxAbs(const glm::dvec3& v) {
+  return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+}
+
+}  // namespace
+
+// Delta: how far, in NDC, any point of a pixel's robust ray may project from the pixel centre
+// s = (x, y) (|x|, |y| < 1); nullopt where the camera's rays have no such bound here.
+//  - The near point o = worldFromClip (x, y, z_n, 1), divided by its w. With P = worldFromClip as
+//    computed and R = M P - I (|R| <= |fl(M P) - I| + gamma(5) |M| |P|), M (o, 1) is proportional
+//    to (I + R) s~ + M e with |e| <= gamma(5) |P| |s~| (the product and the division), s~ =
+//    (x, y, z_n, 1): clip error q = |R| |s~| + gamma(6) |M| |P| |s~| against a w of 1, and an NDC
+//    error (q_xy + q_w) / (1 - q_w).
+//  - The direction d = x (m_y x m_w) + y (m_w x m_x) + m_x x m_y (rows' xyz, each cross product
+//    within gamma(2) |a| x |b|, two fused multiply-adds within gamma(2) of the sum of the terms'
+//    sizes, then normalized within gamma(5) of each component): |delta d| <= e_D + gamma(8) S_D.
+//    Along o + t d, clip x - x w grows by (m_x - x m_w) . delta d per unit t while w grows by
+//    m_w . d = det(m_x, m_y, m_w) (the same for every pixel): the NDC error stays below
+//    (|m_x| + |m_w|) . |delta d| / (|det| - its error). A parallel camera's w is constant: the
+//    error grows with t up to tMax (the same for every pixel: the near and far planes are
+//    parallel), |m_x| . |delta d| tMax / (|d| w).
+std::optional<double> rayDeviation(const RobustRayGenerator& generator, std::string& reason) {
+  const glm::dmat4& m = generator.clipFromWorld();
+  const glm::dmat4& p = generator.worldFromClip();
+  const glm::dmat4 absM = absolute(m), absP = absolute(p);
+  glm::dmat4 residual = absolute(m * p - glm::dmat4(1.0));
+  const glm::dmat4 sizes = absM * absP;
+  for (int c = 0; c < 4; ++c) residual[c] += gamma(5) * sizes[c];
+  const glm::dvec4 s(1.0, 1.0, std::abs(generator.mode().nearNdcZ()), 1.0);
+  const glm::dvec4 q = residual * s + gamma(6) * (absM * (absP * s));
+  if (!(q.w < 0.25)) {
+    reason = "the near points' rounding has no bound (matrix times its inverse is far from I)";
+    return std::nullopt;
+  }
+  const double nearPoint = (std::max(q.x, q.y) + q.w) / (1.0 - q.w);
+
+  const glm::dvec3 mx = row3(m, 0), my = row3(m, 1), mw = row3(m, 3);
+  const glm::dvec3 d1 = glm::cross(my, mw), d2 = glm::cross(mw, mx), d3 = glm::cross(mx, my);
+  const glm::dvec3 crossError = gamma(2) * (absCross(my, mw) + absCross(mw, mx) + absCross(mx, my));
+  const glm::dvec3 sizeD = glm::abs(d1) + glm::abs(d2) + glm::abs(d3);
+  const glm::dvec3 deltaD = crossError + gamma(8) * sizeD;
+  double direction = 0.0;
+  if (mw == glm::dvec3(0.0)) {
+    const double w = std::abs(m[3][3]);
+    const double tMax = generator.generate({0.0, 0.0}).tMax;
+    const double length = glm::length(d3) - glm::length(deltaD);
+    if (!std::isfinite(tMax) || !(w > 0.0) || !(length > 0.0)) {
+      reason = "a parallel camera without a finite far plane";
+      return std::nullopt;
+    }
+    const double stray = std::max(glm::dot(glm::abs(mx), deltaD), glm::dot(glm::abs(my), deltaD));
+    direction = stray * tMax * (1.0 + 0x1p-20) / (length * w);
+  } else {
+    // The bound needs w to grow along the ray (the robust direction's sign: away from the eye).
+    if (!(generator.facingSign() > 0.0)) {
+      reason = "rays along which clip w falls (a near plane on the eye's visible side)";
+      return std::nullopt;
+    }
+    const double det = glm::dot(mw, d3);
+    const double detError = gamma(3) * glm::dot(glm::abs(mw), glm::abs(d3)) +
+                            glm::dot(glm::abs(mw), crossError + deltaD);
+    const double rate = std::abs(det) - detError;
+    if (!(rate > 0.0)) {
+      reason = "the rays' rate of clip w has no bound";
+      return std::nullopt;
+    }
+    direction = std::max(glm::dot(glm::abs(mx) + glm::abs(mw), deltaD),
+                         glm::dot(glm::abs(my) + glm::abs(mw), deltaD)) /
+                rate;
+  }
+  return kSlack * (nearPoint + direction);
+}
+
+FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& generator,
+                      const glm::dmat4& clipFromRelative, const glm::dvec3& reference,
+                      double delta) {
+  FrameTerms terms;
+  terms.viewport = camera.viewport;
+  terms.delta = delta;
+  terms.clipFromRelative = clipFromRelative;
+  terms.absClipFromRelative = absolute(clipFromRelative);
+  terms.translationError =
+      gamma(5) * (absolute(camera.clipFromWorld) * glm::dvec4(glm::abs(reference), 1.0));
+  for (int r = 0; r < 4; ++r) {
+    terms.rowSize[r] = std::abs(camera.clipFromWorld[0][r]) + std::abs(camera.clipFromWorld[1][r]) +
+                       std::abs(camera.clipFromWorld[2][r]);
+  }
+  const DepthMode mode = camera.mode;
+  for (const double x : {-1.0, 1.0}) {
+    for (const double y : {-1.0, 1.0}) {
+      const glm::dvec4 p = generator.worldFromClip() * glm::dvec4(x, y, mode.nearNdcZ(), 1.0);
+      terms.nearExtent = std::max(terms.nearExtent, maxAbs(glm::dvec3(p) / p.w - reference));
+    }
+  }
+  terms.nearExtent *= 1.0 + 0x1p-20;
+  terms.zNear = mode.nearNdcZ();
+  terms.sigma = mode.farNdcZ() > mode.nearNdcZ() ? 1.0 : -1.0;
+  // An infinite far plane: row 2 - z_far row 3 has no xyz part (RobustRays' far plane).
+  const glm::dvec3 farXyz =
+      row3(camera.clipFromWorld, 2) - mode.farNdcZ() * row3(camera.clipFromWorld, 3);
+  terms.keyFar = farXyz == glm::dvec3(0.0) ? kInf : std::abs(mode.farNdcZ() - mode.nearNdcZ());
+  return terms;
+}
+
+TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& tri) {
+  TriangleSetup setup;
+  setup.primitiveId = tri.primitiveId;
+  const glm::dvec3 vertex[3] = {tri.a, tri.b, tri.c};
+  glm::dvec4 clip[3];
+  double error[3], zError[3], size[3];
+  for (int j = 0; j < 3; ++j) {
+    clip[j] = frame.clipFromRelative * glm::dvec4(vertex[j], 1.0);
+    // The watertight test's vertex moves (eta, item 2 above): the origin's subtraction, the shear
+    // and the edge function's product round once each per coordinate, on coordinates no larger
+    // than |vertex| + |origin| (the shear factors are at most 1).
+    const double eta = gamma(8) * (maxAbs(vertex[j]) + frame.nearExtent);
+    const glm::dvec4 e =
+        gamma(6) * (frame.absClipFromRelative * glm::dvec4(glm::abs(vertex[j]), 1.0)) +
+        frame.translationError + eta * frame.rowSize;
+    error[j] = std::max({e.x, e.y, e.w});
+    zError[j] = e.z;
+    size[j] = std::abs(clip[j].x) + std::abs(clip[j].y) + std::abs(clip[j].w);
+  }
+  double magnitude[3], evaluation[3];
+  for (int k = 0; k < 3; ++k) {
+    const int j = (k + 1) % 3, l = (k + 2) % 3;
+    const glm::dvec4 &p = clip[j], &r = clip[l];
+    setup.a[k] = p.y * r.w - p.w * r.y;
+    setup.b[k] = p.w * r.x - p.x * r.w;
+    setup.c[k] = p.x * r.y - p.y * r.x;
+    magnitude[k] = std::abs(p.y * r.w) + std::abs(p.w * r.y) + std::abs(p.w * r.x) +
+                   std::abs(p.x * r.w) + std::abs(p.x * r.y) + std::abs(p.y * r.x);
+    // det[p, r, s] with |s| <= (1, 1, 1): the coefficients' and the evaluation's roundings
+    // (gamma(4) of the terms' sizes), and each vertex's move times the size of the other's cross
+    // product with s (at most 2 |other|_1).
+    evaluation[k] = gamma(4) * magnitude[k] + 2.0 * (error[j] * size[l] + error[l] * size[j]);
+    setup.margin[k] =
+        kSlack * (evaluation[k] + frame.delta * (std::abs(setup.a[k]) + std::abs(setup.b[k])));
+  }
+  // det[h0, h1, h2] = E_0 at h0; a vertex's move changes it by at most its size times the
+  // cofactor's, which is that vertex's edge function's coefficients.
+  const double det = setup.a[0] * clip[0].x + setup.b[0] * clip[0].y + setup.c[0] * clip[0].w;
+  const double hSize = std::max({std::abs(clip[0].x), std::abs(clip[0].y), std::abs(clip[0].w)});
+  const double detError = kSlack * (gamma(5) * magnitude[0] * hSize + error[0] * magnitude[0] +
+                                    error[1] * magnitude[1] + error[2] * magnitude[2]);
+  if (std::abs(det) > detError) setup.sign = det > 0.0 ? 1.0 : -1.0;
+
+  // The depth plane: z(s) = sum_k E_k(s) z_k / det (barycentrics E_k / sum E, clip w det / sum E).
+  // Its error: each E_k's (as above) times |z_k|, each z_k's times |E_k| <= magnitude_k, the
+  // sums' and products' roundings (gamma(4)), det's error times |z|, and the ray's reach Delta
+  // times the plane's slopes.
+  if (setup.sign != 0.0) {
+    double sa = 0.0, sb = 0.0, sc = 0.0, spread = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      sa += setup.a[k] * clip[k].z;
+      sb += setup.b[k] * clip[k].z;
+      sc += setup.c[k] * clip[k].z;
+      spread += (evaluation[k] + gamma(4) * magnitude[k]) * std::abs(clip[k].z) +
+                magnitude[k] * zError[k];
+    }
+    setup.za = sa / det;
+    setup.zb = sb / det;
+    setup.zc = sc / det;
+    const double zSize = std::abs(setup.za) + std::abs(setup.zb) + std::abs(setup.zc);
+    setup.depthError =
+        kSlack * (spread / std::abs(det) + gamma(4) * zSize + zSize * detError / std::abs(det) +
+                  frame.delta * (std::abs(setup.za) + std::abs(setup.zb)));
+    if (!std::isfinite(setup.depthError)) setup.depthError = kInf;
+  }
+
+  // The pixels it may matter to: its vertices' projections, when all lie in front of the eye,
+  // padded by half a pixel, where each edge's margin reaches less than a quarter pixel from the
+  // edge (|E| <= margin lies within sqrt(2) margin / (|2 a / width| + |2 b / height|) pixels of
+  // it); else every pixel.
+  const Viewport viewport = frame.viewport;
+  setup.x0 = 0;
+  setup.x1 = viewport.width - 1;
+  setup.y0 = 0;
+  setup.y1 = viewport.height - 1;
+  bool narrowMargins = true;
+  for (int k = 0; k < 3; ++k) {
+    const double slope =
+        std::abs(2.0 * setup.a[k] / viewport.width) + std::abs(2.0 * setup.b[k] / viewport.height);
+    narrowMargins = narrowMargins && 1.5 * setup.margin[k] < 0.25 * slope;
+  }
+  if (narrowMargins && clip[0].w > 0.0 && clip[1].w > 0.0 && clip[2].w > 0.0) {
+    double xMin = kInf, xMax = -kInf, yMin = kInf, yMax = -kInf;
+    for (const glm::dvec4& c : clip) {
+      xMin = std::min(xMin, c.x / c.w);
+      xMax = std::max(xMax, c.x / c.w);
+      yMin = std::min(yMin, c.y / c.w);
+      yMax = std::max(yMax, c.y / c.w);
+    }
+    // Pixel i's centre is at NDC (2 i + 1) / width - 1.
+    const auto toPixel = [](double ndc, int extent) { return ((ndc + 1.0) * extent - 1.0) * 0.5; };
+    const double pad = 0.5;
+    const double px0 = toPixel(xMin, viewport.width) - pad,
+                 px1 = toPixel(xMax, viewport.width) + pad;
+    const double py0 = toPixel(yMin, viewport.height) - pad,
+                 py1 = toPixel(yMax, viewport.height) + pad;
+    if (std::isfinite(px0 + px1 + py0 + py1)) {
+      setup.x0 = static_cast<int>(std::clamp(std::ceil(px0), -1.0, double(viewport.width)));
+      setup.x1 = static_cast<int>(std::clamp(std::floor(px1), -1.0, double(viewport.width)));
+      setup.y0 = static_cast<int>(std::clamp(std::ceil(py0), -1.0, double(viewport.height)));
+      setup.y1 = static_cast<int>(std::clamp(std::floor(py1), -1.0, double(viewport.height)));
+    }
+  }
+  // A certain orientation turns the edge functions inside out where det < 0 (a product by -1 is
+  // exact): the inside is then where every E_k exceeds its margin, for either winding.
+  if (setup.sign < 0.0) {
+    for (int k = 0; k < 3; ++k) {
+      setup.a[k] = -setup.a[k];
+      setup.b[k] = -setup.b[k];
+      setup.c[k] = -setup.c[k];
+    }
+  }
+  return setup;
+}
+
+}  // namespace clipray::screen

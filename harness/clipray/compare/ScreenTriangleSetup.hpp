@@ -1,0 +1,72 @@
+#pragma once
+// What the screen evaluator (ScreenEvaluator.hpp) decides on (internal to compare/): per frame,
+// how far the ray path's robust rays stray from their pixel centres in NDC (Delta) and the terms
+// every triangle shares; per triangle, the three edge functions and the NDC depth plane at a pixel
+// centre's NDC (x, y), each with the margin beyond which its sign or order is the ray path's.
+// PickingCamera::clipFromWorld: column-major, p_clip = clipFromWorld * p_world, lower-left origin.
+
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+
+#include <glm/glm.hpp>
+
+#include "clipray/Picking.hpp"
+#include "clipray/intersect/SceneIntersector.hpp"
+#include "clipray/rays/RobustRays.hpp"
+
+namespace clipray::screen {
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+// How far (in NDC depth) a crossing must lie from the near and the far plane to be decided in or
+// out of the ray's interval: far more than the rounding of t against 0 and tMax.
+inline constexpr double kRangeMargin = 0x1p-24;
+// Two crossings whose NDC depths lie within this fraction of each other are both the ray path's
+// to order (the watertight t of each, with its tie rule): far more than the rounding of t.
+inline constexpr double kOrderMargin = 0x1p-20;
+
+// Whether a crossing whose depth key may be as low as `low` could tie with or beat the nearest
+// surely crossed triangle, whose key is at most nearestHigh.
+inline bool mayBeNearest(double low, double nearestHigh) {
+  return low <= nearestHigh + kOrderMargin * (nearestHigh < 0.0 ? -nearestHigh : nearestHigh);
+}
+
+// What every triangle's setup needs from the frame.
+struct FrameTerms {
+  glm::dmat4 clipFromRelative{1.0};
+  glm::dmat4 absClipFromRelative{1.0};
+  glm::dvec4 translationError{0.0};  // of folding the reference into clipFromRelative
+  glm::dvec4 rowSize{0.0};           // per clip row, sum_k |m[k][r]|: a world move's clip size
+  double delta = 0.0;                // Delta (rayDeviation)
+  double nearExtent = 0.0;           // the largest |o - reference| (inf-norm) of a ray origin
+  double zNear = 0.0, sigma = 1.0;   // the near plane's NDC z; sigma: the depth's direction
+  double keyFar = kInf;              // sigma (z_far - z_near); +inf for an infinite far plane
+  Viewport viewport;
+};
+
+// A triangle's edge functions, depth plane and their margins, for one camera.
+struct TriangleSetup {
+  // E_k(x, y) = a x + b y + c, edge k opposite vertex k; multiplied by the orientation's sign when
+  // it is certain, so that the inside is where every E_k > margin_k.
+  double a[3], b[3], c[3];
+  double margin[3];
+  double sign = 0.0;                     // sign(det) when it is certain; 0: not
+  double za = 0.0, zb = 0.0, zc = 0.0;   // NDC depth z(x, y) = za x + zb y + zc
+  double depthError = kInf;              // |z - exact z| over the ray's reach: the key's error
+  int x0 = 0, x1 = -1, y0 = 0, y1 = -1;  // pixels the triangle may matter to (inclusive)
+  std::uint32_t primitiveId = 0;
+};
+
+// Delta for the generator's rays; nullopt, with the reason, where they have no such bound.
+std::optional<double> rayDeviation(const RobustRayGenerator& generator, std::string& reason);
+
+// The terms of the camera's frame: clipFromRelative is the screen bins' (FrameBins), reference the
+// intersector's, delta from rayDeviation.
+FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& generator,
+                      const glm::dmat4& clipFromRelative, const glm::dvec3& reference,
+                      double delta);
+
+TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& triangle);
+
+}  // namespace clipray::screen
