@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <utility>
 
 #include "clipray/compare/DepthMapping.hpp"
@@ -210,7 +211,12 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
     });
   }
   frame.hits = std::move(kept);
-  return {};
+  ScreenEvaluation rays;
+  if (chosenAnalyticPath() == AnalyticPath::Screen) {
+    rays.reason = "objects with draw state of their own (" + std::to_string(groups.size()) +
+                  " groups) stay on rays";
+  }
+  return rays;
 }
 
 }  // namespace clipray::engine

@@ -213,10 +213,15 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
   run.clusters = std::move(clusters);
   if (pass.screen.used) {
     const ScreenEvaluation& s = pass.screen;
-    run.screenPath = ScreenPathRecord{
-        static_cast<std::int64_t>(s.background),  static_cast<std::int64_t>(s.decided),
-        static_cast<std::int64_t>(s.contested),   static_cast<std::int64_t>(s.traced),
-        static_cast<std::int64_t>(s.boundMisses), s.rayDeviationNdc};
+    run.screenPath = ScreenPathRecord{static_cast<std::int64_t>(s.background),
+                                      static_cast<std::int64_t>(s.decided),
+                                      static_cast<std::int64_t>(s.contested),
+                                      static_cast<std::int64_t>(s.traced),
+                                      static_cast<std::int64_t>(s.boundMisses),
+                                      s.rayDeviationNdc,
+                                      {}};
+  } else if (!pass.screen.reason.empty()) {
+    run.screenPath = ScreenPathRecord{.declined = pass.screen.reason};
   }
   run.timings = {renderTimings.raster, renderTimings.readback, pass.raysMilliseconds,
                  pass.intersectMilliseconds, compareMilliseconds};

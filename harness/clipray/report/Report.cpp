@@ -238,7 +238,9 @@ nlohmann::json runJson(const RunRecord& run) {
   }
   if (!run.notes.empty()) json["notes"] = run.notes;
   if (!run.capture.empty()) json["capture"] = run.capture;
-  if (run.screenPath) {
+  if (run.screenPath && !run.screenPath->declined.empty()) {
+    json["screen_path"] = {{"declined", run.screenPath->declined}};
+  } else if (run.screenPath) {
     const ScreenPathRecord& s = *run.screenPath;
     json["screen_path"] = {
         {"background", s.background},    {"decided", s.decided},

@@ -115,7 +115,8 @@ struct SampleRecord {
 // What the screen path (clipray reconcile --analytic screen, ScreenEvaluator.hpp) did with the
 // run's frame: pixels no triangle can be hit at, decided by one watertight test, by several (the
 // nearest within the depth margin), and traced by the ray path; tests that missed where the
-// bounds said hit (zero unless a bound is wrong); the bound on the rays' deviation (NDC).
+// bounds said hit (zero unless a bound is wrong); the bound on the rays' deviation (NDC). Or, where
+// it left the whole frame to the ray path, why (the counts are then zero).
 struct ScreenPathRecord {
   std::int64_t background = 0;
   std::int64_t decided = 0;
@@ -123,6 +124,7 @@ struct ScreenPathRecord {
   std::int64_t traced = 0;
   std::int64_t boundMisses = 0;
   double rayDeviationNdc = 0.0;
+  std::string declined;  // empty where the screen path evaluated the frame
   bool operator==(const ScreenPathRecord&) const = default;
 };
 
@@ -137,7 +139,7 @@ struct RunRecord {
   bool depthClamp = false;          // drawn with GL_DEPTH_CLAMP (Scene::depthClamp)
   std::vector<OffsetRecord> polygonOffsets{};  // the objects drawn with a polygon offset
   std::optional<SampleRecord> sample;          // set for the runs of a multisampled frame
-  std::optional<ScreenPathRecord> screenPath;  // set where the screen path evaluated the frame
+  std::optional<ScreenPathRecord> screenPath;  // set on the screen path
   RunMetrics metrics;
   RunTimings timings;
   // The CPU time the process spent in each phase, every thread's (the GL driver's in the raster
