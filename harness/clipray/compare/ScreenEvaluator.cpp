@@ -12,9 +12,9 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <cstdint>
 #include <cstring>
+#include <mutex>
 #include <optional>
 #include <vector>
 
@@ -241,7 +241,7 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   const std::vector<detail::BvhTriangle>& triangles = detail::ScreenTriangles::of(intersector);
   frame.hits.resize(frame.pixelCount());
   const int tileRows = (viewport.height + kTile - 1) / kTile;
-  std::atomic<std::size_t> background{0}, decided{0}, contested{0}, traced{0}, misses{0};
+  std::mutex countsLock;  // the workers add their counts to result at the end
   const int tileColumns = (viewport.width + kTile - 1) / kTile;
   std::vector<double> clipX(static_cast<std::size_t>(tileColumns * kTile));
   for (int x = 0; x < tileColumns * kTile; ++x) {
@@ -264,7 +264,7 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                   });
   const bool avx2 = detail::PacketKernels::available();
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
-    std::size_t counts[5] = {0, 0, 0, 0, 0};
+    ScreenEvaluation counts;
     TileState state;
     std::array<Ray, kTile> rayRow;
     for (int tileY = tileRowBegin; tileY < tileRowEnd; ++tileY) {
@@ -293,7 +293,7 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                 state.unsureLow[i] < kInf && mayBeNearest(state.unsureLow[i], nearestHigh);
             if (!traceIt && state.firstLow[i] == kInf) {
               hit = Hit{};
-              ++counts[0];
+              ++counts.background;
               continue;
             }
             if (!raysMade) {
@@ -303,7 +303,7 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
             const Ray& ray = rayRow[static_cast<std::size_t>(lx)];
             if (ray.tMax < 0.0) {  // no ray at this pixel: nothing is hit
               hit = Hit{};
-              ++counts[traceIt ? 3 : 1];
+              ++(traceIt ? counts.traced : counts.decided);
               continue;
             }
             if (!traceIt) {
@@ -312,28 +312,24 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                                                      ray)
                           : closestOfListed(walk, lx, ly, intersector, ray);
               if (hit.hit()) {
-                ++counts[alone ? 1 : 2];
+                ++(alone ? counts.decided : counts.contested);
                 continue;
               }
-              ++counts[4];
+              ++counts.boundMisses;
             }
             hit = intersector.closestHit(ray);
-            ++counts[3];
+            ++counts.traced;
           }
         }
       }
     }
-    background += counts[0];
-    decided += counts[1];
-    contested += counts[2];
-    traced += counts[3];
-    misses += counts[4];
+    const std::lock_guard lock(countsLock);
+    result.background += counts.background;
+    result.decided += counts.decided;
+    result.contested += counts.contested;
+    result.traced += counts.traced;
+    result.boundMisses += counts.boundMisses;
   });
-  result.background = background;
-  result.decided = decided;
-  result.contested = contested;
-  result.traced = traced;
-  result.boundMisses = misses;
   return result;
 }
 
