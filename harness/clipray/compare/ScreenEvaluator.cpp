@@ -14,6 +14,7 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <vector>
@@ -53,14 +54,14 @@ using Mask = long long __attribute__((vector_size(32)));
 struct alignas(32) TileState {
   double nearestHigh[kTilePixels];  // the smallest upper key of a surely crossed triangle
   double firstLow[kTilePixels];     // the smallest lower key of a surely crossed triangle,
-  double firstId[kTilePixels];      //   that triangle's primitive id (exact in a double),
+  double firstSlot[kTilePixels];    //   that triangle's slot (exact in a double),
   double secondLow[kTilePixels];    //   and the second smallest
   double unsureLow[kTilePixels];    // the smallest lower key of one perhaps crossed; -inf: any
 
   void reset() {
     std::fill(std::begin(nearestHigh), std::end(nearestHigh), kInf);
     std::fill(std::begin(firstLow), std::end(firstLow), kInf);
-    std::fill(std::begin(firstId), std::end(firstId), 0.0);
+    std::fill(std::begin(firstSlot), std::end(firstSlot), 0.0);
     std::fill(std::begin(secondLow), std::end(secondLow), kInf);
     std::fill(std::begin(unsureLow), std::end(unsureLow), kInf);
   }
@@ -103,7 +104,7 @@ struct TileWalk {
       const int ly0 = std::max(0, t.y0 - y0), ly1 = std::min(walk.rows - 1, t.y1 - y0);
       const int lx0 = std::max(0, t.x0 - x0), lx1 = std::min(walk.columns - 1, t.x1 - x0);
       if (ly0 > ly1 || lx0 > lx1) continue;
-      const Lanes id = Lanes{} + static_cast<double>(t.primitiveId);
+      const Lanes slot = Lanes{} + static_cast<double>(entry.slot);
       for (int ly = ly0; ly <= ly1; ++ly) {
         const double y = walk.clipY[y0 + ly];
         const double c0 = t.b[0] * y + t.c[0], c1 = t.b[1] * y + t.c[1], c2 = t.b[2] * y + t.c[2];
@@ -132,10 +133,10 @@ struct TileWalk {
           const Mask sure = inside & (low > kRangeMargin) & (high < farIn);
           const Mask perhaps = ~(outside | outOfRange | sure);
 
-          Lanes nearestHigh, firstLow, firstId, secondLow, unsureLow;
+          Lanes nearestHigh, firstLow, firstSlot, secondLow, unsureLow;
           load(nearestHigh, s.nearestHigh + i);
           load(firstLow, s.firstLow + i);
-          load(firstId, s.firstId + i);
+          load(firstSlot, s.firstSlot + i);
           load(secondLow, s.secondLow + i);
           load(unsureLow, s.unsureLow + i);
           const Lanes lowSure = sure ? low : inf, highSure = sure ? high : inf;
@@ -144,7 +145,7 @@ struct TileWalk {
           store(s.nearestHigh + i, highSure < nearestHigh ? highSure : nearestHigh);
           store(s.secondLow + i, second < secondLow ? second : secondLow);
           store(s.firstLow + i, first ? lowSure : firstLow);
-          store(s.firstId + i, first ? id : firstId);
+          store(s.firstSlot + i, first ? slot : firstSlot);
           // A lower key that is not a number (a depth plane out of double's range) bounds nothing.
           const Lanes lowOrAny = ((low > minusInf) & (low < inf)) ? low : minusInf;
           const Lanes unsure = perhaps ? lowOrAny : inf;
@@ -199,8 +200,13 @@ __attribute__((target("avx2,fma"))) void walkTileAvx2(const TileWalk& walk) {
 
 ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                                              const SceneIntersector& intersector,
-                                             const PickingCamera& camera, unsigned threadCount) {
+                                             const PickingCamera& camera, unsigned threadCount,
+                                             ScreenDepths* depths) {
   ScreenEvaluation result;
+  if (depths) {
+    depths->ndcZ.assign(frame.pixelCount(), std::numeric_limits<double>::quiet_NaN());
+    depths->bound.assign(frame.pixelCount(), std::numeric_limits<double>::quiet_NaN());
+  }
   const auto traceByRays = [&](std::string reason) {
     result.reason = std::move(reason);
     intersectFrame(frame, intersector, camera, threadCount);
@@ -308,11 +314,20 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
             }
             if (!traceIt) {
               const bool alone = !mayBeNearest(state.secondLow[i], nearestHigh);
-              hit = alone ? intersector.intersectOne(static_cast<std::uint32_t>(state.firstId[i]),
-                                                     ray)
+              const TriangleSetup& nearest = setups[static_cast<std::size_t>(state.firstSlot[i])];
+              hit = alone ? intersector.intersectOne(nearest.primitiveId, ray)
                           : closestOfListed(walk, lx, ly, intersector, ray);
               if (hit.hit()) {
                 ++(alone ? counts.decided : counts.contested);
+                if (alone && depths) {
+                  // The depth plane as the walk evaluates it (ScreenTriangleSetup.hpp).
+                  const std::size_t pixel =
+                      static_cast<std::size_t>(y0 + ly) * viewport.width + x0 + lx;
+                  const double y = clipY[static_cast<std::size_t>(y0 + ly)];
+                  depths->ndcZ[pixel] = nearest.za * clipX[static_cast<std::size_t>(x0 + lx)] +
+                                        (nearest.zb * y + nearest.zc);
+                  depths->bound[pixel] = nearest.depthError;
+                }
                 continue;
               }
               ++counts.boundMisses;

@@ -42,12 +42,23 @@ struct ScreenEvaluation {
   double rayDeviationNdc = 0.0;
 };
 
+// Where a pixel is decided (one triangle the nearest), that triangle's NDC depth at the pixel
+// centre from its depth plane, and the bound on its distance from the depth where the exact line
+// of sight through the centre crosses the triangle (ScreenTriangleSetup.hpp's depthError); NaN at
+// every other pixel. What a compare in screen space takes instead of a ray and its t.
+struct ScreenDepths {
+  FrameVector<double> ndcZ;
+  FrameVector<double> bound;
+};
+
 // Fills frame.hits for the camera's robust rays (frame from robustRayFrame(camera)) with the same
 // hits intersectFrame(frame, intersector, camera) gives, bit for bit. Frames outside what the
 // screen decisions cover (analytic primitives, user clip planes, depth clamp, stored rays, a
-// camera whose rays' deviation has no bound) are traced by the ray path, with the reason.
+// camera whose rays' deviation has no bound) are traced by the ray path, with the reason. Fills
+// depths too where one is given (resized to the frame; all NaN where the frame is not evaluated).
 ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                                              const SceneIntersector& intersector,
-                                             const PickingCamera& camera, unsigned threadCount = 0);
+                                             const PickingCamera& camera, unsigned threadCount = 0,
+                                             ScreenDepths* depths = nullptr);
 
 }  // namespace clipray
