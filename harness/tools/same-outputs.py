@@ -4,9 +4,11 @@ measurements of time left out (timings_ms, cpu_ms, first_round_*, analytic_over_
 every other file (PNGs, summary.txt lines without timings) byte for byte; index.html (timings
 and the command line) and the folder's lock file are left out. A refactoring that
 claims "same outputs" runs the suite into two folders, before and after, and this prints
-nothing and exits 0 when they match; otherwise it lists every difference and exits 1.
+nothing and exits 0 when they match; otherwise it lists every difference and exits 1. Each
+--without FIELD leaves that report.json field out too (screen_path: what only the screen path
+writes, when its sweep is compared with the ray path's).
 
-usage: harness/tools/same-outputs.py BEFORE_DIR AFTER_DIR
+usage: harness/tools/same-outputs.py [--without FIELD]... BEFORE_DIR AFTER_DIR
 """
 import json
 import os
@@ -17,11 +19,12 @@ TIME_FIELDS = {"started_at", "command_line", "git_commit", "timings_ms", "cpu_ms
                "analytic_over_raster"}
 
 
-def without_time(value):
+def without_time(value, left_out=frozenset()):
     if isinstance(value, dict):
-        return {k: without_time(v) for k, v in value.items() if k not in TIME_FIELDS}
+        return {k: without_time(v, left_out) for k, v in value.items()
+                if k not in TIME_FIELDS and k not in left_out}
     if isinstance(value, list):
-        return [without_time(v) for v in value]
+        return [without_time(v, left_out) for v in value]
     return value
 
 
@@ -63,10 +66,14 @@ TIMING_TAIL = re.compile(rb"\s+(raster|ms|analytic).*$")
 
 
 def main():
-    if len(sys.argv) != 3:
+    arguments, left_out = sys.argv[1:], set()
+    while len(arguments) >= 2 and arguments[0] == "--without":
+        left_out.add(arguments[1])
+        arguments = arguments[2:]
+    if len(arguments) != 2 or arguments[0].startswith("--"):
         print(__doc__.strip().splitlines()[-1], file=sys.stderr)
         return 2
-    before, after = sys.argv[1], sys.argv[2]
+    before, after = arguments
     problems = []
     names = files_under(before) | files_under(after)
     for name in sorted(names):
@@ -76,7 +83,8 @@ def main():
             continue
         if name.endswith(".json"):
             with open(a_path) as fa, open(b_path) as fb:
-                a, b = without_time(json.load(fa)), without_time(json.load(fb))
+                a = without_time(json.load(fa), left_out)
+                b = without_time(json.load(fb), left_out)
             problems += [f"{name}{d}" for d in differences(a, b)]
         elif name.endswith(".txt"):
             with open(a_path, "rb") as fa, open(b_path, "rb") as fb:
