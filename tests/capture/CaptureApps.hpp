@@ -13,18 +13,43 @@
 
 namespace clipray::testing {
 
-// Runs a shell command in FOLDER; "" on success, else what it printed.
-inline std::string runIn(const TempFolder& folder, const std::string& command,
-                         const std::string& what) {
+struct FolderRun {
+  int status = -1;     // the shell's exit status: 128 + N for a command killed by signal N
+  std::string output;  // what it printed
+};
+
+// Runs a shell command in FOLDER.
+inline FolderRun runInFolder(const TempFolder& folder, const std::string& command) {
   const std::filesystem::path log = folder.path() / ".log";
   const std::string line =
       "cd '" + folder.path().string() + "' && " + command + " >'" + log.string() + "' 2>&1";
   const int raw = std::system(line.c_str());
-  const int status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  const std::string output = readText(log);
+  FolderRun run;
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  run.output = readText(log);
   std::filesystem::remove(log);
-  if (status == 0) return "";
-  return what + " failed (status " + std::to_string(status) + "): " + output;
+  return run;
+}
+
+inline std::string failureOf(const FolderRun& run, const std::string& what) {
+  if (run.status == 0) return "";
+  return what + " failed (status " + std::to_string(run.status) + "): " + run.output;
+}
+
+// Runs a shell command in FOLDER; "" on success, else what it printed.
+inline std::string runIn(const TempFolder& folder, const std::string& command,
+                         const std::string& what) {
+  return failureOf(runInFolder(folder, command), what);
+}
+
+// The same for a command that replays a capture in RenderDoc (the capture reader run directly):
+// run once more when a signal killed it, as clipray's own reader runs are (CaptureFileCheck.cpp's
+// runReader: RenderDoc 1.24's replay now and then dies by SIGSEGV as it starts).
+inline std::string runReplayIn(const TempFolder& folder, const std::string& command,
+                               const std::string& what) {
+  FolderRun run = runInFolder(folder, command);
+  if (run.status > 128) run = runInFolder(folder, command);
+  return failureOf(run, what);
 }
 
 // FOLDER/CASE.rdc: one frame of `clipray_trace_app CASE 1` through RenderDoc's in-app API.

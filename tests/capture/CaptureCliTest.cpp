@@ -33,6 +33,7 @@ namespace {
 using testing::captureCase;
 using testing::runClipray;
 using testing::runIn;
+using testing::runReplayIn;
 using testing::TempFolder;
 
 std::string traceCase(const std::string& name, const TempFolder& folder) {
@@ -206,11 +207,13 @@ TEST(CaptureCli, GeometryHoldsTheVertexShadersClipPositions) {
   ASSERT_EQ(captureCase("zo", folder), "");
   const std::string reader =
       (std::filesystem::path(CLIPRAY_BINARY).parent_path() / "clipray-capture-reader.py").string();
-  ASSERT_EQ(runIn(folder, "(/usr/bin/python3 '" + reader + "' zo.rdc >draws.jsonl)", "the reader"),
-            "");
-  ASSERT_EQ(runIn(folder, "(/usr/bin/python3 '" + reader + "' zo.rdc --geometry >geometry.jsonl)",
+  ASSERT_EQ(
+      runReplayIn(folder, "(/usr/bin/python3 '" + reader + "' zo.rdc >draws.jsonl)", "the reader"),
+      "");
+  ASSERT_EQ(
+      runReplayIn(folder, "(/usr/bin/python3 '" + reader + "' zo.rdc --geometry >geometry.jsonl)",
                   "the reader's --geometry"),
-            "");
+      "");
   std::vector<nlohmann::json> draws, geometry;
   for (const auto& [file, lines] :
        {std::pair{"draws.jsonl", &draws}, {"geometry.jsonl", &geometry}}) {
