@@ -1,9 +1,10 @@
 // Screen-space decisions for the closest triangle of each pixel (ScreenEvaluator.hpp), with the
 // bounds of ScreenTriangleSetup.cpp. A tile's pixels keep, per pixel, the nearest upper depth key
-// of a surely crossed triangle, the two smallest lower keys of those (and the first one's id) and
-// the smallest lower key of a triangle perhaps crossed: enough to tell one nearest triangle (its
-// watertight test gives t), several within the order margin (the ray path's search decides) and
-// a pixel a margin cannot decide (traced), without a list per pixel. Four pixel centres of a tile
+// of a surely crossed triangle, the two smallest lower keys of those (and the first one's slot)
+// and the smallest lower key of a triangle perhaps crossed: enough to tell one nearest triangle
+// (its watertight test gives t), several within the order margin (the watertight tests of the
+// tile's triangles not surely outside the pixel decide, with closestHit's rule) and a pixel a
+// margin cannot decide (traced), without a list per pixel. Four pixel centres of a tile
 // row are evaluated per step, on AVX2 lanes where the CPU has them and the SIMD kernels are chosen
 // (KernelChoice.hpp), else on the baseline's: the same operations, and every decision certified
 // either way, so the hits are the ray path's bits on both.

@@ -10,11 +10,11 @@
 // s = (x, y, 1), positive inside where det[h0, h1, h2] is) and the NDC depth plane
 // z(s) = sum_k E_k(s) z_k / det, in double. A pixel centre whose every edge function exceeds its
 // margin is inside the projection of the triangle's part in front of the eye, and every ray that
-// stays within Delta of the centre (the ray path's rays do: ScreenEvaluator.cpp bounds their
+// stays within Delta of the centre (the ray path's rays do: ScreenTriangleSetup.cpp bounds their
 // deviation from the camera's matrices) crosses the triangle; one below minus its margin is
 // outside, and no such ray meets it. The nearest of the triangles a pixel's ray crosses is decided
-// on the depth plane with the same margins. Pixels where a margin is not cleared, or where two
-// triangles lie within it of each other, are the ray path's.
+// on the depth plane with the same margins. Where two triangles lie within them of each other,
+// their watertight tests decide; pixels where a margin is not cleared are the ray path's.
 
 #include <cstddef>
 #include <string>
