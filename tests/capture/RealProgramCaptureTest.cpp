@@ -41,22 +41,28 @@ struct Captured {
 
 // FOLDER/OUT.rdc: one presented frame of PROGRAM under a 640x480 Xvfb screen, on llvmpipe. The
 // display search starts at a number of this shell's own, so that tests run in parallel do not
-// race for the same free display.
+// race for the same free display. The status is the capture script's own, written to a file
+// inside xvfb-run: xvfb-run replaces it with 5 when its own clean-up fails ("problem while
+// cleaning up temporary directory", seen once in CI after the script had exited 1).
 Captured captureProgram(const std::string& out, const std::string& program,
                         const TempFolder& folder) {
   const std::filesystem::path log = folder.path() / ".capture.log";
+  const std::filesystem::path status = folder.path() / ".capture.status";
   const std::string line = "cd '" + folder.path().string() +
                            "' && xvfb-run -a -n $((100 + $$ % 800)) -s '-screen 0 640x480x24' "
-                           "env LIBGL_ALWAYS_SOFTWARE=1 "
-                           "/usr/bin/python3 '" CLIPRAY_CAPTURE_FRAME_SCRIPT "' '" +
-                           out + "' --timeout 15 -- " + program + " >'" + log.string() + "' 2>&1";
+                           "env LIBGL_ALWAYS_SOFTWARE=1 sh -c '\"$@\"; echo $? >\"" +
+                           status.string() +
+                           "\"' sh /usr/bin/python3 '" CLIPRAY_CAPTURE_FRAME_SCRIPT "' '" + out +
+                           "' --timeout 15 -- " + program + " >'" + log.string() + "' 2>&1";
   Captured captured;
   // xvfb-run -a can lose a race for a free display to another test's Xvfb starting at the same
   // moment ("Xvfb failed to start"): then it is asked again, a few times.
   for (int attempt = 0; attempt < 3; ++attempt) {
+    std::filesystem::remove(status);
     const int raw = std::system(line.c_str());
     captured.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
     captured.output = testing::readText(log);
+    if (std::filesystem::exists(status)) captured.status = std::stoi(testing::readText(status));
     if (captured.output.find("Xvfb failed to start") == std::string::npos) break;
   }
   return captured;
