@@ -295,7 +295,8 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
           for (int lx = 0; lx < columns; ++lx) {
             const int i = ly * kTile + lx;
             const double nearestHigh = state.nearestHigh[i];
-            Hit& hit = frame.hits[static_cast<std::size_t>(y0 + ly) * viewport.width + x0 + lx];
+            const std::size_t pixel = static_cast<std::size_t>(y0 + ly) * viewport.width + x0 + lx;
+            Hit& hit = frame.hits[pixel];
             const bool traceIt =
                 state.unsureLow[i] < kInf && mayBeNearest(state.unsureLow[i], nearestHigh);
             if (!traceIt && state.firstLow[i] == kInf) {
@@ -322,8 +323,6 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                 ++(alone ? counts.decided : counts.contested);
                 if (alone && depths) {
                   // The depth plane as the walk evaluates it (ScreenTriangleSetup.hpp).
-                  const std::size_t pixel =
-                      static_cast<std::size_t>(y0 + ly) * viewport.width + x0 + lx;
                   const double y = clipY[static_cast<std::size_t>(y0 + ly)];
                   depths->ndcZ[pixel] = nearest.za * clipX[static_cast<std::size_t>(x0 + lx)] +
                                         (nearest.zb * y + nearest.zc);
