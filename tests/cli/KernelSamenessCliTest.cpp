@@ -1,19 +1,29 @@
-// `clipray reconcile --kernels portable` and `--analytic screen` write what the SIMD kernels on the
-// ray path write: every shipped scene under every convention and depth format, report.json equal
-// but for what is measured (timings) or stamped (command line, start time), and every other file
-// byte for byte (random scenes through the hard-case cameras are checked in process:
-// tests/gl/KernelSamenessTest.cpp, tests/unit/ScreenEvaluatorTest.cpp).
+// `clipray reconcile --kernels portable` writes what the SIMD kernels on the ray path write: every
+// shipped scene under every convention and depth format, report.json equal but for what is
+// measured (timings) or stamped (command line, start time), and every other file byte for byte.
+// `--analytic screen` classifies every pixel as the ray path does, its depth figures computed from
+// the triangles' planes instead of the rays' hits: the same report but for those figures, which
+// lie within a hair of the ray path's, the same images but for the error heat maps, whose colours
+// move by one level at most where a ratio lies at a rounding step (random scenes through the
+// hard-case cameras are checked in process: tests/gl/KernelSamenessTest.cpp,
+// tests/gl/ScreenPathSamenessTest.cpp, tests/unit/ScreenEvaluatorTest.cpp).
 
 #include <gtest/gtest.h>
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <map>
 #include <set>
 #include <string>
 
+#define STB_IMAGE_STATIC
+#define STB_IMAGE_IMPLEMENTATION
+#include "support/DecodedPng.hpp"
 #include "support/RunCommand.hpp"
 #include "support/Sanitizers.hpp"
 
@@ -48,17 +58,67 @@ nlohmann::json withoutMeasurements(nlohmann::json report) {
   return report;
 }
 
+// How `other` may differ from `base`: not at all, or (the screen path) in the depth figures the
+// planes compute and in the heat maps drawn from them.
+enum class Figures { Equal, WithinAHair };
+
+// The report with every float figure replaced by 0 (what must then be equal), and the figures
+// apart, at most, relative to themselves.
+nlohmann::json withoutFigures(const nlohmann::json& entry) {
+  if (entry.is_number_float()) return 0.0;
+  nlohmann::json out = entry;
+  if (entry.is_object() || entry.is_array()) {
+    for (auto& value : out) value = withoutFigures(value);
+  }
+  return out;
+}
+double figuresApart(const nlohmann::json& a, const nlohmann::json& b) {
+  if (a.is_number_float() && b.is_number_float()) {
+    const double x = a.get<double>(), y = b.get<double>();
+    return std::abs(x - y) / std::max({std::abs(x), std::abs(y), 1e-300});
+  }
+  double apart = 0.0;
+  if ((a.is_object() || a.is_array()) && a.size() == b.size()) {
+    for (auto i = a.begin(), j = b.begin(); i != a.end(); ++i, ++j) {
+      apart = std::max(apart, figuresApart(*i, *j));
+    }
+  }
+  return apart;
+}
+
+// The largest difference of a channel between two PNGs of the same size (256 if they differ in
+// size or do not decode).
+int channelsApart(const std::string& a, const std::string& b) {
+  using Rgb = std::array<std::uint8_t, 3>;
+  const auto x = testing::decodePng<Rgb>(a), y = testing::decodePng<Rgb>(b);
+  if (x.width != y.width || x.height != y.height || x.rgb.size() != y.rgb.size()) return 256;
+  int apart = 0;
+  for (std::size_t i = 0; i < x.rgb.size(); ++i) {
+    apart = std::max(apart, std::abs(int{x.rgb[i]} - int{y.rgb[i]}));
+  }
+  return apart;
+}
+
 // Every file of `other` as `base` wrote it, but for what is measured or stamped.
 void expectTheSameOutput(const std::filesystem::path& base, const std::filesystem::path& other,
-                         const std::string& what) {
+                         const std::string& what, Figures figures = Figures::Equal) {
   std::map<std::string, std::string> baseFiles = filesUnder(base);
   std::map<std::string, std::string> otherFiles = filesUnder(other);
   const auto baseReport = nlohmann::json::parse(baseFiles.at("report.json"));
   const auto otherReport = nlohmann::json::parse(otherFiles.at("report.json"));
   ASSERT_GT(baseReport["runs"].size(), testing::kUnderAddressSanitizer ? 40u : 200u);
   const nlohmann::json patch =
-      nlohmann::json::diff(withoutMeasurements(baseReport), withoutMeasurements(otherReport));
+      figures == Figures::Equal
+          ? nlohmann::json::diff(withoutMeasurements(baseReport), withoutMeasurements(otherReport))
+          : nlohmann::json::diff(withoutFigures(withoutMeasurements(baseReport)),
+                                 withoutFigures(withoutMeasurements(otherReport)));
   EXPECT_TRUE(patch.empty()) << what << ": report.json differs by " << patch;
+  if (figures == Figures::WithinAHair) {
+    // Differences of nearly equal depths (error over tolerance or quantum, distances apart) move
+    // by the depths' difference (below 10^-9 of the depth range) over themselves.
+    EXPECT_LT(figuresApart(withoutMeasurements(baseReport), withoutMeasurements(otherReport)), 0.01)
+        << what;
+  }
   // index.html shows the timings and the command line; the lock file is the output folder's.
   for (const char* measured : {"report.json", "index.html", ".clipray.lock"}) {
     baseFiles.erase(measured);
@@ -69,7 +129,13 @@ void expectTheSameOutput(const std::filesystem::path& base, const std::filesyste
   for (const auto& [path, bytes] : baseFiles) {
     const auto found = otherFiles.find(path);
     ASSERT_NE(found, otherFiles.end()) << path << " is missing from " << what;
-    EXPECT_TRUE(bytes == found->second) << what << ": " << path << " differs";
+    if (figures == Figures::WithinAHair && path.ends_with("heatmap.png")) {
+      // Drawn from error / tolerance, continuous but for the step at 1, where the classes (equal)
+      // keep both sides apart: a hair's move changes a channel's rounding by one level at most.
+      EXPECT_LE(channelsApart(bytes, found->second), 1) << what << ": " << path;
+    } else {
+      EXPECT_TRUE(bytes == found->second) << what << ": " << path << " differs";
+    }
     images += path.ends_with(".png") ? 1 : 0;
   }
   // Every run's four images and two thumbnails, and crops.
@@ -77,9 +143,9 @@ void expectTheSameOutput(const std::filesystem::path& base, const std::filesyste
 }
 
 // The portable code and the screen path (--analytic screen, ScreenEvaluator.hpp) against the
-// default, the SIMD kernels on the ray path.
+// default, the SIMD kernels on the ray path: the same, and the same classes and counts.
 TEST(KernelSamenessCli,
-     ThePortableCodeAndTheScreenPathWriteWhatTheKernelsWriteForEveryShippedScene) {
+     ThePortableCodeWritesWhatTheKernelsWriteAndTheScreenPathClassifiesAsTheyDo) {
   TempFolder folder;
   // Under AddressSanitizer (ten times slower) the conventions and formats most runs differ by,
   // a third of the sweep: what it adds is the check of the kernels' memory accesses.
@@ -96,7 +162,8 @@ TEST(KernelSamenessCli,
     ASSERT_EQ(result.status, 1) << choice << ": " << result.err;
   }
   expectTheSameOutput(folder.path() / "simd", folder.path() / "portable", "the portable code");
-  expectTheSameOutput(folder.path() / "simd", folder.path() / "screen", "the screen path");
+  expectTheSameOutput(folder.path() / "simd", folder.path() / "screen", "the screen path",
+                      Figures::WithinAHair);
   // The screen path evaluated the scenes it covers (meshes drawn alike: no analytic primitives,
   // clip planes, depth clamp or objects with state of their own), the hard cases among them
   // included, and no bound failed; it says why it left a frame to the ray path.

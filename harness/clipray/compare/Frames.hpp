@@ -32,6 +32,14 @@ struct RasterFrame {
   std::vector<std::uint32_t> ids;
 };
 
+// A triangle's NDC depth z and reciprocal clip w where the line of sight through the pixel centre
+// at NDC (x, y) crosses it, as planes over (x, y): z = za x + (zb y + zc), likewise r = 1 / w,
+// each with a bound on its distance from the exact crossing's (ScreenTriangleSetup.hpp).
+struct TrianglePlanes {
+  double za = 0.0, zb = 0.0, zc = 0.0, depthError = 0.0;
+  double ra = 0.0, rb = 0.0, rc = 0.0, reciprocalWError = 0.0;
+};
+
 // What the analytic pass found: the ray of each pixel and its closest hit.
 struct AnalyticFrame {
   Viewport viewport;
@@ -41,6 +49,10 @@ struct AnalyticFrame {
   FrameVector<Ray> rays;
   std::shared_ptr<const PixelCentreRays> pixelCentreRays;
   FrameVector<Hit> hits;
+  // Where the screen path decided a pixel's triangle from its planes alone (ScreenEvaluator.hpp,
+  // DecidedHits::FromPlanes), the hit holds the triangle's id and t = NaN: no ray was traced
+  // there, and the compare evaluates planesById[id] at the pixel centre instead (empty: none).
+  std::shared_ptr<const std::vector<TrianglePlanes>> planesById;
 
   std::size_t pixelCount() const {
     return static_cast<std::size_t>(viewport.width) * static_cast<std::size_t>(viewport.height);

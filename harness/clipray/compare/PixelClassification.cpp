@@ -351,6 +351,21 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
       setup.depthFormat == DepthFormat::Float32 ? 0.0 : depthQuantum(setup.depthFormat, 0.0),
       1.0 / (1.0 - setup.mode.clipVolumeMinZ())};
 #endif
+  if (analytic.planesById && setup.oneDepthRange() && !setup.depthClamp.enabled &&
+      setup.objectOffsets.empty() && !setup.logDepth) {
+    planes_ = analytic.planesById.get();
+    planeMapping_ = setup.depthMapping();
+    eyeClipZ_ = glm::dot(rowZ_, glm::dvec4(eye_, 1.0));
+    depthSpan_ = std::abs(setup.mode.farNdcZ() - setup.mode.nearNdcZ());
+    clipXOfColumn_.resize(static_cast<std::size_t>(raster.viewport.width));
+    for (int x = 0; x < raster.viewport.width; ++x) {
+      clipXOfColumn_[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, raster.viewport).x;
+    }
+  }
+}
+
+bool FrameClassifier::fromPlanes(std::size_t i) const {
+  return analytic_.planesById && std::isnan(analytic_.hits[i].t) && analytic_.hits[i].hit();
 }
 
 KindSamples& FrameClassifier::samplesOf(WorkerSamples& samples, std::size_t kindIndex) const {
@@ -373,9 +388,9 @@ std::size_t FrameClassifier::kindOf(std::uint32_t id) const {
 }
 
 void FrameClassifier::classifyPixel(std::size_t i, glm::dvec2 centre, const Ray& ray,
-                                    RunMetrics& metrics, WorkerSamples& samples) const {
+                                    const Hit& hit, RunMetrics& metrics,
+                                    WorkerSamples& samples) const {
   const std::uint32_t rasterId = raster_.ids[i];
-  const Hit& hit = analytic_.hits[i];
   const std::uint32_t rayId = hit.primitiveId;
   // What the images show where nothing below writes: no depth, not compared.
   pixels_.analyticDepth[i] = kNaN;
@@ -539,7 +554,9 @@ bool FrameClassifier::classifyFour(std::size_t first, const Ray* rays, RunMetric
   const std::uint32_t* rasterIds = &raster_.ids[first];
   const Hit* hits = &analytic_.hits[first];
   for (std::size_t l = 0; l < 4; ++l) {
-    if (rasterIds[l] == 0 || rasterIds[l] != hits[l].primitiveId || rays[l].tMax < 0.0) {
+    // A hit decided from planes has no t (NaN): not this kernel's.
+    if (rasterIds[l] == 0 || rasterIds[l] != hits[l].primitiveId || rays[l].tMax < 0.0 ||
+        std::isnan(hits[l].t)) {
       return false;
     }
   }
@@ -615,15 +632,19 @@ void FrameClassifier::classifyRows(int rowBegin, int rowEnd, RunMetrics& metrics
   // The row goes in runs of 64 pixels. A run that shows nothing on either side (a terrain's
   // sky, most of a small scene's frame) only gets the background's images, written at once.
   // The others get their rays where the frame computes them (robustRayFrame: 107 KB at 1920
-  // pixels, read from this core's cache); a background pixel never reads its ray.
+  // pixels, read from this core's cache) when a pixel of the run first reads one: a background
+  // pixel never does, nor one the screen path's planes classify.
   constexpr std::size_t kRun = 64;
   // Runs start at multiples of 4: classifyFour's four pixels never straddle two.
   static_assert(kRun % 4 == 0);
   std::vector<Ray> rowScratch(analytic_.pixelCentreRays ? width : 0);
   std::vector<std::uint8_t> runShows((width + kRun - 1) / kRun);
+  std::vector<std::uint8_t> runRays((width + kRun - 1) / kRun);
+  const bool planeHits = analytic_.planesById != nullptr;
   for (int y = rowBegin; y < rowEnd; ++y) {
     const std::size_t rowStart = static_cast<std::size_t>(y) * width;
     const double centreY = y + 0.5;
+    const double yNdc = clipXYOfPixelCentre(0, y, raster_.viewport).y;
     const Ray* rowRays =
         analytic_.pixelCentreRays ? rowScratch.data() : analytic_.rays.data() + rowStart;
     for (std::size_t x0 = 0; x0 < width; x0 += kRun) {
@@ -633,11 +654,20 @@ void FrameClassifier::classifyRows(int rowBegin, int rowEnd, RunMetrics& metrics
         shown |= raster_.ids[k] | analytic_.hits[k].primitiveId;
       }
       runShows[x0 / kRun] = shown != 0 ? 1 : 0;
-      if (shown != 0 && analytic_.pixelCentreRays) {
-        analytic_.pixelCentreRays->row(y, static_cast<int>(x0), static_cast<int>(n),
-                                       rowScratch.data() + x0);
-      }
+      runRays[x0 / kRun] = analytic_.pixelCentreRays ? 0 : 1;
     }
+    // The rays of pixel x's run, computed when the run first needs them.
+    const auto raysOf = [&](std::size_t x) {
+      const std::size_t run = x / kRun;
+      if (runRays[run] == 0) {
+        const std::size_t first = run * kRun;
+        analytic_.pixelCentreRays->row(y, static_cast<int>(first),
+                                       static_cast<int>(std::min(kRun, width - first)),
+                                       rowScratch.data() + first);
+        runRays[run] = 1;
+      }
+      return rowRays + x;
+    };
     for (std::size_t x = 0; x < width; ++x) {
       if (x % kRun == 0 && runShows[x / kRun] == 0) {
         // What the loop below writes at a background pixel, for the whole run.
@@ -649,13 +679,23 @@ void FrameClassifier::classifyRows(int rowBegin, int rowEnd, RunMetrics& metrics
         x += n - 1;
         continue;
       }
-      if (fourAtOnce_ && x % 4 == 0 && x + 4 <= width &&
-          classifyFour(rowStart + x, rowRays + x, metrics, samples)) {
+      const std::size_t i = rowStart + x;
+      const glm::dvec2 centre(static_cast<double>(x) + 0.5, centreY);
+      if (planeHits && fromPlanes(i)) {
+        if (planes_ && classifyFromPlanes(i, clipXOfColumn_[x], yNdc, metrics, samples)) continue;
+        // The ray path's hit, as DecidedHits::Tested gives it: the decided triangle's test.
+        const Ray& ray = *raysOf(x);
+        Hit hit = intersector_.intersectOne(analytic_.hits[i].primitiveId, ray);
+        if (!hit.hit()) hit = intersector_.closestHit(ray);
+        classifyPixel(i, centre, ray, hit, metrics, samples);
+        continue;
+      }
+      if (fourAtOnce_ && x % 4 == 0 && x + 4 <= width && raster_.ids[i] != 0 &&
+          classifyFour(i, raysOf(x), metrics, samples)) {
         x += 3;
         continue;
       }
-      classifyPixel(rowStart + x, glm::dvec2(static_cast<double>(x) + 0.5, centreY), rowRays[x],
-                    metrics, samples);
+      classifyPixel(i, centre, *raysOf(x), analytic_.hits[i], metrics, samples);
     }
   }
 }

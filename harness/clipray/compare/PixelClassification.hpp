@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -59,10 +60,18 @@ class FrameClassifier {
   // The samples of one surface kind, with room for this worker's share of the frame.
   KindSamples& samplesOf(WorkerSamples& samples, std::size_t kindIndex) const;
   std::size_t kindOf(std::uint32_t id) const;
-  // The scalar kernel: pixel i, whose centre lies at window position centre, its ray given (read
-  // only where the pixel shows something).
-  void classifyPixel(std::size_t i, glm::dvec2 centre, const Ray& ray, RunMetrics& metrics,
-                     WorkerSamples& samples) const;
+  // The scalar kernel: pixel i, whose centre lies at window position centre, its ray and hit
+  // given (the ray read only where the pixel shows something).
+  void classifyPixel(std::size_t i, glm::dvec2 centre, const Ray& ray, const Hit& hit,
+                     RunMetrics& metrics, WorkerSamples& samples) const;
+  // Pixel i, decided by the screen path from its triangle's planes (AnalyticFrame::planesById),
+  // whose centre lies at NDC (xNdc, yNdc): its figures from the planes where both sides show that
+  // triangle and the class is certain (PlaneClassification.cpp); false (nothing written) where
+  // the ray path must classify it.
+  bool classifyFromPlanes(std::size_t i, double xNdc, double yNdc, RunMetrics& metrics,
+                          WorkerSamples& samples) const;
+  // Whether pixel i's hit was decided from planes (no ray traced: t is NaN).
+  bool fromPlanes(std::size_t i) const;
   // Pixels first .. first + 3 through the AVX2 kernels when each shows the same triangle on both
   // sides (with a ray and a polygon built up front), or all four the same analytic primitive
   // within its depth tolerance; false (nothing written) otherwise.
@@ -85,6 +94,14 @@ class FrameClassifier {
   // mesh), on a CPU with AVX2.
   bool fourAtOnce_ = false;
   FourPixelsInput fourInput_{};
+  // The screen path's planes, where the frame has them and this setup stores the projective depth
+  // through one mapping (no depth clamp, polygon offset or depth the shader writes); else null,
+  // and its pixels are classified along their rays.
+  const std::vector<TrianglePlanes>* planes_ = nullptr;
+  DepthMapping planeMapping_{};
+  double eyeClipZ_ = 0.0;   // the eye's clip z (its x, y and w are 0): distances along a sight line
+  double depthSpan_ = 1.0;  // |z_far - z_near| in NDC: a parallel camera's depth of view
+  std::vector<double> clipXOfColumn_;  // NDC x of each column's pixel centre
 };
 
 }  // namespace clipray::detail

@@ -13,9 +13,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <vector>
@@ -197,13 +199,48 @@ __attribute__((target("avx2,fma"))) void walkTileAvx2(const TileWalk& walk) {
 }
 #endif
 
+// Whether every pixel centre of a tile surely has a robust ray: its near point lies in front of
+// the eye (RobustRayGenerator::finishRay), clip w 1 / w_near > 0, and is finite. w_near =
+// worldFromClip row 3 . (x, y, z_n, 1) is affine in (x, y), so its least value over the tile is at
+// a corner; the generator's rounding of it is below gamma(4) of its terms' sizes, far below the
+// margin asked (10^-9 of them), and a w_near above that margin keeps the near point finite where
+// planeRaysBounded (below) holds.
+struct NearPointW {
+  double a = 0.0, b = 0.0, c = 0.0;  // w_near = a x + b y + c
+  double margin = kInf;
+};
+
+NearPointW nearPointW(const RobustRayGenerator& generator) {
+  const glm::dmat4& p = generator.worldFromClip();
+  const double zNear = generator.mode().nearNdcZ();
+  NearPointW w{p[0][3], p[1][3], p[2][3] * zNear + p[3][3], kInf};
+  double largest = 0.0;  // the largest |entry| of worldFromClip: a near point's size over |w_near|
+  for (int c = 0; c < 4; ++c) {
+    for (int r = 0; r < 4; ++r) largest = std::max(largest, std::abs(p[c][r]));
+  }
+  const double size =
+      std::abs(p[0][3]) + std::abs(p[1][3]) + std::abs(p[2][3] * zNear) + std::abs(p[3][3]);
+  const double margin = 1e-9 * size;
+  // Outside that range the near points' size over the margin might overflow: no tile is sure.
+  if (margin > 0.0 && std::isfinite(margin) && 4.0 * largest / margin < 1e300) w.margin = margin;
+  return w;
+}
+
+bool tileRaysExist(const NearPointW& w, double xLow, double xHigh, double yLow, double yHigh) {
+  const double lowest = std::min({w.a * xLow + w.b * yLow, w.a * xLow + w.b * yHigh,
+                                  w.a * xHigh + w.b * yLow, w.a * xHigh + w.b * yHigh}) +
+                        w.c;
+  return lowest > w.margin;
+}
+
 }  // namespace
 
 ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                                              const SceneIntersector& intersector,
                                              const PickingCamera& camera, unsigned threadCount,
-                                             ScreenDepths* depths) {
+                                             ScreenDepths* depths, DecidedHits decided) {
   ScreenEvaluation result;
+  frame.planesById.reset();
   if (depths) {
     depths->ndcZ.assign(frame.pixelCount(), std::numeric_limits<double>::quiet_NaN());
     depths->bound.assign(frame.pixelCount(), std::numeric_limits<double>::quiet_NaN());
@@ -258,7 +295,15 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   for (int y = 0; y < viewport.height; ++y) {
     clipY[static_cast<std::size_t>(y)] = clipXYOfPixelCentre(0, y, viewport).y;
   }
-  // Each triangle's setup once (a triangle is listed in every tile it may cover).
+  // Each triangle's setup once (a triangle is listed in every tile it may cover), and where the
+  // compare takes the planes, its planes by id (each id written by its own triangle's setup).
+  const NearPointW nearW = nearPointW(generator);
+  const bool fromPlanes = decided == DecidedHits::FromPlanes && nearW.margin < kInf;
+  std::shared_ptr<std::vector<TrianglePlanes>> planes;
+  if (fromPlanes) {
+    planes = std::make_shared<std::vector<TrianglePlanes>>(
+        std::size_t{intersector.primitiveIdCount()} + 1);
+  }
   std::vector<TriangleSetup> setups(triangles.size());
   parallelForRows(static_cast<int>((triangles.size() + 1023) / 1024), threadCount,
                   [&](int blockBegin, int blockEnd) {
@@ -266,9 +311,14 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                         std::min(triangles.size(), static_cast<std::size_t>(blockEnd) * 1024);
                     for (std::size_t k = static_cast<std::size_t>(blockBegin) * 1024; k < end;
                          ++k) {
-                      setups[k] = setupTriangle(terms, triangles[k]);
+                      const TriangleSetup& t = setups[k] = setupTriangle(terms, triangles[k]);
+                      if (planes) {
+                        (*planes)[t.primitiveId] = {t.za, t.zb, t.zc, t.depthError,
+                                                    t.ra, t.rb, t.rc, t.reciprocalWError};
+                      }
                     }
                   });
+  frame.planesById = planes;
   const bool avx2 = detail::PacketKernels::available();
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
     ScreenEvaluation counts;
@@ -290,6 +340,12 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
 #else
         walkTilePortable(walk);
 #endif
+        // Decided pixels take their planes where every ray of the tile surely exists.
+        const bool tileFromPlanes =
+            fromPlanes && tileRaysExist(nearW, clipX[static_cast<std::size_t>(x0)],
+                                        clipX[static_cast<std::size_t>(x0 + columns - 1)],
+                                        clipY[static_cast<std::size_t>(y0)],
+                                        clipY[static_cast<std::size_t>(y0 + rows - 1)]);
         for (int ly = 0; ly < rows; ++ly) {
           bool raysMade = false;
           for (int lx = 0; lx < columns; ++lx) {
@@ -302,6 +358,18 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
             if (!traceIt && state.firstLow[i] == kInf) {
               hit = Hit{};
               ++counts.background;
+              continue;
+            }
+            if (!traceIt && tileFromPlanes && !mayBeNearest(state.secondLow[i], nearestHigh)) {
+              const TriangleSetup& nearest = setups[static_cast<std::size_t>(state.firstSlot[i])];
+              hit = Hit{std::numeric_limits<double>::quiet_NaN(), nearest.primitiveId};
+              ++counts.decided;
+              if (depths) {
+                const double y = clipY[static_cast<std::size_t>(y0 + ly)];
+                depths->ndcZ[pixel] = nearest.za * clipX[static_cast<std::size_t>(x0 + lx)] +
+                                      (nearest.zb * y + nearest.zc);
+                depths->bound[pixel] = nearest.depthError;
+              }
               continue;
             }
             if (!raysMade) {

@@ -51,14 +51,26 @@ struct ScreenDepths {
   FrameVector<double> bound;
 };
 
+// What a pixel whose nearest triangle the planes decide gets in frame.hits.
+enum class DecidedHits {
+  // That triangle's watertight test along the pixel's ray: the ray path's hit, bit for bit.
+  Tested,
+  // The triangle's id and t = NaN, no ray computed (frame.planesById holds its planes, which the
+  // compare evaluates at the pixel centre instead). Pixels whose ray might not exist (a line of
+  // sight at the horizon of an oblique near plane) are tested all the same.
+  FromPlanes,
+};
+
 // Fills frame.hits for the camera's robust rays (frame from robustRayFrame(camera)) with the same
-// hits intersectFrame(frame, intersector, camera) gives, bit for bit. Frames outside what the
-// screen decisions cover (analytic primitives, user clip planes, depth clamp, stored rays, a
-// camera whose rays' deviation has no bound) are traced by the ray path, with the reason. Fills
-// depths too where one is given (resized to the frame; all NaN where the frame is not evaluated).
+// hits intersectFrame(frame, intersector, camera) gives, bit for bit (for decided pixels as
+// `decided` says). Frames outside what the screen decisions cover (analytic primitives, user clip
+// planes, depth clamp, stored rays, a camera whose rays' deviation has no bound) are traced by the
+// ray path, with the reason. Fills depths too where one is given (resized to the frame; all NaN
+// where the frame is not evaluated).
 ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                                              const SceneIntersector& intersector,
                                              const PickingCamera& camera, unsigned threadCount = 0,
-                                             ScreenDepths* depths = nullptr);
+                                             ScreenDepths* depths = nullptr,
+                                             DecidedHits decided = DecidedHits::Tested);
 
 }  // namespace clipray

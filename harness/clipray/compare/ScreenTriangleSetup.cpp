@@ -220,6 +220,18 @@ TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& 
         kSlack * (spread / std::abs(det) + gamma(4) * zSize + zSize * detError / std::abs(det) +
                   frame.delta * (std::abs(setup.za) + std::abs(setup.zb)));
     if (!std::isfinite(setup.depthError)) setup.depthError = kInf;
+    // 1 / w(s) = sum_k E_k(s) / det: the depth plane's sum with every z_k = 1 (exact), so its
+    // error has the same terms with |z_k| = 1 and no z_k error.
+    double spreadW = 0.0;
+    for (int k = 0; k < 3; ++k) spreadW += evaluation[k] + gamma(4) * magnitude[k];
+    setup.ra = (setup.a[0] + setup.a[1] + setup.a[2]) / det;
+    setup.rb = (setup.b[0] + setup.b[1] + setup.b[2]) / det;
+    setup.rc = (setup.c[0] + setup.c[1] + setup.c[2]) / det;
+    const double rSize = std::abs(setup.ra) + std::abs(setup.rb) + std::abs(setup.rc);
+    setup.reciprocalWError =
+        kSlack * (spreadW / std::abs(det) + gamma(4) * rSize + rSize * detError / std::abs(det) +
+                  frame.delta * (std::abs(setup.ra) + std::abs(setup.rb)));
+    if (!std::isfinite(setup.reciprocalWError)) setup.reciprocalWError = kInf;
   }
 
   // The pixels it may matter to: its vertices' projections, when all lie in front of the eye,

@@ -80,4 +80,22 @@ inline double triangleDepthTolerance(const Terms& terms, const glm::dvec4& c, do
   return storage + vertex + snap + terms.interpolation;
 }
 
+// The same tolerance where the hit is known by its NDC (x, y, z) and its reciprocal clip w
+// instead of its clip coordinates (the screen path's planes, TrianglePlanes in Frames.hpp): the
+// terms above with the quotients by |w| taken as products by 1 / w. Not the same bits as
+// triangleDepthTolerance: the inputs differ from a ray's hit within their planes' bounds.
+template <class Terms>
+inline double triangleDepthToleranceAtNdc(const Terms& terms, double xNdc, double yNdc, double zNdc,
+                                          double reciprocalW, double depth, double storage,
+                                          double toWindow, double subpixelStep, Viewport viewport) {
+  const double u = kFloatUnitRoundoff;
+  const glm::dvec4& bound = terms.clipErrorBound;
+  const double xyError = std::max((bound.x + std::abs(xNdc) * bound.w) * 0.5 * viewport.width,
+                                  (bound.y + std::abs(yNdc) * bound.w) * 0.5 * viewport.height);
+  const double vertex =
+      (bound.z + std::abs(zNdc) * bound.w) * reciprocalW * toWindow + 2.0 * u * std::abs(depth);
+  const double snap = terms.gradient * (subpixelStep + xyError * reciprocalW);
+  return storage + vertex + snap + terms.interpolation;
+}
+
 }  // namespace clipray::detail

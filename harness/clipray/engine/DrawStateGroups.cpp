@@ -153,7 +153,9 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
   const std::vector<DrawStateGroup> groups = drawStateGroups(scene);
   if (groups.size() == 1) {
     if (chosenAnalyticPath() == AnalyticPath::Screen) {
-      return intersectFrameInScreenSpace(frame, wholeScene, camera, threadCount);
+      // Decided pixels keep their planes: the compare evaluates them in place of rays.
+      return intersectFrameInScreenSpace(frame, wholeScene, camera, threadCount, nullptr,
+                                         DecidedHits::FromPlanes);
     }
     intersectFrame(frame, wholeScene, camera, threadCount);
     return {};
@@ -168,8 +170,9 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
     const SceneIntersector intersector(
         part.scene, reference, SceneIntersector::BvhBuild::WhenFirstNeeded, drawnClipFromWorld);
     const bool ownRays = !groups[g].clipPlanes.empty();
-    AnalyticFrame cutFrame = ownRays ? groupFrame(frame, camera, groups[g].clipPlanes)
-                                     : AnalyticFrame{frame.viewport, {}, frame.pixelCentreRays, {}};
+    AnalyticFrame cutFrame = ownRays
+                                 ? groupFrame(frame, camera, groups[g].clipPlanes)
+                                 : AnalyticFrame{frame.viewport, {}, frame.pixelCentreRays, {}, {}};
     if (!ownRays && !frame.pixelCentreRays) cutFrame.rays = frame.rays;
     intersectFrame(cutFrame, intersector, camera, threadCount);
     const DepthMapping mapping{camera.mode, groups[g].range, false};

@@ -1,0 +1,172 @@
+// The screen path (--analytic screen: ScreenEvaluator.hpp, its decided pixels compared from their
+// triangles' planes, PlaneClassification.cpp) classifies what the ray path classifies: random mesh
+// scenes seen by the hard-case cameras, drawn once per depth format and compared with both passes,
+// give every pixel the same class and every count the same; the depths of the pixels the planes
+// decided lie within their planes' bound of the exact crossing (tests/unit/ScreenEvaluatorTest.cpp)
+// and, printed here with the worst difference of every figure, close to the ray path's.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <iostream>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "clipray/engine/ReconcileRun.hpp"
+#include "clipray/rays/HardCases.hpp"
+#include "clipray/report/Report.hpp"
+#include "clipray/util/AnalyticChoice.hpp"
+#include "support/GlFixture.hpp"
+#include "support/RandomScenes.hpp"
+#include "support/Sanitizers.hpp"
+
+namespace clipray {
+namespace {
+
+using testing::GlTest;
+
+// Chooses the analytic path for a scope; the ray path again after it.
+class AnalyticPathFor {
+ public:
+  explicit AnalyticPathFor(AnalyticPath path) { chooseAnalyticPath(path); }
+  ~AnalyticPathFor() { chooseAnalyticPath(AnalyticPath::Rays); }
+  AnalyticPathFor(const AnalyticPathFor&) = delete;
+  AnalyticPathFor& operator=(const AnalyticPathFor&) = delete;
+};
+
+// Every number of the run's report entry that is not a count: the figures the planes compute.
+void collectFigures(const nlohmann::json& entry, const std::string& at,
+                    std::vector<std::pair<std::string, double>>& figures) {
+  if (entry.is_object()) {
+    for (const auto& [key, value] : entry.items()) collectFigures(value, at + "/" + key, figures);
+  } else if (entry.is_array()) {
+    for (std::size_t k = 0; k < entry.size(); ++k) {
+      collectFigures(entry[k], at + "/" + std::to_string(k), figures);
+    }
+  } else if (entry.is_number_float()) {
+    figures.emplace_back(at, entry.get<double>());
+  }
+}
+
+// The run's report entry without what is measured (timings) or says which path ran.
+nlohmann::json entryOf(const RunRecord& run) {
+  nlohmann::json entry = reportJson({run}, GlInfo{})["runs"].at(0);
+  for (const char* measured : {"timings_ms", "cpu_ms", "analytic_over_raster", "screen_path"}) {
+    entry.erase(measured);
+  }
+  return entry;
+}
+
+// The entry with every float figure set to 0: what must be equal exactly (counts, verdicts,
+// classes' clusters, the worst pixel's place).
+nlohmann::json withoutFigures(nlohmann::json entry) {
+  if (entry.is_object() || entry.is_array()) {
+    for (auto& value : entry) value = withoutFigures(value);
+  } else if (entry.is_number_float()) {
+    entry = 0.0;
+  }
+  return entry;
+}
+
+class ScreenPathSameness : public GlTest {};
+
+TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTheRayPath) {
+  const std::vector<Viewport> sizes = testing::kUnderAddressSanitizer
+                                          ? std::vector<Viewport>{{101, 61}}
+                                          : std::vector<Viewport>{{96, 64}, {101, 61}};
+  std::uint64_t seed = 1;
+  int runs = 0, evaluated = 0;
+  std::int64_t fromPlanes = 0, compared = 0;
+  double worstDepth = 0.0, worstDepthOverBound = 0.0, worstFigure = 0.0;
+  std::string worstFigureAt;
+  for (const Viewport size : sizes) {
+    for (const HardCase& hardCase : hardCases(size)) {
+      const Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
+      if (scene.objects.empty()) continue;
+      Camera camera;
+      camera.name = hardCase.name;
+      camera.viewport = hardCase.viewport;
+      camera.projection = std::monostate{};
+      camera.rawClipFromWorld = hardCase.inputs.clipFromWorld;
+      const DepthMode mode = hardCase.inputs.mode;
+      const engine::AnalyticPass rays =
+          engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
+      const engine::AnalyticPass screen = [&] {
+        const AnalyticPathFor path(AnalyticPath::Screen);
+        return engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
+      }();
+      const std::string what = scene.name + " " + hardCase.convention() + " " +
+                               std::to_string(size.width) + "x" + std::to_string(size.height);
+      ASSERT_FALSE(rays.frame.planesById) << what;
+      evaluated += screen.screen.used ? 1 : 0;
+      const double toWindow = 1.0 / (1.0 - mode.clipVolumeMinZ());
+      for (const DepthFormat format :
+           {DepthFormat::Unorm16, DepthFormat::Unorm24, DepthFormat::Float32}) {
+        const VertexMode vertexMode =
+            runs % 2 == 0 ? VertexMode::World : VertexMode::Pretransformed;
+        gl::RenderTimings timings;
+        const RasterFrame raster =
+            renderer().render(engine::renderRequest(rays, format, vertexMode), &timings);
+        const int subpixelBits = renderer().info().subpixelBits;
+        const engine::ComparedRun byRays =
+            engine::compareRasterFrame(rays, raster, format, vertexMode, subpixelBits, timings, 2);
+        const engine::ComparedRun byScreen = engine::compareRasterFrame(
+            screen, raster, format, vertexMode, subpixelBits, timings, 2);
+        const std::string run = what + " " + depthFormatName(format);
+        ++runs;
+        const nlohmann::json a = entryOf(byRays.run);
+        const nlohmann::json b = entryOf(byScreen.run);
+        const nlohmann::json patch = nlohmann::json::diff(withoutFigures(a), withoutFigures(b));
+        EXPECT_TRUE(patch.empty()) << run << ": the screen path's entry differs by " << patch;
+        ASSERT_EQ(byRays.pixels.classes.size(), byScreen.pixels.classes.size()) << run;
+        for (std::size_t i = 0; i < byRays.pixels.classes.size(); ++i) {
+          ASSERT_EQ(byRays.pixels.classes[i], byScreen.pixels.classes[i])
+              << run << ", pixel " << i % size.width << "," << i / size.width;
+          const Hit& hit = screen.frame.hits[i];
+          if (!screen.frame.planesById || !hit.hit() || !std::isnan(hit.t)) continue;
+          ++fromPlanes;
+          const double depthA = byRays.pixels.analyticDepth[i];
+          const double depthB = byScreen.pixels.analyticDepth[i];
+          if (std::isnan(depthA) || std::isnan(depthB)) continue;
+          ++compared;
+          const double bound = (*screen.frame.planesById)[hit.primitiveId].depthError * toWindow;
+          worstDepth = std::max(worstDepth, std::abs(depthA - depthB));
+          worstDepthOverBound = std::max(worstDepthOverBound, std::abs(depthA - depthB) / bound);
+        }
+        std::vector<std::pair<std::string, double>> figuresA, figuresB;
+        collectFigures(a, "", figuresA);
+        collectFigures(b, "", figuresB);
+        // The entries' shapes are equal (above): the figures pair up in order.
+        ASSERT_EQ(figuresA.size(), figuresB.size()) << run;
+        for (std::size_t k = 0; k < figuresA.size(); ++k) {
+          const std::string& at = figuresA[k].first;
+          const double x = figuresA[k].second, y = figuresB[k].second;
+          const double apart = std::abs(x - y) / std::max({std::abs(x), std::abs(y), 1e-300});
+          if (apart > worstFigure) {
+            worstFigure = apart;
+            worstFigureAt = run + " " + at;
+          }
+        }
+      }
+    }
+  }
+  std::cout << runs << " runs, " << evaluated << " scene cameras on the screen path; " << fromPlanes
+            << " pixels decided from planes, " << compared
+            << " with depths on both sides: the depths apart by at most " << worstDepth << " ("
+            << worstDepthOverBound << " of the planes' bound); the report's figures apart by "
+            << worstFigure << " of themselves at most (" << worstFigureAt << ")\n";
+  EXPECT_GT(evaluated * 4, runs);  // three runs per scene camera: most cameras on planes
+  EXPECT_GT(compared, 10000);
+  // The ray path's depth lies far closer to the exact crossing than the planes' bound (the
+  // bound's worst case stacks every rounding): both depths within it of each other.
+  EXPECT_LE(worstDepthOverBound, 1.0);
+  // Figures are differences of nearly equal depths (error over tolerance or quantum, distances
+  // apart): their relative change is the depths' difference over the error, well below 1% here.
+  EXPECT_LT(worstFigure, 0.01) << worstFigureAt;
+}
+
+}  // namespace
+}  // namespace clipray
