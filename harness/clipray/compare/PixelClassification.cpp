@@ -361,6 +361,23 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
     for (int x = 0; x < raster.viewport.width; ++x) {
       clipXOfColumn_[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, raster.viewport).x;
     }
+    fourPlanes_ = setup.defaultDepthRange();
+#if CLIPRAY_COMPARE_AVX2
+    fourPlanesAvx2_ = cpuHasAvx2() && simdKernelsChosen();
+#endif
+    const bool zeroToOne = setup.mode.convention == DepthConvention::ZeroToOne;
+    FourPlanePixels& in = fourPlaneInput_;
+    in.zn = zeroToOne ? 0.0 : -1.0;
+    in.toWindowDepth = zeroToOne ? 1.0 : 0.5;
+    in.toWindow = model.windowFromNdcScale_;
+    in.subpixelStep = model.subpixelStep_;
+    in.width = static_cast<double>(raster.viewport.width);
+    in.height = static_cast<double>(raster.viewport.height);
+    in.fixedQuantum =
+        setup.depthFormat == DepthFormat::Float32 ? 0.0 : depthQuantum(setup.depthFormat, 0.0);
+    in.parallel = parallel_;
+    in.eyeClipZ = eyeClipZ_;
+    in.depthSpan = depthSpan_;
   }
 }
 
@@ -681,6 +698,11 @@ void FrameClassifier::classifyRows(int rowBegin, int rowEnd, RunMetrics& metrics
       }
       const std::size_t i = rowStart + x;
       const glm::dvec2 centre(static_cast<double>(x) + 0.5, centreY);
+      if (fourPlanes_ && x % 4 == 0 && x + 4 <= width &&
+          classifyFourFromPlanes(i, &clipXOfColumn_[x], yNdc, metrics, samples)) {
+        x += 3;
+        continue;
+      }
       if (planeHits && fromPlanes(i)) {
         if (planes_ && classifyFromPlanes(i, clipXOfColumn_[x], yNdc, metrics, samples)) continue;
         // The ray path's hit, as DecidedHits::Tested gives it: the decided triangle's test.

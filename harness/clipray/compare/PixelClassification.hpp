@@ -43,6 +43,25 @@ struct FourPixelsInput {
   double analyticToWindow;  // analyticDepthTolerance's 1 / (1 - clipVolumeMinZ)
 };
 
+// What the four-pixel kernel of the screen path's planes reads: four neighbouring pixels of a row,
+// each decided from its triangle's planes, with those planes, their tolerance terms and the
+// frame's constants (PlaneClassification.cpp).
+struct FourPlanePixels {
+  double xNdc[4], yNdc;
+  double za[4], zb[4], zc[4], depthError[4], ra[4], rb[4], rc[4];
+  double boundX[4], boundY[4], boundZ[4], boundW[4], gradient[4], interpolation[4];
+  double rasterDepth[4];
+  double zn, toWindowDepth;  // the convention's near NDC z and 1 / (1 - zn) (exact)
+  double toWindow;           // the tolerance model's 1 / (1 - clipVolumeMinZ)
+  double subpixelStep, width, height;
+  double fixedQuantum;  // a fixed-point format's quantum; 0 for a float depth buffer
+  bool parallel;
+  double eyeClipZ, depthSpan;
+};
+struct FourPlaneFigures {
+  double depth[4], ratio[4], quanta[4], relative[4];
+};
+
 // The per-frame constants of the classification; classifyRows runs on any number of threads at
 // once, each with its own rows, metrics and samples.
 class FrameClassifier {
@@ -70,6 +89,11 @@ class FrameClassifier {
   // the ray path must classify it.
   bool classifyFromPlanes(std::size_t i, double xNdc, double yNdc, RunMetrics& metrics,
                           WorkerSamples& samples) const;
+  // Pixels first .. first + 3, at NDC (xNdc[l], yNdc), the same four at once where all four were
+  // decided from planes, show their triangle on both sides and are certain; false (nothing
+  // written) otherwise.
+  bool classifyFourFromPlanes(std::size_t first, const double* xNdc, double yNdc,
+                              RunMetrics& metrics, WorkerSamples& samples) const;
   // Whether pixel i's hit was decided from planes (no ray traced: t is NaN).
   bool fromPlanes(std::size_t i) const;
   // Pixels first .. first + 3 through the AVX2 kernels when each shows the same triangle on both
@@ -102,6 +126,11 @@ class FrameClassifier {
   double eyeClipZ_ = 0.0;   // the eye's clip z (its x, y and w are 0): distances along a sight line
   double depthSpan_ = 1.0;  // |z_far - z_near| in NDC: a parallel camera's depth of view
   std::vector<double> clipXOfColumn_;  // NDC x of each column's pixel centre
+  // Four plane pixels at a time under the default depth range (on AVX2 lanes where the CPU has
+  // them and the SIMD kernels are chosen, else on the baseline's: the same bits).
+  bool fourPlanes_ = false;
+  bool fourPlanesAvx2_ = false;
+  FourPlanePixels fourPlaneInput_{};
 };
 
 }  // namespace clipray::detail

@@ -19,13 +19,115 @@
 // change of the float depth's quantum, is left to the ray path; so is any pixel whose two sides
 // show different primitives.
 
+#include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 #include "clipray/compare/PixelClassification.hpp"
 #include "clipray/compare/ToleranceTerms.hpp"
+#include "clipray/util/KernelChoice.hpp"
 
 namespace clipray::detail {
+
+namespace {
+
+// Four doubles, four lane masks and four floats in GCC's vector extensions: the four-pixel kernel
+// below compiles to AVX2 inside fourFromPlanesAvx2 and to pairs of SSE2 operations elsewhere, with
+// the scalar kernel's operations in its order and no fused multiply-add, so the same bits.
+using Lanes = double __attribute__((vector_size(32)));
+using Mask = long long __attribute__((vector_size(32)));
+using Floats = float __attribute__((vector_size(16)));
+using FloatBits = unsigned __attribute__((vector_size(16)));
+
+// The helpers and the kernel below pass lanes by value, whose ABI differs with and without AVX;
+// they are always inlined (no call, so no ABI), and GCC's note on it (given where the file ends)
+// is silenced for this file.
+#pragma GCC diagnostic ignored "-Wpsabi"
+[[gnu::always_inline]] inline Lanes load(const double* p) {
+  Lanes lanes;
+  std::memcpy(&lanes, p, sizeof lanes);
+  return lanes;
+}
+[[gnu::always_inline]] inline Lanes absolute(const Lanes& v) {
+  return v < 0.0 ? -v : v;  // no lane is NaN here, and -0.0 keeps its sign either way
+}
+[[gnu::always_inline]] inline Lanes largerOf(const Lanes& a, const Lanes& b) {
+  return a < b ? b : a;  // std::max(a, b)
+}
+
+// quantumAt for a float depth buffer, per lane; false where a lane's |depth| rounds to no finite
+// float (the scalar path asks depthQuantum there).
+[[gnu::always_inline]] inline bool floatQuanta(const Lanes& depth, Lanes& quantum) {
+  const Floats d = __builtin_convertvector(absolute(depth), Floats);
+  FloatBits bits;
+  std::memcpy(&bits, &d, sizeof bits);
+  const FloatBits beyond = bits >= 0x7f800000u;
+  if ((beyond[0] | beyond[1] | beyond[2] | beyond[3]) != 0) return false;
+  const FloatBits nextBits = bits + 1u;
+  Floats next;
+  std::memcpy(&next, &nextBits, sizeof next);
+  quantum = largerOf(__builtin_convertvector(next - d, Lanes),
+                     Lanes{} + static_cast<double>(std::numeric_limits<float>::min()));
+  return true;
+}
+
+[[gnu::always_inline]] inline bool fourFromPlanes(const FourPlanePixels& in,
+                                                  FourPlaneFigures& out) {
+  const Lanes x = load(in.xNdc), y = Lanes{} + in.yNdc;
+  const Lanes zNdc = load(in.za) * x + (load(in.zb) * y + load(in.zc));
+  const Lanes reciprocalW = load(in.ra) * x + (load(in.rb) * y + load(in.rc));
+  const Mask usable = (reciprocalW > 0.0) & (absolute(zNdc) < kInf) & (reciprocalW < kInf);
+  if ((usable[0] & usable[1] & usable[2] & usable[3]) == 0) return false;
+  const Lanes depth = (zNdc - in.zn) * in.toWindowDepth;
+  const Lanes rasterDepth = load(in.rasterDepth);
+  const Lanes error = absolute(rasterDepth - depth);
+  Lanes quantum = Lanes{} + in.fixedQuantum;
+  if (in.fixedQuantum == 0.0 && !floatQuanta(depth, quantum)) return false;
+  const double u = kFloatUnitRoundoff;
+  const Lanes boundW = load(in.boundW);
+  const Lanes xyError = largerOf((load(in.boundX) + absolute(x) * boundW) * 0.5 * in.width,
+                                 (load(in.boundY) + absolute(y) * boundW) * 0.5 * in.height);
+  const Lanes vertex = (load(in.boundZ) + absolute(zNdc) * boundW) * reciprocalW * in.toWindow +
+                       2.0 * u * absolute(depth);
+  const Lanes snap = load(in.gradient) * (in.subpixelStep + xyError * reciprocalW);
+  const Lanes tolerance = quantum + vertex + snap + load(in.interpolation);
+  const Lanes reach = 2.0 * load(in.depthError) * in.toWindow;
+  const Mask certain = absolute(error - tolerance) > reach + 0x1p-20 * tolerance;
+  if ((certain[0] & certain[1] & certain[2] & certain[3]) == 0) return false;
+  if (in.fixedQuantum == 0.0) {
+    const Lanes span = reach + 0x1p-40 * absolute(depth);
+    Lanes below, above;
+    if (!floatQuanta(depth - span, below) || !floatQuanta(depth + span, above)) return false;
+    const Mask steady = below == above;
+    if ((steady[0] & steady[1] & steady[2] & steady[3]) == 0) return false;
+  }
+  const Lanes zRaster = rasterDepth * (1.0 - in.zn) + in.zn;
+  const Lanes apart = absolute(zNdc - zRaster);
+  const Lanes relative = in.parallel ? apart / in.depthSpan
+                                     : apart / absolute(in.eyeClipZ * reciprocalW + zRaster - zNdc);
+  const Lanes ratio = error / tolerance, quanta = error / quantum;
+  std::memcpy(out.depth, &depth, sizeof depth);
+  std::memcpy(out.ratio, &ratio, sizeof ratio);
+  std::memcpy(out.quanta, &quanta, sizeof quanta);
+  std::memcpy(out.relative, &relative, sizeof relative);
+  return true;
+}
+
+bool fourFromPlanesPortable(const FourPlanePixels& in, FourPlaneFigures& out) {
+  return fourFromPlanes(in, out);
+}
+
+#if defined(__x86_64__) || defined(__i386__)
+// AVX2 without FMA: GCC contracts a * b + c into a fused multiply-add wherever the target has
+// one (C++ is not contract-off by default), which would round differently from the baseline.
+__attribute__((target("avx2"))) bool fourFromPlanesAvx2(const FourPlanePixels& in,
+                                                        FourPlaneFigures& out) {
+  return fourFromPlanes(in, out);
+}
+#endif
+
+}  // namespace
 
 bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc,
                                          RunMetrics& metrics, WorkerSamples& samples) const {
@@ -36,7 +138,7 @@ bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc
   const TrianglePlanes& p = (*planes_)[id];
   const double zNdc = p.za * xNdc + (p.zb * yNdc + p.zc);
   const double reciprocalW = p.ra * xNdc + (p.rb * yNdc + p.rc);
-  if (!(reciprocalW > 0.0) || !std::isfinite(zNdc + reciprocalW)) return false;
+  if (!(reciprocalW > 0.0) || !std::isfinite(zNdc) || !std::isfinite(reciprocalW)) return false;
 
   const double depth = planeMapping_.windowDepth(zNdc);
   const double rasterDepth = raster_.depth[i];
@@ -78,6 +180,62 @@ bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc
   const bool beyond = !(ratio <= 1.0);  // NaN counts as beyond tolerance
   metrics.depthBeyondTolerance += beyond ? 1 : 0;
   pixels_.classes[i] = beyond ? PixelClass::DepthBeyondTolerance : PixelClass::Agree;
+  return true;
+}
+
+bool FrameClassifier::classifyFourFromPlanes(std::size_t first, const double* xNdc, double yNdc,
+                                             RunMetrics& metrics, WorkerSamples& samples) const {
+  FourPlanePixels in = fourPlaneInput_;
+  const std::uint32_t* rasterIds = &raster_.ids[first];
+  const Hit* hits = &analytic_.hits[first];
+  std::uint32_t previousId = 0;
+  const TrianglePlanes* p = nullptr;
+  const ToleranceModel::PixelTerms* terms = nullptr;
+  for (std::size_t l = 0; l < 4; ++l) {
+    const std::uint32_t id = hits[l].primitiveId;
+    if (id == 0 || rasterIds[l] != id || !std::isnan(hits[l].t)) return false;
+    // Neighbouring pixels mostly show one triangle: its planes and terms are looked up once.
+    if (id != previousId) {
+      const std::uint32_t slot = model_.slotOfId_[id];
+      if (slot == ToleranceModel::kNoSlot) return false;
+      p = &(*planes_)[id];
+      terms = &model_.pixelTerms_[slot];
+      previousId = id;
+    }
+    in.xNdc[l] = xNdc[l];
+    in.za[l] = p->za, in.zb[l] = p->zb, in.zc[l] = p->zc, in.depthError[l] = p->depthError;
+    in.ra[l] = p->ra, in.rb[l] = p->rb, in.rc[l] = p->rc;
+    in.boundX[l] = terms->clipErrorBound.x, in.boundY[l] = terms->clipErrorBound.y;
+    in.boundZ[l] = terms->clipErrorBound.z, in.boundW[l] = terms->clipErrorBound.w;
+    in.gradient[l] = terms->gradient, in.interpolation[l] = terms->interpolation;
+    in.rasterDepth[l] = raster_.depth[first + l];
+  }
+  in.yNdc = yNdc;
+  FourPlaneFigures figures;
+#if defined(__x86_64__) || defined(__i386__)
+  const bool done =
+      fourPlanesAvx2_ ? fourFromPlanesAvx2(in, figures) : fourFromPlanesPortable(in, figures);
+#else
+  const bool done = fourFromPlanesPortable(in, figures);
+#endif
+  if (!done) return false;
+  // The four pixels' figures and images, as classifyFromPlanes writes them one by one.
+  KindSamples& kind = samplesOf(samples, 0);
+  metrics.rasterHits += 4;
+  metrics.rayHits += 4;
+  metrics.depthCompared += 4;
+  for (std::size_t l = 0; l < 4; ++l) {
+    const std::size_t i = first + l;
+    pixels_.rasterDepth[i] = raster_.depth[i];
+    pixels_.analyticDepth[i] = figures.depth[l];
+    pixels_.toleranceRatio[i] = static_cast<float>(figures.ratio[l]);
+    kind.quanta.push_back(figures.quanta[l]);
+    kind.relative.push_back(figures.relative[l]);
+    kind.ratios.push_back(figures.ratio[l]);
+    const bool beyond = !(figures.ratio[l] <= 1.0);  // NaN counts as beyond tolerance
+    metrics.depthBeyondTolerance += beyond ? 1 : 0;
+    pixels_.classes[i] = beyond ? PixelClass::DepthBeyondTolerance : PixelClass::Agree;
+  }
   return true;
 }
 
