@@ -60,6 +60,36 @@ ScreenEvaluation expectTheRayPathsHits(const SceneIntersector& intersector,
               byRays.hits.size())
         << what;
   }
+  // Decided pixels from their planes: the same triangles, no t (NaN) where no ray was traced,
+  // the ray path's t everywhere else, and the same counts.
+  AnalyticFrame byPlanes = robustRayFrame(camera);
+  const ScreenEvaluation planes = intersectFrameInScreenSpace(byPlanes, intersector, camera, 2,
+                                                              nullptr, DecidedHits::FromPlanes);
+  EXPECT_EQ(planes.used, evaluation.used) << what;
+  EXPECT_EQ(planes.decided, evaluation.decided) << what;
+  EXPECT_EQ(planes.background, evaluation.background) << what;
+  EXPECT_EQ(planes.contested, evaluation.contested) << what;
+  EXPECT_EQ(planes.traced, evaluation.traced) << what;
+  EXPECT_EQ(byPlanes.planesById != nullptr, planes.used) << what;
+  std::size_t untraced = 0;
+  for (std::size_t i = 0; i < byRays.hits.size() && i < byPlanes.hits.size(); ++i) {
+    const Hit& a = byPlanes.hits[i];
+    const Hit& b = byRays.hits[i];
+    const bool fromPlanes = std::isnan(a.t);
+    untraced += fromPlanes ? 1 : 0;
+    if (a.primitiveId != b.primitiveId ||
+        (!fromPlanes && std::bit_cast<std::uint64_t>(a.t) != std::bit_cast<std::uint64_t>(b.t))) {
+      ADD_FAILURE() << what << " from planes, pixel " << i % camera.viewport.width << ","
+                    << i / camera.viewport.width << ": " << a.primitiveId << " at " << a.t
+                    << ", rays " << b.primitiveId << " at " << b.t;
+      break;
+    }
+  }
+  EXPECT_LE(untraced, planes.decided) << what;
+  // Decided pixels take their planes: every camera here has a ray at every pixel of most tiles.
+  if (planes.used && planes.decided > 0) {
+    EXPECT_GT(untraced, 0u) << what;
+  }
   return evaluation;
 }
 

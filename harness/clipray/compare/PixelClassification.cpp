@@ -366,7 +366,7 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
     fourPlanesAvx2_ = cpuHasAvx2() && simdKernelsChosen();
 #endif
     const bool zeroToOne = setup.mode.convention == DepthConvention::ZeroToOne;
-    FourPlanePixels& in = fourPlaneInput_;
+    PlaneFrameConstants& in = planeConstants_;
     in.zn = zeroToOne ? 0.0 : -1.0;
     in.toWindowDepth = zeroToOne ? 1.0 : 0.5;
     in.toWindow = model.windowFromNdcScale_;
@@ -710,6 +710,7 @@ void FrameClassifier::classifyRows(int rowBegin, int rowEnd, RunMetrics& metrics
         Hit hit = intersector_.intersectOne(analytic_.hits[i].primitiveId, ray);
         if (!hit.hit()) hit = intersector_.closestHit(ray);
         classifyPixel(i, centre, ray, hit, metrics, samples);
+        ++metrics.planePixels.alongRays;
         continue;
       }
       if (fourAtOnce_ && x % 4 == 0 && x + 4 <= width && raster_.ids[i] != 0 &&

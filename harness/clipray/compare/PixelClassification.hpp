@@ -43,20 +43,26 @@ struct FourPixelsInput {
   double analyticToWindow;  // analyticDepthTolerance's 1 / (1 - clipVolumeMinZ)
 };
 
-// What the four-pixel kernel of the screen path's planes reads: four neighbouring pixels of a row,
-// each decided from its triangle's planes, with those planes, their tolerance terms and the
-// frame's constants (PlaneClassification.cpp).
-struct FourPlanePixels {
-  double xNdc[4], yNdc;
-  double za[4], zb[4], zc[4], depthError[4], ra[4], rb[4], rc[4];
-  double boundX[4], boundY[4], boundZ[4], boundW[4], gradient[4], interpolation[4];
-  double rasterDepth[4];
+// What the four-pixel kernel of the screen path's planes reads (PlaneClassification.cpp): the
+// frame's constants, and per pixel its triangle's planes and tolerance terms (the same for all
+// four where `one` says so: most groups of a mesh).
+struct PlaneFrameConstants {
   double zn, toWindowDepth;  // the convention's near NDC z and 1 / (1 - zn) (exact)
   double toWindow;           // the tolerance model's 1 / (1 - clipVolumeMinZ)
   double subpixelStep, width, height;
   double fixedQuantum;  // a fixed-point format's quantum; 0 for a float depth buffer
   bool parallel;
   double eyeClipZ, depthSpan;
+};
+struct FourPlanePixels {
+  const TrianglePlanes* planes[4];
+  const glm::dvec4* clipErrorBound[4];  // the tolerance model's PixelTerms
+  const double* gradient[4];
+  const double* interpolation[4];
+  bool one;  // all four the same triangle
+  const double* xNdc;
+  double yNdc;
+  const float* rasterDepth;
 };
 struct FourPlaneFigures {
   double depth[4], ratio[4], quanta[4], relative[4];
@@ -130,7 +136,7 @@ class FrameClassifier {
   // them and the SIMD kernels are chosen, else on the baseline's: the same bits).
   bool fourPlanes_ = false;
   bool fourPlanesAvx2_ = false;
-  FourPlanePixels fourPlaneInput_{};
+  PlaneFrameConstants planeConstants_{};
 };
 
 }  // namespace clipray::detail

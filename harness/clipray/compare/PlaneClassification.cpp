@@ -72,27 +72,49 @@ using FloatBits = unsigned __attribute__((vector_size(16)));
   return true;
 }
 
-[[gnu::always_inline]] inline bool fourFromPlanes(const FourPlanePixels& in,
-                                                  FourPlaneFigures& out) {
-  const Lanes x = load(in.xNdc), y = Lanes{} + in.yNdc;
-  const Lanes zNdc = load(in.za) * x + (load(in.zb) * y + load(in.zc));
-  const Lanes reciprocalW = load(in.ra) * x + (load(in.rb) * y + load(in.rc));
+// A field of the four pixels' planes or terms: one load where all four show one triangle.
+[[gnu::always_inline]] inline Lanes planeField(const FourPlanePixels& p,
+                                               double TrianglePlanes::*field) {
+  if (p.one) return Lanes{} + p.planes[0]->*field;
+  return Lanes{p.planes[0]->*field, p.planes[1]->*field, p.planes[2]->*field, p.planes[3]->*field};
+}
+[[gnu::always_inline]] inline Lanes boundField(const FourPlanePixels& p, int k) {
+  if (p.one) return Lanes{} + (*p.clipErrorBound[0])[k];
+  return Lanes{(*p.clipErrorBound[0])[k], (*p.clipErrorBound[1])[k], (*p.clipErrorBound[2])[k],
+               (*p.clipErrorBound[3])[k]};
+}
+[[gnu::always_inline]] inline Lanes termField(const FourPlanePixels& p,
+                                              const double* const (&field)[4]) {
+  if (p.one) return Lanes{} + *field[0];
+  return Lanes{*field[0], *field[1], *field[2], *field[3]};
+}
+
+[[gnu::always_inline]] inline bool fourFromPlanes(const PlaneFrameConstants& in,
+                                                  const FourPlanePixels& p, FourPlaneFigures& out) {
+  const Lanes x = load(p.xNdc), y = Lanes{} + p.yNdc;
+  const Lanes zNdc = planeField(p, &TrianglePlanes::za) * x +
+                     (planeField(p, &TrianglePlanes::zb) * y + planeField(p, &TrianglePlanes::zc));
+  const Lanes reciprocalW =
+      planeField(p, &TrianglePlanes::ra) * x +
+      (planeField(p, &TrianglePlanes::rb) * y + planeField(p, &TrianglePlanes::rc));
   const Mask usable = (reciprocalW > 0.0) & (absolute(zNdc) < kInf) & (reciprocalW < kInf);
   if ((usable[0] & usable[1] & usable[2] & usable[3]) == 0) return false;
   const Lanes depth = (zNdc - in.zn) * in.toWindowDepth;
-  const Lanes rasterDepth = load(in.rasterDepth);
+  Floats rasterFloats;
+  std::memcpy(&rasterFloats, p.rasterDepth, sizeof rasterFloats);
+  const Lanes rasterDepth = __builtin_convertvector(rasterFloats, Lanes);
   const Lanes error = absolute(rasterDepth - depth);
   Lanes quantum = Lanes{} + in.fixedQuantum;
   if (in.fixedQuantum == 0.0 && !floatQuanta(depth, quantum)) return false;
   const double u = kFloatUnitRoundoff;
-  const Lanes boundW = load(in.boundW);
-  const Lanes xyError = largerOf((load(in.boundX) + absolute(x) * boundW) * 0.5 * in.width,
-                                 (load(in.boundY) + absolute(y) * boundW) * 0.5 * in.height);
-  const Lanes vertex = (load(in.boundZ) + absolute(zNdc) * boundW) * reciprocalW * in.toWindow +
+  const Lanes boundW = boundField(p, 3);
+  const Lanes xyError = largerOf((boundField(p, 0) + absolute(x) * boundW) * 0.5 * in.width,
+                                 (boundField(p, 1) + absolute(y) * boundW) * 0.5 * in.height);
+  const Lanes vertex = (boundField(p, 2) + absolute(zNdc) * boundW) * reciprocalW * in.toWindow +
                        2.0 * u * absolute(depth);
-  const Lanes snap = load(in.gradient) * (in.subpixelStep + xyError * reciprocalW);
-  const Lanes tolerance = quantum + vertex + snap + load(in.interpolation);
-  const Lanes reach = 2.0 * load(in.depthError) * in.toWindow;
+  const Lanes snap = termField(p, p.gradient) * (in.subpixelStep + xyError * reciprocalW);
+  const Lanes tolerance = quantum + vertex + snap + termField(p, p.interpolation);
+  const Lanes reach = 2.0 * planeField(p, &TrianglePlanes::depthError) * in.toWindow;
   const Mask certain = absolute(error - tolerance) > reach + 0x1p-20 * tolerance;
   if ((certain[0] & certain[1] & certain[2] & certain[3]) == 0) return false;
   if (in.fixedQuantum == 0.0) {
@@ -114,16 +136,18 @@ using FloatBits = unsigned __attribute__((vector_size(16)));
   return true;
 }
 
-bool fourFromPlanesPortable(const FourPlanePixels& in, FourPlaneFigures& out) {
-  return fourFromPlanes(in, out);
+bool fourFromPlanesPortable(const PlaneFrameConstants& in, const FourPlanePixels& p,
+                            FourPlaneFigures& out) {
+  return fourFromPlanes(in, p, out);
 }
 
 #if defined(__x86_64__) || defined(__i386__)
 // AVX2 without FMA: GCC contracts a * b + c into a fused multiply-add wherever the target has
 // one (C++ is not contract-off by default), which would round differently from the baseline.
-__attribute__((target("avx2"))) bool fourFromPlanesAvx2(const FourPlanePixels& in,
+__attribute__((target("avx2"))) bool fourFromPlanesAvx2(const PlaneFrameConstants& in,
+                                                        const FourPlanePixels& p,
                                                         FourPlaneFigures& out) {
-  return fourFromPlanes(in, out);
+  return fourFromPlanes(in, p, out);
 }
 #endif
 
@@ -170,6 +194,7 @@ bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc
   ++metrics.rasterHits;
   ++metrics.rayHits;
   ++metrics.depthCompared;
+  ++metrics.planePixels.fromPlanes;
   pixels_.rasterDepth[i] = raster_.depth[i];
   pixels_.analyticDepth[i] = depth;
   pixels_.toleranceRatio[i] = static_cast<float>(ratio);
@@ -185,12 +210,10 @@ bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc
 
 bool FrameClassifier::classifyFourFromPlanes(std::size_t first, const double* xNdc, double yNdc,
                                              RunMetrics& metrics, WorkerSamples& samples) const {
-  FourPlanePixels in = fourPlaneInput_;
   const std::uint32_t* rasterIds = &raster_.ids[first];
   const Hit* hits = &analytic_.hits[first];
+  FourPlanePixels p;
   std::uint32_t previousId = 0;
-  const TrianglePlanes* p = nullptr;
-  const ToleranceModel::PixelTerms* terms = nullptr;
   for (std::size_t l = 0; l < 4; ++l) {
     const std::uint32_t id = hits[l].primitiveId;
     if (id == 0 || rasterIds[l] != id || !std::isnan(hits[l].t)) return false;
@@ -198,25 +221,30 @@ bool FrameClassifier::classifyFourFromPlanes(std::size_t first, const double* xN
     if (id != previousId) {
       const std::uint32_t slot = model_.slotOfId_[id];
       if (slot == ToleranceModel::kNoSlot) return false;
-      p = &(*planes_)[id];
-      terms = &model_.pixelTerms_[slot];
+      const ToleranceModel::PixelTerms& terms = model_.pixelTerms_[slot];
+      p.planes[l] = &(*planes_)[id];
+      p.clipErrorBound[l] = &terms.clipErrorBound;
+      p.gradient[l] = &terms.gradient;
+      p.interpolation[l] = &terms.interpolation;
       previousId = id;
+    } else {
+      p.planes[l] = p.planes[l - 1];
+      p.clipErrorBound[l] = p.clipErrorBound[l - 1];
+      p.gradient[l] = p.gradient[l - 1];
+      p.interpolation[l] = p.interpolation[l - 1];
     }
-    in.xNdc[l] = xNdc[l];
-    in.za[l] = p->za, in.zb[l] = p->zb, in.zc[l] = p->zc, in.depthError[l] = p->depthError;
-    in.ra[l] = p->ra, in.rb[l] = p->rb, in.rc[l] = p->rc;
-    in.boundX[l] = terms->clipErrorBound.x, in.boundY[l] = terms->clipErrorBound.y;
-    in.boundZ[l] = terms->clipErrorBound.z, in.boundW[l] = terms->clipErrorBound.w;
-    in.gradient[l] = terms->gradient, in.interpolation[l] = terms->interpolation;
-    in.rasterDepth[l] = raster_.depth[first + l];
   }
-  in.yNdc = yNdc;
+  p.one = hits[0].primitiveId == hits[3].primitiveId &&
+          hits[1].primitiveId == hits[3].primitiveId && hits[2].primitiveId == hits[3].primitiveId;
+  p.xNdc = xNdc;
+  p.yNdc = yNdc;
+  p.rasterDepth = &raster_.depth[first];
   FourPlaneFigures figures;
 #if defined(__x86_64__) || defined(__i386__)
-  const bool done =
-      fourPlanesAvx2_ ? fourFromPlanesAvx2(in, figures) : fourFromPlanesPortable(in, figures);
+  const bool done = fourPlanesAvx2_ ? fourFromPlanesAvx2(planeConstants_, p, figures)
+                                    : fourFromPlanesPortable(planeConstants_, p, figures);
 #else
-  const bool done = fourFromPlanesPortable(in, figures);
+  const bool done = fourFromPlanesPortable(planeConstants_, p, figures);
 #endif
   if (!done) return false;
   // The four pixels' figures and images, as classifyFromPlanes writes them one by one.
@@ -224,6 +252,7 @@ bool FrameClassifier::classifyFourFromPlanes(std::size_t first, const double* xN
   metrics.rasterHits += 4;
   metrics.rayHits += 4;
   metrics.depthCompared += 4;
+  metrics.planePixels.fromPlanes += 4;
   for (std::size_t l = 0; l < 4; ++l) {
     const std::size_t i = first + l;
     pixels_.rasterDepth[i] = raster_.depth[i];

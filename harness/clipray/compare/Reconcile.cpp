@@ -164,6 +164,8 @@ ComparisonResult compareFrames(const RasterFrame& raster, const AnalyticFrame& a
         total.depthCompared += local.depthCompared;
         total.depthBeyondTolerance += local.depthBeyondTolerance;
         total.inFrontOfNear += local.inFrontOfNear;
+        total.planePixels.fromPlanes += local.planePixels.fromPlanes;
+        total.planePixels.alongRays += local.planePixels.alongRays;
       });
 
   // Every distribution to compute: per kind with samples, then over all kinds. Where one kind

@@ -57,6 +57,12 @@ struct RunMetrics {
   // Pixels of class InFrontOfNear (depth clamp; not in depthCompared: both sides store the near
   // end of the depth range, nothing is measured along the ray).
   std::int64_t inFrontOfNear = 0;
+  // Pixels the screen path decided from their triangles' planes (AnalyticFrame::planesById):
+  // compared from the planes, and compared along their rays (the sides differ, or the planes'
+  // reach leaves the class or the depth quantum uncertain).
+  struct {
+    std::int64_t fromPlanes = 0, alongRays = 0;
+  } planePixels;
   Distribution depthErrorQuanta;  // |d_r - d_a| / quantum(d_a)
   Distribution distanceRelError;  // |t_r - t_a| / distance from the eye
   Distribution toleranceRatio;    // |d_r - d_a| / predicted tolerance (p50 unused in report)

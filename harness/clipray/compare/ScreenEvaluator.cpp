@@ -189,6 +189,35 @@ Hit closestOfListed(const TileWalk& walk, int lx, int ly, const SceneIntersector
   return best;
 }
 
+// The finish of four neighbouring pixels of a tile row (state index i .. i + 3) where each is
+// background or decided alone from its planes, as the finish loop decides them one by one
+// (traced: an uncertain triangle may be the nearest; background: no triangle surely crossed;
+// alone: no second crossing within the order margin); false, nothing written, otherwise.
+bool finishFour(const TileState& s, int i, const TriangleSetup* setups, Hit* hits,
+                ScreenEvaluation& counts) {
+  Lanes nearestHigh, firstLow, secondLow, unsureLow;
+  load(nearestHigh, s.nearestHigh + i);
+  load(firstLow, s.firstLow + i);
+  load(secondLow, s.secondLow + i);
+  load(unsureLow, s.unsureLow + i);
+  const Lanes reach = nearestHigh + kOrderMargin * (nearestHigh < 0.0 ? -nearestHigh : nearestHigh);
+  const Mask traced = (unsureLow < kInf) & (unsureLow <= reach);
+  const Mask background = ~traced & (firstLow == kInf);
+  const Mask alone = ~traced & (firstLow < kInf) & ~(secondLow <= reach);
+  if (!everyLane(background | alone)) return false;
+  for (int l = 0; l < kLanes; ++l) {
+    if (background[l] != 0) {
+      hits[l] = Hit{};
+      ++counts.background;
+    } else {
+      hits[l] = Hit{std::numeric_limits<double>::quiet_NaN(),
+                    setups[static_cast<std::size_t>(s.firstSlot[i + l])].primitiveId};
+      ++counts.decided;
+    }
+  }
+  return true;
+}
+
 void walkTilePortable(const TileWalk& walk) {
   walkTile(walk);
 }
@@ -350,6 +379,16 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
           bool raysMade = false;
           for (int lx = 0; lx < columns; ++lx) {
             const int i = ly * kTile + lx;
+            if (lx % kLanes == 0 && lx + kLanes <= columns && tileFromPlanes && !depths) {
+              // Four pixels at once where each is background or decided from its planes (most
+              // of a frame): the scalar decisions below, per lane.
+              const std::size_t first =
+                  static_cast<std::size_t>(y0 + ly) * viewport.width + x0 + lx;
+              if (finishFour(state, i, setups.data(), frame.hits.data() + first, counts)) {
+                lx += kLanes - 1;
+                continue;
+              }
+            }
             const double nearestHigh = state.nearestHigh[i];
             const std::size_t pixel = static_cast<std::size_t>(y0 + ly) * viewport.width + x0 + lx;
             Hit& hit = frame.hits[pixel];

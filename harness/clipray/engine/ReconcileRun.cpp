@@ -219,6 +219,8 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
                                       static_cast<std::int64_t>(s.traced),
                                       static_cast<std::int64_t>(s.boundMisses),
                                       s.rayDeviationNdc,
+                                      comparison.metrics.planePixels.fromPlanes,
+                                      comparison.metrics.planePixels.alongRays,
                                       {}};
   } else if (!pass.screen.reason.empty()) {
     run.screenPath = ScreenPathRecord{.declined = pass.screen.reason};

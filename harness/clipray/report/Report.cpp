@@ -245,7 +245,9 @@ nlohmann::json runJson(const RunRecord& run) {
     json["screen_path"] = {
         {"background", s.background},    {"decided", s.decided},
         {"contested", s.contested},      {"traced", s.traced},
-        {"bound_misses", s.boundMisses}, {"ray_deviation_ndc", s.rayDeviationNdc}};
+        {"bound_misses", s.boundMisses}, {"ray_deviation_ndc", s.rayDeviationNdc},
+        {"compared_from_planes", s.comparedFromPlanes},
+        {"compared_along_rays", s.comparedAlongRays}};
   }
   return json;
 }

@@ -124,6 +124,10 @@ struct ScreenPathRecord {
   std::int64_t traced = 0;
   std::int64_t boundMisses = 0;
   double rayDeviationNdc = 0.0;
+  // Of the decided pixels, those the compare took from their planes and those it compared along
+  // their rays (RunMetrics::planePixels).
+  std::int64_t comparedFromPlanes = 0;
+  std::int64_t comparedAlongRays = 0;
   std::string declined;  // empty where the screen path evaluated the frame
   bool operator==(const ScreenPathRecord&) const = default;
 };
