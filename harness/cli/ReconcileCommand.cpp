@@ -57,7 +57,7 @@ struct ReconcileArguments {
   std::string out = "report";
   std::string images = "failing";
   std::string kernels = "simd";
-  std::string analytic = "rays";
+  std::string analytic = "screen";
   std::string junit;  // empty: no JUnit file
   bool json = false;
   unsigned threads = 0;
@@ -341,10 +341,11 @@ CommandRunner addReconcileOptions(CLI::App& app) {
                  "images, slower; shows the kernels change nothing)")
       ->capture_default_str();
   app.add_option("--analytic", arguments->analytic,
-                 "How clipray's own rays find their hits: rays (each pixel's robust ray traced), "
-                 "or screen (each triangle's coverage and depth decided at the pixel centres, "
-                 "with bounds that make every decision the ray path's; the pixels they cannot "
-                 "decide traced): the same hits bit for bit")
+                 "How clipray's own rays find their hits: screen (each triangle's coverage and "
+                 "depth decided at the pixel centres, with bounds that make every decision the "
+                 "ray path's, the pixels they cannot decide traced, depths compared from the "
+                 "triangles' planes), or rays (each pixel's robust ray traced, depths compared "
+                 "at its hit): the same classes and counts, figures within a hair")
       ->capture_default_str();
   app.add_option("--shard", arguments->shard,
                  "I/N: only shard I of N (1-based) of the scene/camera pairs, split by their "

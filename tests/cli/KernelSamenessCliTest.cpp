@@ -1,12 +1,13 @@
-// `clipray reconcile --kernels portable` writes what the SIMD kernels on the ray path write: every
-// shipped scene under every convention and depth format, report.json equal but for what is
-// measured (timings) or stamped (command line, start time), and every other file byte for byte.
-// `--analytic screen` classifies every pixel as the ray path does, its depth figures computed from
-// the triangles' planes instead of the rays' hits: the same report but for those figures, which
-// lie within a hair of the ray path's, the same images but for the error heat maps, whose colours
-// move by one level at most where a ratio lies at a rounding step (random scenes through the
-// hard-case cameras are checked in process: tests/gl/KernelSamenessTest.cpp,
-// tests/gl/ScreenPathSamenessTest.cpp, tests/unit/ScreenEvaluatorTest.cpp).
+// `clipray reconcile --kernels portable` writes what the SIMD kernels write, on either analytic
+// path (`--analytic rays`, `--analytic screen`): every shipped scene under every convention and
+// depth format, report.json equal but for what is measured (timings) or stamped (command line,
+// start time), and every other file byte for byte. The screen path classifies every pixel as the
+// ray path does, its depth figures computed from the triangles' planes instead of the rays' hits:
+// the same report but for those figures, which lie within a hair of the ray path's, the same images
+// but for the error heat maps, whose colours move by one level at most where a ratio lies at a
+// rounding step (random scenes through the hard-case cameras are checked in process:
+// tests/gl/KernelSamenessTest.cpp, tests/gl/ScreenPathSamenessTest.cpp,
+// tests/unit/ScreenEvaluatorTest.cpp).
 
 #include <gtest/gtest.h>
 
@@ -143,8 +144,8 @@ void expectTheSameOutput(const std::filesystem::path& base, const std::filesyste
   EXPECT_GT(images, 4 * (testing::kUnderAddressSanitizer ? 40 : 200)) << what;
 }
 
-// The portable code and the screen path (--analytic screen, ScreenEvaluator.hpp) against the
-// default, the SIMD kernels on the ray path: the same, and the same classes and counts.
+// The portable code against the SIMD kernels on both paths, and the screen path
+// (ScreenEvaluator.hpp, the default) against the ray path: the same classes and counts.
 TEST(KernelSamenessCli,
      ThePortableCodeWritesWhatTheKernelsWriteAndTheScreenPathClassifiesAsTheyDo) {
   TempFolder folder;
@@ -156,9 +157,9 @@ TEST(KernelSamenessCli,
   const std::string common = "reconcile '" + kSource + "'/scenes/*.json " + sweep +
                              "--vertex-modes world --images all --threads 2";
   const std::pair<const char*, const char*> choices[] = {
-      {"--kernels simd", "simd"},
-      {"--kernels portable", "portable"},
-      {"--analytic screen", "screen"},
+      {"--analytic rays --kernels simd", "rays"},
+      {"--analytic rays --kernels portable", "rays-portable"},
+      {"--analytic screen --kernels simd", "screen"},
       {"--analytic screen --kernels portable", "screen-portable"}};
   for (const auto& [choice, folderName] : choices) {
     const auto result = runClipray(common + " " + choice + " --out " + folderName, folder.path());
@@ -166,8 +167,8 @@ TEST(KernelSamenessCli,
     // infinite far plane), and that is part of what must come out the same.
     ASSERT_EQ(result.status, 1) << choice << ": " << result.err;
   }
-  expectTheSameOutput(folder.path() / "simd", folder.path() / "portable", "the portable code");
-  expectTheSameOutput(folder.path() / "simd", folder.path() / "screen", "the screen path",
+  expectTheSameOutput(folder.path() / "rays", folder.path() / "rays-portable", "the portable code");
+  expectTheSameOutput(folder.path() / "rays", folder.path() / "screen", "the screen path",
                       Figures::WithinAHair);
   // The screen path's figures are the same bits under either kernel choice.
   expectTheSameOutput(folder.path() / "screen", folder.path() / "screen-portable",

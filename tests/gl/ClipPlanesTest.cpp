@@ -10,6 +10,7 @@
 
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/scene/Scene.hpp"
+#include "support/AnalyticPathFor.hpp"
 #include "support/GlFixture.hpp"
 #include "support/RunStates.hpp"
 
@@ -59,6 +60,7 @@ TEST_F(ClipPlanes, RasterAndRaysAgreeAndEveryHitIsKept) {
 // are gone from the clipped rays (and from its picture, which agrees with them); every clipped
 // hit is kept by both planes.
 TEST_F(ClipPlanes, TheRaysStartWhereThePlanesLetThem) {
+  const testing::AnalyticPathFor rays(AnalyticPath::Rays);  // every hit's t
   const Scene clipped = clippedStandard();
   const Scene open = loadScene(testing::sourcePath("scenes/standard.json"));
   const Camera& camera = clipped.cameras.at(0);

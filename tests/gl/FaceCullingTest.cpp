@@ -11,6 +11,7 @@
 
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/scene/Scene.hpp"
+#include "support/AnalyticPathFor.hpp"
 #include "support/GlFixture.hpp"
 #include "support/RunStates.hpp"
 
@@ -142,6 +143,7 @@ TEST_F(FaceCulling, AnUpperLeftProjectionFlipsTheWindingAsAYFlipDoes) {
 // ray that meets it without culling at its near side meets its far side instead, further away;
 // the unmirrored box keeps its near faces and every such ray's hit.
 TEST_F(FaceCulling, AMirroredObjectShowsItsInside) {
+  const testing::AnalyticPathFor rays(AnalyticPath::Rays);  // every hit's t
   const Scene culled = standardWithMirroredBox(CullFace::Back, FrontFace::Ccw);
   const Scene whole = standardWithMirroredBox(CullFace::None, FrontFace::Ccw);
   const Camera& camera = culled.cameras.at(0);

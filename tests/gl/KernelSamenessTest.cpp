@@ -1,7 +1,8 @@
 // The SIMD kernels change nothing: random scenes seen by the hard-case cameras, reconciled with the
-// kernels and with the portable one-ray, one-pixel double code, give the same hits bit for bit,
-// the same report entry and the same images byte for byte (the shipped scenes are checked the same
-// way through the CLI: tests/cli/KernelSamenessCliTest.cpp).
+// kernels and with the portable one-ray, one-pixel double code on either analytic path (the ray
+// path's t at every hit, the screen path's planes where it decided), give the same hits bit for
+// bit, the same report entry and the same images byte for byte (the shipped scenes are checked the
+// same way through the CLI: tests/cli/KernelSamenessCliTest.cpp).
 
 #include <gtest/gtest.h>
 
@@ -21,6 +22,7 @@
 #include "clipray/rays/RobustRays.hpp"
 #include "clipray/report/Report.hpp"
 #include "clipray/util/KernelChoice.hpp"
+#include "support/AnalyticPathFor.hpp"
 #include "support/GlFixture.hpp"
 #include "support/RandomScenes.hpp"
 #include "support/Sanitizers.hpp"
@@ -61,75 +63,78 @@ TEST_F(KernelSameness, RandomScenesThroughTheHardCaseCamerasGiveTheSameHitsRepor
   const std::vector<Viewport> sizes = testing::kUnderAddressSanitizer
                                           ? std::vector<Viewport>{{101, 61}}
                                           : std::vector<Viewport>{{96, 64}, {101, 61}};
-  std::uint64_t seed = 1;
-  for (const Viewport size : sizes) {
-    for (const HardCase& hardCase : hardCases(size)) {
-      const Scene scene = randomScene(hardCase, hardCase.viewport, seed++);
-      if (scene.objects.empty() && scene.primitives.empty()) continue;
-      scenesWithPrimitives += scene.primitives.empty() ? 0 : 1;
-      scenesWithMeshes += scene.objects.empty() ? 0 : 1;
-      Camera camera;
-      camera.name = hardCase.name;
-      camera.viewport = hardCase.viewport;
-      camera.projection = std::monostate{};
-      camera.rawClipFromWorld = hardCase.inputs.clipFromWorld;
-      const DepthMode mode = hardCase.inputs.mode;
-      const engine::AnalyticPass simd =
-          engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
-      const engine::AnalyticPass portable = [&] {
-        const KernelsFor kernels(KernelChoice::Portable);
-        return engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
-      }();
-      const std::string what = scene.name + " " + hardCase.convention() + " " +
-                               std::to_string(size.width) + "x" + std::to_string(size.height);
-      ASSERT_EQ(simd.frame.hits.size(), portable.frame.hits.size()) << what;
-      for (std::size_t i = 0; i < simd.frame.hits.size(); ++i) {
-        const Hit& a = simd.frame.hits[i];
-        const Hit& b = portable.frame.hits[i];
-        ASSERT_EQ(a.primitiveId, b.primitiveId) << what << ", pixel " << i;
-        ASSERT_EQ(std::bit_cast<std::uint64_t>(a.t), std::bit_cast<std::uint64_t>(b.t))
-            << what << ", pixel " << i;
-        hitPixels += a.hit() ? 1 : 0;
-      }
-      for (const DepthFormat format :
-           {DepthFormat::Unorm16, DepthFormat::Unorm24, DepthFormat::Float32}) {
-        const VertexMode vertexMode =
-            runs % 2 == 0 ? VertexMode::World : VertexMode::Pretransformed;
-        gl::RenderTimings timings;
-        const RasterFrame raster =
-            renderer().render(engine::renderRequest(simd, format, vertexMode), &timings);
-        const int subpixelBits = renderer().info().subpixelBits;
-        engine::ComparedRun withSimd =
-            engine::compareRasterFrame(simd, raster, format, vertexMode, subpixelBits, timings, 2);
-        engine::ComparedRun withPortable = [&] {
+  for (const AnalyticPath path : {AnalyticPath::Rays, AnalyticPath::Screen}) {
+    const testing::AnalyticPathFor chosen(path);
+    std::uint64_t seed = 1;
+    for (const Viewport size : sizes) {
+      for (const HardCase& hardCase : hardCases(size)) {
+        const Scene scene = randomScene(hardCase, hardCase.viewport, seed++);
+        if (scene.objects.empty() && scene.primitives.empty()) continue;
+        scenesWithPrimitives += scene.primitives.empty() ? 0 : 1;
+        scenesWithMeshes += scene.objects.empty() ? 0 : 1;
+        Camera camera;
+        camera.name = hardCase.name;
+        camera.viewport = hardCase.viewport;
+        camera.projection = std::monostate{};
+        camera.rawClipFromWorld = hardCase.inputs.clipFromWorld;
+        const DepthMode mode = hardCase.inputs.mode;
+        const engine::AnalyticPass simd =
+            engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
+        const engine::AnalyticPass portable = [&] {
           const KernelsFor kernels(KernelChoice::Portable);
-          return engine::compareRasterFrame(portable, raster, format, vertexMode, subpixelBits,
-                                            timings, 2);
+          return engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
         }();
-        const std::string run = what + " " + depthFormatName(format);
-        const nlohmann::json patch =
-            nlohmann::json::diff(runEntry(withSimd.run), runEntry(withPortable.run));
-        EXPECT_TRUE(patch.empty()) << run << ": the portable code's entry differs by " << patch;
-        encodeRunImages(withSimd.run, withSimd.pixels);
-        encodeRunImages(withPortable.run, withPortable.pixels);
-        ASSERT_EQ(withSimd.run.images.size(), 4u) << run;
-        ASSERT_EQ(withPortable.run.images.size(), 4u) << run;
-        for (std::size_t k = 0; k < 4; ++k) {
-          EXPECT_EQ(withSimd.run.images[k].relativePath, withPortable.run.images[k].relativePath);
-          EXPECT_TRUE(withSimd.run.images[k].pngBytes == withPortable.run.images[k].pngBytes)
-              << run << ", " << withSimd.run.images[k].relativePath;
+        const std::string what = scene.name + " " + hardCase.convention() + " " +
+                                 std::to_string(size.width) + "x" + std::to_string(size.height);
+        ASSERT_EQ(simd.frame.hits.size(), portable.frame.hits.size()) << what;
+        for (std::size_t i = 0; i < simd.frame.hits.size(); ++i) {
+          const Hit& a = simd.frame.hits[i];
+          const Hit& b = portable.frame.hits[i];
+          ASSERT_EQ(a.primitiveId, b.primitiveId) << what << ", pixel " << i;
+          ASSERT_EQ(std::bit_cast<std::uint64_t>(a.t), std::bit_cast<std::uint64_t>(b.t))
+              << what << ", pixel " << i;
+          hitPixels += a.hit() ? 1 : 0;
         }
-        ++runs;
+        for (const DepthFormat format :
+             {DepthFormat::Unorm16, DepthFormat::Unorm24, DepthFormat::Float32}) {
+          const VertexMode vertexMode =
+              runs % 2 == 0 ? VertexMode::World : VertexMode::Pretransformed;
+          gl::RenderTimings timings;
+          const RasterFrame raster =
+              renderer().render(engine::renderRequest(simd, format, vertexMode), &timings);
+          const int subpixelBits = renderer().info().subpixelBits;
+          engine::ComparedRun withSimd = engine::compareRasterFrame(
+              simd, raster, format, vertexMode, subpixelBits, timings, 2);
+          engine::ComparedRun withPortable = [&] {
+            const KernelsFor kernels(KernelChoice::Portable);
+            return engine::compareRasterFrame(portable, raster, format, vertexMode, subpixelBits,
+                                              timings, 2);
+          }();
+          const std::string run = what + " " + depthFormatName(format);
+          const nlohmann::json patch =
+              nlohmann::json::diff(runEntry(withSimd.run), runEntry(withPortable.run));
+          EXPECT_TRUE(patch.empty()) << run << ": the portable code's entry differs by " << patch;
+          encodeRunImages(withSimd.run, withSimd.pixels);
+          encodeRunImages(withPortable.run, withPortable.pixels);
+          ASSERT_EQ(withSimd.run.images.size(), 4u) << run;
+          ASSERT_EQ(withPortable.run.images.size(), 4u) << run;
+          for (std::size_t k = 0; k < 4; ++k) {
+            EXPECT_EQ(withSimd.run.images[k].relativePath, withPortable.run.images[k].relativePath);
+            EXPECT_TRUE(withSimd.run.images[k].pngBytes == withPortable.run.images[k].pngBytes)
+                << run << ", " << withSimd.run.images[k].relativePath;
+          }
+          ++runs;
+        }
       }
     }
   }
   // The sample is what it claims: every camera, both kinds of geometry, pixels that hit.
   std::size_t cameras = 0;
   for (const Viewport size : sizes) cameras += hardCases(size).size();
-  EXPECT_EQ(runs, 3 * static_cast<int>(cameras));
-  EXPECT_GT(scenesWithPrimitives, runs / 3 / 2);
-  EXPECT_GT(scenesWithMeshes, runs / 3 / 2);
-  EXPECT_GT(hitPixels, 5 * 96 * 64 * static_cast<int>(sizes.size()));
+  EXPECT_EQ(runs, 2 * 3 * static_cast<int>(cameras));  // both paths, three formats
+  EXPECT_GT(scenesWithPrimitives, runs / 6 / 2);
+  EXPECT_GT(scenesWithMeshes, runs / 6 / 2);
+  EXPECT_GT(hitPixels, 2 * 5 * 96 * 64 * static_cast<int>(sizes.size()));
 }
 
 }  // namespace

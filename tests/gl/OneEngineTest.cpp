@@ -1,6 +1,7 @@
 // `clipray reconcile` and clipray::reconcile run the same plan through the same runner
 // (engine/ReconcileRunner.hpp): for the same scene and options they write the same report.json,
-// timings aside, and the same images byte for byte.
+// timings aside, and the same images byte for byte. The library is given a ray function (the
+// app's picking, here clipray's robust rays): the ray path's alone, as `--analytic rays` is.
 
 #include <filesystem>
 #include <fstream>
@@ -56,7 +57,7 @@ TEST(OneEngine, CliAndLibraryWriteTheSameReportAndImages) {
 
   const testing::CommandResult cli = testing::runClipray(
       "reconcile '" + scenePath + "' --backend " + backend +
-          " --depth-formats 24,32f --images all --out '" + cliOut.string() + "'",
+          " --depth-formats 24,32f --analytic rays --images all --out '" + cliOut.string() + "'",
       folder.path());
   ASSERT_LE(cli.status, 1) << cli.err;
 

@@ -18,7 +18,7 @@
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/rays/HardCases.hpp"
 #include "clipray/report/Report.hpp"
-#include "clipray/util/AnalyticChoice.hpp"
+#include "support/AnalyticPathFor.hpp"
 #include "support/GlFixture.hpp"
 #include "support/RandomScenes.hpp"
 #include "support/Sanitizers.hpp"
@@ -26,16 +26,8 @@
 namespace clipray {
 namespace {
 
+using testing::AnalyticPathFor;
 using testing::GlTest;
-
-// Chooses the analytic path for a scope; the ray path again after it.
-class AnalyticPathFor {
- public:
-  explicit AnalyticPathFor(AnalyticPath path) { chooseAnalyticPath(path); }
-  ~AnalyticPathFor() { chooseAnalyticPath(AnalyticPath::Rays); }
-  AnalyticPathFor(const AnalyticPathFor&) = delete;
-  AnalyticPathFor& operator=(const AnalyticPathFor&) = delete;
-};
 
 // Every number of the run's report entry that is not a count: the figures the planes compute.
 void collectFigures(const nlohmann::json& entry, const std::string& at,
@@ -92,8 +84,10 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
       camera.projection = std::monostate{};
       camera.rawClipFromWorld = hardCase.inputs.clipFromWorld;
       const DepthMode mode = hardCase.inputs.mode;
-      const engine::AnalyticPass rays =
-          engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
+      const engine::AnalyticPass rays = [&] {
+        const AnalyticPathFor path(AnalyticPath::Rays);
+        return engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
+      }();
       const engine::AnalyticPass screen = [&] {
         const AnalyticPathFor path(AnalyticPath::Screen);
         return engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);

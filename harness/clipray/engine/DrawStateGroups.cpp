@@ -152,7 +152,8 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
                                       const PickingCamera& camera, unsigned threadCount) {
   const std::vector<DrawStateGroup> groups = drawStateGroups(scene);
   if (groups.size() == 1) {
-    if (chosenAnalyticPath() == AnalyticPath::Screen) {
+    // An app's own picking rays (stored per pixel) are the ray path's alone.
+    if (chosenAnalyticPath() == AnalyticPath::Screen && frame.pixelCentreRays) {
       // Decided pixels keep their planes: the compare evaluates them in place of rays.
       return intersectFrameInScreenSpace(frame, wholeScene, camera, threadCount, nullptr,
                                          DecidedHits::FromPlanes);
@@ -215,7 +216,7 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
   }
   frame.hits = std::move(kept);
   ScreenEvaluation rays;
-  if (chosenAnalyticPath() == AnalyticPath::Screen) {
+  if (chosenAnalyticPath() == AnalyticPath::Screen && frame.pixelCentreRays) {
     rays.reason = "objects with draw state of their own (" + std::to_string(groups.size()) +
                   " groups) stay on rays";
   }

@@ -267,6 +267,29 @@ class ReportReader {
         run.notes.push_back(notes[i].get<std::string>());
       }
     }
+    if (value.contains("screen_path")) {
+      // What the screen path did with the frame: its counts, or why it declined it.
+      const json& path = value["screen_path"];
+      const Pointer pAt = at / "screen_path";
+      if (!path.is_object()) fail(pAt, "expected an object, got " + detail::describe(path));
+      ScreenPathRecord record;
+      if (path.contains("declined")) {
+        record.declined = text(path, pAt, "declined");
+      } else {
+        record.background = integer(path, pAt, "background");
+        record.decided = integer(path, pAt, "decided");
+        record.contested = integer(path, pAt, "contested");
+        record.traced = integer(path, pAt, "traced");
+        record.boundMisses = integer(path, pAt, "bound_misses");
+        record.rayDeviationNdc = figure(path, pAt, "ray_deviation_ndc");
+        // Reports written before the compare took planes have no such counts.
+        if (path.contains("compared_from_planes") || path.contains("compared_along_rays")) {
+          record.comparedFromPlanes = integer(path, pAt, "compared_from_planes");
+          record.comparedAlongRays = integer(path, pAt, "compared_along_rays");
+        }
+      }
+      run.screenPath = record;
+    }
     const json& size = field(value, at, "size");
     run.size = {static_cast<int>(integer(size, at / "size", "width")),
                 static_cast<int>(integer(size, at / "size", "height"))};

@@ -6,7 +6,7 @@ namespace clipray {
 
 namespace {
 
-std::atomic<AnalyticPath> chosen{AnalyticPath::Rays};
+std::atomic<AnalyticPath> chosen{AnalyticPath::Screen};
 
 }  // namespace
 
