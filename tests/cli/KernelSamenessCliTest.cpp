@@ -4,9 +4,9 @@
 // start time), and every other file byte for byte. The screen path classifies every pixel as the
 // ray path does, its depth figures computed from the triangles' planes instead of the rays' hits:
 // the same report but for those figures, which lie within a hair of the ray path's, the same images
-// but for the error heat maps, whose colours move by one level at most where a ratio lies at a
-// rounding step (random scenes through the hard-case cameras are checked in process:
-// tests/gl/KernelSamenessTest.cpp, tests/gl/ScreenPathSamenessTest.cpp,
+// but for the error heat maps and depth images, whose colours move by one level at most where a
+// value lies at a rounding step (random scenes through the hard-case cameras are checked in
+// process: tests/gl/KernelSamenessTest.cpp, tests/gl/ScreenPathSamenessTest.cpp,
 // tests/unit/ScreenEvaluatorTest.cpp).
 
 #include <gtest/gtest.h>
@@ -131,9 +131,11 @@ void expectTheSameOutput(const std::filesystem::path& base, const std::filesyste
   for (const auto& [path, bytes] : baseFiles) {
     const auto found = otherFiles.find(path);
     ASSERT_NE(found, otherFiles.end()) << path << " is missing from " << what;
-    if (figures == Figures::WithinAHair && path.ends_with("heatmap.png")) {
-      // Drawn from error / tolerance, continuous but for the step at 1, where the classes (equal)
-      // keep both sides apart: a hair's move changes a channel's rounding by one level at most.
+    if (figures == Figures::WithinAHair &&
+        (path.ends_with("heatmap.png") || path.ends_with("depth.png"))) {
+      // Drawn from error / tolerance (continuous but for the step at 1, where the classes, equal,
+      // keep both sides apart) or from the depths over the range both sides share: a hair's move
+      // changes a channel's rounding by one level at most.
       EXPECT_LE(channelsApart(bytes, found->second), 1) << what << ": " << path;
     } else {
       EXPECT_TRUE(bytes == found->second) << what << ": " << path << " differs";

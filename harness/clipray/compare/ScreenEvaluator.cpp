@@ -357,6 +357,20 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
       const int y0 = tileY * kTile, rows = std::min(kTile, viewport.height - y0);
       for (int tileX = 0; tileX < tileColumns; ++tileX) {
         const int x0 = tileX * kTile, columns = std::min(kTile, viewport.width - x0);
+        bool listed = false;
+        for (int chunk = 0; chunk < bins.listChunkCount() && !listed; ++chunk) {
+          listed = !bins.list(chunk, tileX, tileY).empty();
+        }
+        if (!listed) {
+          // No triangle can be hit in the tile (a terrain's sky): background, as the loop below
+          // would find it pixel by pixel.
+          for (int ly = 0; ly < rows; ++ly) {
+            std::fill_n(frame.hits.data() + static_cast<std::size_t>(y0 + ly) * viewport.width + x0,
+                        columns, Hit{});
+          }
+          counts.background += static_cast<std::size_t>(rows) * static_cast<std::size_t>(columns);
+          continue;
+        }
         state.reset();
         const TileWalk walk{&terms, setups.data(), &bins, clipX.data(), clipY.data(),
                             tileX,  tileY,         rows,  columns,      &state};
