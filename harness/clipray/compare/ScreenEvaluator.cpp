@@ -193,7 +193,7 @@ Hit closestOfListed(const TileWalk& walk, int lx, int ly, const SceneIntersector
 // background or decided alone from its planes, as the finish loop decides them one by one
 // (traced: an uncertain triangle may be the nearest; background: no triangle surely crossed;
 // alone: no second crossing within the order margin); false, nothing written, otherwise.
-bool finishFour(const TileState& s, int i, const TriangleSetup* setups, Hit* hits,
+bool finishFour(const TileState& s, int i, const std::uint32_t* idOfSlot, Hit* hits,
                 ScreenEvaluation& counts) {
   Lanes nearestHigh, firstLow, secondLow, unsureLow;
   load(nearestHigh, s.nearestHigh + i);
@@ -211,7 +211,7 @@ bool finishFour(const TileState& s, int i, const TriangleSetup* setups, Hit* hit
       ++counts.background;
     } else {
       hits[l] = Hit{std::numeric_limits<double>::quiet_NaN(),
-                    setups[static_cast<std::size_t>(s.firstSlot[i + l])].primitiveId};
+                    idOfSlot[static_cast<std::size_t>(s.firstSlot[i + l])]};
       ++counts.decided;
     }
   }
@@ -334,19 +334,20 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
         std::size_t{intersector.primitiveIdCount()} + 1);
   }
   std::vector<TriangleSetup> setups(triangles.size());
-  parallelForRows(static_cast<int>((triangles.size() + 1023) / 1024), threadCount,
-                  [&](int blockBegin, int blockEnd) {
-                    const std::size_t end =
-                        std::min(triangles.size(), static_cast<std::size_t>(blockEnd) * 1024);
-                    for (std::size_t k = static_cast<std::size_t>(blockBegin) * 1024; k < end;
-                         ++k) {
-                      const TriangleSetup& t = setups[k] = setupTriangle(terms, triangles[k]);
-                      if (planes) {
-                        (*planes)[t.primitiveId] = {t.za, t.zb, t.zc, t.depthError,
-                                                    t.ra, t.rb, t.rc, t.reciprocalWError};
-                      }
-                    }
-                  });
+  // The ids by slot apart from the setups (a fraction of their size): what a decided pixel's hit
+  // reads.
+  std::vector<std::uint32_t> idOfSlot(triangles.size());
+  parallelForRows(
+      static_cast<int>((triangles.size() + 1023) / 1024), threadCount,
+      [&](int blockBegin, int blockEnd) {
+        const std::size_t end =
+            std::min(triangles.size(), static_cast<std::size_t>(blockEnd) * 1024);
+        for (std::size_t k = static_cast<std::size_t>(blockBegin) * 1024; k < end; ++k) {
+          idOfSlot[k] = triangles[k].primitiveId;
+          setups[k] = setupTriangle(terms, triangles[k],
+                                    planes ? &(*planes)[triangles[k].primitiveId] : nullptr);
+        }
+      });
   frame.planesById = planes;
   const bool avx2 = detail::PacketKernels::available();
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
@@ -398,7 +399,7 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
               // of a frame): the scalar decisions below, per lane.
               const std::size_t first =
                   static_cast<std::size_t>(y0 + ly) * viewport.width + x0 + lx;
-              if (finishFour(state, i, setups.data(), frame.hits.data() + first, counts)) {
+              if (finishFour(state, i, idOfSlot.data(), frame.hits.data() + first, counts)) {
                 lx += kLanes - 1;
                 continue;
               }

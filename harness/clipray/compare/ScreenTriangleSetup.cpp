@@ -156,7 +156,8 @@ FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& gen
   return terms;
 }
 
-TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& tri) {
+TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& tri,
+                            TrianglePlanes* planes) {
   TriangleSetup setup;
   setup.primitiveId = tri.primitiveId;
   const glm::dvec3 vertex[3] = {tri.a, tri.b, tri.c};
@@ -220,18 +221,24 @@ TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& 
         kSlack * (spread / std::abs(det) + gamma(4) * zSize + zSize * detError / std::abs(det) +
                   frame.delta * (std::abs(setup.za) + std::abs(setup.zb)));
     if (!std::isfinite(setup.depthError)) setup.depthError = kInf;
-    // 1 / w(s) = sum_k E_k(s) / det: the depth plane's sum with every z_k = 1 (exact), so its
-    // error has the same terms with |z_k| = 1 and no z_k error.
-    double spreadW = 0.0;
-    for (int k = 0; k < 3; ++k) spreadW += evaluation[k] + gamma(4) * magnitude[k];
-    setup.ra = (setup.a[0] + setup.a[1] + setup.a[2]) / det;
-    setup.rb = (setup.b[0] + setup.b[1] + setup.b[2]) / det;
-    setup.rc = (setup.c[0] + setup.c[1] + setup.c[2]) / det;
-    const double rSize = std::abs(setup.ra) + std::abs(setup.rb) + std::abs(setup.rc);
-    setup.reciprocalWError =
-        kSlack * (spreadW / std::abs(det) + gamma(4) * rSize + rSize * detError / std::abs(det) +
-                  frame.delta * (std::abs(setup.ra) + std::abs(setup.rb)));
-    if (!std::isfinite(setup.reciprocalWError)) setup.reciprocalWError = kInf;
+    if (planes) {
+      // 1 / w(s) = sum_k E_k(s) / det: the depth plane's sum with every z_k = 1 (exact), so its
+      // error has the same terms with |z_k| = 1 and no z_k error.
+      double spreadW = 0.0;
+      for (int k = 0; k < 3; ++k) spreadW += evaluation[k] + gamma(4) * magnitude[k];
+      TrianglePlanes& p = *planes;
+      p.za = setup.za, p.zb = setup.zb, p.zc = setup.zc, p.depthError = setup.depthError;
+      p.ra = (setup.a[0] + setup.a[1] + setup.a[2]) / det;
+      p.rb = (setup.b[0] + setup.b[1] + setup.b[2]) / det;
+      p.rc = (setup.c[0] + setup.c[1] + setup.c[2]) / det;
+      const double rSize = std::abs(p.ra) + std::abs(p.rb) + std::abs(p.rc);
+      p.reciprocalWError =
+          kSlack * (spreadW / std::abs(det) + gamma(4) * rSize + rSize * detError / std::abs(det) +
+                    frame.delta * (std::abs(p.ra) + std::abs(p.rb)));
+      if (!std::isfinite(p.reciprocalWError)) p.reciprocalWError = kInf;
+    }
+  } else if (planes) {
+    *planes = {0.0, 0.0, 0.0, kInf, 0.0, 0.0, 0.0, kInf};  // never decided: no certain orientation
   }
 
   // The pixels it may matter to: its vertices' projections, when all lie in front of the eye,

@@ -13,6 +13,7 @@
 #include <glm/glm.hpp>
 
 #include "clipray/Picking.hpp"
+#include "clipray/compare/Frames.hpp"
 #include "clipray/intersect/SceneIntersector.hpp"
 #include "clipray/rays/RobustRays.hpp"
 
@@ -51,13 +52,9 @@ struct TriangleSetup {
   // it is certain, so that the inside is where every E_k > margin_k.
   double a[3], b[3], c[3];
   double margin[3];
-  double sign = 0.0;                    // sign(det) when it is certain; 0: not
-  double za = 0.0, zb = 0.0, zc = 0.0;  // NDC depth z(x, y) = za x + zb y + zc
-  double depthError = kInf;             // |z - exact z| over the ray's reach: the key's error
-  // 1 / clip w where the line of sight crosses the triangle, r(x, y) = ra x + rb y + rc (the sum
-  // of the edge functions over |det|, positive in front of the eye), and its error bound there.
-  double ra = 0.0, rb = 0.0, rc = 0.0;
-  double reciprocalWError = kInf;
+  double sign = 0.0;                     // sign(det) when it is certain; 0: not
+  double za = 0.0, zb = 0.0, zc = 0.0;   // NDC depth z(x, y) = za x + zb y + zc
+  double depthError = kInf;              // |z - exact z| over the ray's reach: the key's error
   int x0 = 0, x1 = -1, y0 = 0, y1 = -1;  // pixels the triangle may matter to (inclusive)
   std::uint32_t primitiveId = 0;
 };
@@ -71,6 +68,11 @@ FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& gen
                       const glm::dmat4& clipFromRelative, const glm::dvec3& reference,
                       double delta);
 
-TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& triangle);
+// The setup of a triangle for the walk; where planes is given, also the triangle's depth plane and
+// the plane of 1 / clip w where the line of sight crosses it, r(x, y) = ra x + rb y + rc (the sum
+// of the edge functions over |det|, positive in front of the eye), each with its error bound (both
+// infinite where the orientation is not certain): what the compare evaluates at decided pixels.
+TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& triangle,
+                            TrianglePlanes* planes = nullptr);
 
 }  // namespace clipray::screen
