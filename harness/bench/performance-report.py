@@ -10,8 +10,8 @@ frames and fewer repetitions, for checking the script itself, never for the page
   3. the analytic primitives' float rays against the CPU's double rays (report by_kind);
   4. `clipray bench` on every hard case and the Google Benchmark ray rows side by side;
   5. `clipray_intersect_bench`: the intersection side by side with Embree, and its scaling;
-  6. the screen path (--analytic screen) against the ray path, intersect phase side by side
-     (screen_path.py);
+  6. the screen path (--analytic screen, the default) against the ray path, one thread, the
+     analytic phases side by side (screen_path.py);
   7. the terrain multisampled: 4 samples against 1, the analytic time of a frame's sample runs
      summed against the single-sample run's;
   8. a real program's 1080p frame captured with RenderDoc, checked, verified and reconciled
@@ -315,10 +315,14 @@ whole process (`cpu_ms`, every thread's, llvmpipe's own threads in `raster`):
 - **rays**: setting up the robust ray generator. clipray stores no ray of its own: each is
   computed where it is used, eight rows of 64 pixels at a time in `intersect`, and per run of 64
   pixels that shows something in `compare`.
-- **intersect**: binning the triangles in screen space (`FrameBins`) and tracing every 8x8 tile
-  as SIMD packets in double.
+- **intersect**: binning the triangles in screen space (`FrameBins`), then on the screen path
+  (the default for meshes drawn alike) each binned triangle's edge functions and depth plane at
+  its 8x8 tiles' pixel centres, a ray traced only where the margins leave a pixel open; on the
+  ray path (`--analytic rays`, and every frame with analytic primitives, clip planes, depth
+  clamp or objects with state of their own) every tile traced as SIMD packets in double.
 - **compare**: building the tolerance model of the primitives the raster shows, classifying every
-  pixel, and the error distributions.
+  pixel (a pixel decided from planes from its triangle's planes, others along their rays), and
+  the error distributions.
 
 The ratio (rays + intersect + compare) / raster is what clipray adds to the raster it checks.
 CPU time over wall time is how many cores a phase keeps busy: a ratio that differs between wall
@@ -329,7 +333,7 @@ something (floors that fill the frame cost most). The first run of a process aft
 these steady medians: the virtual machine's host reclaims idle memory, and touching it again is
 slow; `--rounds` keeps round 1 apart (`first_round_timings_ms`).
 
-Why the intersection is fast: a camera's own rays need no BVH. `FrameBins` projects each triangle
+Why the ray path's intersection is fast: a camera's own rays need no BVH. `FrameBins` projects each triangle
 once per camera and lists, per 8x8 tile, the triangles whose padded outline may cover it (by its
 edges, per half row of eight pixels, not only by its bounds); a tile whose rays stay within 1/4 px
 of their pixels' lines of sight tests only those, skipping triangles behind all its
