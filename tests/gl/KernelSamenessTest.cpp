@@ -12,7 +12,6 @@
 #include <optional>
 #include <random>
 #include <string>
-#include <variant>
 #include <vector>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -23,6 +22,7 @@
 #include "clipray/report/Report.hpp"
 #include "clipray/util/KernelChoice.hpp"
 #include "support/AnalyticPathFor.hpp"
+#include "support/EveryDepthFormat.hpp"
 #include "support/GlFixture.hpp"
 #include "support/RandomScenes.hpp"
 #include "support/Sanitizers.hpp"
@@ -72,11 +72,7 @@ TEST_F(KernelSameness, RandomScenesThroughTheHardCaseCamerasGiveTheSameHitsRepor
         if (scene.objects.empty() && scene.primitives.empty()) continue;
         scenesWithPrimitives += scene.primitives.empty() ? 0 : 1;
         scenesWithMeshes += scene.objects.empty() ? 0 : 1;
-        Camera camera;
-        camera.name = hardCase.name;
-        camera.viewport = hardCase.viewport;
-        camera.projection = std::monostate{};
-        camera.rawClipFromWorld = hardCase.inputs.clipFromWorld;
+        const Camera camera = testing::hardCaseCamera(hardCase);
         const DepthMode mode = hardCase.inputs.mode;
         const engine::AnalyticPass simd =
             engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
@@ -95,36 +91,29 @@ TEST_F(KernelSameness, RandomScenesThroughTheHardCaseCamerasGiveTheSameHitsRepor
               << what << ", pixel " << i;
           hitPixels += a.hit() ? 1 : 0;
         }
-        for (const DepthFormat format :
-             {DepthFormat::Unorm16, DepthFormat::Unorm24, DepthFormat::Float32}) {
-          const VertexMode vertexMode =
-              runs % 2 == 0 ? VertexMode::World : VertexMode::Pretransformed;
-          gl::RenderTimings timings;
-          const RasterFrame raster =
-              renderer().render(engine::renderRequest(simd, format, vertexMode), &timings);
-          const int subpixelBits = renderer().info().subpixelBits;
-          engine::ComparedRun withSimd = engine::compareRasterFrame(
-              simd, raster, format, vertexMode, subpixelBits, timings, 2);
-          engine::ComparedRun withPortable = [&] {
-            const KernelsFor kernels(KernelChoice::Portable);
-            return engine::compareRasterFrame(portable, raster, format, vertexMode, subpixelBits,
-                                              timings, 2);
-          }();
-          const std::string run = what + " " + depthFormatName(format);
-          const nlohmann::json patch =
-              nlohmann::json::diff(runEntry(withSimd.run), runEntry(withPortable.run));
-          EXPECT_TRUE(patch.empty()) << run << ": the portable code's entry differs by " << patch;
-          encodeRunImages(withSimd.run, withSimd.pixels);
-          encodeRunImages(withPortable.run, withPortable.pixels);
-          ASSERT_EQ(withSimd.run.images.size(), 4u) << run;
-          ASSERT_EQ(withPortable.run.images.size(), 4u) << run;
-          for (std::size_t k = 0; k < 4; ++k) {
-            EXPECT_EQ(withSimd.run.images[k].relativePath, withPortable.run.images[k].relativePath);
-            EXPECT_TRUE(withSimd.run.images[k].pngBytes == withPortable.run.images[k].pngBytes)
-                << run << ", " << withSimd.run.images[k].relativePath;
-          }
-          ++runs;
-        }
+        testing::drawInEveryDepthFormat(
+            renderer(), simd, runs, [&](DepthFormat format, const auto& compare) {
+              engine::ComparedRun withSimd = compare(simd);
+              engine::ComparedRun withPortable = [&] {
+                const KernelsFor kernels(KernelChoice::Portable);
+                return compare(portable);
+              }();
+              const std::string run = what + " " + depthFormatName(format);
+              const nlohmann::json patch =
+                  nlohmann::json::diff(runEntry(withSimd.run), runEntry(withPortable.run));
+              EXPECT_TRUE(patch.empty())
+                  << run << ": the portable code's entry differs by " << patch;
+              encodeRunImages(withSimd.run, withSimd.pixels);
+              encodeRunImages(withPortable.run, withPortable.pixels);
+              ASSERT_EQ(withSimd.run.images.size(), 4u) << run;
+              ASSERT_EQ(withPortable.run.images.size(), 4u) << run;
+              for (std::size_t k = 0; k < 4; ++k) {
+                EXPECT_EQ(withSimd.run.images[k].relativePath,
+                          withPortable.run.images[k].relativePath);
+                EXPECT_TRUE(withSimd.run.images[k].pngBytes == withPortable.run.images[k].pngBytes)
+                    << run << ", " << withSimd.run.images[k].relativePath;
+              }
+            });
       }
     }
   }

@@ -12,13 +12,13 @@
 #include <cstdint>
 #include <iostream>
 #include <string>
-#include <variant>
 #include <vector>
 
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/rays/HardCases.hpp"
 #include "clipray/report/Report.hpp"
 #include "support/AnalyticPathFor.hpp"
+#include "support/EveryDepthFormat.hpp"
 #include "support/GlFixture.hpp"
 #include "support/RandomScenes.hpp"
 #include "support/Sanitizers.hpp"
@@ -78,11 +78,7 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
     for (const HardCase& hardCase : hardCases(size)) {
       const Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
       if (scene.objects.empty()) continue;
-      Camera camera;
-      camera.name = hardCase.name;
-      camera.viewport = hardCase.viewport;
-      camera.projection = std::monostate{};
-      camera.rawClipFromWorld = hardCase.inputs.clipFromWorld;
+      const Camera camera = testing::hardCaseCamera(hardCase);
       const DepthMode mode = hardCase.inputs.mode;
       const engine::AnalyticPass rays = [&] {
         const AnalyticPathFor path(AnalyticPath::Rays);
@@ -97,54 +93,47 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
       ASSERT_FALSE(rays.frame.planesById) << what;
       evaluated += screen.screen.used ? 1 : 0;
       const double toWindow = 1.0 / (1.0 - mode.clipVolumeMinZ());
-      for (const DepthFormat format :
-           {DepthFormat::Unorm16, DepthFormat::Unorm24, DepthFormat::Float32}) {
-        const VertexMode vertexMode =
-            runs % 2 == 0 ? VertexMode::World : VertexMode::Pretransformed;
-        gl::RenderTimings timings;
-        const RasterFrame raster =
-            renderer().render(engine::renderRequest(rays, format, vertexMode), &timings);
-        const int subpixelBits = renderer().info().subpixelBits;
-        const engine::ComparedRun byRays =
-            engine::compareRasterFrame(rays, raster, format, vertexMode, subpixelBits, timings, 2);
-        const engine::ComparedRun byScreen = engine::compareRasterFrame(
-            screen, raster, format, vertexMode, subpixelBits, timings, 2);
-        const std::string run = what + " " + depthFormatName(format);
-        ++runs;
-        const nlohmann::json a = entryOf(byRays.run);
-        const nlohmann::json b = entryOf(byScreen.run);
-        const nlohmann::json patch = nlohmann::json::diff(withoutFigures(a), withoutFigures(b));
-        EXPECT_TRUE(patch.empty()) << run << ": the screen path's entry differs by " << patch;
-        ASSERT_EQ(byRays.pixels.classes.size(), byScreen.pixels.classes.size()) << run;
-        for (std::size_t i = 0; i < byRays.pixels.classes.size(); ++i) {
-          ASSERT_EQ(byRays.pixels.classes[i], byScreen.pixels.classes[i])
-              << run << ", pixel " << i % size.width << "," << i / size.width;
-          const Hit& hit = screen.frame.hits[i];
-          if (!screen.frame.planesById || !hit.hit() || !std::isnan(hit.t)) continue;
-          ++fromPlanes;
-          const double depthA = byRays.pixels.analyticDepth[i];
-          const double depthB = byScreen.pixels.analyticDepth[i];
-          if (std::isnan(depthA) || std::isnan(depthB)) continue;
-          ++compared;
-          const double bound = (*screen.frame.planesById)[hit.primitiveId].depthError * toWindow;
-          worstDepth = std::max(worstDepth, std::abs(depthA - depthB));
-          worstDepthOverBound = std::max(worstDepthOverBound, std::abs(depthA - depthB) / bound);
-        }
-        std::vector<std::pair<std::string, double>> figuresA, figuresB;
-        collectFigures(a, "", figuresA);
-        collectFigures(b, "", figuresB);
-        // The entries' shapes are equal (above): the figures pair up in order.
-        ASSERT_EQ(figuresA.size(), figuresB.size()) << run;
-        for (std::size_t k = 0; k < figuresA.size(); ++k) {
-          const std::string& at = figuresA[k].first;
-          const double x = figuresA[k].second, y = figuresB[k].second;
-          const double apart = std::abs(x - y) / std::max({std::abs(x), std::abs(y), 1e-300});
-          if (apart > worstFigure) {
-            worstFigure = apart;
-            worstFigureAt = run + " " + at;
-          }
-        }
-      }
+      testing::drawInEveryDepthFormat(
+          renderer(), rays, runs, [&](DepthFormat format, const auto& compare) {
+            const engine::ComparedRun byRays = compare(rays);
+            const engine::ComparedRun byScreen = compare(screen);
+            const std::string run = what + " " + depthFormatName(format);
+            const nlohmann::json a = entryOf(byRays.run);
+            const nlohmann::json b = entryOf(byScreen.run);
+            const nlohmann::json patch = nlohmann::json::diff(withoutFigures(a), withoutFigures(b));
+            EXPECT_TRUE(patch.empty()) << run << ": the screen path's entry differs by " << patch;
+            ASSERT_EQ(byRays.pixels.classes.size(), byScreen.pixels.classes.size()) << run;
+            for (std::size_t i = 0; i < byRays.pixels.classes.size(); ++i) {
+              ASSERT_EQ(byRays.pixels.classes[i], byScreen.pixels.classes[i])
+                  << run << ", pixel " << i % size.width << "," << i / size.width;
+              const Hit& hit = screen.frame.hits[i];
+              if (!screen.frame.planesById || !hit.hit() || !std::isnan(hit.t)) continue;
+              ++fromPlanes;
+              const double depthA = byRays.pixels.analyticDepth[i];
+              const double depthB = byScreen.pixels.analyticDepth[i];
+              if (std::isnan(depthA) || std::isnan(depthB)) continue;
+              ++compared;
+              const double bound =
+                  (*screen.frame.planesById)[hit.primitiveId].depthError * toWindow;
+              worstDepth = std::max(worstDepth, std::abs(depthA - depthB));
+              worstDepthOverBound =
+                  std::max(worstDepthOverBound, std::abs(depthA - depthB) / bound);
+            }
+            std::vector<std::pair<std::string, double>> figuresA, figuresB;
+            collectFigures(a, "", figuresA);
+            collectFigures(b, "", figuresB);
+            // The entries' shapes are equal (above): the figures pair up in order.
+            ASSERT_EQ(figuresA.size(), figuresB.size()) << run;
+            for (std::size_t k = 0; k < figuresA.size(); ++k) {
+              const std::string& at = figuresA[k].first;
+              const double x = figuresA[k].second, y = figuresB[k].second;
+              const double apart = std::abs(x - y) / std::max({std::abs(x), std::abs(y), 1e-300});
+              if (apart > worstFigure) {
+                worstFigure = apart;
+                worstFigureAt = run + " " + at;
+              }
+            }
+          });
     }
   }
   std::cout << runs << " runs, " << evaluated << " scene cameras on the screen path; " << fromPlanes

@@ -9,6 +9,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <variant>
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -161,6 +162,16 @@ inline Scene randomScene(const HardCase& hardCase, Viewport viewport, std::uint6
   }
   if (meshesOnly) scene.primitives.clear();
   return scene;
+}
+
+// The scene camera of a hard case: its matrix as given (no projection to build), its viewport.
+inline Camera hardCaseCamera(const HardCase& hardCase) {
+  Camera camera;
+  camera.name = hardCase.name;
+  camera.viewport = hardCase.viewport;
+  camera.projection = std::monostate{};
+  camera.rawClipFromWorld = hardCase.inputs.clipFromWorld;
+  return camera;
 }
 
 }  // namespace clipray::testing
