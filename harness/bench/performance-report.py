@@ -10,7 +10,7 @@ frames and fewer repetitions, for checking the script itself, never for the page
   3. the analytic primitives' float rays against the CPU's double rays (report by_kind);
   4. `clipray bench` on every hard case and the Google Benchmark ray rows side by side;
   5. `clipray_intersect_bench`: the intersection side by side with Embree, and its scaling;
-  6. the screen path (--analytic screen, the default) against the ray path, one thread, the
+  6. the screen path (--analytic screen) against the ray path, one thread, the
      analytic phases side by side (screen_path.py);
   7. the terrain multisampled: 4 samples against 1, the analytic time of a frame's sample runs
      summed against the single-sample run's;
@@ -316,7 +316,8 @@ whole process (`cpu_ms`, every thread's, llvmpipe's own threads in `raster`):
   computed where it is used, eight rows of 64 pixels at a time in `intersect`, and per run of 64
   pixels that shows something in `compare`.
 - **intersect**: binning the triangles in screen space (`FrameBins`), then on the screen path
-  (the default for meshes drawn alike) each binned triangle's edge functions and depth plane at
+  (`--analytic auto`, the default, takes it for meshes drawn alike where the frame has 16 pixels
+  or more a triangle) each binned triangle's edge functions and depth plane at
   its 8x8 tiles' pixel centres, a ray traced only where the margins leave a pixel open; on the
   ray path (`--analytic rays`, and every frame with analytic primitives, clip planes, depth
   clamp or objects with state of their own) every tile traced as SIMD packets in double.

@@ -1,4 +1,4 @@
-"""The screen path (`clipray reconcile --analytic screen`, the default) against the ray path, for
+"""The screen path (`clipray reconcile --analytic screen`) against the ray path, for
 performance-report.py: the analytic phases' CPU time on scenes the screen path covers at 1080p,
 one thread, the two paths alternating process by process, and what the screen path traced and
 compared along rays per frame."""

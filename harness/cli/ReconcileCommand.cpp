@@ -57,7 +57,7 @@ struct ReconcileArguments {
   std::string out = "report";
   std::string images = "failing";
   std::string kernels = "simd";
-  std::string analytic = "screen";
+  std::string analytic = "auto";
   std::string junit;  // empty: no JUnit file
   bool json = false;
   unsigned threads = 0;
@@ -141,7 +141,7 @@ engine::ReconcilePlan planOf(const ReconcileArguments& arguments) {
   plan.analytic = analyticPathNamed(arguments.analytic);
   if (!plan.analytic) {
     throw InputError("--analytic: unknown value \"" + arguments.analytic +
-                     "\"; expected one of: rays, screen");
+                     "\"; expected one of: auto, rays, screen");
   }
   if (!arguments.conventions.empty()) {
     plan.conventions =
@@ -344,8 +344,9 @@ CommandRunner addReconcileOptions(CLI::App& app) {
                  "How clipray's own rays find their hits: screen (each triangle's coverage and "
                  "depth decided at the pixel centres, with bounds that make every decision the "
                  "ray path's, the pixels they cannot decide traced, depths compared from the "
-                 "triangles' planes), or rays (each pixel's robust ray traced, depths compared "
-                 "at its hit): the same classes and counts, figures within a hair")
+                 "triangles' planes), rays (each pixel's robust ray traced, depths compared at "
+                 "its hit), or auto (screen where a frame has 16 pixels or more a triangle): the "
+                 "same classes and counts, figures within a hair")
       ->capture_default_str();
   app.add_option("--shard", arguments->shard,
                  "I/N: only shard I of N (1-based) of the scene/camera pairs, split by their "

@@ -1,6 +1,6 @@
 #!/bin/bash
 # The GL suite and every shipped scene through EGL on whatever GPU EGL offers, with both kernel
-# choices and both analytic paths (--analytic screen, the default, and rays) compared
+# choices and both analytic paths (--analytic rays and screen) compared
 # (harness/tools/same-outputs.py): the check docs/reconcile.md ("On a real GPU") reports. Run from the repository root of a release build (cmake --preset release), on a machine
 # with an EGL driver. The logs go to $OUT (default /tmp/gpu-check), the two sweeps' output folders
 # to $SWEEPS (default /tmp/gpu-check-sweeps). The test binary reads the shipped scenes from the

@@ -208,6 +208,34 @@ TEST(KernelSamenessCli,
   EXPECT_GT(evaluated, testing::kUnderAddressSanitizer ? 30u : 100u);
 }
 
+// --analytic auto (the default) takes the screen path where a frame has 16 pixels or more for each
+// triangle, and says why it left the others to the rays: the 100,352-triangle terrain at 320x240
+// (76,800 pixels) on rays, at 1280x1024 (1,310,720, 13.1 a triangle) too, the standard scene's
+// few thousand triangles at 320x240 on the screen path.
+TEST(KernelSamenessCli, AutoTakesTheScreenPathWhereTheFrameHasSixteenPixelsATriangle) {
+  TempFolder folder;
+  const auto reportOf = [&](const std::string& arguments) {
+    const auto result = runClipray("reconcile " + arguments +
+                                       " --conventions zo --depth-formats 32f "
+                                       "--images none --out out",
+                                   folder.path());
+    EXPECT_EQ(result.status, 0) << result.err;
+    return nlohmann::json::parse(testing::readText(folder.path() / "out" / "report.json"));
+  };
+  const std::string terrain = "'" + kSource + "'/scenes/terrain_100k.json";
+  for (const auto& [size, pixels] :
+       {std::pair<const char*, const char*>{"320x240", "76800"}, {"1280x1024", "1310720"}}) {
+    const nlohmann::json report = reportOf(terrain + " --size " + size);
+    EXPECT_EQ(report["runs"].at(0)["screen_path"],
+              nlohmann::json({{"declined", std::string("100352 triangles for ") + pixels +
+                                               " pixels: the rays are faster below 16 pixels a "
+                                               "triangle"}}))
+        << size;
+  }
+  const nlohmann::json standard = reportOf("'" + kSource + "'/scenes/standard.json --size 320x240");
+  EXPECT_GT(standard["runs"].at(0)["screen_path"]["decided"].get<std::int64_t>(), 10000);
+}
+
 TEST(KernelSamenessCli, AnUnknownAnalyticPathIsRefused) {
   TempFolder folder;
   const auto result =
@@ -215,7 +243,7 @@ TEST(KernelSamenessCli, AnUnknownAnalyticPathIsRefused) {
                  folder.path());
   EXPECT_EQ(result.status, 2);
   EXPECT_EQ(result.err,
-            "clipray: --analytic: unknown value \"raster\"; expected one of: rays, screen\n");
+            "clipray: --analytic: unknown value \"raster\"; expected one of: auto, rays, screen\n");
   EXPECT_FALSE(std::filesystem::exists(folder.path() / "out"));
 }
 

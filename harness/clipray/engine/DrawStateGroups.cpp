@@ -151,15 +151,26 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
                                       const Scene& scene, const glm::dmat4& drawnClipFromWorld,
                                       const PickingCamera& camera, unsigned threadCount) {
   const std::vector<DrawStateGroup> groups = drawStateGroups(scene);
+  // An app's own picking rays (stored per pixel) are the ray path's alone.
+  const AnalyticPath path = frame.pixelCentreRays ? chosenAnalyticPath() : AnalyticPath::Rays;
   if (groups.size() == 1) {
-    // An app's own picking rays (stored per pixel) are the ray path's alone.
-    if (chosenAnalyticPath() == AnalyticPath::Screen && frame.pixelCentreRays) {
+    const double pixels = static_cast<double>(frame.pixelCount());
+    const double triangles = static_cast<double>(wholeScene.triangleCount());
+    if (path == AnalyticPath::Screen ||
+        (path == AnalyticPath::Auto && pixels >= kScreenPixelsPerTriangle * triangles)) {
       // Decided pixels keep their planes: the compare evaluates them in place of rays.
       return intersectFrameInScreenSpace(frame, wholeScene, camera, threadCount, nullptr,
                                          DecidedHits::FromPlanes);
     }
     intersectFrame(frame, wholeScene, camera, threadCount);
-    return {};
+    ScreenEvaluation rays;
+    if (path == AnalyticPath::Auto) {
+      rays.reason = std::to_string(wholeScene.triangleCount()) + " triangles for " +
+                    std::to_string(frame.pixelCount()) + " pixels: the rays are faster below " +
+                    std::to_string(static_cast<int>(kScreenPixelsPerTriangle)) +
+                    " pixels a triangle";
+    }
+    return rays;
   }
   const glm::dvec3& reference = wholeScene.reference();
   const bool greater = nearerIsGreater(camera.mode, scene.depthRange);
@@ -216,7 +227,7 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
   }
   frame.hits = std::move(kept);
   ScreenEvaluation rays;
-  if (chosenAnalyticPath() == AnalyticPath::Screen && frame.pixelCentreRays) {
+  if (path != AnalyticPath::Rays) {
     rays.reason = "objects with draw state of their own (" + std::to_string(groups.size()) +
                   " groups) stay on rays";
   }

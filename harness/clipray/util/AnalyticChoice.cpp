@@ -6,7 +6,7 @@ namespace clipray {
 
 namespace {
 
-std::atomic<AnalyticPath> chosen{AnalyticPath::Screen};
+std::atomic<AnalyticPath> chosen{AnalyticPath::Auto};
 
 }  // namespace
 
@@ -19,10 +19,11 @@ AnalyticPath chosenAnalyticPath() {
 }
 
 std::string_view analyticPathName(AnalyticPath path) {
-  return path == AnalyticPath::Rays ? "rays" : "screen";
+  return path == AnalyticPath::Auto ? "auto" : path == AnalyticPath::Rays ? "rays" : "screen";
 }
 
 std::optional<AnalyticPath> analyticPathNamed(std::string_view name) {
+  if (name == "auto") return AnalyticPath::Auto;
   if (name == "rays") return AnalyticPath::Rays;
   if (name == "screen") return AnalyticPath::Screen;
   return std::nullopt;
