@@ -49,8 +49,14 @@ using FloatBits = unsigned __attribute__((vector_size(16)));
   std::memcpy(&lanes, p, sizeof lanes);
   return lanes;
 }
+// std::abs per lane: the sign bit cleared (-0.0 too, as std::abs clears it).
 [[gnu::always_inline]] inline Lanes absolute(const Lanes& v) {
-  return v < 0.0 ? -v : v;  // no lane is NaN here, and -0.0 keeps its sign either way
+  Mask bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  bits &= 0x7fffffffffffffffLL;
+  Lanes magnitude;
+  std::memcpy(&magnitude, &bits, sizeof magnitude);
+  return magnitude;
 }
 [[gnu::always_inline]] inline Lanes largerOf(const Lanes& a, const Lanes& b) {
   return a < b ? b : a;  // std::max(a, b)

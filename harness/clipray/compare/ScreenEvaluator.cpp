@@ -232,8 +232,8 @@ __attribute__((target("avx2,fma"))) void walkTileAvx2(const TileWalk& walk) {
 // the eye (RobustRayGenerator::finishRay), clip w 1 / w_near > 0, and is finite. w_near =
 // worldFromClip row 3 . (x, y, z_n, 1) is affine in (x, y), so its least value over the tile is at
 // a corner; the generator's rounding of it is below gamma(4) of its terms' sizes, far below the
-// margin asked (10^-9 of them), and a w_near above that margin keeps the near point finite where
-// planeRaysBounded (below) holds.
+// margin asked (10^-9 of them), and a w_near above that margin keeps the near point, at most
+// 4 max |worldFromClip entry| / margin, finite (nearPointW asks that of the matrix).
 struct NearPointW {
   double a = 0.0, b = 0.0, c = 0.0;  // w_near = a x + b y + c
   double margin = kInf;
