@@ -32,11 +32,12 @@ struct ScreenEvaluation {
   bool used = false;
   std::string reason;
   std::size_t background = 0;  // no triangle can be hit: no ray computed
-  std::size_t decided = 0;     // one triangle is the nearest: its watertight test gives t
+  std::size_t decided = 0;     // one triangle is the nearest: its test gives t, or its planes
   std::size_t contested = 0;   // several triangles within the depth margin: each tested
   std::size_t traced = 0;      // a margin not cleared: the ray path's full search
   // Decided or contested pixels whose tested triangles all missed (a bound that did not hold):
-  // traced too. Zero unless a bound is wrong; the tests hold it at zero.
+  // traced too. Zero unless a bound is wrong; the tests hold it at zero (DecidedHits::Tested
+  // tests every decided pixel; FromPlanes the contested ones only).
   std::size_t boundMisses = 0;
   // The bound on how far the ray path's rays stray from their pixel centres, in NDC.
   double rayDeviationNdc = 0.0;
