@@ -355,8 +355,6 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
       setup.objectOffsets.empty() && !setup.logDepth) {
     planes_ = analytic.planesById.get();
     planeMapping_ = setup.depthMapping();
-    eyeClipZ_ = glm::dot(rowZ_, glm::dvec4(eye_, 1.0));
-    depthSpan_ = std::abs(setup.mode.farNdcZ() - setup.mode.nearNdcZ());
     clipXOfColumn_.resize(static_cast<std::size_t>(raster.viewport.width));
     for (int x = 0; x < raster.viewport.width; ++x) {
       clipXOfColumn_[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, raster.viewport).x;
@@ -376,8 +374,8 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
     in.fixedQuantum =
         setup.depthFormat == DepthFormat::Float32 ? 0.0 : depthQuantum(setup.depthFormat, 0.0);
     in.parallel = parallel_;
-    in.eyeClipZ = eyeClipZ_;
-    in.depthSpan = depthSpan_;
+    in.eyeClipZ = glm::dot(rowZ_, glm::dvec4(eye_, 1.0));
+    in.depthSpan = std::abs(setup.mode.farNdcZ() - setup.mode.nearNdcZ());
   }
 }
 

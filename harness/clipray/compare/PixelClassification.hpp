@@ -52,7 +52,8 @@ struct PlaneFrameConstants {
   double subpixelStep, width, height;
   double fixedQuantum;  // a fixed-point format's quantum; 0 for a float depth buffer
   bool parallel;
-  double eyeClipZ, depthSpan;
+  double eyeClipZ;   // the eye's clip z (its x, y and w are 0): distances along a sight line
+  double depthSpan;  // |z_far - z_near| in NDC: a parallel camera's depth of view
 };
 struct FourPlanePixels {
   const TrianglePlanes* planes[4];
@@ -129,14 +130,12 @@ class FrameClassifier {
   // and its pixels are classified along their rays.
   const std::vector<TrianglePlanes>* planes_ = nullptr;
   DepthMapping planeMapping_{};
-  double eyeClipZ_ = 0.0;   // the eye's clip z (its x, y and w are 0): distances along a sight line
-  double depthSpan_ = 1.0;  // |z_far - z_near| in NDC: a parallel camera's depth of view
   std::vector<double> clipXOfColumn_;  // NDC x of each column's pixel centre
   // Four plane pixels at a time under the default depth range (on AVX2 lanes where the CPU has
   // them and the SIMD kernels are chosen, else on the baseline's: the same bits).
   bool fourPlanes_ = false;
   bool fourPlanesAvx2_ = false;
-  PlaneFrameConstants planeConstants_{};
+  PlaneFrameConstants planeConstants_{};  // both plane kernels' frame constants
 };
 
 }  // namespace clipray::detail

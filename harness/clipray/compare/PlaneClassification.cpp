@@ -193,7 +193,8 @@ bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc
   const double zRaster = planeMapping_.ndcOfWindowDepth(rasterDepth);
   const double apart = std::abs(zNdc - zRaster);
   const double relative =
-      parallel_ ? apart / depthSpan_ : apart / std::abs(eyeClipZ_ * reciprocalW + zRaster - zNdc);
+      parallel_ ? apart / planeConstants_.depthSpan
+                : apart / std::abs(planeConstants_.eyeClipZ * reciprocalW + zRaster - zNdc);
   const double ratio = error / tolerance;
   const double quanta = error / quantum;
 

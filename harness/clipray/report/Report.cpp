@@ -242,12 +242,14 @@ nlohmann::json runJson(const RunRecord& run) {
     json["screen_path"] = {{"declined", run.screenPath->declined}};
   } else if (run.screenPath) {
     const ScreenPathRecord& s = *run.screenPath;
-    json["screen_path"] = {
-        {"background", s.background},    {"decided", s.decided},
-        {"contested", s.contested},      {"traced", s.traced},
-        {"bound_misses", s.boundMisses}, {"ray_deviation_ndc", s.rayDeviationNdc},
-        {"compared_from_planes", s.comparedFromPlanes},
-        {"compared_along_rays", s.comparedAlongRays}};
+    json["screen_path"] = {{"background", s.background},
+                           {"decided", s.decided},
+                           {"contested", s.contested},
+                           {"traced", s.traced},
+                           {"bound_misses", s.boundMisses},
+                           {"ray_deviation_ndc", s.rayDeviationNdc},
+                           {"compared_from_planes", s.comparedFromPlanes},
+                           {"compared_along_rays", s.comparedAlongRays}};
   }
   return json;
 }
