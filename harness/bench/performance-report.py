@@ -319,8 +319,8 @@ whole process (`cpu_ms`, every thread's, llvmpipe's own threads in `raster`):
   (`--analytic auto`, the default, takes it for meshes drawn alike where the frame has 16 pixels
   or more a triangle) each binned triangle's edge functions and depth plane at
   its 8x8 tiles' pixel centres, a ray traced only where the margins leave a pixel open; on the
-  ray path (`--analytic rays`, and every frame with analytic primitives, clip planes, depth
-  clamp or objects with state of their own) every tile traced as SIMD packets in double.
+  ray path (`--analytic rays`, and every frame with analytic primitives, depth clamp or
+  objects with state of their own) every tile traced as SIMD packets in double.
 - **compare**: building the tolerance model of the primitives the raster shows, classifying every
   pixel (a pixel decided from planes from its triangle's planes, others along their rays), and
   the error distributions.

@@ -4,6 +4,7 @@
 // give every pixel the same class and every count the same; the depths of the pixels the planes
 // decided lie within their planes' bound of the exact crossing (tests/unit/ScreenEvaluatorTest.cpp)
 // and, printed here with the worst difference of every figure, close to the ray path's.
+// A third of the cameras draw with a user clip plane through the scene.
 
 #include <gtest/gtest.h>
 
@@ -74,11 +75,21 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
   std::int64_t fromPlanes = 0, compared = 0;
   double worstDepth = 0.0, worstDepthOverBound = 0.0, worstFigure = 0.0;
   std::string worstFigureAt;
+  int clipped = 0;
   for (const Viewport size : sizes) {
     for (const HardCase& hardCase : hardCases(size)) {
       const Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
       if (scene.objects.empty()) continue;
-      const Camera camera = testing::hardCaseCamera(hardCase);
+      Camera camera = testing::hardCaseCamera(hardCase);
+      if (seed % 3 == 0) {
+        // A user clip plane through a vertex of the scene, its normal from the seed: the triangles
+        // it cuts go to the rays, those it keeps or clips whole stay on the screen path.
+        const glm::dvec3 through = scene.objects.front().worldPositions.front();
+        const double angle = static_cast<double>(seed) * 2.399963;
+        const glm::dvec3 normal = glm::normalize(glm::dvec3(std::cos(angle), 0.6, std::sin(angle)));
+        camera.clipPlanes = {glm::dvec4(normal, -glm::dot(normal, through))};
+        ++clipped;
+      }
       const DepthMode mode = hardCase.inputs.mode;
       const engine::AnalyticPass rays = [&] {
         const AnalyticPathFor path(AnalyticPath::Rays);
@@ -89,7 +100,8 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
         return engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
       }();
       const std::string what = scene.name + " " + hardCase.convention() + " " +
-                               std::to_string(size.width) + "x" + std::to_string(size.height);
+                               std::to_string(size.width) + "x" + std::to_string(size.height) +
+                               (camera.clipPlanes.empty() ? "" : " clipped");
       ASSERT_FALSE(rays.frame.planesById) << what;
       evaluated += screen.screen.used ? 1 : 0;
       const double toWindow = 1.0 / (1.0 - mode.clipVolumeMinZ());
@@ -136,7 +148,8 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
           });
     }
   }
-  std::cout << runs << " runs, " << evaluated << " scene cameras on the screen path; " << fromPlanes
+  std::cout << runs << " runs (" << clipped << " scene cameras with a clip plane), " << evaluated
+            << " scene cameras on the screen path; " << fromPlanes
             << " pixels decided from planes, " << compared
             << " with depths on both sides: the depths apart by at most " << worstDepth << " ("
             << worstDepthOverBound << " of the planes' bound); the report's figures apart by "

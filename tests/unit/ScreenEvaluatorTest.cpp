@@ -276,14 +276,71 @@ TEST(ScreenEvaluator, FramesOutsideItsDecisionsAreTheRayPathsWithTheReason) {
   EXPECT_FALSE(e.used);
   EXPECT_EQ(e.reason, "analytic primitives stay on rays");
 
-  const Scene scene = testing::fast_path::testScene();
+  PickingCamera clamped = camera;
+  clamped.depthClamp = true;
+  const ScreenEvaluation clamp =
+      expectTheRayPathsHits(testing::fast_path::testScene(), clamped, "depth clamp");
+  EXPECT_FALSE(clamp.used);
+  EXPECT_EQ(clamp.reason, "depth clamp is not evaluated yet");
+}
+
+// The camera's user clip planes cut the rays as GL cuts the drawing: the triangles a plane may cut
+// are left to the ray path where they may be the nearest, those it keeps or clips whole are
+// decided. Planes through the scene at random, some cutting every ray's start (its origin moved
+// to where its line of sight enters the kept side, as a mirrored water camera's rays are).
+TEST(ScreenEvaluator, UserClipPlanesCutTheHitsAsTheRayPathCutsThem) {
+  const Scene binned = testing::fast_path::testScene();
+  const PickingCamera camera = testing::fast_path::binnedCases()[0].camera;
   PickingCamera clipped = camera;
   clipped.clipPlanes = {glm::dvec4(0.0, 1.0, 0.0, -0.5)};
-  AnalyticFrame frame = robustRayFrame(clipped);
-  const SceneIntersector intersector = intersectorSeenFrom(scene, clipped);
-  const ScreenEvaluation planes = intersectFrameInScreenSpace(frame, intersector, clipped, 2);
-  EXPECT_FALSE(planes.used);
-  EXPECT_EQ(planes.reason, "user clip planes are not evaluated yet");
+  const ScreenEvaluation water = expectTheRayPathsHits(binned, clipped, "y >= 0.5");
+  ASSERT_TRUE(water.used) << water.reason;
+  EXPECT_GT(water.decided, water.traced);
+
+  std::uint64_t seed = 101;
+  int evaluated = 0, scenes = 0, originsMoved = 0;
+  std::size_t traced = 0, decided = 0;
+  for (const HardCase& hardCase : hardCases(Viewport{96, 64})) {
+    const Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed, true);
+    if (scene.objects.empty()) continue;
+    PickingCamera c{hardCase.inputs.clipFromWorld, hardCase.inputs.mode, hardCase.viewport};
+    // A plane through a vertex of the scene, its normal at random, and now and then a second.
+    std::uint64_t state = seed++ * 0x9e3779b97f4a7c15ull;
+    const auto next = [&state] {
+      state = state * 6364136223846793005ull + 1442695040888963407ull;
+      return static_cast<double>(state >> 11) * 0x1p-53 * 2.0 - 1.0;
+    };
+    for (int k = 0; k < (scenes % 3 == 2 ? 2 : 1); ++k) {
+      const MeshObject& object =
+          scene.objects[static_cast<std::size_t>(scenes) % scene.objects.size()];
+      const glm::dvec3 through =
+          object.worldPositions[static_cast<std::size_t>(k) % object.worldPositions.size()];
+      const glm::dvec3 normal = glm::normalize(glm::dvec3(next(), next(), next()) + 1e-3);
+      c.clipPlanes.emplace_back(normal, -glm::dot(normal, through));
+    }
+    ++scenes;
+    const Ray centre = robustRayFrame(c).pixelCentreRays->generator().generate({0.0, 0.0});
+    const Ray uncut = robustRayFrame(PickingCamera{c.clipFromWorld, c.mode, c.viewport})
+                          .pixelCentreRays->generator()
+                          .generate({0.0, 0.0});
+    originsMoved += centre.origin != uncut.origin ? 1 : 0;
+    const std::string what = scene.name + " " + hardCase.convention() + " with " +
+                             std::to_string(c.clipPlanes.size()) + " clip planes";
+    const ScreenEvaluation e = expectTheRayPathsHits(scene, c, what);
+    if (!e.used) {
+      std::cout << what << ": rays (" << e.reason << ")\n";
+      continue;
+    }
+    ++evaluated;
+    traced += e.traced;
+    decided += e.decided;
+  }
+  std::cout << evaluated << " of " << scenes << " clipped scenes evaluated in screen space, "
+            << originsMoved << " with the centre ray's origin moved; " << decided
+            << " pixels decided, " << traced << " traced\n";
+  EXPECT_GT(evaluated * 4, scenes * 3);
+  EXPECT_GT(originsMoved, 0);
+  EXPECT_GT(decided, traced);
 }
 
 }  // namespace

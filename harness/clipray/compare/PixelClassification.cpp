@@ -351,8 +351,11 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
       setup.depthFormat == DepthFormat::Float32 ? 0.0 : depthQuantum(setup.depthFormat, 0.0),
       1.0 / (1.0 - setup.mode.clipVolumeMinZ())};
 #endif
+  // A parallel camera's distance figure is relative to its ray's interval, which the user clip
+  // planes shorten: its plane pixels go along their rays where it has planes.
   if (analytic.planesById && setup.oneDepthRange() && !setup.depthClamp.enabled &&
-      setup.objectOffsets.empty() && !setup.logDepth) {
+      setup.objectOffsets.empty() && !setup.logDepth &&
+      !(parallel_ && (!setup.clipPlanes.empty() || !setup.objectClipPlanes.empty()))) {
     planes_ = analytic.planesById.get();
     planeMapping_ = setup.depthMapping();
     clipXOfColumn_.resize(static_cast<std::size_t>(raster.viewport.width));

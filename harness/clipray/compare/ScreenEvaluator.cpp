@@ -20,6 +20,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "clipray/compare/ScreenTriangleSetup.hpp"
@@ -133,7 +134,9 @@ struct TileWalk {
           const Lanes key = frame.sigma * ((t.za * x + zRow) - frame.zNear);
           const Lanes low = key - t.depthError, high = key + t.depthError;
           const Mask outOfRange = (high < -kRangeMargin) | (low > farOut);
-          const Mask sure = inside & (low > kRangeMargin) & (high < farIn);
+          // A triangle a clip plane may cut is never surely crossed: perhaps, where it is.
+          Mask sure = inside & (low > kRangeMargin) & (high < farIn);
+          if (t.clipped) sure = Mask{};
           const Mask perhaps = ~(outside | outOfRange | sure);
 
           Lanes nearestHigh, firstLow, firstSlot, secondLow, unsureLow;
@@ -283,22 +286,38 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
     return traceByRays("the frame's rays are not the camera's robust rays computed per pixel");
   }
   if (intersector.analyticCount() != 0) return traceByRays("analytic primitives stay on rays");
-  if (!camera.clipPlanes.empty()) return traceByRays("user clip planes are not evaluated yet");
   if (camera.depthClamp) return traceByRays("depth clamp is not evaluated yet");
   const RobustRayGenerator& generator = frame.pixelCentreRays->generator();
   const Viewport viewport = frame.viewport;
+  const std::span<const glm::dvec4> rayPlanes = generator.clipPlanes();
   if (generator.clipFromWorld() != camera.clipFromWorld || generator.mode() != camera.mode ||
-      viewport.width != camera.viewport.width || viewport.height != camera.viewport.height) {
+      viewport.width != camera.viewport.width || viewport.height != camera.viewport.height ||
+      !std::equal(rayPlanes.begin(), rayPlanes.end(), camera.clipPlanes.begin(),
+                  camera.clipPlanes.end())) {
     return traceByRays("the frame's rays are not the camera's");
   }
   if (intersector.triangleCount() == 0 || viewport.width <= 0 || viewport.height <= 0) {
     return traceByRays("nothing to evaluate");
   }
+  const std::vector<detail::BvhTriangle>& triangles = detail::ScreenTriangles::of(intersector);
+  // The scene's extent about the reference, which the clip planes' margins and cut need.
+  double sceneExtent = 0.0;
+  if (!camera.clipPlanes.empty()) {
+    for (const detail::BvhTriangle& t : triangles) {
+      for (const glm::dvec3& v : {t.a, t.b, t.c}) {
+        sceneExtent = std::max({sceneExtent, std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+      }
+    }
+  }
   std::string reason;
-  const std::optional<double> delta = rayDeviation(generator, reason);
-  if (!delta) return traceByRays(reason);
+  const std::optional<double> rayDelta = rayDeviation(generator, reason);
+  if (!rayDelta) return traceByRays(reason);
+  const std::optional<double> cutDelta =
+      clipCutDeviation(generator, intersector.reference(), sceneExtent, reason);
+  if (!cutDelta) return traceByRays(reason);
+  const double delta = *rayDelta + *cutDelta;
   // The bins list the triangles rays within kRayTolerancePx of their pixels can hit.
-  const double deltaPixels = *delta * 0.5 * std::max(viewport.width, viewport.height);
+  const double deltaPixels = delta * 0.5 * std::max(viewport.width, viewport.height);
   if (!(deltaPixels < 0.5 * FrameBins::kRayTolerancePx)) {
     return traceByRays("the rays may stray " + std::to_string(deltaPixels) +
                        " pixels from their centres");
@@ -306,12 +325,11 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, viewport, threadCount);
   if (!bins.usable()) return traceByRays("no screen bins for this camera");
 
-  const FrameTerms terms =
-      frameTerms(camera, generator, bins.clipFromRelative(), intersector.reference(), *delta);
-  result.rayDeviationNdc = *delta;
+  const FrameTerms terms = frameTerms(camera, generator, bins.clipFromRelative(),
+                                      intersector.reference(), delta, sceneExtent);
+  result.rayDeviationNdc = delta;
   result.used = true;
 
-  const std::vector<detail::BvhTriangle>& triangles = detail::ScreenTriangles::of(intersector);
   frame.hits.resize(frame.pixelCount());
   const int tileRows = (viewport.height + kTile - 1) / kTile;
   std::mutex countsLock;  // the workers add their counts to result at the end

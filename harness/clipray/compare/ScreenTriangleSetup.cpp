@@ -18,6 +18,22 @@
 // and Delta carried through each function) is inside or outside the triangle for its ray as for
 // the exact line of sight. The bins (FrameBins) list for each tile every triangle a ray within
 // kRayTolerancePx of its pixels can hit; Delta is held well below that.
+//   4. The camera's user clip planes cut each ray (RobustRays' cutToClipPlanes): along it a plane's
+//      value is s0 + s1 t, s0 = n . o + d and s1 = n . d each within gamma(3) of their terms'
+//      sizes; the ray keeps t from -s0 / s1 on (s1 > 0) or up to it (s1 < 0), and a kept start
+//      moves the origin there, o' = o + low d rounded. Let R bound |o| and |p| (inf-norm) for the
+//      ray's origin o and any crossing p beyond o' (both lie within the near points' and the
+//      scene's reach of the reference). A triangle whose three vertices' values all exceed
+//      m = 2^-20 (|n|_1 R + |d|) is kept whole: the computed value at a crossing lies within
+//      gamma(3) (|n|_1 3R + |d|) of the exact one, the cut point's within u |s0| of 0, so the
+//      crossing lies on the kept side by far more than any rounding of the cut or of the
+//      watertight t. One whose three values lie below -m is clipped whole. Any other may be cut at
+//      some pixel and is never surely crossed (TriangleSetup::clipped).
+//      The rounded origin translates the ray's line by e, |e| <= gamma(4) 2R per coordinate, which
+//      at a crossing of clip w at least w_min moves its NDC by at most
+//      (|m_x| + |m_w|) . |e| / (w_min - |m_w| . |e|) (rows' xyz, |x| <= 1): clipCutDeviation,
+//      added to Delta. The watertight test then subtracts o', within max(nearExtent, the scene's
+//      extent) of the reference: frameTerms widens nearExtent to that.
 
 #include "clipray/compare/ScreenTriangleSetup.hpp"
 
@@ -54,6 +70,27 @@ glm::dvec3 absCross(const glm::dvec3& a, const glm::dvec3& b) {
 
 double maxAbs(const glm::dvec3& v) {
   return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
+}
+
+// The largest |o - reference| (inf-norm) of a ray origin on the near plane: at a corner of the
+// frame's near face (the near points are affine in clip xy over it), widened by 2^-20.
+double nearExtentOf(const RobustRayGenerator& generator, const glm::dvec3& reference) {
+  double extent = 0.0;
+  for (const double x : {-1.0, 1.0}) {
+    for (const double y : {-1.0, 1.0}) {
+      const glm::dvec4 p =
+          generator.worldFromClip() * glm::dvec4(x, y, generator.mode().nearNdcZ(), 1.0);
+      extent = std::max(extent, maxAbs(glm::dvec3(p) / p.w - reference));
+    }
+  }
+  return extent * (1.0 + 0x1p-20);
+}
+
+// R of item 4 above: what bounds |o| and |p| of a ray's origin and crossings.
+double clipReach(const RobustRayGenerator& generator, const glm::dvec3& reference,
+                 double sceneExtent) {
+  return (maxAbs(reference) + std::max(nearExtentOf(generator, reference), sceneExtent)) *
+         (1.0 + 0x1p-20);
 }
 
 }  // namespace
@@ -125,9 +162,44 @@ std::optional<double> rayDeviation(const RobustRayGenerator& generator, std::str
   return kSlack * (nearPoint + direction);
 }
 
+std::optional<double> clipCutDeviation(const RobustRayGenerator& generator,
+                                       const glm::dvec3& reference, double sceneExtent,
+                                       std::string& reason) {
+  if (generator.clipPlanes().empty()) return 0.0;
+  const glm::dmat4& m = generator.clipFromWorld();
+  // The least clip w of a crossing: a parallel camera's is constant; a perspective camera's grows
+  // along each line of sight from the eye, so it is least at the near point, whose clip w is
+  // 1 / w_near with w_near = worldFromClip row 3 . (x, y, z_n, 1), affine in (x, y): its largest
+  // value over the frame lies at a corner.
+  double wMin = 0.0;
+  if (generator.isParallel()) {
+    wMin = std::abs(m[3][3]);
+  } else {
+    const glm::dmat4& p = generator.worldFromClip();
+    double wNear = -kInf;
+    for (const double x : {-1.0, 1.0}) {
+      for (const double y : {-1.0, 1.0}) {
+        wNear = std::max(
+            wNear, p[0][3] * x + p[1][3] * y + p[2][3] * generator.mode().nearNdcZ() + p[3][3]);
+      }
+    }
+    wMin = (1.0 - 0x1p-20) / wNear;
+  }
+  const double e = gamma(4) * 2.0 * clipReach(generator, reference, sceneExtent);
+  const glm::dvec3 mx = glm::abs(row3(m, 0)), my = glm::abs(row3(m, 1)), mw = glm::abs(row3(m, 3));
+  const double wMove = (mw.x + mw.y + mw.z) * e;
+  const double deviation =
+      (std::max(mx.x + mx.y + mx.z, my.x + my.y + my.z) * e + wMove) / (wMin - wMove);
+  if (!(wMin > 0.0) || !std::isfinite(wMin) || !(wMin - wMove > 0.0) || !std::isfinite(deviation)) {
+    reason = "the clip planes' cut of the rays has no bound (the near points' clip w has none)";
+    return std::nullopt;
+  }
+  return kSlack * deviation;
+}
+
 FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& generator,
-                      const glm::dmat4& clipFromRelative, const glm::dvec3& reference,
-                      double delta) {
+                      const glm::dmat4& clipFromRelative, const glm::dvec3& reference, double delta,
+                      double sceneExtent) {
   FrameTerms terms;
   terms.viewport = camera.viewport;
   terms.delta = delta;
@@ -140,13 +212,19 @@ FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& gen
                        std::abs(camera.clipFromWorld[2][r]);
   }
   const DepthMode mode = camera.mode;
-  for (const double x : {-1.0, 1.0}) {
-    for (const double y : {-1.0, 1.0}) {
-      const glm::dvec4 p = generator.worldFromClip() * glm::dvec4(x, y, mode.nearNdcZ(), 1.0);
-      terms.nearExtent = std::max(terms.nearExtent, maxAbs(glm::dvec3(p) / p.w - reference));
+  terms.nearExtent = nearExtentOf(generator, reference);
+  if (!generator.clipPlanes().empty()) {
+    // A cut ray's origin lies anywhere up to its crossing (item 4 above).
+    terms.nearExtent = std::max(terms.nearExtent, sceneExtent * (1.0 + 0x1p-20));
+    const double reach = clipReach(generator, reference, sceneExtent);
+    for (const glm::dvec4& plane : generator.clipPlanes()) {
+      const glm::dvec3 n(plane);
+      // Folded to the reference: n . (p_relative + reference) + d, within gamma(3) of its terms.
+      terms.clipPlanes.emplace_back(n, glm::dot(n, reference) + plane.w);
+      terms.clipMargins.push_back(
+          0x1p-20 * ((std::abs(n.x) + std::abs(n.y) + std::abs(n.z)) * reach + std::abs(plane.w)));
     }
   }
-  terms.nearExtent *= 1.0 + 0x1p-20;
   terms.zNear = mode.nearNdcZ();
   terms.sigma = mode.farNdcZ() > mode.nearNdcZ() ? 1.0 : -1.0;
   // An infinite far plane: row 2 - z_far row 3 has no xyz part (RobustRays' far plane).
@@ -277,6 +355,23 @@ TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& 
       setup.y0 = static_cast<int>(std::clamp(std::ceil(py0), -1.0, double(viewport.height)));
       setup.y1 = static_cast<int>(std::clamp(std::floor(py1), -1.0, double(viewport.height)));
     }
+  }
+  // The user clip planes (item 4 above): kept whole by all, clipped whole by one, or perhaps cut.
+  for (std::size_t k = 0; k < frame.clipPlanes.size(); ++k) {
+    const glm::dvec4& plane = frame.clipPlanes[k];
+    const double margin = frame.clipMargins[k];
+    bool kept = true, dropped = true;
+    for (const glm::dvec3& v : vertex) {
+      const double value = glm::dot(glm::dvec3(plane), v) + plane.w;
+      kept = kept && value > margin;
+      dropped = dropped && value < -margin;
+    }
+    if (dropped) {
+      setup.x0 = setup.y0 = 0;
+      setup.x1 = setup.y1 = -1;
+      break;
+    }
+    setup.clipped = setup.clipped || !kept;
   }
   // A certain orientation turns the edge functions inside out where det < 0 (a product by -1 is
   // exact): the inside is then where every E_k exceeds its margin, for either winding.

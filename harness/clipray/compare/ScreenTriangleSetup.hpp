@@ -9,6 +9,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include <glm/glm.hpp>
 
@@ -44,6 +45,10 @@ struct FrameTerms {
   double zNear = 0.0, sigma = 1.0;   // the near plane's NDC z; sigma: the depth's direction
   double keyFar = kInf;              // sigma (z_far - z_near); +inf for an infinite far plane
   Viewport viewport;
+  // The camera's user clip planes folded to the reference (n . p_relative + d'), each with the
+  // margin beyond which a vertex's side of it is the cut ray's (clipCutDeviation's comment).
+  std::vector<glm::dvec4> clipPlanes;
+  std::vector<double> clipMargins;
 };
 
 // A triangle's edge functions, depth plane and their margins, for one camera.
@@ -57,16 +62,28 @@ struct TriangleSetup {
   double depthError = kInf;              // |z - exact z| over the ray's reach: the key's error
   int x0 = 0, x1 = -1, y0 = 0, y1 = -1;  // pixels the triangle may matter to (inclusive)
   std::uint32_t primitiveId = 0;
+  // A user clip plane may cut it: where a ray crosses it the crossing may be clipped, so it is
+  // never surely crossed (a triangle every plane keeps whole is not cut; one a plane clips whole
+  // matters to no pixel).
+  bool clipped = false;
 };
 
 // Delta for the generator's rays; nullopt, with the reason, where they have no such bound.
 std::optional<double> rayDeviation(const RobustRayGenerator& generator, std::string& reason);
 
+// How far, in NDC, the user clip planes' cut moves a ray from its line (the rounding of its new
+// origin), at any crossing that lies beyond that origin, for a scene whose vertices lie within
+// sceneExtent (inf-norm) of the reference; 0 without planes; nullopt, with the reason, where it
+// has no bound. Delta for a camera with clip planes is rayDeviation plus this.
+std::optional<double> clipCutDeviation(const RobustRayGenerator& generator,
+                                       const glm::dvec3& reference, double sceneExtent,
+                                       std::string& reason);
+
 // The terms of the camera's frame: clipFromRelative is the screen bins' (FrameBins), reference the
-// intersector's, delta from rayDeviation.
+// intersector's, delta from rayDeviation (and clipCutDeviation), sceneExtent as there.
 FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& generator,
-                      const glm::dmat4& clipFromRelative, const glm::dvec3& reference,
-                      double delta);
+                      const glm::dmat4& clipFromRelative, const glm::dvec3& reference, double delta,
+                      double sceneExtent = 0.0);
 
 // The setup of a triangle for the walk; where planes is given, also the triangle's depth plane and
 // the plane of 1 / clip w where the line of sight crosses it, r(x, y) = ra x + rb y + rc (the sum

@@ -120,11 +120,24 @@ void describeHits(const AnalyticPass& pass, const RasterFrame& raster,
   const PrimitiveIdTable table(scene);
   run.worstPixel.reset();
   run.clusterHits.clear();
-  const Worse worse{pixels};
+  // Worse's first pixel in one pass over the frame, in pixel order: a pixel replaces the worst so
+  // far only where it is strictly worse (ties keep the lower index), and its ratio is read only
+  // where its class is as severe as the worst's.
   std::optional<std::size_t> worst;
+  int worstSeverity = 4;  // above every class's
+  float worstRatio = 0.0f;
+  const Worse worse{pixels};
   for (std::size_t i = 0; i < pixels.classes.size(); ++i) {
-    if (pixels.classes[i] == PixelClass::Background) continue;
-    if (!worst || worse(i, *worst)) worst = i;
+    const PixelClass pixelClass = pixels.classes[i];
+    if (pixelClass == PixelClass::Background) continue;
+    const int s = severity(pixelClass);
+    if (s > worstSeverity) continue;
+    const float ratio = worse.ratio(i);
+    if (s < worstSeverity || ratio > worstRatio) {
+      worst = i;
+      worstSeverity = s;
+      worstRatio = ratio;
+    }
   }
   if (worst) run.worstPixel = pixelHits(scene, table, pass, raster, pixels, *worst);
   const auto width = static_cast<std::size_t>(pixels.viewport.width);

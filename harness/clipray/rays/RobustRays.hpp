@@ -76,6 +76,8 @@ class RobustRayGenerator {
   const glm::dmat4& clipFromWorld() const { return clipFromWorld_; }
   const glm::dmat4& worldFromClip() const { return worldFromClip_; }
   DepthMode mode() const { return mode_; }
+  // The user clip planes its rays are cut by (world space, kept where dot(plane, (p, 1)) >= 0).
+  std::span<const glm::dvec4> clipPlanes() const { return clipPlanes_; }
   // Row 3 of the matrix has no xyz part: w is constant, a parallel projection.
   bool isParallel() const { return parallel_; }
   // The sign s of the direction test s * dot(facing, d) > 0 (see facingNormal_); the GLSL rays
