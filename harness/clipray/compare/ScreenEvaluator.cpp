@@ -75,6 +75,7 @@ struct alignas(32) TileState {
 struct TileWalk {
   const FrameTerms* terms;
   const TriangleSetup* setups;
+  const ClipEdge* clipEdges;  // by slot, where the camera has user clip planes; else null
   const FrameBins* bins;
   const double* clipX;  // NDC x of every pixel column's centre, padded to whole tiles
   const double* clipY;  // NDC y of every pixel row's centre
@@ -113,6 +114,12 @@ struct TileWalk {
         const double y = walk.clipY[y0 + ly];
         const double c0 = t.b[0] * y + t.c[0], c1 = t.b[1] * y + t.c[1], c2 = t.b[2] * y + t.c[2];
         const double zRow = t.zb * y + t.zc;
+        // The one clip plane that cuts the triangle, if one does: kept and clipped away per pixel.
+        const ClipEdge* cut = t.clipped && walk.clipEdges && walk.clipEdges[entry.slot].used
+                                  ? &walk.clipEdges[entry.slot]
+                                  : nullptr;
+        const double keepRow = cut ? cut->kb * y + cut->kc : 0.0;
+        const double clipAwayRow = cut ? cut->cb * y + cut->cc : 0.0;
         for (int lx = lx0 - lx0 % kLanes; lx <= lx1; lx += kLanes) {
           const int i = ly * kTile + lx;
           Lanes x;
@@ -128,7 +135,8 @@ struct TileWalk {
             continue;
           }
           // Outside an edge over the ray's whole reach; inside every edge over it.
-          const Mask outside = (e0 < -t.margin[0]) | (e1 < -t.margin[1]) | (e2 < -t.margin[2]);
+          Mask outside = (e0 < -t.margin[0]) | (e1 < -t.margin[1]) | (e2 < -t.margin[2]);
+          if (cut) outside |= cut->ca * x + clipAwayRow < -cut->clipAwayError;
           if (everyLane(outside)) continue;
           const Mask inside = (e0 > t.margin[0]) & (e1 > t.margin[1]) & (e2 > t.margin[2]);
           const Lanes key = frame.sigma * ((t.za * x + zRow) - frame.zNear);
@@ -136,7 +144,11 @@ struct TileWalk {
           const Mask outOfRange = (high < -kRangeMargin) | (low > farOut);
           // A triangle a clip plane may cut is never surely crossed: perhaps, where it is.
           Mask sure = inside & (low > kRangeMargin) & (high < farIn);
-          if (t.clipped) sure = Mask{};
+          if (cut) {
+            sure &= cut->ka * x + keepRow > cut->keepError;
+          } else if (t.clipped) {
+            sure = Mask{};
+          }
           const Mask perhaps = ~(outside | outOfRange | sure);
 
           Lanes nearestHigh, firstLow, firstSlot, secondLow, unsureLow;
@@ -352,6 +364,7 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
         std::size_t{intersector.primitiveIdCount()} + 1);
   }
   std::vector<TriangleSetup> setups(triangles.size());
+  std::vector<ClipEdge> clipEdges(camera.clipPlanes.empty() ? 0 : triangles.size());
   // The ids by slot apart from the setups (a fraction of their size): what a decided pixel's hit
   // reads.
   std::vector<std::uint32_t> idOfSlot(triangles.size());
@@ -363,7 +376,8 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
         for (std::size_t k = static_cast<std::size_t>(blockBegin) * 1024; k < end; ++k) {
           idOfSlot[k] = triangles[k].primitiveId;
           setups[k] = setupTriangle(terms, triangles[k],
-                                    planes ? &(*planes)[triangles[k].primitiveId] : nullptr);
+                                    planes ? &(*planes)[triangles[k].primitiveId] : nullptr,
+                                    clipEdges.empty() ? nullptr : &clipEdges[k]);
         }
       });
   frame.planesById = planes;
@@ -391,8 +405,10 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
           continue;
         }
         state.reset();
-        const TileWalk walk{&terms, setups.data(), &bins, clipX.data(), clipY.data(),
-                            tileX,  tileY,         rows,  columns,      &state};
+        const TileWalk walk{&terms,  setups.data(), clipEdges.empty() ? nullptr : clipEdges.data(),
+                            &bins,   clipX.data(),  clipY.data(),
+                            tileX,   tileY,         rows,
+                            columns, &state};
 #if defined(__x86_64__) || defined(__i386__)
         if (avx2) {
           walkTileAvx2(walk);

@@ -68,6 +68,11 @@ glm::dvec3 absCross(const glm::dvec3& a, const glm::dvec3& b) {
   return {x.y * y.z + x.z * y.y, x.z * y.x + x.x * y.z, x.x * y.y + x.y * y.x};
 }
 
+// sum_k E_k(s) v_k / det for a vertex attribute v, as a plane over s, with its error bound.
+struct InterpolatedPlane {
+  double a = 0.0, b = 0.0, c = 0.0, error = kInf;
+};
+
 double maxAbs(const glm::dvec3& v) {
   return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
 }
@@ -235,9 +240,10 @@ FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& gen
 }
 
 TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& tri,
-                            TrianglePlanes* planes) {
+                            TrianglePlanes* planes, ClipEdge* clipEdge) {
   TriangleSetup setup;
   setup.primitiveId = tri.primitiveId;
+  if (clipEdge) *clipEdge = ClipEdge{};
   const glm::dvec3 vertex[3] = {tri.a, tri.b, tri.c};
   glm::dvec4 clip[3];
   double error[3], zError[3], size[3];
@@ -282,23 +288,37 @@ TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& 
   // Its error: each E_k's (as above) times |z_k|, each z_k's times |E_k| <= magnitude_k, the
   // sums' and products' roundings (gamma(4)), det's error times |z|, and the ray's reach Delta
   // times the plane's slopes.
-  if (setup.sign != 0.0) {
+  // A vertex attribute's value over w at the line of sight's crossing, sum_k E_k(s) v_k / det, as
+  // a plane over s, with its error: each E_k's (as above) times |v_k|, each v_k's error times |E_k|
+  // <= magnitude_k, the sums' and products' roundings (gamma(4)), det's error times the plane's
+  // size, and the ray's reach Delta times its slopes.
+  const auto interpolated = [&](const double(&value)[3], const double(&valueError)[3]) {
+    InterpolatedPlane plane;
     double sa = 0.0, sb = 0.0, sc = 0.0, spread = 0.0;
     for (int k = 0; k < 3; ++k) {
-      sa += setup.a[k] * clip[k].z;
-      sb += setup.b[k] * clip[k].z;
-      sc += setup.c[k] * clip[k].z;
-      spread += (evaluation[k] + gamma(4) * magnitude[k]) * std::abs(clip[k].z) +
-                magnitude[k] * zError[k];
+      sa += setup.a[k] * value[k];
+      sb += setup.b[k] * value[k];
+      sc += setup.c[k] * value[k];
+      spread += (evaluation[k] + gamma(4) * magnitude[k]) * std::abs(value[k]) +
+                magnitude[k] * valueError[k];
     }
-    setup.za = sa / det;
-    setup.zb = sb / det;
-    setup.zc = sc / det;
-    const double zSize = std::abs(setup.za) + std::abs(setup.zb) + std::abs(setup.zc);
-    setup.depthError =
-        kSlack * (spread / std::abs(det) + gamma(4) * zSize + zSize * detError / std::abs(det) +
-                  frame.delta * (std::abs(setup.za) + std::abs(setup.zb)));
-    if (!std::isfinite(setup.depthError)) setup.depthError = kInf;
+    plane.a = sa / det;
+    plane.b = sb / det;
+    plane.c = sc / det;
+    const double planeSize = std::abs(plane.a) + std::abs(plane.b) + std::abs(plane.c);
+    plane.error = kSlack * (spread / std::abs(det) + gamma(4) * planeSize +
+                            planeSize * detError / std::abs(det) +
+                            frame.delta * (std::abs(plane.a) + std::abs(plane.b)));
+    if (!std::isfinite(plane.error)) plane.error = kInf;
+    return plane;
+  };
+  if (setup.sign != 0.0) {
+    const double z[3] = {clip[0].z, clip[1].z, clip[2].z};
+    const InterpolatedPlane depth = interpolated(z, zError);
+    setup.za = depth.a;
+    setup.zb = depth.b;
+    setup.zc = depth.c;
+    setup.depthError = depth.error;
     if (planes) {
       // 1 / w(s) = sum_k E_k(s) / det: the depth plane's sum with every z_k = 1 (exact), so its
       // error has the same terms with |z_k| = 1 and no z_k error.
@@ -356,23 +376,43 @@ TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& 
       setup.y1 = static_cast<int>(std::clamp(std::floor(py1), -1.0, double(viewport.height)));
     }
   }
-  // The user clip planes (item 4 above): kept whole by all, clipped whole by one, or perhaps cut.
+  // The user clip planes (item 4 above): kept whole by all, clipped whole by one, or cut. A plane's
+  // value over w at the crossing is sum_k E_k(s) v_k / det, so v > m at the crossing where the
+  // plane of the values v_k - m is positive (w > 0 in the view volume) and v < -m where that of
+  // v_k + m is negative, each beyond its error (v_k's within gamma(5) of its terms, folding the
+  // reference included): what clipEdge keeps for a triangle that one plane cuts.
+  int cuts = 0;
   for (std::size_t k = 0; k < frame.clipPlanes.size(); ++k) {
     const glm::dvec4& plane = frame.clipPlanes[k];
     const double margin = frame.clipMargins[k];
     bool kept = true, dropped = true;
-    for (const glm::dvec3& v : vertex) {
-      const double value = glm::dot(glm::dvec3(plane), v) + plane.w;
+    double keptValue[3], droppedValue[3], valueError[3];
+    for (int j = 0; j < 3; ++j) {
+      const double value = glm::dot(glm::dvec3(plane), vertex[j]) + plane.w;
       kept = kept && value > margin;
       dropped = dropped && value < -margin;
+      keptValue[j] = value - margin;
+      droppedValue[j] = value + margin;
+      valueError[j] = gamma(5) * (glm::dot(glm::abs(glm::dvec3(plane)), glm::abs(vertex[j])) +
+                                  std::abs(plane.w)) +
+                      gamma(1) * margin;
     }
     if (dropped) {
       setup.x0 = setup.y0 = 0;
       setup.x1 = setup.y1 = -1;
+      setup.clipped = false;
       break;
     }
-    setup.clipped = setup.clipped || !kept;
+    if (kept) continue;
+    setup.clipped = true;
+    if (++cuts == 1 && clipEdge && setup.sign != 0.0) {
+      const InterpolatedPlane keep = interpolated(keptValue, valueError);
+      const InterpolatedPlane clipAway = interpolated(droppedValue, valueError);
+      *clipEdge = {keep.a,     keep.b,     keep.c,         keep.error, clipAway.a,
+                   clipAway.b, clipAway.c, clipAway.error, true};
+    }
   }
+  if (clipEdge && cuts != 1) *clipEdge = ClipEdge{};  // cut by several: never sure anywhere
   // A certain orientation turns the edge functions inside out where det < 0 (a product by -1 is
   // exact): the inside is then where every E_k exceeds its margin, for either winding.
   if (setup.sign < 0.0) {

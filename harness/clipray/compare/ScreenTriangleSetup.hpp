@@ -68,6 +68,15 @@ struct TriangleSetup {
   bool clipped = false;
 };
 
+// Where a triangle is cut by one user clip plane, over the pixel centre s: the crossing surely kept
+// where keep(s) = ka x + kb y + kc > keepError, surely clipped where clipAway(s) < -clipAwayError
+// (ScreenTriangleSetup.cpp, item 4); used false: no such edges (cut by none, or by several).
+struct ClipEdge {
+  double ka = 0.0, kb = 0.0, kc = 0.0, keepError = kInf;
+  double ca = 0.0, cb = 0.0, cc = 0.0, clipAwayError = kInf;
+  bool used = false;
+};
+
 // Delta for the generator's rays; nullopt, with the reason, where they have no such bound.
 std::optional<double> rayDeviation(const RobustRayGenerator& generator, std::string& reason);
 
@@ -89,7 +98,9 @@ FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& gen
 // the plane of 1 / clip w where the line of sight crosses it, r(x, y) = ra x + rb y + rc (the sum
 // of the edge functions over |det|, positive in front of the eye), each with its error bound (both
 // infinite where the orientation is not certain): what the compare evaluates at decided pixels.
+// Where clipEdge is given, the edges of the one user clip plane that cuts the triangle, if one
+// does (written either way).
 TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& triangle,
-                            TrianglePlanes* planes = nullptr);
+                            TrianglePlanes* planes = nullptr, ClipEdge* clipEdge = nullptr);
 
 }  // namespace clipray::screen
