@@ -316,11 +316,11 @@ whole process (`cpu_ms`, every thread's, llvmpipe's own threads in `raster`):
   computed where it is used, eight rows of 64 pixels at a time in `intersect`, and per run of 64
   pixels that shows something in `compare`.
 - **intersect**: binning the triangles in screen space (`FrameBins`), then on the screen path
-  (`--analytic auto`, the default, takes it for meshes drawn alike where the frame has 16 pixels
-  or more a triangle) each binned triangle's edge functions and depth plane at
-  its 8x8 tiles' pixel centres, a ray traced only where the margins leave a pixel open; on the
-  ray path (`--analytic rays`, and every frame with analytic primitives, depth clamp or
-  objects with state of their own) every tile traced as SIMD packets in double.
+  (`--analytic auto`, the default, takes it for meshes where the frame, or each group of
+  objects drawn with state of their own, has 16 pixels or more a triangle) each binned
+  triangle's edge functions and depth plane at its 8x8 tiles' pixel centres, a ray traced only
+  where the margins leave a pixel open; on the ray path (`--analytic rays`, and every frame with
+  analytic primitives or depth clamp) every tile traced as SIMD packets in double.
 - **compare**: building the tolerance model of the primitives the raster shows, classifying every
   pixel (a pixel decided from planes from its triangle's planes, others along their rays), and
   the error distributions.

@@ -41,6 +41,11 @@ struct ScreenEvaluation {
   std::size_t boundMisses = 0;
   // The bound on how far the ray path's rays stray from their pixel centres, in NDC.
   double rayDeviationNdc = 0.0;
+  // How many frames of the viewport's pixels the counts cover: 1, or where objects are drawn in
+  // `groups` of their own state (engine/DrawStateGroups.hpp), each group's frame the screen path
+  // evaluated, summed (the deviation their largest).
+  std::size_t frames = 1;
+  std::size_t groups = 1;
 };
 
 // Where a pixel is decided (one triangle the nearest), that triangle's NDC depth at the pixel

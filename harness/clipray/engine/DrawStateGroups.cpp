@@ -113,6 +113,13 @@ bool depthTestKeeps(const Hit& hit, double depth, const Hit& kept, double keptDe
          (depth == keptDepth && hit.primitiveId < kept.primitiveId);
 }
 
+// Why --analytic auto leaves a frame of these counts to the rays.
+std::string fewPixelsReason(std::size_t triangles, std::size_t pixels) {
+  return std::to_string(triangles) + " triangles for " + std::to_string(pixels) +
+         " pixels: the rays are faster below " +
+         std::to_string(static_cast<int>(kScreenPixelsPerTriangle)) + " pixels a triangle";
+}
+
 }  // namespace
 
 Hit closestHitByDrawState(const Ray& ray, const SceneIntersector& wholeScene, const Scene& scene,
@@ -165,10 +172,7 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
     intersectFrame(frame, wholeScene, camera, threadCount);
     ScreenEvaluation rays;
     if (path == AnalyticPath::Auto) {
-      rays.reason = std::to_string(wholeScene.triangleCount()) + " triangles for " +
-                    std::to_string(frame.pixelCount()) + " pixels: the rays are faster below " +
-                    std::to_string(static_cast<int>(kScreenPixelsPerTriangle)) +
-                    " pixels a triangle";
+      rays.reason = fewPixelsReason(wholeScene.triangleCount(), frame.pixelCount());
     }
     return rays;
   }
@@ -177,6 +181,11 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
   const int width = frame.viewport.width;
   FrameVector<Hit> kept(frame.pixelCount());
   std::vector<double> keptDepth(frame.pixelCount(), 0.0);
+  // The groups' frames the screen path evaluated, their counts summed; else the first reason.
+  ScreenEvaluation evaluated;
+  evaluated.frames = 0;
+  evaluated.groups = groups.size();
+  std::string firstReason;
   for (std::size_t g = 0; g < groups.size(); ++g) {
     const GroupScene part = groupScene(scene, groups[g]);
     const SceneIntersector intersector(
@@ -186,7 +195,37 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
                                  ? groupFrame(frame, camera, groups[g].clipPlanes)
                                  : AnalyticFrame{frame.viewport, {}, frame.pixelCentreRays, {}, {}};
     if (!ownRays && !frame.pixelCentreRays) cutFrame.rays = frame.rays;
-    intersectFrame(cutFrame, intersector, camera, threadCount);
+    // The group's hits, bit for bit the ray path's on either path: decided pixels are tested
+    // (their t competes in the depth test below).
+    const double pixels = static_cast<double>(frame.pixelCount());
+    const double triangles = static_cast<double>(intersector.triangleCount());
+    if (path == AnalyticPath::Screen ||
+        (path == AnalyticPath::Auto && pixels >= kScreenPixelsPerTriangle * triangles)) {
+      PickingCamera groupCamera = camera;
+      if (ownRays) {
+        groupCamera.clipPlanes.insert(groupCamera.clipPlanes.end(), groups[g].clipPlanes.begin(),
+                                      groups[g].clipPlanes.end());
+      }
+      const ScreenEvaluation e = intersectFrameInScreenSpace(
+          cutFrame, intersector, groupCamera, threadCount, nullptr, DecidedHits::Tested);
+      if (e.used) {
+        evaluated.used = true;
+        evaluated.background += e.background;
+        evaluated.decided += e.decided;
+        evaluated.contested += e.contested;
+        evaluated.traced += e.traced;
+        evaluated.boundMisses += e.boundMisses;
+        evaluated.rayDeviationNdc = std::max(evaluated.rayDeviationNdc, e.rayDeviationNdc);
+        ++evaluated.frames;
+      } else if (firstReason.empty()) {
+        firstReason = e.reason;
+      }
+    } else {
+      intersectFrame(cutFrame, intersector, camera, threadCount);
+      if (path == AnalyticPath::Auto && firstReason.empty()) {
+        firstReason = fewPixelsReason(intersector.triangleCount(), frame.pixelCount());
+      }
+    }
     const DepthMapping mapping{camera.mode, groups[g].range, false};
     const std::vector<double> offsets = offsetsOf(part, groups[g], mapping, camera, frame.viewport);
     parallelForRows(frame.viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
@@ -226,10 +265,11 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
     });
   }
   frame.hits = std::move(kept);
+  if (evaluated.used) return evaluated;
   ScreenEvaluation rays;
   if (path != AnalyticPath::Rays) {
     rays.reason = "objects with draw state of their own (" + std::to_string(groups.size()) +
-                  " groups) stay on rays";
+                  " groups), none on the screen path: " + firstReason;
   }
   return rays;
 }

@@ -46,8 +46,9 @@ std::vector<DrawStateGroup> drawStateGroups(const Scene& scene);
 // intersector of its own along the frame's rays cut by the group's planes (t given along the
 // frame's own ray). drawnClipFromWorld decides face culling as the frame is drawn; camera is the
 // lower-left view the rays were made for (its clipFromWorld maps hits to window depth). Where the
-// screen path is chosen (AnalyticChoice.hpp) a scene of one group is evaluated in screen space;
-// what that did is returned (ScreenEvaluation::used false otherwise).
+// screen path is chosen (AnalyticChoice.hpp) a scene of one group is evaluated in screen space,
+// and each group of several is (its decided pixels tested: the same hits); what that did is
+// returned (ScreenEvaluation::used false otherwise, with the reason).
 ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
                                       const Scene& scene, const glm::dmat4& drawnClipFromWorld,
                                       const PickingCamera& camera, unsigned threadCount);

@@ -221,7 +221,9 @@ ComparedRun compareRasterFrame(const AnalyticPass& pass, const RasterFrame& rast
                                       s.rayDeviationNdc,
                                       comparison.metrics.planePixels.fromPlanes,
                                       comparison.metrics.planePixels.alongRays,
-                                      {}};
+                                      {},
+                                      static_cast<std::int64_t>(s.frames),
+                                      static_cast<std::int64_t>(s.groups)};
   } else if (!pass.screen.reason.empty()) {
     run.screenPath = ScreenPathRecord{.declined = pass.screen.reason};
   }

@@ -250,6 +250,10 @@ nlohmann::json runJson(const RunRecord& run) {
                            {"ray_deviation_ndc", s.rayDeviationNdc},
                            {"compared_from_planes", s.comparedFromPlanes},
                            {"compared_along_rays", s.comparedAlongRays}};
+    if (s.groups != 1) {
+      json["screen_path"]["frames"] = s.frames;
+      json["screen_path"]["groups"] = s.groups;
+    }
   }
   return json;
 }

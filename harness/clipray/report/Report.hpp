@@ -129,6 +129,10 @@ struct ScreenPathRecord {
   std::int64_t comparedFromPlanes = 0;
   std::int64_t comparedAlongRays = 0;
   std::string declined;  // empty where the screen path evaluated the frame
+  // The frames the counts cover: 1, or where objects are drawn in groups of their own state, one
+  // per group the screen path evaluated (ScreenEvaluation::frames and groups).
+  std::int64_t frames = 1;
+  std::int64_t groups = 1;
   bool operator==(const ScreenPathRecord&) const = default;
 };
 

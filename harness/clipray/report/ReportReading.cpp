@@ -287,6 +287,11 @@ class ReportReader {
           record.comparedFromPlanes = integer(path, pAt, "compared_from_planes");
           record.comparedAlongRays = integer(path, pAt, "compared_along_rays");
         }
+        // Frames of objects drawn in groups of their own state: a frame per group evaluated.
+        if (path.contains("groups")) {
+          record.frames = integer(path, pAt, "frames");
+          record.groups = integer(path, pAt, "groups");
+        }
       }
       run.screenPath = record;
     }
