@@ -269,10 +269,35 @@ TEST(ScreenEvaluator, EdgesAndVerticesThroughPixelCentresAreTracedAndMatch) {
   }
 }
 
+// Analytic primitives stay on rays: the tiles they may cover are traced, the rest decided. A
+// plane may cover any tile: with one, every pixel is traced.
+TEST(ScreenEvaluator, AnalyticPrimitivesTraceTheTilesTheyMayCover) {
+  const Scene withPlane = testing::fast_path::testSceneWithPrimitives();
+  Scene bounded = withPlane;
+  std::erase_if(bounded.primitives,
+                [](const AnalyticPrimitive& p) { return p.kind == PrimitiveKind::Plane; });
+  ASSERT_EQ(bounded.primitives.size() + 1, withPlane.primitives.size());
+  for (const Viewport size : {Viewport{61, 47}, Viewport{96, 64}}) {
+    for (const testing::fast_path::BinnedCase& c : testing::fast_path::binnedCases(size)) {
+      const std::string what = std::string(c.name) + " at " + std::to_string(size.width);
+      const std::size_t pixels = static_cast<std::size_t>(size.width) * size.height;
+      const ScreenEvaluation everywhere = expectTheRayPathsHits(withPlane, c.camera, what);
+      ASSERT_TRUE(everywhere.used) << what << ": " << everywhere.reason;
+      EXPECT_EQ(everywhere.traced, pixels) << what;
+      const ScreenEvaluation e = expectTheRayPathsHits(bounded, c.camera, what);
+      const ScreenEvaluation meshes =
+          expectTheRayPathsHits(testing::fast_path::testScene(), c.camera, what);
+      EXPECT_GT(e.traced, meshes.traced) << what;
+      EXPECT_GT(e.decided, pixels / 8) << what;
+    }
+  }
+}
+
 TEST(ScreenEvaluator, FramesOutsideItsDecisionsAreTheRayPathsWithTheReason) {
-  const Scene withPrimitives = testing::fast_path::testSceneWithPrimitives();
   const PickingCamera camera = testing::fast_path::binnedCases()[0].camera;
-  const ScreenEvaluation e = expectTheRayPathsHits(withPrimitives, camera, "primitives");
+  Scene primitivesAlone = testing::fast_path::testSceneWithPrimitives();
+  primitivesAlone.objects.clear();
+  const ScreenEvaluation e = expectTheRayPathsHits(primitivesAlone, camera, "primitives alone");
   EXPECT_FALSE(e.used);
   EXPECT_EQ(e.reason, "analytic primitives stay on rays");
 

@@ -297,7 +297,9 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   if (!frame.pixelCentreRays || !frame.rays.empty()) {
     return traceByRays("the frame's rays are not the camera's robust rays computed per pixel");
   }
-  if (intersector.analyticCount() != 0) return traceByRays("analytic primitives stay on rays");
+  if (intersector.analyticCount() != 0 && intersector.triangleCount() == 0) {
+    return traceByRays("analytic primitives stay on rays");
+  }
   if (camera.depthClamp) return traceByRays("depth clamp is not evaluated yet");
   const RobustRayGenerator& generator = frame.pixelCentreRays->generator();
   const Viewport viewport = frame.viewport;
@@ -394,7 +396,12 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
         for (int chunk = 0; chunk < bins.listChunkCount() && !listed; ++chunk) {
           listed = !bins.list(chunk, tileX, tileY).empty();
         }
-        if (!listed) {
+        // An analytic primitive stays on rays: the pixels of a tile it may cover are traced.
+        bool primitive = false;
+        for (std::size_t p = 0; p < intersector.analyticCount() && !primitive; ++p) {
+          primitive = bins.primitiveMayCover(p, tileX, tileY);
+        }
+        if (!listed && !primitive) {
           // No triangle can be hit in the tile (a terrain's sky): background, as the loop below
           // would find it pixel by pixel.
           for (int ly = 0; ly < rows; ++ly) {
@@ -418,6 +425,7 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
 #else
         walkTilePortable(walk);
 #endif
+        if (primitive) std::fill(std::begin(state.unsureLow), std::end(state.unsureLow), -kInf);
         // Decided pixels take their planes where every ray of the tile surely exists.
         const bool tileFromPlanes =
             fromPlanes && tileRaysExist(nearW, clipX[static_cast<std::size_t>(x0)],

@@ -70,10 +70,12 @@ enum class DecidedHits {
 // Fills frame.hits for the camera's robust rays (frame from robustRayFrame(camera)) with the same
 // hits intersectFrame(frame, intersector, camera) gives, bit for bit (for decided pixels as
 // `decided` says). The camera's user clip planes cut the rays as they cut the drawing: a triangle
-// a plane may cut is never decided where it may be the nearest (ScreenTriangleSetup.hpp). Frames
-// outside what the screen decisions cover (analytic primitives, depth clamp, stored rays, a camera
-// whose rays' deviation has no bound) are traced by the ray path, with the reason. Fills depths too
-// where one is given (resized to the frame; all NaN where the frame is not evaluated).
+// a plane may cut is never decided where it may be the nearest (ScreenTriangleSetup.hpp). Analytic
+// primitives stay on rays: every pixel of a tile one may cover (FrameBins::primitiveMayCover) is
+// traced. Frames outside what the screen decisions cover (primitives alone, depth clamp, stored
+// rays, a camera whose rays' deviation has no bound) are traced by the ray path, with the reason.
+// Fills depths too where one is given (resized to the frame; all NaN where the frame is not
+// evaluated).
 ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                                              const SceneIntersector& intersector,
                                              const PickingCamera& camera, unsigned threadCount = 0,
