@@ -52,7 +52,8 @@ struct AnalyticFrame {
   // Where the screen path decided a pixel's triangle from its planes alone (ScreenEvaluator.hpp,
   // DecidedHits::FromPlanes), the hit holds the triangle's id and t = NaN: no ray was traced
   // there, and the compare evaluates planesById[id] at the pixel centre instead (empty: none).
-  std::shared_ptr<const std::vector<TrianglePlanes>> planesById;
+  // Only the decided triangles' entries are written.
+  std::shared_ptr<const FrameVector<TrianglePlanes>> planesById;
 
   std::size_t pixelCount() const {
     return static_cast<std::size_t>(viewport.width) * static_cast<std::size_t>(viewport.height);

@@ -128,7 +128,7 @@ class FrameClassifier {
   // The screen path's planes, where the frame has them and this setup stores the projective depth
   // through one mapping (no depth clamp, polygon offset or depth the shader writes); else null,
   // and its pixels are classified along their rays.
-  const std::vector<TrianglePlanes>* planes_ = nullptr;
+  const FrameVector<TrianglePlanes>* planes_ = nullptr;
   DepthMapping planeMapping_{};
   std::vector<double> clipXOfColumn_;  // NDC x of each column's pixel centre
   // Four plane pixels at a time under the default depth range (on AVX2 lanes where the CPU has

@@ -360,16 +360,22 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   // compare takes the planes, its planes by id (each id written by its own triangle's setup).
   const NearPointW nearW = nearPointW(generator);
   const bool fromPlanes = decided == DecidedHits::FromPlanes && nearW.margin < kInf;
-  std::shared_ptr<std::vector<TrianglePlanes>> planes;
+  // The per-triangle arrays are frame buffers (FrameBuffers.hpp): each slot is written by its own
+  // triangle's setup, and a terrain's 16 MB of setups are the pages the last frame released, not
+  // fresh ones to fault in and zero. A triangle's planes are read only where it was decided.
+  std::shared_ptr<FrameVector<TrianglePlanes>> planes;
   if (fromPlanes) {
-    planes = std::make_shared<std::vector<TrianglePlanes>>(
-        std::size_t{intersector.primitiveIdCount()} + 1);
+    planes = std::make_shared<FrameVector<TrianglePlanes>>();
+    planes->resize(std::size_t{intersector.primitiveIdCount()} + 1);
   }
-  std::vector<TriangleSetup> setups(triangles.size());
-  std::vector<ClipEdge> clipEdges(camera.clipPlanes.empty() ? 0 : triangles.size());
+  FrameVector<TriangleSetup> setups;
+  setups.resize(triangles.size());
+  FrameVector<ClipEdge> clipEdges;
+  clipEdges.resize(camera.clipPlanes.empty() ? 0 : triangles.size());
   // The ids by slot apart from the setups (a fraction of their size): what a decided pixel's hit
   // reads.
-  std::vector<std::uint32_t> idOfSlot(triangles.size());
+  FrameVector<std::uint32_t> idOfSlot;
+  idOfSlot.resize(triangles.size());
   parallelForRows(
       static_cast<int>((triangles.size() + 1023) / 1024), threadCount,
       [&](int blockBegin, int blockEnd) {
