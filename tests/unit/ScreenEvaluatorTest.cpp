@@ -113,6 +113,22 @@ ScreenEvaluation expectTheRayPathsHits(const Scene& scene, const PickingCamera& 
   return simd;
 }
 
+// What the random scenes' evaluations add up to; a frame left to the rays is printed with why.
+struct Tally {
+  int evaluated = 0;
+  std::size_t traced = 0, decided = 0, pixels = 0;
+  void add(const ScreenEvaluation& e, const std::string& what) {
+    if (!e.used) {
+      std::cout << what << ": rays (" << e.reason << ")\n";
+      return;
+    }
+    ++evaluated;
+    traced += e.traced;
+    decided += e.decided;
+    pixels += e.background + e.decided + e.contested + e.traced;
+  }
+};
+
 TEST(ScreenEvaluator, TheBinnedCamerasGetTheRayPathsHits) {
   Scene scene = testing::fast_path::testScene();
   for (const Viewport size : {Viewport{61, 47}, Viewport{320, 240}}) {
@@ -136,8 +152,8 @@ TEST(ScreenEvaluator, TheBinnedCamerasGetTheRayPathsHits) {
 
 TEST(ScreenEvaluator, RandomMeshScenesThroughTheHardCaseCamerasGetTheRayPathsHits) {
   std::uint64_t seed = 1;
-  int evaluated = 0, scenes = 0;
-  std::size_t traced = 0, pixels = 0;
+  Tally tally;
+  int scenes = 0;
   for (const Viewport size : {Viewport{96, 64}, Viewport{101, 61}}) {
     for (const HardCase& hardCase : hardCases(size)) {
       const Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
@@ -147,19 +163,12 @@ TEST(ScreenEvaluator, RandomMeshScenesThroughTheHardCaseCamerasGetTheRayPathsHit
                                  hardCase.viewport};
       const std::string what = scene.name + " " + hardCase.convention() + " " +
                                std::to_string(size.width) + "x" + std::to_string(size.height);
-      const ScreenEvaluation e = expectTheRayPathsHits(scene, camera, what);
-      if (!e.used) {
-        std::cout << what << ": rays (" << e.reason << ")\n";
-        continue;
-      }
-      ++evaluated;
-      traced += e.traced;
-      pixels += e.background + e.decided + e.contested + e.traced;
+      tally.add(expectTheRayPathsHits(scene, camera, what), what);
     }
   }
-  std::cout << evaluated << " of " << scenes << " scenes evaluated in screen space, " << traced
-            << " of " << pixels << " pixels traced\n";
-  EXPECT_GT(evaluated * 4, scenes * 3);
+  std::cout << tally.evaluated << " of " << scenes << " scenes evaluated in screen space, "
+            << tally.traced << " of " << tally.pixels << " pixels traced\n";
+  EXPECT_GT(tally.evaluated * 4, scenes * 3);
 }
 
 // The NDC depth at which the exact line of sight through NDC (x, y) crosses the triangle's plane,
@@ -323,8 +332,8 @@ TEST(ScreenEvaluator, UserClipPlanesCutTheHitsAsTheRayPathCutsThem) {
   EXPECT_GT(water.decided, water.traced);
 
   std::uint64_t seed = 101;
-  int evaluated = 0, scenes = 0, originsMoved = 0;
-  std::size_t traced = 0, decided = 0;
+  Tally tally;
+  int scenes = 0, originsMoved = 0;
   for (const HardCase& hardCase : hardCases(Viewport{96, 64})) {
     const Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed, true);
     if (scene.objects.empty()) continue;
@@ -351,21 +360,14 @@ TEST(ScreenEvaluator, UserClipPlanesCutTheHitsAsTheRayPathCutsThem) {
     originsMoved += centre.origin != uncut.origin ? 1 : 0;
     const std::string what = scene.name + " " + hardCase.convention() + " with " +
                              std::to_string(c.clipPlanes.size()) + " clip planes";
-    const ScreenEvaluation e = expectTheRayPathsHits(scene, c, what);
-    if (!e.used) {
-      std::cout << what << ": rays (" << e.reason << ")\n";
-      continue;
-    }
-    ++evaluated;
-    traced += e.traced;
-    decided += e.decided;
+    tally.add(expectTheRayPathsHits(scene, c, what), what);
   }
-  std::cout << evaluated << " of " << scenes << " clipped scenes evaluated in screen space, "
-            << originsMoved << " with the centre ray's origin moved; " << decided
-            << " pixels decided, " << traced << " traced\n";
-  EXPECT_GT(evaluated * 4, scenes * 3);
+  std::cout << tally.evaluated << " of " << scenes << " clipped scenes evaluated in screen space, "
+            << originsMoved << " with the centre ray's origin moved; " << tally.decided
+            << " pixels decided, " << tally.traced << " traced\n";
+  EXPECT_GT(tally.evaluated * 4, scenes * 3);
   EXPECT_GT(originsMoved, 0);
-  EXPECT_GT(decided, traced);
+  EXPECT_GT(tally.decided, tally.traced);
 }
 
 }  // namespace
