@@ -39,13 +39,6 @@ struct FourPixels {
   double rayDepth[4], ratio[4], quanta[4], relative[4];
 };
 
-// Appends four values with one size check (the samples are reserved for the frame up front).
-void appendFour(FrameVector<double>& values, const double four[4]) {
-  const std::size_t size = values.size();
-  values.resize(size + 4);  // left unwritten by the allocator; written here
-  std::memcpy(values.data() + size, four, 4 * sizeof(double));
-}
-
 // Free functions, not lambdas: GCC 12 does not give a lambda its enclosing function's target.
 __attribute__((target("avx2"))) inline __m256d broadcast(double v) {
   return _mm256_set1_pd(v);

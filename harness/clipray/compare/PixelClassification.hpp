@@ -7,6 +7,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <vector>
 
 #include <glm/glm.hpp>
@@ -25,6 +26,13 @@ struct KindSamples {
   FrameVector<double> quanta, relative, ratios;
 };
 using WorkerSamples = std::array<KindSamples, kSurfaceKinds>;
+
+// Appends four values with one size check (the samples are reserved for the frame up front).
+inline void appendFour(FrameVector<double>& values, const double four[4]) {
+  const std::size_t size = values.size();
+  values.resize(size + 4);  // left unwritten by the allocator; written here
+  std::memcpy(values.data() + size, four, 4 * sizeof(double));
+}
 
 // What the AVX2 kernel reads besides the pixels: the frame's constants, as doubles.
 struct FourPixelsInput {

@@ -110,8 +110,23 @@ using FloatBits = unsigned __attribute__((vector_size(16)));
   std::memcpy(&rasterFloats, p.rasterDepth, sizeof rasterFloats);
   const Lanes rasterDepth = __builtin_convertvector(rasterFloats, Lanes);
   const Lanes error = absolute(rasterDepth - depth);
+  const Lanes reach = 2.0 * planeField(p, &TrianglePlanes::depthError) * in.toWindow;
   Lanes quantum = Lanes{} + in.fixedQuantum;
-  if (in.fixedQuantum == 0.0 && !floatQuanta(depth, quantum)) return false;
+  if (in.fixedQuantum == 0.0) {
+    // One float quantum over the depths' reach (else the ray path decides). The quantum grows
+    // with |depth|: where the reach stays above 0, the depth's quantum is the one at either end.
+    const Lanes span = reach + 0x1p-40 * absolute(depth);
+    Lanes below, above;
+    if (!floatQuanta(depth - span, below) || !floatQuanta(depth + span, above)) return false;
+    const Mask steady = below == above;
+    if ((steady[0] & steady[1] & steady[2] & steady[3]) == 0) return false;
+    const Mask positive = depth - span > 0.0;
+    if ((positive[0] & positive[1] & positive[2] & positive[3]) != 0) {
+      quantum = below;
+    } else if (!floatQuanta(depth, quantum)) {
+      return false;
+    }
+  }
   const double u = kFloatUnitRoundoff;
   const Lanes boundW = boundField(p, 3);
   const Lanes xyError = largerOf((boundField(p, 0) + absolute(x) * boundW) * 0.5 * in.width,
@@ -120,16 +135,8 @@ using FloatBits = unsigned __attribute__((vector_size(16)));
                        2.0 * u * absolute(depth);
   const Lanes snap = termField(p, p.gradient) * (in.subpixelStep + xyError * reciprocalW);
   const Lanes tolerance = quantum + vertex + snap + termField(p, p.interpolation);
-  const Lanes reach = 2.0 * planeField(p, &TrianglePlanes::depthError) * in.toWindow;
   const Mask certain = absolute(error - tolerance) > reach + 0x1p-20 * tolerance;
   if ((certain[0] & certain[1] & certain[2] & certain[3]) == 0) return false;
-  if (in.fixedQuantum == 0.0) {
-    const Lanes span = reach + 0x1p-40 * absolute(depth);
-    Lanes below, above;
-    if (!floatQuanta(depth - span, below) || !floatQuanta(depth + span, above)) return false;
-    const Mask steady = below == above;
-    if ((steady[0] & steady[1] & steady[2] & steady[3]) == 0) return false;
-  }
   const Lanes zRaster = rasterDepth * (1.0 - in.zn) + in.zn;
   const Lanes apart = absolute(zNdc - zRaster);
   const Lanes relative = in.parallel ? apart / in.depthSpan
@@ -260,14 +267,14 @@ bool FrameClassifier::classifyFourFromPlanes(std::size_t first, const double* xN
   metrics.rayHits += 4;
   metrics.depthCompared += 4;
   metrics.planePixels.fromPlanes += 4;
+  appendFour(kind.quanta, figures.quanta);
+  appendFour(kind.relative, figures.relative);
+  appendFour(kind.ratios, figures.ratio);
+  std::memcpy(&pixels_.rasterDepth[first], &raster_.depth[first], 4 * sizeof(float));
+  std::memcpy(&pixels_.analyticDepth[first], figures.depth, 4 * sizeof(double));
   for (std::size_t l = 0; l < 4; ++l) {
     const std::size_t i = first + l;
-    pixels_.rasterDepth[i] = raster_.depth[i];
-    pixels_.analyticDepth[i] = figures.depth[l];
     pixels_.toleranceRatio[i] = static_cast<float>(figures.ratio[l]);
-    kind.quanta.push_back(figures.quanta[l]);
-    kind.relative.push_back(figures.relative[l]);
-    kind.ratios.push_back(figures.ratio[l]);
     const bool beyond = !(figures.ratio[l] <= 1.0);  // NaN counts as beyond tolerance
     metrics.depthBeyondTolerance += beyond ? 1 : 0;
     pixels_.classes[i] = beyond ? PixelClass::DepthBeyondTolerance : PixelClass::Agree;
