@@ -113,6 +113,13 @@ bool depthTestKeeps(const Hit& hit, double depth, const Hit& kept, double keptDe
          (depth == keptDepth && hit.primitiveId < kept.primitiveId);
 }
 
+// Whether the chosen path takes the screen path for this many triangles over this many pixels.
+bool takesScreenPath(AnalyticPath path, std::size_t triangles, std::size_t pixels) {
+  return path == AnalyticPath::Screen ||
+         (path == AnalyticPath::Auto &&
+          static_cast<double>(pixels) >= kScreenPixelsPerTriangle * static_cast<double>(triangles));
+}
+
 // Why --analytic auto leaves a frame of these counts to the rays.
 std::string fewPixelsReason(std::size_t triangles, std::size_t pixels) {
   return std::to_string(triangles) + " triangles for " + std::to_string(pixels) +
@@ -161,10 +168,7 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
   // An app's own picking rays (stored per pixel) are the ray path's alone.
   const AnalyticPath path = frame.pixelCentreRays ? chosenAnalyticPath() : AnalyticPath::Rays;
   if (groups.size() == 1) {
-    const double pixels = static_cast<double>(frame.pixelCount());
-    const double triangles = static_cast<double>(wholeScene.triangleCount());
-    if (path == AnalyticPath::Screen ||
-        (path == AnalyticPath::Auto && pixels >= kScreenPixelsPerTriangle * triangles)) {
+    if (takesScreenPath(path, wholeScene.triangleCount(), frame.pixelCount())) {
       // Decided pixels keep their planes: the compare evaluates them in place of rays.
       return intersectFrameInScreenSpace(frame, wholeScene, camera, threadCount, nullptr,
                                          DecidedHits::FromPlanes);
@@ -197,10 +201,7 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
     if (!ownRays && !frame.pixelCentreRays) cutFrame.rays = frame.rays;
     // The group's hits, bit for bit the ray path's on either path: decided pixels are tested
     // (their t competes in the depth test below).
-    const double pixels = static_cast<double>(frame.pixelCount());
-    const double triangles = static_cast<double>(intersector.triangleCount());
-    if (path == AnalyticPath::Screen ||
-        (path == AnalyticPath::Auto && pixels >= kScreenPixelsPerTriangle * triangles)) {
+    if (takesScreenPath(path, intersector.triangleCount(), frame.pixelCount())) {
       PickingCamera groupCamera = camera;
       if (ownRays) {
         groupCamera.clipPlanes.insert(groupCamera.clipPlanes.end(), groups[g].clipPlanes.begin(),

@@ -1,11 +1,9 @@
-// report.json, the text summary and the atomic writing of every output file.
+// report.json, the text summary and the merging of rounds (ReportFiles.cpp writes them to disk).
 
 #include "clipray/report/Report.hpp"
 
 #include <algorithm>
 #include <array>
-#include <atomic>
-#include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -13,14 +11,8 @@
 #include <map>
 #include <numeric>
 #include <stdexcept>
-#include <system_error>
-
-#include <fcntl.h>
-#include <unistd.h>
 
 #include "clipray/InputError.hpp"
-#include "clipray/io/StagedWrite.hpp"
-#include "clipray/report/HtmlReport.hpp"
 #include "clipray/util/Check.hpp"
 #include "clipray/util/OptionValues.hpp"
 #include "clipray/util/Version.hpp"
@@ -409,10 +401,6 @@ std::string conventionErrorsSection(const std::vector<const RunRecord*>& runs) {
   return out;
 }
 
-std::string errnoText(int error) {
-  return std::strerror(error);
-}
-
 }  // namespace
 
 std::string SurfaceHit::name() const {
@@ -746,61 +734,6 @@ std::string textSummary(const std::vector<RunRecord>& runs) {
     out += kDepthClampLegend;
   }
   return out;
-}
-
-namespace {
-
-// Writes bytes to a fresh temp file beside `path` and returns its name; throws naming `path`.
-std::filesystem::path writeTempBeside(const std::filesystem::path& path, const std::string& bytes) {
-  static std::atomic<unsigned long long> counter{0};
-  std::filesystem::path temp = path;
-  temp += ".tmp-" + std::to_string(static_cast<long long>(::getpid())) + "-" +
-          std::to_string(counter.fetch_add(1));
-  const auto fail = [&](const std::string& what, int error, bool removeTemp) {
-    if (removeTemp) ::unlink(temp.c_str());
-    throw std::runtime_error("cannot " + what + " " + path.string() + ": " + errnoText(error));
-  };
-  const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0666);
-  if (fd < 0) fail("create", errno, false);
-  if (const int error = writeAllBytes(fd, bytes); error != 0) {
-    ::close(fd);
-    fail("write", error, true);
-  }
-  if (::close(fd) != 0) fail("write", errno, true);
-  return temp;
-}
-
-}  // namespace
-
-void writeFileAtomically(const std::filesystem::path& path, const std::string& bytes) {
-  const std::filesystem::path temp = writeTempBeside(path, bytes);
-  std::error_code ec;
-  std::filesystem::rename(temp, path, ec);
-  if (ec) {
-    ::unlink(temp.c_str());
-    throw std::runtime_error("cannot write " + path.string() + ": " + ec.message());
-  }
-}
-
-void writeReport(const std::filesystem::path& outDir, const std::vector<RunRecord>& runs,
-                 const GlInfo& gl, const ReportProvenance& provenance) {
-  // One change (StagedWrite.hpp): a failure or a Ctrl-C leaves the previous report whole, and
-  // report.json, which names the rest, is switched in last.
-  const std::string summary = textSummary(runs);
-  const std::string html = reportHtml(runs, gl, provenance);
-  const std::string json = reportJson(runs, gl, provenance)
-                               .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
-                           "\n";
-  std::vector<FileToWrite> files;
-  for (const RunRecord& run : runs) {
-    for (const EncodedImage& image : run.images) {
-      files.push_back({std::filesystem::path(image.relativePath), image.pngBytes});
-    }
-  }
-  files.push_back({"summary.txt", summary});
-  files.push_back({"index.html", html});
-  files.push_back({"report.json", json});
-  writeFilesAsOne(outDir, files);
 }
 
 }  // namespace clipray
