@@ -38,7 +38,7 @@ TEST_F(LogarithmicDepthDraw, ConsistentUnderEveryConventionOriginAndFormat) {
         const engine::AnalyticPass pass =
             engine::runAnalyticPass(scene, camera, mode, camera.viewport);
         ASSERT_TRUE(pass.logDepth.has_value());
-        EXPECT_EQ(pass.logDepth->reversed, mode.reversed);
+        EXPECT_EQ(pass.logDepth->reversed(), mode.reversed);
         for (const DepthFormat format : testing::kDepthFormats) {
           const std::string name = camera.name + " " + mode.name() + " " + depthFormatName(format);
           const RunRecord run =

@@ -36,7 +36,7 @@ TEST(LogDepthModel, InverseAndSlope) {
       const double h = w * 1e-6;
       const double difference = (m.windowDepth(w + h) - m.windowDepth(w - h)) / (2.0 * h);
       EXPECT_NEAR(m.slope(w), difference, std::abs(difference) * 1e-6);
-      EXPECT_EQ(m.slope(w) < 0.0, m.reversed);
+      EXPECT_EQ(m.slope(w) < 0.0, m.reversed());
     }
   }
 }
@@ -53,11 +53,11 @@ TEST(LogDepthModel, ToleranceHoldsTheShadersFloatArithmetic) {
     const float fc = static_cast<float>(2.0 * m.scale());
     for (double w = 0.1; w <= kFar; w *= 1.01) {
       const float wf = static_cast<float>(w);
-      const float argument = 1.0f + static_cast<float>(m.constant) * wf;
+      const float argument = 1.0f + static_cast<float>(m.constant()) * wf;
       const float l = std::log2(argument) * fc * 0.5f;
-      const float stored = m.reversed ? 1.0f - l : l;
+      const float stored = m.reversed() ? 1.0f - l : l;
       const double error = std::abs(static_cast<double>(stored) - m.windowDepth(w));
-      ASSERT_LE(error, m.tolerance(w, 0.0, w, 0.0)) << "w " << w << " C " << m.constant;
+      ASSERT_LE(error, m.tolerance(w, 0.0, w, 0.0)) << "w " << w << " C " << m.constant();
       ++samples;
     }
   }

@@ -20,6 +20,7 @@
 //   4. 1 - L under reversed-Z: u (half an ulp below 1 is 2^-25; one ulp for margin).
 //   5. Storage: one quantum of the depth format at the stored depth.
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
@@ -29,41 +30,58 @@
 
 namespace clipray {
 
-struct LogDepthMapping {
-  double constant = 1.0;  // C (three.js: 1)
-  double far = 1.0;       // L(far) = 1
-  bool reversed = false;  // the shader writes 1 - L (reversed-Z: near is the greater depth)
+// The mapping of one camera under one convention. Its scale is fixed at construction: the
+// compare evaluates the mapping at every pixel, and the scale's log2 would otherwise cost one per
+// call (the same bits: it is the same expression).
+class LogDepthMapping {
+ public:
+  LogDepthMapping(double constant, double far, bool reversed)
+      : constant_(constant),
+        far_(far),
+        reversed_(reversed),
+        scale_(1.0 / std::log2(1.0 + constant * far)) {}
   bool operator==(const LogDepthMapping&) const = default;
 
+  double constant() const { return constant_; }  // C (three.js: 1)
+  double far() const { return far_; }            // L(far) = 1
+  // The shader writes 1 - L (reversed-Z: near is the greater depth).
+  bool reversed() const { return reversed_; }
   // s = 1 / log2(1 + C far): three.js's logDepthBufFC * 0.5.
-  double scale() const { return 1.0 / std::log2(1.0 + constant * far); }
+  double scale() const { return scale_; }
   // L(w), or 1 - L(w) reversed: the depth the shader writes for clip w.
   double windowDepth(double clipW) const {
-    const double l = std::log2(1.0 + constant * clipW) * scale();
-    return reversed ? 1.0 - l : l;
+    const double l = std::log2(1.0 + constant_ * clipW) * scale_;
+    return reversed_ ? 1.0 - l : l;
   }
   // Its inverse: the clip w whose fragment stores `depth`.
   double clipWOfWindowDepth(double depth) const {
-    const double l = reversed ? 1.0 - depth : depth;
-    return (std::exp2(l / scale()) - 1.0) / constant;
+    const double l = reversed_ ? 1.0 - depth : depth;
+    return (std::exp2(l / scale_) - 1.0) / constant_;
   }
   // d(window depth) / d(clip w): s C / ((1 + C w) ln 2), negative reversed.
   double slope(double clipW) const {
-    const double s = scale() * constant / ((1.0 + constant * clipW) * std::numbers::ln2);
-    return reversed ? -s : s;
+    const double s = scale_ * constant_ / ((1.0 + constant_ * clipW) * std::numbers::ln2);
+    return reversed_ ? -s : s;
   }
   // The tolerance above for a fragment at clip w whose w may be off by wError (vertex rounding
   // and snap, world units of w), w_min the smallest w of its clipped polygon, stored with
   // quantum `storage`.
   double tolerance(double clipW, double wError, double wMin, double storage) const {
     const double u = 0x1p-24;
-    const double s = scale();
-    const double a = 1.0 + constant * clipW;
+    const double s = scale_;
+    const double a = 1.0 + constant_ * clipW;
     const double l = std::log2(a) * s;
-    const double relativeA = constant * wError / a + (16.0 * std::max(clipW / wMin, 1.0) + 3.0) * u;
+    const double relativeA =
+        constant_ * wError / a + (16.0 * std::max(clipW / wMin, 1.0) + 3.0) * u;
     return s * relativeA / std::numbers::ln2 + s * 0x1p-21 + 3.0 * 0x1p-23 * std::abs(l) +
-           2.0 * u * std::abs(l) + (reversed ? u : 0.0) + storage;
+           2.0 * u * std::abs(l) + (reversed_ ? u : 0.0) + storage;
   }
+
+ private:
+  double constant_;
+  double far_;
+  bool reversed_;
+  double scale_;
 };
 
 // The mapping a camera's meshes are drawn with under a convention; nullopt: the projective depth.

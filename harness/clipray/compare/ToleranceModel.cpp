@@ -94,10 +94,12 @@ void ToleranceModel::buildPolygons(std::span<const std::uint32_t> primitiveIds,
   if (first == 0) {
     polygons_.reserve(wanted.size());
     pixelTerms_.reserve(wanted.size());
+    if (setup_.logDepth) logDepthTerms_.reserve(wanted.size());
   }
   // Left unwritten: every one is built below.
   polygons_.resize(first + wanted.size());
   pixelTerms_.resize(first + wanted.size());
+  if (setup_.logDepth) logDepthTerms_.resize(first + wanted.size());
   constexpr int kIdsPerChunk = 256;
   const int chunks = static_cast<int>((wanted.size() + kIdsPerChunk - 1) / kIdsPerChunk);
   parallelForRows(chunks, threadCount, [&](int chunkBegin, int chunkEnd) {
@@ -105,6 +107,7 @@ void ToleranceModel::buildPolygons(std::span<const std::uint32_t> primitiveIds,
     for (std::size_t k = std::size_t(chunkBegin) * kIdsPerChunk; k < end; ++k) {
       polygons_[first + k] = buildPolygon(wanted[k]);
       pixelTerms_[first + k] = pixelTermsOf(polygons_[first + k]);
+      if (setup_.logDepth) logDepthTerms_[first + k] = logDepthTermsOf(wanted[k]);
     }
   });
 }

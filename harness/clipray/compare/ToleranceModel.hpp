@@ -172,8 +172,17 @@ class ToleranceModel {
     double gradient;            // |a| + |b| of the depth plane, 0 where it has none
     double interpolation;       // 8 u maxDepth: the rounding of evaluating the plane in float
   };
+  // What the log depth's tolerance of each pixel of a triangle reads (logDepthTolerance), from its
+  // clip vertices: |d(1/w)/dx_ndc| 2 / width + |d(1/w)/dy_ndc| 2 / height (infinite for a
+  // triangle seen edge-on, whose pixels are not measurable), and the smallest w of the polygon the
+  // near plane leaves (NaN where there is none: the hit's own w is taken).
+  struct LogDepthTerms {
+    double wGradient;
+    double wMin;
+  };
   static constexpr std::uint32_t kNoSlot = 0xffffffffu;
   static PixelTerms pixelTermsOf(const ScreenPolygon& polygon);
+  LogDepthTerms logDepthTermsOf(std::uint32_t primitiveId) const;
   // The primitive's PixelTerms: built up front, else from its polygon now.
   PixelTerms pixelTerms(std::uint32_t primitiveId) const;
   // The clipped screen polygon of a primitive (an empty one for analytic primitives and ids that
@@ -191,8 +200,9 @@ class ToleranceModel {
   // Tells this model's entries apart in a thread's cache of polygons not built up front.
   static std::atomic<std::uint64_t> nextSerial;
   std::uint64_t serial_;
-  FrameVector<ScreenPolygon> polygons_;  // the polygons built up front (kept from run to run)
-  FrameVector<PixelTerms> pixelTerms_;   // the same slots' PixelTerms
+  FrameVector<ScreenPolygon> polygons_;       // the polygons built up front (kept from run to run)
+  FrameVector<PixelTerms> pixelTerms_;        // the same slots' PixelTerms
+  FrameVector<LogDepthTerms> logDepthTerms_;  // the same slots', under setup_.logDepth only
   // Per analytic primitive (in the intersector's order): clipFromWorld * worldFromLocal, the
   // matrix its shader rounds to float, and the magnitudes of its z and w rows (the tolerance of
   // each of its pixels reads them).

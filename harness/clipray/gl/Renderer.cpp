@@ -432,9 +432,9 @@ void Renderer::State::drawMeshes(const RasterGeometry& geometry, const glm::dmat
   glUseProgram(logDepth ? logDepthProgram : program);
   if (logDepth) {
     // As three.js sets logDepthBufFC: 2 / log2(far + 1) in double, rounded to a float uniform.
-    glUniform1f(kLogDepthConstantLocation, static_cast<GLfloat>(logDepth->constant));
+    glUniform1f(kLogDepthConstantLocation, static_cast<GLfloat>(logDepth->constant()));
     glUniform1f(kLogDepthBufFCLocation, static_cast<GLfloat>(2.0 * logDepth->scale()));
-    glUniform1i(kLogDepthReversedLocation, logDepth->reversed ? 1 : 0);
+    glUniform1i(kLogDepthReversedLocation, logDepth->reversed() ? 1 : 0);
   }
   const glm::mat4 uniformMatrix(clipFromInput);  // rounded to float, as an app's uniform is
   glUniformMatrix4fv(clipFromInputLocation, 1, GL_FALSE, &uniformMatrix[0][0]);
