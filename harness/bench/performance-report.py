@@ -320,7 +320,7 @@ whole process (`cpu_ms`, every thread's, llvmpipe's own threads in `raster`):
   objects drawn with state of their own, has 16 pixels or more a triangle) each binned
   triangle's edge functions and depth plane at its 8x8 tiles' pixel centres, a ray traced only
   where the margins leave a pixel open or an analytic primitive may show; on the ray path
-  (`--analytic rays`, and every frame of primitives alone or with depth clamp) every tile traced
+  (`--analytic rays`, and every frame of primitives alone) every tile traced
   as SIMD packets in double.
 - **compare**: building the tolerance model of the primitives the raster shows, classifying every
   pixel (a pixel decided from planes from its triangle's planes, others along their rays), and

@@ -4,7 +4,7 @@
 // give every pixel the same class and every count the same; the depths of the pixels the planes
 // decided lie within their planes' bound of the exact crossing (tests/unit/ScreenEvaluatorTest.cpp)
 // and, printed here with the worst difference of every figure, close to the ray path's.
-// A third of the cameras draw with a user clip plane through the scene.
+// A third of the cameras draw with a user clip plane through the scene, a sixth with depth clamp.
 
 #include <gtest/gtest.h>
 
@@ -75,11 +75,16 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
   std::int64_t fromPlanes = 0, compared = 0;
   double worstDepth = 0.0, worstDepthOverBound = 0.0, worstFigure = 0.0;
   std::string worstFigureAt;
-  int clipped = 0;
+  int clipped = 0, clamped = 0;
   for (const Viewport size : sizes) {
     for (const HardCase& hardCase : hardCases(size)) {
-      const Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
+      Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
       if (scene.objects.empty()) continue;
+      if (seed % 6 == 1) {
+        // Drawn with GL_DEPTH_CLAMP: the rays start at the eye, decided pixels are tested.
+        scene.depthClamp = true;
+        ++clamped;
+      }
       Camera camera = testing::hardCaseCamera(hardCase);
       if (seed % 3 == 0) {
         // A user clip plane through a vertex of the scene, its normal from the seed: the triangles
@@ -101,7 +106,8 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
       }();
       const std::string what = scene.name + " " + hardCase.convention() + " " +
                                std::to_string(size.width) + "x" + std::to_string(size.height) +
-                               (camera.clipPlanes.empty() ? "" : " clipped");
+                               (camera.clipPlanes.empty() ? "" : " clipped") +
+                               (scene.depthClamp ? " depth clamp" : "");
       ASSERT_FALSE(rays.frame.planesById) << what;
       evaluated += screen.screen.used ? 1 : 0;
       const double toWindow = 1.0 / (1.0 - mode.clipVolumeMinZ());
@@ -148,9 +154,9 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
           });
     }
   }
-  std::cout << runs << " runs (" << clipped << " scene cameras with a clip plane), " << evaluated
-            << " scene cameras on the screen path; " << fromPlanes
-            << " pixels decided from planes, " << compared
+  std::cout << runs << " runs (" << clipped << " scene cameras with a clip plane, " << clamped
+            << " with depth clamp), " << evaluated << " scene cameras on the screen path; "
+            << fromPlanes << " pixels decided from planes, " << compared
             << " with depths on both sides: the depths apart by at most " << worstDepth << " ("
             << worstDepthOverBound << " of the planes' bound); the report's figures apart by "
             << worstFigure << " of themselves at most (" << worstFigureAt << ")\n";

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "clipray/compare/ScreenEvaluator.hpp"
+#include "clipray/math/Projections.hpp"
 #include "clipray/rays/QuadReference.hpp"
 #include "clipray/util/KernelChoice.hpp"
 #include "support/FastPathScenes.hpp"
@@ -70,7 +71,8 @@ ScreenEvaluation expectTheRayPathsHits(const SceneIntersector& intersector,
   EXPECT_EQ(planes.background, evaluation.background) << what;
   EXPECT_EQ(planes.contested, evaluation.contested) << what;
   EXPECT_EQ(planes.traced, evaluation.traced) << what;
-  EXPECT_EQ(byPlanes.planesById != nullptr, planes.used) << what;
+  // Under depth clamp the compare evaluates no planes: decided pixels are tested there.
+  EXPECT_EQ(byPlanes.planesById != nullptr, planes.used && !camera.depthClamp) << what;
   std::size_t untraced = 0;
   for (std::size_t i = 0; i < byRays.hits.size() && i < byPlanes.hits.size(); ++i) {
     const Hit& a = byPlanes.hits[i];
@@ -87,8 +89,11 @@ ScreenEvaluation expectTheRayPathsHits(const SceneIntersector& intersector,
   }
   EXPECT_LE(untraced, planes.decided) << what;
   // Decided pixels take their planes: every camera here has a ray at every pixel of most tiles.
-  if (planes.used && planes.decided > 0) {
+  if (planes.used && planes.decided > 0 && !camera.depthClamp) {
     EXPECT_GT(untraced, 0u) << what;
+  }
+  if (camera.depthClamp) {
+    EXPECT_EQ(untraced, 0u) << what;
   }
   return evaluation;
 }
@@ -312,10 +317,88 @@ TEST(ScreenEvaluator, FramesOutsideItsDecisionsAreTheRayPathsWithTheReason) {
 
   PickingCamera clamped = camera;
   clamped.depthClamp = true;
+  clamped.clipPlanes = {glm::dvec4(0.0, 1.0, 0.0, -0.5)};
   const ScreenEvaluation clamp =
-      expectTheRayPathsHits(testing::fast_path::testScene(), clamped, "depth clamp");
+      expectTheRayPathsHits(testing::fast_path::testScene(), clamped, "depth clamp, clip plane");
   EXPECT_FALSE(clamp.used);
-  EXPECT_EQ(clamp.reason, "depth clamp is not evaluated yet");
+  EXPECT_EQ(clamp.reason, "depth clamp with user clip planes is not evaluated yet");
+}
+
+// The triangle from world points a, b, c, as an object of its own.
+MeshObject triangleObject(const std::string& name, glm::dvec3 a, glm::dvec3 b, glm::dvec3 c) {
+  MeshObject object;
+  object.name = name;
+  object.worldPositions = {a, b, c};
+  object.triangles = {glm::u32vec3(0, 1, 2)};
+  return object;
+}
+
+// GL_DEPTH_CLAMP draws what lies in front of the near plane, and the rays start at the eye (a
+// parallel camera's behind the near plane): the screen path bins and decides down to 2^-16 of the
+// near plane's w, with Delta grown as 1 / w towards the eye. Random scenes through every hard-case
+// camera, with triangles between the eye and the near plane and a floor reaching behind the eye,
+// beyond the far plane or not; a triangle through the eye leaves the frame to the rays.
+TEST(ScreenEvaluator, DepthClampedRaysFromTheEyeGetTheRayPathsHits) {
+  std::uint64_t seed = 301;
+  Tally tally;
+  int scenes = 0, nearTriangles = 0;
+  for (const HardCase& hardCase : hardCases(Viewport{96, 64})) {
+    Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
+    if (scene.objects.empty()) continue;
+    PickingCamera c{hardCase.inputs.clipFromWorld, hardCase.inputs.mode, hardCase.viewport};
+    c.depthClamp = true;
+    c.depthClampBeyondFar = scenes % 2 == 1;
+    const glm::dmat4 worldFromClip = glm::inverse(c.clipFromWorld);
+    const auto unproject = [&](double x, double y, double z) {
+      const glm::dvec4 p = worldFromClip * glm::dvec4(x, y, z, 1.0);
+      return glm::dvec3(p) / p.w;
+    };
+    const double zn = c.mode.nearNdcZ();
+    const bool parallel = glm::dvec3(matrixRow(c.clipFromWorld, 3)) == glm::dvec3(0.0);
+    if (parallel) {
+      c.depthClampReach = 4.0 * glm::length(unproject(1.0, 1.0, zn) - unproject(-1.0, -1.0, 1.0));
+    } else {
+      const glm::dvec4 e = worldFromClip * glm::dvec4(0.0, 0.0, 1.0, 0.0);
+      const glm::dvec3 eye = glm::dvec3(e) / e.w;
+      // Between the eye and the near plane (a first-person weapon), and a floor from below the
+      // view to behind the eye: its plane passes well below the eye.
+      const auto towards = [&](double x, double y, double lambda) {
+        return eye + lambda * (unproject(x, y, zn) - eye);
+      };
+      scene.objects.push_back(triangleObject("weapon", towards(-0.5, -0.6, 0.3),
+                                             towards(0.4, -0.7, 0.8), towards(0.1, 0.2, 0.5)));
+      scene.objects.push_back(triangleObject(
+          "floor", towards(-1.5, -0.9, 40.0), towards(1.5, -0.9, 40.0),
+          eye - 8.0 * (unproject(0.0, 0.9, zn) - eye) - 4.0 * (unproject(0.0, 1.0, zn) - eye)));
+      nearTriangles += 2;
+    }
+    ++scenes;
+    const std::string what = scene.name + " " + hardCase.convention() + " depth clamp" +
+                             (c.depthClampBeyondFar ? " beyond far" : "");
+    tally.add(expectTheRayPathsHits(scene, c, what), what);
+  }
+  std::cout << tally.evaluated << " of " << scenes << " depth-clamped scenes evaluated in screen "
+            << "space (" << nearTriangles << " triangles in front of the near plane or behind the "
+            << "eye); " << tally.decided << " pixels decided, " << tally.traced << " traced\n";
+  EXPECT_GT(tally.evaluated * 4, scenes * 3);
+  EXPECT_GT(tally.decided, 10 * tally.traced);
+
+  // A triangle with a vertex at the eye: rays near the eye may hit it where no bound holds.
+  const PickingCamera binned = testing::fast_path::binnedCases()[0].camera;
+  PickingCamera clamped = binned;
+  clamped.depthClamp = true;
+  const glm::dmat4 worldFromClip = glm::inverse(binned.clipFromWorld);
+  const glm::dvec4 e = worldFromClip * glm::dvec4(0.0, 0.0, 1.0, 0.0);
+  const glm::dvec3 eye = glm::dvec3(e) / e.w;
+  Scene throughTheEye = testing::fast_path::testScene();
+  const ScreenEvaluation whole = expectTheRayPathsHits(throughTheEye, clamped, "depth clamp");
+  EXPECT_TRUE(whole.used) << whole.reason;
+  throughTheEye.objects.push_back(triangleObject("through the eye", eye, eye + glm::dvec3(5, 0, 0),
+                                                 eye + glm::dvec3(0, 0, -5)));
+  const ScreenEvaluation touched =
+      expectTheRayPathsHits(throughTheEye, clamped, "depth clamp, a triangle through the eye");
+  EXPECT_FALSE(touched.used);
+  EXPECT_EQ(touched.reason, "a triangle passes within the depth-clamped rays' reach of the eye");
 }
 
 // The camera's user clip planes cut the rays as GL cuts the drawing: the triangles a plane may cut

@@ -102,6 +102,7 @@ struct TileWalk {
   const Lanes inf = Lanes{} + kInf;
   const Lanes minusInf = Lanes{} - kInf;
   const double farOut = frame.keyFar + kRangeMargin, farIn = frame.keyFar - kRangeMargin;
+  const double nearIn = frame.keyNearIn, nearOut = frame.keyNearOut;
   const int x0 = walk.tileX * kTile, y0 = walk.tileY * kTile;
   for (int chunk = 0; chunk < walk.bins->listChunkCount(); ++chunk) {
     for (const BinnedTriangle& entry : walk.bins->list(chunk, walk.tileX, walk.tileY)) {
@@ -141,9 +142,9 @@ struct TileWalk {
           const Mask inside = (e0 > t.margin[0]) & (e1 > t.margin[1]) & (e2 > t.margin[2]);
           const Lanes key = frame.sigma * ((t.za * x + zRow) - frame.zNear);
           const Lanes low = key - t.depthError, high = key + t.depthError;
-          const Mask outOfRange = (high < -kRangeMargin) | (low > farOut);
+          const Mask outOfRange = (high < nearOut) | (low > farOut);
           // A triangle a clip plane may cut is never surely crossed: perhaps, where it is.
-          Mask sure = inside & (low > kRangeMargin) & (high < farIn);
+          Mask sure = inside & (low > nearIn) & (high < farIn);
           if (cut) {
             sure &= cut->ka * x + keepRow > cut->keepError;
           } else if (t.clipped) {
@@ -270,6 +271,34 @@ NearPointW nearPointW(const RobustRayGenerator& generator) {
   return w;
 }
 
+// Under depth clamp: whether every analytic primitive's local box (the square of a disk or quad;
+// an infinite plane never) lies at clip w >= wLeast, its corners' w beyond it by more than their
+// rounding (2^-48 of their terms), so no depth-clamped ray reaches it nearer the eye. No
+// primitives: true.
+bool analyticBoxesBeyond(const SceneIntersector& intersector, const glm::dmat4& clipFromWorld,
+                         double wLeast) {
+  if (wLeast <= 0.0) return true;
+  const glm::dvec4 rowW(clipFromWorld[0][3], clipFromWorld[1][3], clipFromWorld[2][3],
+                        clipFromWorld[3][3]);
+  const std::uint32_t first = static_cast<std::uint32_t>(intersector.triangleCount()) + 1;
+  for (std::size_t p = 0; p < intersector.analyticCount(); ++p) {
+    const AnalyticPrimitive& primitive =
+        intersector.analyticPrimitive(first + static_cast<std::uint32_t>(p));
+    if (primitive.kind == PrimitiveKind::Plane) return false;
+    const bool flat =
+        primitive.kind == PrimitiveKind::Disk || primitive.kind == PrimitiveKind::Quad;
+    for (int k = 0; k < 8; ++k) {
+      const glm::dvec4 local((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0,
+                             flat ? 0.0 : ((k & 4) ? 1.0 : -1.0), 1.0);
+      const glm::dvec4 world = primitive.worldFromLocal * local;
+      const double w = glm::dot(rowW, world);
+      const double size = glm::dot(glm::abs(rowW), glm::abs(world));
+      if (!(w - 0x1p-48 * size >= wLeast)) return false;
+    }
+  }
+  return true;
+}
+
 bool tileRaysExist(const NearPointW& w, double xLow, double xHigh, double yLow, double yHigh) {
   const double lowest = std::min({w.a * xLow + w.b * yLow, w.a * xLow + w.b * yHigh,
                                   w.a * xHigh + w.b * yLow, w.a * xHigh + w.b * yHigh}) +
@@ -300,7 +329,6 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   if (intersector.analyticCount() != 0 && intersector.triangleCount() == 0) {
     return traceByRays("analytic primitives stay on rays");
   }
-  if (camera.depthClamp) return traceByRays("depth clamp is not evaluated yet");
   const RobustRayGenerator& generator = frame.pixelCentreRays->generator();
   const Viewport viewport = frame.viewport;
   const std::span<const glm::dvec4> rayPlanes = generator.clipPlanes();
@@ -324,7 +352,21 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
     }
   }
   std::string reason;
-  const std::optional<double> rayDelta = rayDeviation(generator, reason);
+  // Depth clamp's rays start at the eye (a parallel camera's behind the near plane): their own
+  // Delta, and the bins cut near the eye instead of at the near plane.
+  std::optional<DepthClampReach> clamp;
+  if (camera.depthClamp) {
+    if (!camera.clipPlanes.empty()) {
+      return traceByRays("depth clamp with user clip planes is not evaluated yet");
+    }
+    clamp = depthClampDeviation(generator, reason);
+    if (!clamp) return traceByRays(reason);
+    if (!analyticBoxesBeyond(intersector, camera.clipFromWorld, clamp->eyeBoxW)) {
+      return traceByRays("an analytic primitive reaches the depth-clamped rays near the eye");
+    }
+  }
+  const std::optional<double> rayDelta =
+      clamp ? std::optional<double>(clamp->delta) : rayDeviation(generator, reason);
   if (!rayDelta) return traceByRays(reason);
   const std::optional<double> cutDelta =
       clipCutDeviation(generator, intersector.reference(), sceneExtent, reason);
@@ -336,13 +378,13 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
     return traceByRays("the rays may stray " + std::to_string(deltaPixels) +
                        " pixels from their centres");
   }
-  const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, viewport, threadCount);
+  const FrameBins bins(intersector, camera.clipFromWorld, camera.mode, viewport, threadCount,
+                       clamp ? std::optional<double>(clamp->wLeast) : std::nullopt);
   if (!bins.usable()) return traceByRays("no screen bins for this camera");
 
-  const FrameTerms terms = frameTerms(camera, generator, bins.clipFromRelative(),
-                                      intersector.reference(), delta, sceneExtent);
-  result.rayDeviationNdc = delta;
-  result.used = true;
+  const FrameTerms terms =
+      frameTerms(camera, generator, bins.clipFromRelative(), intersector.reference(), delta,
+                 sceneExtent, clamp ? &*clamp : nullptr);
 
   frame.hits.resize(frame.pixelCount());
   const int tileRows = (viewport.height + kTile - 1) / kTile;
@@ -359,7 +401,10 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   // Each triangle's setup once (a triangle is listed in every tile it may cover), and where the
   // compare takes the planes, its planes by id (each id written by its own triangle's setup).
   const NearPointW nearW = nearPointW(generator);
-  const bool fromPlanes = decided == DecidedHits::FromPlanes && nearW.margin < kInf;
+  // The compare evaluates no planes under depth clamp (its depth is clamped, and its rays start at
+  // the eye): decided pixels are tested there.
+  const bool fromPlanes =
+      decided == DecidedHits::FromPlanes && nearW.margin < kInf && !camera.depthClamp;
   // The per-triangle arrays are frame buffers (FrameBuffers.hpp): each slot is written by its own
   // triangle's setup, and a terrain's 16 MB of setups are the pages the last frame released, not
   // fresh ones to fault in and zero. A triangle's planes are read only where it was decided.
@@ -388,7 +433,14 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
                                     clipEdges.empty() ? nullptr : &clipEdges[k]);
         }
       });
+  // A triangle that may meet depth clamp's eye box: a ray may hit it where neither the bins nor
+  // Delta hold.
+  if (std::any_of(setups.begin(), setups.end(), [](const TriangleSetup& t) { return t.nearEye; })) {
+    return traceByRays("a triangle passes within the depth-clamped rays' reach of the eye");
+  }
   frame.planesById = planes;
+  result.rayDeviationNdc = delta;
+  result.used = true;
   const bool avx2 = detail::PacketKernels::available();
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
     ScreenEvaluation counts;

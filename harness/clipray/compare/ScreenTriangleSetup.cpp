@@ -40,6 +40,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "clipray/intersect/FrameBins.hpp"
+
 namespace clipray::screen {
 
 namespace {
@@ -98,6 +100,41 @@ double clipReach(const RobustRayGenerator& generator, const glm::dvec3& referenc
          (1.0 + 0x1p-20);
 }
 
+// Whether the triangle of clip vertices h_k (each within error_k of its exact x, y and w) may meet
+// the eye box of depth clamp (FrameTerms::eyeBoxW): not when the box's axes separate them (all
+// three beyond one of its faces), nor when the triangle's plane in clip (x, y, w) misses it. That
+// plane is n . q = det[h0, h1, h2] with n = (h1 - h0) x (h2 - h0), so its value at the box's
+// centre (0, 0, c) is n_w c - det (det within detError); the box reaches |n_x| b + |n_y| b +
+// |n_w| h of it (half sizes b, b, h), and n's rounding and the vertices' moves add at most
+// gamma(4) |n terms| + 4 max error_k (|h1 - h0|_1 + |h2 - h0|_1) per component.
+bool mayMeetEyeBox(const FrameTerms& frame, const glm::dvec4 (&clip)[3], const double (&error)[3],
+                   double det, double detError) {
+  const double b = frame.eyeBoxXY, wHigh = frame.eyeBoxW, wLow = -frame.eyeBoxBelowW;
+  const auto allThree = [](auto beyondFace) {
+    return beyondFace(0) && beyondFace(1) && beyondFace(2);
+  };
+  if (allThree([&](int j) { return clip[j].w - error[j] >= wHigh; }) ||
+      allThree([&](int j) { return clip[j].w + error[j] < wLow; }) ||
+      allThree([&](int j) { return clip[j].x - error[j] > b; }) ||
+      allThree([&](int j) { return clip[j].x + error[j] < -b; }) ||
+      allThree([&](int j) { return clip[j].y - error[j] > b; }) ||
+      allThree([&](int j) { return clip[j].y + error[j] < -b; })) {
+    return false;
+  }
+  const glm::dvec3 p(clip[1].x - clip[0].x, clip[1].y - clip[0].y, clip[1].w - clip[0].w);
+  const glm::dvec3 q(clip[2].x - clip[0].x, clip[2].y - clip[0].y, clip[2].w - clip[0].w);
+  const glm::dvec3 n = glm::cross(p, q);
+  const double moves = 4.0 * std::max({error[0], error[1], error[2]}) *
+                       (std::abs(p.x) + std::abs(p.y) + std::abs(p.z) + std::abs(q.x) +
+                        std::abs(q.y) + std::abs(q.z));
+  const glm::dvec3 nError = gamma(4) * absCross(p, q) + moves;
+  const double centre = 0.5 * (wHigh + wLow), half = 0.5 * (wHigh - wLow);
+  const double value = n.z * centre - det;
+  const double reach = (std::abs(n.x) + nError.x + std::abs(n.y) + nError.y) * b +
+                       (std::abs(n.z) + nError.z) * (half + std::abs(centre)) + detError;
+  return !(std::abs(value) > kSlack * reach);
+}
+
 }  // namespace
 
 // Delta: how far, in NDC, any point of a pixel's robust ray may project from the pixel centre
@@ -115,13 +152,65 @@ double clipReach(const RobustRayGenerator& generator, const glm::dvec3& referenc
 //    (|m_x| + |m_w|) . |delta d| / (|det| - its error). A parallel camera's w is constant: the
 //    error grows with t up to tMax (the same for every pixel: the near and far planes are
 //    parallel), |m_x| . |delta d| tMax / (|d| w).
+namespace {
+
+// |fl(M P) - I| + gamma(5) |M| |P|: what bounds M P - I for the matrices as computed.
+glm::dmat4 inverseResidual(const glm::dmat4& m, const glm::dmat4& p) {
+  glm::dmat4 residual = absolute(m * p - glm::dmat4(1.0));
+  const glm::dmat4 sizes = absolute(m) * absolute(p);
+  for (int c = 0; c < 4; ++c) residual[c] += gamma(5) * sizes[c];
+  return residual;
+}
+
+// The direction's error bound |delta d| and what the perspective stray reads (rayDeviation's
+// comment): d3 = m_x x m_y and the cross products' error.
+struct DirectionTerms {
+  glm::dvec3 d3, crossError, deltaD;
+};
+
+DirectionTerms directionTerms(const glm::dmat4& m) {
+  const glm::dvec3 mx = row3(m, 0), my = row3(m, 1), mw = row3(m, 3);
+  const glm::dvec3 d1 = glm::cross(my, mw), d2 = glm::cross(mw, mx), d3 = glm::cross(mx, my);
+  const glm::dvec3 crossError = gamma(2) * (absCross(my, mw) + absCross(mw, mx) + absCross(mx, my));
+  const glm::dvec3 sizeD = glm::abs(d1) + glm::abs(d2) + glm::abs(d3);
+  return {d3, crossError, crossError + gamma(8) * sizeD};
+}
+
+// A perspective camera's rays: the NDC stray their direction adds (over the whole ray) and the
+// rate of clip w along the unnormalized direction, |det| less its error; nullopt with the reason.
+struct PerspectiveStray {
+  double direction, rate;
+};
+std::optional<PerspectiveStray> perspectiveStray(const RobustRayGenerator& generator,
+                                                 const DirectionTerms& terms, std::string& reason) {
+  // The bound needs w to grow along the ray (the robust direction's sign: away from the eye).
+  if (!(generator.facingSign() > 0.0)) {
+    reason = "rays along which clip w falls (a near plane on the eye's visible side)";
+    return std::nullopt;
+  }
+  const glm::dmat4& m = generator.clipFromWorld();
+  const glm::dvec3 mx = row3(m, 0), my = row3(m, 1), mw = row3(m, 3);
+  const double det = glm::dot(mw, terms.d3);
+  const double detError = gamma(3) * glm::dot(glm::abs(mw), glm::abs(terms.d3)) +
+                          glm::dot(glm::abs(mw), terms.crossError + terms.deltaD);
+  const double rate = std::abs(det) - detError;
+  if (!(rate > 0.0)) {
+    reason = "the rays' rate of clip w has no bound";
+    return std::nullopt;
+  }
+  return PerspectiveStray{std::max(glm::dot(glm::abs(mx) + glm::abs(mw), terms.deltaD),
+                                   glm::dot(glm::abs(my) + glm::abs(mw), terms.deltaD)) /
+                              rate,
+                          rate};
+}
+
+}  // namespace
+
 std::optional<double> rayDeviation(const RobustRayGenerator& generator, std::string& reason) {
   const glm::dmat4& m = generator.clipFromWorld();
   const glm::dmat4& p = generator.worldFromClip();
   const glm::dmat4 absM = absolute(m), absP = absolute(p);
-  glm::dmat4 residual = absolute(m * p - glm::dmat4(1.0));
-  const glm::dmat4 sizes = absM * absP;
-  for (int c = 0; c < 4; ++c) residual[c] += gamma(5) * sizes[c];
+  const glm::dmat4 residual = inverseResidual(m, p);
   const glm::dvec4 s(1.0, 1.0, std::abs(generator.mode().nearNdcZ()), 1.0);
   const glm::dvec4 q = residual * s + gamma(6) * (absM * (absP * s));
   if (!(q.w < 0.25)) {
@@ -130,41 +219,97 @@ std::optional<double> rayDeviation(const RobustRayGenerator& generator, std::str
   }
   const double nearPoint = (std::max(q.x, q.y) + q.w) / (1.0 - q.w);
 
-  const glm::dvec3 mx = row3(m, 0), my = row3(m, 1), mw = row3(m, 3);
-  const glm::dvec3 d1 = glm::cross(my, mw), d2 = glm::cross(mw, mx), d3 = glm::cross(mx, my);
-  const glm::dvec3 crossError = gamma(2) * (absCross(my, mw) + absCross(mw, mx) + absCross(mx, my));
-  const glm::dvec3 sizeD = glm::abs(d1) + glm::abs(d2) + glm::abs(d3);
-  const glm::dvec3 deltaD = crossError + gamma(8) * sizeD;
+  const DirectionTerms terms = directionTerms(m);
   double direction = 0.0;
-  if (mw == glm::dvec3(0.0)) {
+  if (generator.isParallel()) {
     const double w = std::abs(m[3][3]);
     const double tMax = generator.generate({0.0, 0.0}).tMax;
-    const double length = glm::length(d3) - glm::length(deltaD);
+    const double length = glm::length(terms.d3) - glm::length(terms.deltaD);
     if (!std::isfinite(tMax) || !(w > 0.0) || !(length > 0.0)) {
       reason = "a parallel camera without a finite far plane";
       return std::nullopt;
     }
-    const double stray = std::max(glm::dot(glm::abs(mx), deltaD), glm::dot(glm::abs(my), deltaD));
+    const glm::dvec3 mx = row3(m, 0), my = row3(m, 1);
+    const double stray =
+        std::max(glm::dot(glm::abs(mx), terms.deltaD), glm::dot(glm::abs(my), terms.deltaD));
     direction = stray * tMax * (1.0 + 0x1p-20) / (length * w);
   } else {
-    // The bound needs w to grow along the ray (the robust direction's sign: away from the eye).
-    if (!(generator.facingSign() > 0.0)) {
-      reason = "rays along which clip w falls (a near plane on the eye's visible side)";
-      return std::nullopt;
-    }
-    const double det = glm::dot(mw, d3);
-    const double detError = gamma(3) * glm::dot(glm::abs(mw), glm::abs(d3)) +
-                            glm::dot(glm::abs(mw), crossError + deltaD);
-    const double rate = std::abs(det) - detError;
-    if (!(rate > 0.0)) {
-      reason = "the rays' rate of clip w has no bound";
-      return std::nullopt;
-    }
-    direction = std::max(glm::dot(glm::abs(mx) + glm::abs(mw), deltaD),
-                         glm::dot(glm::abs(my) + glm::abs(mw), deltaD)) /
-                rate;
+    const std::optional<PerspectiveStray> stray = perspectiveStray(generator, terms, reason);
+    if (!stray) return std::nullopt;
+    direction = stray->direction;
   }
   return kSlack * (nearPoint + direction);
+}
+
+// Under depth clamp the rays' origins move (RobustRays' reachForDepthClamp):
+//  - A parallel camera's near point o moves back to o - r d (r = parallelReach, |d| = 1 within
+//    gamma(5)), rounded: the line moves by at most gamma(2) (|o| + r |d|) per coordinate, which
+//    shifts its NDC by (|m_x| . e) / w at the constant w; the direction's stray grows with t up
+//    to the longer tMax, which rayDeviation reads from the generator.
+//  - A perspective camera's origin is the eye as computed, E' = fl(c / c_w) with c = P column 2:
+//    M (c / c_w, 1) = (M c) / c_w exactly (its w part is c_w / c_w), and M c is column 2 of M P,
+//    within the residual of e_2, so E''s clip x, y and w are within e_r = R[2][r] / |c_w| +
+//    gamma(2) |m_r| . |E'| of 0. Along E' + t d, x - s w = (x_E - s w_E) + t (m_x - s m_w) .
+//    delta d and w = w_E + t (m_w . d) with m_w . d >= rate: the NDC stray at clip w is at most
+//    direction + (e_x + e_w + direction e_w) / w (direction: the stray rayDeviation bounds per
+//    unit of w, |s| <= 1), so at every crossing of w >= wLeast its value there. The points of a
+//    ray below wLeast have |x|, |y| <= wLeast + e_x + e_w + direction (wLeast + e_w), w >= -e_w:
+//    the eye box, which no triangle may meet (setupTriangle's nearEye). wLeast = 2^-16 times the
+//    near plane's least w: far enough from the eye that the bins' cut there rounds little, near
+//    enough that a triangle meets the box only when it passes that close to the eye.
+std::optional<DepthClampReach> depthClampDeviation(const RobustRayGenerator& generator,
+                                                   std::string& reason) {
+  const glm::dmat4& m = generator.clipFromWorld();
+  const glm::dmat4& p = generator.worldFromClip();
+  const std::optional<double> wNear = FrameBins::nearPlaneW(m, generator.mode());
+  if (!wNear) {
+    reason = "depth clamp where the near plane is not in front of the camera";
+    return std::nullopt;
+  }
+  DepthClampReach reach;
+  if (generator.isParallel()) {
+    const std::optional<double> delta = rayDeviation(generator, reason);
+    if (!delta) return std::nullopt;
+    double origin = 0.0;  // the largest |o| (inf-norm) of a near point
+    for (const double x : {-1.0, 1.0}) {
+      for (const double y : {-1.0, 1.0}) {
+        const glm::dvec4 corner = p * glm::dvec4(x, y, generator.mode().nearNdcZ(), 1.0);
+        origin = std::max(origin, maxAbs(glm::dvec3(corner) / corner.w));
+      }
+    }
+    const double e =
+        gamma(2) * (origin + generator.depthClamp().parallelReach) * (1.0 + 0x1p-20) + kUnit;
+    const glm::dvec3 mx = glm::abs(row3(m, 0)), my = glm::abs(row3(m, 1));
+    const double shift = std::max(mx.x + mx.y + mx.z, my.x + my.y + my.z) * e / std::abs(m[3][3]);
+    reach.delta = *delta + kSlack * shift;
+    reach.wLeast = 0.5 * *wNear;  // the bins' default: every point of the frame has w = m[3][3]
+    if (!std::isfinite(reach.delta)) {
+      reason = "the depth-clamped rays' stray has no bound";
+      return std::nullopt;
+    }
+    return reach;
+  }
+  const DirectionTerms terms = directionTerms(m);
+  const std::optional<PerspectiveStray> stray = perspectiveStray(generator, terms, reason);
+  if (!stray) return std::nullopt;
+  const glm::dmat4 residual = inverseResidual(m, p);
+  const double cw = std::abs(p[2][3]);
+  const glm::dvec3 eye = glm::abs(generator.eye());
+  const auto eyeClip = [&](int r) {
+    return residual[2][r] / cw + gamma(2) * glm::dot(glm::abs(row3(m, r)), eye);
+  };
+  const double ex = std::max(eyeClip(0), eyeClip(1)), ew = eyeClip(3);
+  reach.wLeast = 0x1p-16 * *wNear;
+  const double direction = stray->direction;
+  if (!(cw > 0.0) || !(4.0 * ew < reach.wLeast) || !std::isfinite(ex)) {
+    reason = "the depth-clamped rays' eye has no bound";
+    return std::nullopt;
+  }
+  reach.delta = kSlack * (direction + (ex + ew + direction * ew) / reach.wLeast);
+  reach.eyeBoxW = reach.wLeast;
+  reach.eyeBoxBelowW = kSlack * ew;
+  reach.eyeBoxXY = kSlack * (reach.wLeast + ex + ew + direction * (reach.wLeast + ew));
+  return reach;
 }
 
 std::optional<double> clipCutDeviation(const RobustRayGenerator& generator,
@@ -204,7 +349,7 @@ std::optional<double> clipCutDeviation(const RobustRayGenerator& generator,
 
 FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& generator,
                       const glm::dmat4& clipFromRelative, const glm::dvec3& reference, double delta,
-                      double sceneExtent) {
+                      double sceneExtent, const DepthClampReach* clamp) {
   FrameTerms terms;
   terms.viewport = camera.viewport;
   terms.delta = delta;
@@ -236,6 +381,19 @@ FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& gen
   const glm::dvec3 farXyz =
       row3(camera.clipFromWorld, 2) - mode.farNdcZ() * row3(camera.clipFromWorld, 3);
   terms.keyFar = farXyz == glm::dvec3(0.0) ? kInf : std::abs(mode.farNdcZ() - mode.nearNdcZ());
+  if (clamp) {
+    // The rays start at the eye (a parallel camera's parallelReach behind the near points) and
+    // reach beyond the far plane where beyondFar says so (RobustRays' DepthClampRays).
+    terms.keyNearIn = terms.keyNearOut = -kInf;
+    if (generator.depthClamp().beyondFar) terms.keyFar = kInf;
+    terms.nearExtent =
+        generator.isParallel()
+            ? terms.nearExtent + generator.depthClamp().parallelReach * (1.0 + 0x1p-20)
+            : maxAbs(generator.eye() - reference) * (1.0 + 0x1p-20);
+    terms.eyeBoxW = clamp->eyeBoxW;
+    terms.eyeBoxXY = clamp->eyeBoxXY;
+    terms.eyeBoxBelowW = clamp->eyeBoxBelowW;
+  }
   return terms;
 }
 
@@ -283,6 +441,7 @@ TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& 
   const double detError = kSlack * (gamma(5) * magnitude[0] * hSize + error[0] * magnitude[0] +
                                     error[1] * magnitude[1] + error[2] * magnitude[2]);
   if (std::abs(det) > detError) setup.sign = det > 0.0 ? 1.0 : -1.0;
+  if (frame.eyeBoxW > 0.0) setup.nearEye = mayMeetEyeBox(frame, clip, error, det, detError);
 
   // The depth plane: z(s) = sum_k E_k(s) z_k / det (barycentrics E_k / sum E, clip w det / sum E).
   // Its error: each E_k's (as above) times |z_k|, each z_k's times |E_k| <= magnitude_k, the

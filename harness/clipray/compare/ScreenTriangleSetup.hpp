@@ -44,6 +44,14 @@ struct FrameTerms {
   double nearExtent = 0.0;           // the largest |o - reference| (inf-norm) of a ray origin
   double zNear = 0.0, sigma = 1.0;   // the near plane's NDC z; sigma: the depth's direction
   double keyFar = kInf;              // sigma (z_far - z_near); +inf for an infinite far plane
+  // A crossing's lower key above keyNearIn is surely beyond the ray's start, its upper key below
+  // keyNearOut surely before it: +-kRangeMargin about the near plane; both -inf under depth clamp,
+  // whose rays start at the eye (every crossing a binned ray can reach lies beyond it).
+  double keyNearIn = kRangeMargin, keyNearOut = -kRangeMargin;
+  // Under depth clamp with a perspective camera, the clip (x, y, w) box that holds every point of
+  // every ray with w below eyeBoxW: |x|, |y| <= eyeBoxXY, -eyeBoxBelowW <= w < eyeBoxW (the bins
+  // and Delta hold from eyeBoxW on); eyeBoxW 0: no such box.
+  double eyeBoxW = 0.0, eyeBoxXY = 0.0, eyeBoxBelowW = 0.0;
   Viewport viewport;
   // The camera's user clip planes folded to the reference (n . p_relative + d'), each with the
   // margin beyond which a vertex's side of it is the cut ray's (clipCutDeviation's comment).
@@ -66,6 +74,9 @@ struct TriangleSetup {
   // never surely crossed (a triangle every plane keeps whole is not cut; one a plane clips whole
   // matters to no pixel).
   bool clipped = false;
+  // The triangle may meet FrameTerms' eye box (a depth-clamped ray may reach it where neither the
+  // bins nor Delta hold): the frame is the ray path's.
+  bool nearEye = false;
 };
 
 // Where a triangle is cut by one user clip plane, over the pixel centre s: the crossing surely kept
@@ -88,11 +99,25 @@ std::optional<double> clipCutDeviation(const RobustRayGenerator& generator,
                                        const glm::dvec3& reference, double sceneExtent,
                                        std::string& reason);
 
+// Under depth clamp (RobustRayGenerator::depthClamp): the rays' Delta, at every crossing of clip
+// w at least wLeast for a perspective camera, whose rays start at the eye (their stray from the
+// line of sight grows as 1 / w towards it), and the box of FrameTerms::eyeBoxW that holds their
+// points below wLeast (eyeBoxW 0 for a parallel camera, whose rays start parallelReach behind the
+// near plane and keep one w); nullopt, with the reason, where they have no such bound.
+struct DepthClampReach {
+  double delta = 0.0;
+  double wLeast = 0.0;  // the screen bins' wClip
+  double eyeBoxW = 0.0, eyeBoxXY = 0.0, eyeBoxBelowW = 0.0;
+};
+std::optional<DepthClampReach> depthClampDeviation(const RobustRayGenerator& generator,
+                                                   std::string& reason);
+
 // The terms of the camera's frame: clipFromRelative is the screen bins' (FrameBins), reference the
 // intersector's, delta from rayDeviation (and clipCutDeviation), sceneExtent as there.
+// Under depth clamp, clamp is depthClampDeviation's (its delta the one given).
 FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& generator,
                       const glm::dmat4& clipFromRelative, const glm::dvec3& reference, double delta,
-                      double sceneExtent = 0.0);
+                      double sceneExtent = 0.0, const DepthClampReach* clamp = nullptr);
 
 // The setup of a triangle for the walk; where planes is given, also the triangle's depth plane and
 // the plane of 1 / clip w where the line of sight crosses it, r(x, y) = ra x + rb y + rc (the sum

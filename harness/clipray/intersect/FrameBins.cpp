@@ -90,6 +90,11 @@ void triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, double wC
   if (inside == 0) return;  // wholly where no binned ray goes
   std::array<ClipPoint, 4> polygon;
   int count = 0;
+  // Where w = wClip cuts an edge, the cut point's clip x and y are off by the corners' rounding
+  // (2^-50 of their magnitudes) and the interpolation's (a few u of |p.x| + |q.x|), and its w by
+  // the corners' w rounding, which moves the cut along the edge by dx/dw times that: over wClip,
+  // 2^-46 of these bounds the cut point's NDC error with room (clippedErrorX, Y).
+  double clippedErrorX = 0.0, clippedErrorY = 0.0;
   for (int k = 0; k < 3; ++k) {
     const ClipPoint& p = corner[k];
     const ClipPoint& q = corner[(k + 1) % 3];
@@ -98,6 +103,11 @@ void triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, double wC
     if (pIn != qIn) {
       const double s = (p.w - wClip) / (p.w - q.w);
       polygon[count++] = {p.x + s * (q.x - p.x), p.y + s * (q.y - p.y), wClip};
+      const ClipMagnitude& mp = magnitude[k];
+      const ClipMagnitude& mq = magnitude[(k + 1) % 3];
+      const double wMove = (mp.w + mq.w) / std::abs(p.w - q.w);
+      clippedErrorX = std::max(clippedErrorX, mp.x + mq.x + std::abs(q.x - p.x) * wMove);
+      clippedErrorY = std::max(clippedErrorY, mp.y + mq.y + std::abs(q.y - p.y) * wMove);
     }
   }
   double xMin = std::numeric_limits<double>::infinity(), xMax = -xMin;
@@ -133,7 +143,13 @@ void triangleRect(const glm::dmat4& m, const detail::BvhTriangle& tri, double wC
   // magnitude.w) / w + u |x / w|), and the pixel coordinate by size / 2 times that plus a few
   // roundings of (|x / w| + 1) size / 2: 2^-48 covers them all with room.
   double padX = FrameBins::kClippedPaddingPx, padY = FrameBins::kClippedPaddingPx;
-  if (inside == 3) {
+  if (inside != 3) {
+    // A cut at a small wClip (depth clamp's, near the eye) may round by more than the fixed
+    // padding: the bound above in pixels, with the rays' tolerance (NaN: the whole range).
+    const double base = FrameBins::kRayTolerancePx + FrameBins::kMarginPx;
+    padX = std::max(padX, base + 0x1p-46 * (0.5 * viewport.width) * clippedErrorX / wClip);
+    padY = std::max(padY, base + 0x1p-46 * (0.5 * viewport.height) * clippedErrorY / wClip);
+  } else {
     double errorX = 0.0, errorY = 0.0;
     for (int k = 0; k < 3; ++k) {
       // Unclipped: polygon k is corner k, w >= wClip, so its projection is already at hand.
@@ -265,27 +281,6 @@ void forEachTile(const PixelRect& r, Emit&& emit) {
       if (mask != 0) emit(tx, ty, static_cast<std::uint16_t>(mask));
     }
   }
-}
-
-// The near plane's clip w: the world point unprojected from (x, y, z_near) has homogeneous
-// weight Pw = row 3 of worldFromClip . (x, y, z_near, 1), and clip w = 1 / Pw. Pw is affine in
-// (x, y), so across the viewport its extremes are at the corners. Rays that start on the near
-// plane have w >= wNear there. None when the near plane is not in front of the camera across the
-// viewport.
-std::optional<double> nearPlaneW(const glm::dmat4& clipFromWorld, DepthMode mode) {
-  const glm::dmat4 worldFromClip = glm::inverse(clipFromWorld);
-  const double zNear = mode.nearNdcZ();
-  double wNear = std::numeric_limits<double>::infinity();
-  for (const double x : {-1.0, 1.0}) {
-    for (const double y : {-1.0, 1.0}) {
-      const double pw = worldFromClip[0][3] * x + worldFromClip[1][3] * y +
-                        worldFromClip[2][3] * zNear + worldFromClip[3][3];
-      if (!(pw > 0.0) || !std::isfinite(pw)) return std::nullopt;
-      wNear = std::min(wNear, 1.0 / pw);
-    }
-  }
-  if (!(wNear > 0.0) || !std::isfinite(wNear)) return std::nullopt;
-  return wNear;
 }
 
 // The corners of an analytic primitive's local box (the square for a disk or quad) in clip space.
@@ -450,8 +445,29 @@ void runChunks(unsigned count, const Work& work) {
 
 }  // namespace
 
+// The near plane's clip w: the world point unprojected from (x, y, z_near) has homogeneous
+// weight Pw = row 3 of worldFromClip . (x, y, z_near, 1), and clip w = 1 / Pw. Pw is affine in
+// (x, y), so across the viewport its extremes are at the corners. Rays that start on the near
+// plane have w >= wNear there. None when the near plane is not in front of the camera across the
+// viewport.
+std::optional<double> FrameBins::nearPlaneW(const glm::dmat4& clipFromWorld, DepthMode mode) {
+  const glm::dmat4 worldFromClip = glm::inverse(clipFromWorld);
+  const double zNear = mode.nearNdcZ();
+  double wNear = std::numeric_limits<double>::infinity();
+  for (const double x : {-1.0, 1.0}) {
+    for (const double y : {-1.0, 1.0}) {
+      const double pw = worldFromClip[0][3] * x + worldFromClip[1][3] * y +
+                        worldFromClip[2][3] * zNear + worldFromClip[3][3];
+      if (!(pw > 0.0) || !std::isfinite(pw)) return std::nullopt;
+      wNear = std::min(wNear, 1.0 / pw);
+    }
+  }
+  if (!(wNear > 0.0) || !std::isfinite(wNear)) return std::nullopt;
+  return wNear;
+}
+
 FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWorld, DepthMode mode,
-                     Viewport viewport, unsigned threadCount)
+                     Viewport viewport, unsigned threadCount, std::optional<double> wClip)
     : viewport_(viewport) {
   if (viewport.width <= 0 || viewport.height <= 0) return;
   tilesAcross_ = (viewport.width + kTile - 1) / kTile;
@@ -459,9 +475,14 @@ FrameBins::FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWo
   // Triangles are stored relative to the reference point: fold it into the translation column.
   clipFromRelative_ = clipFromWorld;
   clipFromRelative_[3] = clipFromWorld * glm::dvec4(scene.reference(), 1.0);
-  const std::optional<double> wNear = nearPlaneW(clipFromWorld, mode);
-  if (!wNear) return;     // no near plane in front: no bins
-  wClip_ = 0.5 * *wNear;  // half the rays' smallest w: a factor 2 of margin
+  if (wClip) {
+    if (!(*wClip > 0.0) || !std::isfinite(*wClip)) return;
+    wClip_ = *wClip;
+  } else {
+    const std::optional<double> wNear = nearPlaneW(clipFromWorld, mode);
+    if (!wNear) return;     // no near plane in front: no bins
+    wClip_ = 0.5 * *wNear;  // half the rays' smallest w: a factor 2 of margin
+  }
   boundPrimitives(scene);
   usable_ = binTriangles(scene, threadCount);
 }

@@ -19,6 +19,7 @@
 // near plane or whose w can fall below wClip is traced by the BVH instead.
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -53,10 +54,16 @@ class FrameBins {
   // first), so a generous fixed padding.
   static constexpr double kClippedPaddingPx = 1.0;
 
-  // Bins every triangle of `scene` (threadCount 0: hardware concurrency). usable() is false when
-  // the camera has no near plane in front of it across the viewport (then nothing is binned).
+  // Bins every triangle of `scene` (threadCount 0: hardware concurrency), clipped at wClip: by
+  // default half the near plane's least w over the viewport (the rays start on the near plane),
+  // else the given one (depth clamp's rays start at the eye; the caller answers for the part
+  // below it). usable() is false when the camera has no near plane in front of it across the
+  // viewport and no wClip is given, or the given one is not positive (then nothing is binned).
   FrameBins(const SceneIntersector& scene, const glm::dmat4& clipFromWorld, DepthMode mode,
-            Viewport viewport, unsigned threadCount);
+            Viewport viewport, unsigned threadCount, std::optional<double> wClip = std::nullopt);
+  // The near plane's least clip w over the viewport; none when the near plane is not in front of
+  // the camera across it.
+  static std::optional<double> nearPlaneW(const glm::dmat4& clipFromWorld, DepthMode mode);
 
   bool usable() const { return usable_; }
   Viewport viewport() const { return viewport_; }

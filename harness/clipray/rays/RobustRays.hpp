@@ -80,6 +80,10 @@ class RobustRayGenerator {
   std::span<const glm::dvec4> clipPlanes() const { return clipPlanes_; }
   // Row 3 of the matrix has no xyz part: w is constant, a parallel projection.
   bool isParallel() const { return parallel_; }
+  // The rays GL_DEPTH_CLAMP needs, when enabled (DepthClampRays); then a perspective camera's rays
+  // all start at eye(), the eye as computed (worldFromClip column 2 over its w).
+  const DepthClampRays& depthClamp() const { return depthClamp_; }
+  const glm::dvec3& eye() const { return eye_; }
   // The sign s of the direction test s * dot(facing, d) > 0 (see facingNormal_); the GLSL rays
   // of the analytic primitives (shaders/camera_rays.glsl) take it as a uniform.
   double facingSign() const { return facingSign_; }
