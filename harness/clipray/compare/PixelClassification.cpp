@@ -346,7 +346,8 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
 #endif
   // A parallel camera's distance figure is relative to its ray's interval, which the user clip
   // planes shorten: its plane pixels go along their rays where it has planes.
-  if (analytic.planesById && setup.oneDepthRange() && !setup.depthClamp.enabled &&
+  if (analytic.planesById && setup.oneDepthRange() &&
+      (!setup.depthClamp.enabled || (!parallel_ && setup.defaultDepthRange())) &&
       setup.objectOffsets.empty() && !setup.logDepth &&
       !(parallel_ && (!setup.clipPlanes.empty() || !setup.objectClipPlanes.empty()))) {
     planes_ = analytic.planesById.get();
@@ -372,6 +373,8 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
     in.parallel = parallel_;
     in.eyeClipZ = glm::dot(rowZ_, glm::dvec4(eye_, 1.0));
     in.depthSpan = std::abs(setup.mode.farNdcZ() - setup.mode.nearNdcZ());
+    in.clampLow = setup.depthClamp.enabled ? 0.0 : -kInf;
+    in.clampHigh = setup.depthClamp.enabled ? 1.0 : kInf;
   }
 }
 

@@ -62,6 +62,9 @@ struct PlaneFrameConstants {
   bool parallel;
   double eyeClipZ;   // the eye's clip z (its x, y and w are 0): distances along a sight line
   double depthSpan;  // |z_far - z_near| in NDC: a parallel camera's depth of view
+  // Under depth clamp the depth range's ends (0 and 1): a pixel whose depth lies within its
+  // planes' reach of either may be clamped, and the ray path decides it; else -inf and +inf.
+  double clampLow, clampHigh;
 };
 struct FourPlanePixels {
   const TrianglePlanes* planes[4];
@@ -134,8 +137,9 @@ class FrameClassifier {
   bool fourAtOnce_ = false;
   FourPixelsInput fourInput_{};
   // The screen path's planes, where the frame has them and this setup stores the projective depth
-  // through one mapping (no depth clamp, polygon offset or depth the shader writes); else null,
-  // and its pixels are classified along their rays.
+  // through one mapping (no polygon offset or depth the shader writes; depth clamp only with the
+  // default range and a perspective camera, whose rays' distances are the sight lines' from the
+  // eye); else null, and its pixels are classified along their rays.
   const FrameVector<TrianglePlanes>* planes_ = nullptr;
   DepthMapping planeMapping_{};
   std::vector<double> clipXOfColumn_;  // NDC x of each column's pixel centre

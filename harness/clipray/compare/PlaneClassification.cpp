@@ -111,6 +111,9 @@ using FloatBits = unsigned __attribute__((vector_size(16)));
   const Lanes rasterDepth = __builtin_convertvector(rasterFloats, Lanes);
   const Lanes error = absolute(rasterDepth - depth);
   const Lanes reach = 2.0 * planeField(p, &TrianglePlanes::depthError) * in.toWindow;
+  // Depth clamp: clear of the range's ends by the reach (else it may be clamped).
+  const Mask inRange = (depth - reach > in.clampLow) & (depth + reach < in.clampHigh);
+  if ((inRange[0] & inRange[1] & inRange[2] & inRange[3]) == 0) return false;
   Lanes quantum = Lanes{} + in.fixedQuantum;
   if (in.fixedQuantum == 0.0) {
     // One float quantum over the depths' reach (else the ray path decides). The quantum grows
@@ -177,17 +180,22 @@ bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc
   const double reciprocalW = p.ra * xNdc + (p.rb * yNdc + p.rc);
   if (!(reciprocalW > 0.0) || !std::isfinite(zNdc) || !std::isfinite(reciprocalW)) return false;
 
-  const double depth = planeMapping_.windowDepth(zNdc);
+  // Under depth clamp, the depth before the clamp, clear of the range's ends by the planes' reach
+  // (else it may be clamped: the ray path decides).
+  const double depth = planeMapping_.mappedWindowDepth(zNdc);
+  const double toWindow = model_.windowFromNdcScale_;
+  const double reach = 2.0 * p.depthError * toWindow;
+  if (!(depth - reach > planeConstants_.clampLow && depth + reach < planeConstants_.clampHigh)) {
+    return false;
+  }
   const double rasterDepth = raster_.depth[i];
   const double error = std::abs(rasterDepth - depth);
   const double quantum = quantumAt(setup_.depthFormat, depth);
-  const double toWindow = model_.windowFromNdcScale_;
   const double tolerance =
       triangleDepthToleranceAtNdc(model_.pixelTerms_[slot], xNdc, yNdc, zNdc, reciprocalW, depth,
                                   quantum, toWindow, model_.subpixelStep_, raster_.viewport);
   // Certain: the error clear of the tolerance by both depths' reach and the tolerance's spread,
   // and one float quantum over the depths' reach.
-  const double reach = 2.0 * p.depthError * toWindow;
   if (!(std::abs(error - tolerance) > reach + 0x1p-20 * tolerance)) return false;
   if (setup_.depthFormat == DepthFormat::Float32) {
     const double span = reach + 0x1p-40 * std::abs(depth);

@@ -401,10 +401,12 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   // Each triangle's setup once (a triangle is listed in every tile it may cover), and where the
   // compare takes the planes, its planes by id (each id written by its own triangle's setup).
   const NearPointW nearW = nearPointW(generator);
-  // The compare evaluates no planes under depth clamp (its depth is clamped, and its rays start at
-  // the eye): decided pixels are tested there.
-  const bool fromPlanes =
-      decided == DecidedHits::FromPlanes && nearW.margin < kInf && !camera.depthClamp;
+  // Under depth clamp every pixel has a ray (from the eye), and the compare evaluates a perspective
+  // camera's planes (a parallel one's rays reach behind the near plane: its distances are measured
+  // along them, so its decided pixels are tested).
+  const bool clampedParallel = camera.depthClamp && generator.isParallel();
+  const bool fromPlanes = decided == DecidedHits::FromPlanes && !clampedParallel &&
+                          (camera.depthClamp || nearW.margin < kInf);
   // The per-triangle arrays are frame buffers (FrameBuffers.hpp): each slot is written by its own
   // triangle's setup, and a terrain's 16 MB of setups are the pages the last frame released, not
   // fresh ones to fault in and zero. A triangle's planes are read only where it was decided.
@@ -486,10 +488,11 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
         if (primitive) std::fill(std::begin(state.unsureLow), std::end(state.unsureLow), -kInf);
         // Decided pixels take their planes where every ray of the tile surely exists.
         const bool tileFromPlanes =
-            fromPlanes && tileRaysExist(nearW, clipX[static_cast<std::size_t>(x0)],
-                                        clipX[static_cast<std::size_t>(x0 + columns - 1)],
-                                        clipY[static_cast<std::size_t>(y0)],
-                                        clipY[static_cast<std::size_t>(y0 + rows - 1)]);
+            fromPlanes &&
+            (camera.depthClamp || tileRaysExist(nearW, clipX[static_cast<std::size_t>(x0)],
+                                                clipX[static_cast<std::size_t>(x0 + columns - 1)],
+                                                clipY[static_cast<std::size_t>(y0)],
+                                                clipY[static_cast<std::size_t>(y0 + rows - 1)]));
         for (int ly = 0; ly < rows; ++ly) {
           bool raysMade = false;
           for (int lx = 0; lx < columns; ++lx) {
