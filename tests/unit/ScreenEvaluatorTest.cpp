@@ -16,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/gtc/matrix_transform.hpp>
+
 #include "clipray/compare/ScreenEvaluator.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/QuadReference.hpp"
@@ -286,9 +288,10 @@ TEST(ScreenEvaluator, EdgesAndVerticesThroughPixelCentresAreTracedAndMatch) {
   }
 }
 
-// Analytic primitives stay on rays: the tiles they may cover are traced, the rest decided. A
-// plane may cover any tile: with one, every pixel is traced.
-TEST(ScreenEvaluator, AnalyticPrimitivesTraceTheTilesTheyMayCover) {
+// Analytic primitives stay on rays: the pixels of their padded bounds are traced where the nearest
+// triangle may lie beyond their box's least depth, the rest decided. A plane may cover any pixel at
+// any depth: with one, every pixel is traced.
+TEST(ScreenEvaluator, AnalyticPrimitivesTraceThePixelsTheyMayCover) {
   const Scene withPlane = testing::fast_path::testSceneWithPrimitives();
   Scene bounded = withPlane;
   std::erase_if(bounded.primitives,
@@ -308,6 +311,44 @@ TEST(ScreenEvaluator, AnalyticPrimitivesTraceTheTilesTheyMayCover) {
       EXPECT_GT(e.decided, pixels / 8) << what;
     }
   }
+}
+
+// A sphere wholly behind a wall: its box's least depth lies beyond the wall's, so no pixel of its
+// bounds is traced; without the wall, every pixel it shows is.
+TEST(ScreenEvaluator, APrimitiveBehindTheNearestTriangleIsNotTraced) {
+  const PickingCamera camera = testing::fast_path::binnedCases(Viewport{96, 64})[0].camera;
+  const glm::dmat4 worldFromClip = glm::inverse(camera.clipFromWorld);
+  const auto unproject = [&](double x, double y, double along) {
+    const double z =
+        camera.mode.nearNdcZ() + along * (camera.mode.farNdcZ() - camera.mode.nearNdcZ());
+    const glm::dvec4 p = worldFromClip * glm::dvec4(x, y, z, 1.0);
+    return glm::dvec3(p) / p.w;
+  };
+  Scene wall;
+  wall.name = "wall";
+  MeshObject quad;
+  quad.name = "wall";
+  quad.worldPositions = {unproject(-0.8, -0.8, 0.3), unproject(0.8, -0.8, 0.3),
+                         unproject(0.8, 0.8, 0.3), unproject(-0.8, 0.8, 0.3)};
+  quad.triangles = {glm::u32vec3(0, 1, 2), glm::u32vec3(0, 2, 3)};
+  wall.objects.push_back(quad);
+  const glm::dvec3 centre = unproject(0.0, 0.0, 0.9);
+  const double radius = 0.05 * glm::length(centre - unproject(0.0, 0.0, 0.3));
+  AnalyticPrimitive sphere;
+  sphere.name = "sphere";
+  sphere.worldFromLocal =
+      glm::translate(glm::dmat4(1.0), centre) * glm::scale(glm::dmat4(1.0), glm::dvec3(radius));
+  sphere.localFromWorld = glm::inverse(sphere.worldFromLocal);
+  wall.primitives.push_back(sphere);
+  const ScreenEvaluation behind = expectTheRayPathsHits(wall, camera, "a sphere behind a wall");
+  ASSERT_TRUE(behind.used) << behind.reason;
+  EXPECT_EQ(behind.traced, 0u);
+  Scene open = wall;
+  open.objects.front().worldPositions = {unproject(-0.8, -0.8, 0.3), unproject(-0.7, -0.8, 0.3),
+                                         unproject(-0.7, -0.7, 0.3), unproject(-0.8, -0.7, 0.3)};
+  const ScreenEvaluation shown = expectTheRayPathsHits(open, camera, "a sphere in the open");
+  ASSERT_TRUE(shown.used) << shown.reason;
+  EXPECT_GT(shown.traced, 0u);
 }
 
 TEST(ScreenEvaluator, FramesOutsideItsDecisionsAreTheRayPathsWithTheReason) {

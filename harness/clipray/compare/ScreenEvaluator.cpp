@@ -299,6 +299,45 @@ bool analyticBoxesBeyond(const SceneIntersector& intersector, const glm::dmat4& 
   return true;
 }
 
+// Per analytic primitive, the least depth key (FrameTerms: sigma (z_ndc - z_near)) of any point of
+// its local box (the square of a disk or quad), lowered by far more than the corners' rounding: in
+// front of the eye z / w is quasi-linear, so its least key over the box lies at a corner. -inf for
+// a plane, or a box reaching behind the eye. A pixel's ray may hit the primitive only where the
+// nearest triangle's key could reach that low.
+std::vector<double> primitiveKeyLows(const SceneIntersector& intersector,
+                                     const glm::dmat4& clipFromWorld, const FrameTerms& terms) {
+  const glm::dvec4 rowZ(clipFromWorld[0][2], clipFromWorld[1][2], clipFromWorld[2][2],
+                        clipFromWorld[3][2]);
+  const glm::dvec4 rowW(clipFromWorld[0][3], clipFromWorld[1][3], clipFromWorld[2][3],
+                        clipFromWorld[3][3]);
+  const std::uint32_t first = static_cast<std::uint32_t>(intersector.triangleCount()) + 1;
+  std::vector<double> lows;
+  for (std::size_t p = 0; p < intersector.analyticCount(); ++p) {
+    const AnalyticPrimitive& primitive =
+        intersector.analyticPrimitive(first + static_cast<std::uint32_t>(p));
+    double low = kInf;
+    const bool flat =
+        primitive.kind == PrimitiveKind::Disk || primitive.kind == PrimitiveKind::Quad;
+    for (int k = 0; k < 8 && primitive.kind != PrimitiveKind::Plane; ++k) {
+      const glm::dvec4 local((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0,
+                             flat ? 0.0 : ((k & 4) ? 1.0 : -1.0), 1.0);
+      const glm::dvec4 world = primitive.worldFromLocal * local;
+      const double z = glm::dot(rowZ, world), w = glm::dot(rowW, world);
+      const double zSize = glm::dot(glm::abs(rowZ), glm::abs(world));
+      const double wSize = glm::dot(glm::abs(rowW), glm::abs(world));
+      if (!(w - 0x1p-40 * wSize > 0.0)) {
+        low = -kInf;
+        break;
+      }
+      const double key = terms.sigma * (z / w - terms.zNear);
+      const double rounding = (zSize + std::abs(z / w) * wSize) / w;
+      low = std::min(low, key - 0x1p-30 * (rounding + std::abs(key) + 1.0));
+    }
+    lows.push_back(primitive.kind == PrimitiveKind::Plane || std::isnan(low) ? -kInf : low);
+  }
+  return lows;
+}
+
 bool tileRaysExist(const NearPointW& w, double xLow, double xHigh, double yLow, double yHigh) {
   const double lowest = std::min({w.a * xLow + w.b * yLow, w.a * xLow + w.b * yHigh,
                                   w.a * xHigh + w.b * yLow, w.a * xHigh + w.b * yHigh}) +
@@ -443,6 +482,8 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   frame.planesById = planes;
   result.rayDeviationNdc = delta;
   result.used = true;
+  const std::vector<double> primitiveLows =
+      primitiveKeyLows(intersector, camera.clipFromWorld, terms);
   const bool avx2 = detail::PacketKernels::available();
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
     ScreenEvaluation counts;
@@ -485,7 +526,16 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
 #else
         walkTilePortable(walk);
 #endif
-        if (primitive) std::fill(std::begin(state.unsureLow), std::end(state.unsureLow), -kInf);
+        // Each primitive's pixels may be its: traced where the nearest triangle may lie beyond it.
+        for (std::size_t p = 0; p < intersector.analyticCount() && primitive; ++p) {
+          const FrameBins::PixelBounds& b = bins.primitiveBounds(p);
+          for (int ly = std::max(0, b.y0 - y0); ly <= std::min(rows - 1, b.y1 - y0); ++ly) {
+            for (int lx = std::max(0, b.x0 - x0); lx <= std::min(columns - 1, b.x1 - x0); ++lx) {
+              double& low = state.unsureLow[ly * kTile + lx];
+              low = std::min(low, primitiveLows[p]);
+            }
+          }
+        }
         // Decided pixels take their planes where every ray of the tile surely exists.
         const bool tileFromPlanes =
             fromPlanes &&

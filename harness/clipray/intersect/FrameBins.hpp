@@ -94,6 +94,12 @@ class FrameBins {
   // Far more than the rounding of a projected corner or of an analytic hit point near a
   // silhouette (primitives are few: a generous padding costs nothing).
   static constexpr double kPrimitivePaddingPx = 2.0;
+  // Analytic primitive p's padded pixel bounds (primitiveMayCover's): a ray that stays on its
+  // pixel's line of sight hits it only at pixels inside them.
+  struct PixelBounds {
+    int x0 = 1, x1 = 0, y0 = 1, y1 = 0;  // inclusive; empty when x0 > x1
+  };
+  const PixelBounds& primitiveBounds(std::size_t p) const { return primitiveBounds_[p]; }
 
  private:
   struct Chunk {
@@ -107,9 +113,6 @@ class FrameBins {
   double wClip_ = 0.0;
   bool usable_ = false;
   std::vector<Chunk> chunks_;
-  struct PixelBounds {
-    int x0 = 1, x1 = 0, y0 = 1, y1 = 0;  // inclusive; empty when x0 > x1
-  };
   std::vector<PixelBounds> primitiveBounds_;
 
   // The analytic primitives' padded pixel bounds: the corners of the local box (the square for a
