@@ -358,14 +358,6 @@ TEST(ScreenEvaluator, FramesOutsideItsDecisionsAreTheRayPathsWithTheReason) {
   const ScreenEvaluation e = expectTheRayPathsHits(primitivesAlone, camera, "primitives alone");
   EXPECT_FALSE(e.used);
   EXPECT_EQ(e.reason, "analytic primitives stay on rays");
-
-  PickingCamera clamped = camera;
-  clamped.depthClamp = true;
-  clamped.clipPlanes = {glm::dvec4(0.0, 1.0, 0.0, -0.5)};
-  const ScreenEvaluation clamp =
-      expectTheRayPathsHits(testing::fast_path::testScene(), clamped, "depth clamp, clip plane");
-  EXPECT_FALSE(clamp.used);
-  EXPECT_EQ(clamp.reason, "depth clamp with user clip planes is not evaluated yet");
 }
 
 // The triangle from world points a, b, c, as an object of its own.
@@ -381,11 +373,12 @@ MeshObject triangleObject(const std::string& name, glm::dvec3 a, glm::dvec3 b, g
 // parallel camera's behind the near plane): the screen path bins and decides down to 2^-16 of the
 // near plane's w, with Delta grown as 1 / w towards the eye. Random scenes through every hard-case
 // camera, with triangles between the eye and the near plane and a floor reaching behind the eye,
-// beyond the far plane or not; a triangle through the eye leaves the frame to the rays.
+// beyond the far plane or not, a third of them with a user clip plane through the weapon; a
+// triangle through the eye leaves the frame to the rays.
 TEST(ScreenEvaluator, DepthClampedRaysFromTheEyeGetTheRayPathsHits) {
   std::uint64_t seed = 301;
   Tally tally;
-  int scenes = 0, nearTriangles = 0;
+  int scenes = 0, nearTriangles = 0, clipped = 0, clippedEvaluated = 0;
   for (const HardCase& hardCase : hardCases(Viewport{96, 64})) {
     Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
     if (scene.objects.empty()) continue;
@@ -415,16 +408,28 @@ TEST(ScreenEvaluator, DepthClampedRaysFromTheEyeGetTheRayPathsHits) {
           "floor", towards(-1.5, -0.9, 40.0), towards(1.5, -0.9, 40.0),
           eye - 8.0 * (unproject(0.0, 0.9, zn) - eye) - 4.0 * (unproject(0.0, 1.0, zn) - eye)));
       nearTriangles += 2;
+      if (scenes % 3 == 0) {
+        // A plane through the weapon, moving the rays' start off the eye where it cuts them.
+        const glm::dvec3 through = towards(0.0, -0.4, 0.5);
+        const glm::dvec3 normal = glm::normalize(unproject(0.0, 0.0, zn) - eye);
+        c.clipPlanes = {glm::dvec4(normal, -glm::dot(normal, through))};
+        ++clipped;
+      }
     }
     ++scenes;
     const std::string what = scene.name + " " + hardCase.convention() + " depth clamp" +
-                             (c.depthClampBeyondFar ? " beyond far" : "");
-    tally.add(expectTheRayPathsHits(scene, c, what), what);
+                             (c.depthClampBeyondFar ? " beyond far" : "") +
+                             (c.clipPlanes.empty() ? "" : " clipped");
+    const ScreenEvaluation e = expectTheRayPathsHits(scene, c, what);
+    clippedEvaluated += e.used && !c.clipPlanes.empty() ? 1 : 0;
+    tally.add(e, what);
   }
   std::cout << tally.evaluated << " of " << scenes << " depth-clamped scenes evaluated in screen "
             << "space (" << nearTriangles << " triangles in front of the near plane or behind the "
-            << "eye); " << tally.decided << " pixels decided, " << tally.traced << " traced\n";
+            << "eye), " << clippedEvaluated << " of " << clipped << " with a clip plane; "
+            << tally.decided << " pixels decided, " << tally.traced << " traced\n";
   EXPECT_GT(tally.evaluated * 4, scenes * 3);
+  EXPECT_GT(clippedEvaluated * 2, clipped);
   EXPECT_GT(tally.decided, 10 * tally.traced);
 
   // A triangle with a vertex at the eye: rays near the eye may hit it where no bound holds.

@@ -395,9 +395,6 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   // Delta, and the bins cut near the eye instead of at the near plane.
   std::optional<DepthClampReach> clamp;
   if (camera.depthClamp) {
-    if (!camera.clipPlanes.empty()) {
-      return traceByRays("depth clamp with user clip planes is not evaluated yet");
-    }
     clamp = depthClampDeviation(generator, reason);
     if (!clamp) return traceByRays(reason);
     if (!analyticBoxesBeyond(intersector, camera.clipFromWorld, clamp->eyeBoxW)) {
@@ -407,8 +404,8 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   const std::optional<double> rayDelta =
       clamp ? std::optional<double>(clamp->delta) : rayDeviation(generator, reason);
   if (!rayDelta) return traceByRays(reason);
-  const std::optional<double> cutDelta =
-      clipCutDeviation(generator, intersector.reference(), sceneExtent, reason);
+  const std::optional<double> cutDelta = clipCutDeviation(
+      generator, intersector.reference(), sceneExtent, reason, clamp ? &*clamp : nullptr);
   if (!cutDelta) return traceByRays(reason);
   const double delta = *rayDelta + *cutDelta;
   // The bins list the triangles rays within kRayTolerancePx of their pixels can hit.

@@ -79,9 +79,15 @@ double maxAbs(const glm::dvec3& v) {
   return std::max({std::abs(v.x), std::abs(v.y), std::abs(v.z)});
 }
 
-// The largest |o - reference| (inf-norm) of a ray origin on the near plane: at a corner of the
-// frame's near face (the near points are affine in clip xy over it), widened by 2^-20.
-double nearExtentOf(const RobustRayGenerator& generator, const glm::dvec3& reference) {
+// The largest |o - reference| (inf-norm) of a ray's origin before the clip planes' cut, widened by
+// 2^-20: on the near plane, at a corner of the frame's near face (the near points are affine in
+// clip xy over it); under depth clamp the eye, or a parallel camera's near point moved
+// parallelReach back along its unit direction.
+double originExtentOf(const RobustRayGenerator& generator, const glm::dvec3& reference) {
+  const DepthClampRays& clamp = generator.depthClamp();
+  if (clamp.enabled && !generator.isParallel()) {
+    return maxAbs(generator.eye() - reference) * (1.0 + 0x1p-20);
+  }
   double extent = 0.0;
   for (const double x : {-1.0, 1.0}) {
     for (const double y : {-1.0, 1.0}) {
@@ -90,13 +96,14 @@ double nearExtentOf(const RobustRayGenerator& generator, const glm::dvec3& refer
       extent = std::max(extent, maxAbs(glm::dvec3(p) / p.w - reference));
     }
   }
+  if (clamp.enabled) extent += clamp.parallelReach;
   return extent * (1.0 + 0x1p-20);
 }
 
 // R of item 4 above: what bounds |o| and |p| of a ray's origin and crossings.
 double clipReach(const RobustRayGenerator& generator, const glm::dvec3& reference,
                  double sceneExtent) {
-  return (maxAbs(reference) + std::max(nearExtentOf(generator, reference), sceneExtent)) *
+  return (maxAbs(reference) + std::max(originExtentOf(generator, reference), sceneExtent)) *
          (1.0 + 0x1p-20);
 }
 
@@ -314,16 +321,19 @@ std::optional<DepthClampReach> depthClampDeviation(const RobustRayGenerator& gen
 
 std::optional<double> clipCutDeviation(const RobustRayGenerator& generator,
                                        const glm::dvec3& reference, double sceneExtent,
-                                       std::string& reason) {
+                                       std::string& reason, const DepthClampReach* clamp) {
   if (generator.clipPlanes().empty()) return 0.0;
   const glm::dmat4& m = generator.clipFromWorld();
   // The least clip w of a crossing: a parallel camera's is constant; a perspective camera's grows
   // along each line of sight from the eye, so it is least at the near point, whose clip w is
   // 1 / w_near with w_near = worldFromClip row 3 . (x, y, z_n, 1), affine in (x, y): its largest
-  // value over the frame lies at a corner.
+  // value over the frame lies at a corner. Under depth clamp the crossings lie beyond wLeast
+  // (depthClampDeviation).
   double wMin = 0.0;
   if (generator.isParallel()) {
     wMin = std::abs(m[3][3]);
+  } else if (clamp) {
+    wMin = clamp->wLeast;
   } else {
     const glm::dmat4& p = generator.worldFromClip();
     double wNear = -kInf;
@@ -362,7 +372,7 @@ FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& gen
                        std::abs(camera.clipFromWorld[2][r]);
   }
   const DepthMode mode = camera.mode;
-  terms.nearExtent = nearExtentOf(generator, reference);
+  terms.nearExtent = originExtentOf(generator, reference);
   if (!generator.clipPlanes().empty()) {
     // A cut ray's origin lies anywhere up to its crossing (item 4 above).
     terms.nearExtent = std::max(terms.nearExtent, sceneExtent * (1.0 + 0x1p-20));
@@ -386,10 +396,6 @@ FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& gen
     // reach beyond the far plane where beyondFar says so (RobustRays' DepthClampRays).
     terms.keyNearIn = terms.keyNearOut = -kInf;
     if (generator.depthClamp().beyondFar) terms.keyFar = kInf;
-    terms.nearExtent =
-        generator.isParallel()
-            ? terms.nearExtent + generator.depthClamp().parallelReach * (1.0 + 0x1p-20)
-            : maxAbs(generator.eye() - reference) * (1.0 + 0x1p-20);
     terms.eyeBoxW = clamp->eyeBoxW;
     terms.eyeBoxXY = clamp->eyeBoxXY;
     terms.eyeBoxBelowW = clamp->eyeBoxBelowW;

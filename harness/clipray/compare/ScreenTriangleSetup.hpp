@@ -91,14 +91,6 @@ struct ClipEdge {
 // Delta for the generator's rays; nullopt, with the reason, where they have no such bound.
 std::optional<double> rayDeviation(const RobustRayGenerator& generator, std::string& reason);
 
-// How far, in NDC, the user clip planes' cut moves a ray from its line (the rounding of its new
-// origin), at any crossing that lies beyond that origin, for a scene whose vertices lie within
-// sceneExtent (inf-norm) of the reference; 0 without planes; nullopt, with the reason, where it
-// has no bound. Delta for a camera with clip planes is rayDeviation plus this.
-std::optional<double> clipCutDeviation(const RobustRayGenerator& generator,
-                                       const glm::dvec3& reference, double sceneExtent,
-                                       std::string& reason);
-
 // Under depth clamp (RobustRayGenerator::depthClamp): the rays' Delta, at every crossing of clip
 // w at least wLeast for a perspective camera, whose rays start at the eye (their stray from the
 // line of sight grows as 1 / w towards it), and the box of FrameTerms::eyeBoxW that holds their
@@ -111,6 +103,15 @@ struct DepthClampReach {
 };
 std::optional<DepthClampReach> depthClampDeviation(const RobustRayGenerator& generator,
                                                    std::string& reason);
+
+// How far, in NDC, the user clip planes' cut moves a ray from its line (the rounding of its new
+// origin), at any crossing that lies beyond that origin, for a scene whose vertices lie within
+// sceneExtent (inf-norm) of the reference; 0 without planes; nullopt, with the reason, where it
+// has no bound. Delta for a camera with clip planes is rayDeviation (under depth clamp,
+// depthClampDeviation's, given as clamp) plus this.
+std::optional<double> clipCutDeviation(const RobustRayGenerator& generator,
+                                       const glm::dvec3& reference, double sceneExtent,
+                                       std::string& reason, const DepthClampReach* clamp = nullptr);
 
 // The terms of the camera's frame: clipFromRelative is the screen bins' (FrameBins), reference the
 // intersector's, delta from rayDeviation (and clipCutDeviation), sceneExtent as there.
