@@ -1,6 +1,7 @@
 #include "clipray/engine/DrawStateGroups.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <string>
 #include <utility>
@@ -230,36 +231,52 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
     const DepthMapping mapping{camera.mode, groups[g].range, false};
     const std::vector<double> offsets = offsetsOf(part, groups[g], mapping, camera, frame.viewport);
     parallelForRows(frame.viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
-      // The frame's own rays and the group's, a row at a time where they are computed.
-      std::vector<Ray> frameRow(frame.pixelCentreRays ? static_cast<std::size_t>(width) : 0);
-      std::vector<Ray> groupRow(cutFrame.pixelCentreRays ? static_cast<std::size_t>(width) : 0);
+      // A row goes in runs of 64 pixels; a run with no hit of the group computes no ray. The
+      // group's rays are the frame's where it has no planes of its own; where its planes cut
+      // them, the frame's are computed too (t is measured along them).
+      constexpr int kRun = 64;
+      std::array<Ray, kRun> frameRun, groupRun;
       for (int y = rowBegin; y < rowEnd; ++y) {
-        const std::size_t first = static_cast<std::size_t>(y) * width;
-        if (frame.pixelCentreRays) frame.pixelCentreRays->row(y, 0, width, frameRow.data());
-        if (cutFrame.pixelCentreRays) cutFrame.pixelCentreRays->row(y, 0, width, groupRow.data());
-        const Ray* frameRays = frame.pixelCentreRays ? frameRow.data() : frame.rays.data() + first;
-        const Ray* groupRays =
-            cutFrame.pixelCentreRays ? groupRow.data() : cutFrame.rays.data() + first;
-        for (int x = 0; x < width; ++x) {
-          const std::size_t i = first + static_cast<std::size_t>(x);
-          if (g == 0) kept[i] = Hit{};
-          Hit hit = cutFrame.hits[i];
-          if (!hit.hit()) continue;
-          const double offset = offsets.empty() ? 0.0 : offsets[hit.primitiveId];
-          hit.primitiveId = part.globalIdOfLocal[hit.primitiveId];
-          const Ray& groupRay = groupRays[x];
-          const glm::dvec3 point = groupRay.origin + hit.t * groupRay.direction;
-          if (ownRays) {
-            // The group's ray starts where its planes cut the frame's: t along the frame's ray.
-            const Ray& frameRay = frameRays[x];
-            hit.t = glm::dot(point - frameRay.origin, frameRay.direction) /
-                    glm::dot(frameRay.direction, frameRay.direction);
+        for (int x0 = 0; x0 < width; x0 += kRun) {
+          const int n = std::min(kRun, width - x0);
+          const std::size_t first = static_cast<std::size_t>(y) * width + x0;
+          if (g == 0) std::fill_n(kept.data() + first, n, Hit{});
+          bool anyHit = false;
+          for (int k = 0; k < n; ++k) anyHit = anyHit || cutFrame.hits[first + k].hit();
+          if (!anyHit) continue;
+          const Ray* groupRays = groupRun.data();
+          if (cutFrame.pixelCentreRays) {
+            cutFrame.pixelCentreRays->row(y, x0, n, groupRun.data());
+          } else {
+            groupRays = cutFrame.rays.data() + first;
           }
-          const glm::dvec4 clip = camera.clipFromWorld * glm::dvec4(point, 1.0);
-          const double depth = mapping.windowDepth(clip.z / clip.w) + offset;
-          if (depthTestKeeps(hit, depth, kept[i], keptDepth[i], greater)) {
-            kept[i] = hit;
-            keptDepth[i] = depth;
+          const Ray* frameRays = groupRays;
+          if (ownRays && frame.pixelCentreRays) {
+            frame.pixelCentreRays->row(y, x0, n, frameRun.data());
+            frameRays = frameRun.data();
+          } else if (ownRays) {
+            frameRays = frame.rays.data() + first;
+          }
+          for (int k = 0; k < n; ++k) {
+            const std::size_t i = first + static_cast<std::size_t>(k);
+            Hit hit = cutFrame.hits[i];
+            if (!hit.hit()) continue;
+            const double offset = offsets.empty() ? 0.0 : offsets[hit.primitiveId];
+            hit.primitiveId = part.globalIdOfLocal[hit.primitiveId];
+            const Ray& groupRay = groupRays[k];
+            const glm::dvec3 point = groupRay.origin + hit.t * groupRay.direction;
+            if (ownRays) {
+              // The group's ray starts where its planes cut the frame's: t along the frame's ray.
+              const Ray& frameRay = frameRays[k];
+              hit.t = glm::dot(point - frameRay.origin, frameRay.direction) /
+                      glm::dot(frameRay.direction, frameRay.direction);
+            }
+            const glm::dvec4 clip = camera.clipFromWorld * glm::dvec4(point, 1.0);
+            const double depth = mapping.windowDepth(clip.z / clip.w) + offset;
+            if (depthTestKeeps(hit, depth, kept[i], keptDepth[i], greater)) {
+              kept[i] = hit;
+              keptDepth[i] = depth;
+            }
           }
         }
       }
