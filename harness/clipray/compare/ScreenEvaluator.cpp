@@ -75,7 +75,8 @@ struct alignas(32) TileState {
 struct TileWalk {
   const FrameTerms* terms;
   const TriangleSetup* setups;
-  const ClipEdge* clipEdges;  // by slot, where the camera has user clip planes; else null
+  // kMaxClipCuts per slot, where the camera has user clip planes; else null.
+  const ClipEdge* clipEdges;
   const FrameBins* bins;
   const double* clipX;  // NDC x of every pixel column's centre, padded to whole tiles
   const double* clipY;  // NDC y of every pixel row's centre
@@ -115,12 +116,18 @@ struct TileWalk {
         const double y = walk.clipY[y0 + ly];
         const double c0 = t.b[0] * y + t.c[0], c1 = t.b[1] * y + t.c[1], c2 = t.b[2] * y + t.c[2];
         const double zRow = t.zb * y + t.zc;
-        // The one clip plane that cuts the triangle, if one does: kept and clipped away per pixel.
-        const ClipEdge* cut = t.clipped && walk.clipEdges && walk.clipEdges[entry.slot].used
-                                  ? &walk.clipEdges[entry.slot]
-                                  : nullptr;
+        // The clip planes that cut the triangle (at most kMaxClipCuts: their edges), kept and
+        // clipped away per pixel.
+        const ClipEdge* cuts = t.clipped && walk.clipEdges
+                                   ? walk.clipEdges + std::size_t{entry.slot} * kMaxClipCuts
+                                   : nullptr;
+        static_assert(kMaxClipCuts == 2);
+        const ClipEdge* cut = cuts && cuts[0].used ? &cuts[0] : nullptr;
+        const ClipEdge* cut2 = cuts && cuts[1].used ? &cuts[1] : nullptr;
         const double keepRow = cut ? cut->kb * y + cut->kc : 0.0;
         const double clipAwayRow = cut ? cut->cb * y + cut->cc : 0.0;
+        const double keepRow2 = cut2 ? cut2->kb * y + cut2->kc : 0.0;
+        const double clipAwayRow2 = cut2 ? cut2->cb * y + cut2->cc : 0.0;
         for (int lx = lx0 - lx0 % kLanes; lx <= lx1; lx += kLanes) {
           const int i = ly * kTile + lx;
           Lanes x;
@@ -138,6 +145,7 @@ struct TileWalk {
           // Outside an edge over the ray's whole reach; inside every edge over it.
           Mask outside = (e0 < -t.margin[0]) | (e1 < -t.margin[1]) | (e2 < -t.margin[2]);
           if (cut) outside |= cut->ca * x + clipAwayRow < -cut->clipAwayError;
+          if (cut2) outside |= cut2->ca * x + clipAwayRow2 < -cut2->clipAwayError;
           if (everyLane(outside)) continue;
           const Mask inside = (e0 > t.margin[0]) & (e1 > t.margin[1]) & (e2 > t.margin[2]);
           const Lanes key = frame.sigma * ((t.za * x + zRow) - frame.zNear);
@@ -147,6 +155,7 @@ struct TileWalk {
           Mask sure = inside & (low > nearIn) & (high < farIn);
           if (cut) {
             sure &= cut->ka * x + keepRow > cut->keepError;
+            if (cut2) sure &= cut2->ka * x + keepRow2 > cut2->keepError;
           } else if (t.clipped) {
             sure = Mask{};
           }
@@ -454,7 +463,7 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   FrameVector<TriangleSetup> setups;
   setups.resize(triangles.size());
   FrameVector<ClipEdge> clipEdges;
-  clipEdges.resize(camera.clipPlanes.empty() ? 0 : triangles.size());
+  clipEdges.resize(camera.clipPlanes.empty() ? 0 : triangles.size() * kMaxClipCuts);
   // The ids by slot apart from the setups (a fraction of their size): what a decided pixel's hit
   // reads.
   FrameVector<std::uint32_t> idOfSlot;
@@ -468,7 +477,7 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
           idOfSlot[k] = triangles[k].primitiveId;
           setups[k] = setupTriangle(terms, triangles[k],
                                     planes ? &(*planes)[triangles[k].primitiveId] : nullptr,
-                                    clipEdges.empty() ? nullptr : &clipEdges[k]);
+                                    clipEdges.empty() ? nullptr : &clipEdges[k * kMaxClipCuts]);
         }
       });
   // A triangle that may meet depth clamp's eye box: a ray may hit it where neither the bins nor

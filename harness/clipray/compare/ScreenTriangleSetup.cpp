@@ -404,10 +404,10 @@ FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& gen
 }
 
 TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& tri,
-                            TrianglePlanes* planes, ClipEdge* clipEdge) {
+                            TrianglePlanes* planes, ClipEdge* clipEdges) {
   TriangleSetup setup;
   setup.primitiveId = tri.primitiveId;
-  if (clipEdge) *clipEdge = ClipEdge{};
+  if (clipEdges) std::fill_n(clipEdges, kMaxClipCuts, ClipEdge{});
   const glm::dvec3 vertex[3] = {tri.a, tri.b, tri.c};
   glm::dvec4 clip[3];
   double error[3], zError[3], size[3];
@@ -545,7 +545,7 @@ TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& 
   // value over w at the crossing is sum_k E_k(s) v_k / det, so v > m at the crossing where the
   // plane of the values v_k - m is positive (w > 0 in the view volume) and v < -m where that of
   // v_k + m is negative, each beyond its error (v_k's within gamma(5) of its terms, folding the
-  // reference included): what clipEdge keeps for a triangle that one plane cuts.
+  // reference included): what clipEdges keep for each plane that cuts the triangle.
   int cuts = 0;
   for (std::size_t k = 0; k < frame.clipPlanes.size(); ++k) {
     const glm::dvec4& plane = frame.clipPlanes[k];
@@ -570,14 +570,16 @@ TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& 
     }
     if (kept) continue;
     setup.clipped = true;
-    if (++cuts == 1 && clipEdge && setup.sign != 0.0) {
+    if (cuts < kMaxClipCuts && clipEdges && setup.sign != 0.0) {
       const InterpolatedPlane keep = interpolated(keptValue, valueError);
       const InterpolatedPlane clipAway = interpolated(droppedValue, valueError);
-      *clipEdge = {keep.a,     keep.b,     keep.c,         keep.error, clipAway.a,
-                   clipAway.b, clipAway.c, clipAway.error, true};
+      clipEdges[cuts] = {keep.a,     keep.b,     keep.c,         keep.error, clipAway.a,
+                         clipAway.b, clipAway.c, clipAway.error, true};
     }
+    ++cuts;
   }
-  if (clipEdge && cuts != 1) *clipEdge = ClipEdge{};  // cut by several: never sure anywhere
+  // Cut by more planes than it has edges for: never sure anywhere.
+  if (clipEdges && cuts > kMaxClipCuts) std::fill_n(clipEdges, kMaxClipCuts, ClipEdge{});
   // A certain orientation turns the edge functions inside out where det < 0 (a product by -1 is
   // exact): the inside is then where every E_k exceeds its margin, for either winding.
   if (setup.sign < 0.0) {

@@ -79,9 +79,12 @@ struct TriangleSetup {
   bool nearEye = false;
 };
 
-// Where a triangle is cut by one user clip plane, over the pixel centre s: the crossing surely kept
+// Where a user clip plane cuts a triangle, over the pixel centre s: the crossing surely kept by it
 // where keep(s) = ka x + kb y + kc > keepError, surely clipped where clipAway(s) < -clipAwayError
-// (ScreenTriangleSetup.cpp, item 4); used false: no such edges (cut by none, or by several).
+// (ScreenTriangleSetup.cpp, item 4); used false: no such edges. A triangle has kMaxClipCuts of
+// them: one per plane that cuts it, none used when more planes than that do (a section view's
+// corner).
+inline constexpr int kMaxClipCuts = 2;
 struct ClipEdge {
   double ka = 0.0, kb = 0.0, kc = 0.0, keepError = kInf;
   double ca = 0.0, cb = 0.0, cc = 0.0, clipAwayError = kInf;
@@ -124,9 +127,9 @@ FrameTerms frameTerms(const PickingCamera& camera, const RobustRayGenerator& gen
 // the plane of 1 / clip w where the line of sight crosses it, r(x, y) = ra x + rb y + rc (the sum
 // of the edge functions over |det|, positive in front of the eye), each with its error bound (both
 // infinite where the orientation is not certain): what the compare evaluates at decided pixels.
-// Where clipEdge is given, the edges of the one user clip plane that cuts the triangle, if one
-// does (written either way).
+// Where clipEdges is given (kMaxClipCuts of them, each written either way), the edges of the user
+// clip planes that cut the triangle.
 TriangleSetup setupTriangle(const FrameTerms& frame, const detail::BvhTriangle& triangle,
-                            TrianglePlanes* planes = nullptr, ClipEdge* clipEdge = nullptr);
+                            TrianglePlanes* planes = nullptr, ClipEdge* clipEdges = nullptr);
 
 }  // namespace clipray::screen
