@@ -280,51 +280,29 @@ NearPointW nearPointW(const RobustRayGenerator& generator) {
   return w;
 }
 
-// Under depth clamp: whether every analytic primitive's local box (the square of a disk or quad;
-// an infinite plane never) lies at clip w >= wLeast, its corners' w beyond it by more than their
-// rounding (2^-48 of their terms), so no depth-clamped ray reaches it nearer the eye. No
-// primitives: true.
-bool analyticBoxesBeyond(const SceneIntersector& intersector, const glm::dmat4& clipFromWorld,
-                         double wLeast) {
-  if (wLeast <= 0.0) return true;
-  const glm::dvec4 rowW(clipFromWorld[0][3], clipFromWorld[1][3], clipFromWorld[2][3],
-                        clipFromWorld[3][3]);
-  const std::uint32_t first = static_cast<std::uint32_t>(intersector.triangleCount()) + 1;
-  for (std::size_t p = 0; p < intersector.analyticCount(); ++p) {
-    const AnalyticPrimitive& primitive =
-        intersector.analyticPrimitive(first + static_cast<std::uint32_t>(p));
-    if (primitive.kind == PrimitiveKind::Plane) return false;
-    const bool flat =
-        primitive.kind == PrimitiveKind::Disk || primitive.kind == PrimitiveKind::Quad;
-    for (int k = 0; k < 8; ++k) {
-      const glm::dvec4 local((k & 1) ? 1.0 : -1.0, (k & 2) ? 1.0 : -1.0,
-                             flat ? 0.0 : ((k & 4) ? 1.0 : -1.0), 1.0);
-      const glm::dvec4 world = primitive.worldFromLocal * local;
-      const double w = glm::dot(rowW, world);
-      const double size = glm::dot(glm::abs(rowW), glm::abs(world));
-      if (!(w - 0x1p-48 * size >= wLeast)) return false;
-    }
-  }
-  return true;
-}
+// What the walk and depth clamp read of an analytic primitive's local box (the square of a disk
+// or quad), over its corners: in front of the eye z / w is quasi-linear, so its least depth key
+// (FrameTerms: sigma (z_ndc - z_near)) over the box lies at a corner. Each is lowered by far more
+// than the corners' rounding: keyLow by 2^-30 of the key's terms, wLow (the least clip w) by
+// 2^-40 of its. A plane, or a box reaching behind the eye, has both -inf. A pixel's ray may hit
+// the primitive only where the nearest triangle's key could reach keyLow.
+struct PrimitiveBoxDepth {
+  double keyLow = kInf, wLow = kInf;
+};
 
-// Per analytic primitive, the least depth key (FrameTerms: sigma (z_ndc - z_near)) of any point of
-// its local box (the square of a disk or quad), lowered by far more than the corners' rounding: in
-// front of the eye z / w is quasi-linear, so its least key over the box lies at a corner. -inf for
-// a plane, or a box reaching behind the eye. A pixel's ray may hit the primitive only where the
-// nearest triangle's key could reach that low.
-std::vector<double> primitiveKeyLows(const SceneIntersector& intersector,
-                                     const glm::dmat4& clipFromWorld, const FrameTerms& terms) {
+std::vector<PrimitiveBoxDepth> primitiveBoxDepths(const SceneIntersector& intersector,
+                                                  const glm::dmat4& clipFromWorld, DepthMode mode) {
   const glm::dvec4 rowZ(clipFromWorld[0][2], clipFromWorld[1][2], clipFromWorld[2][2],
                         clipFromWorld[3][2]);
   const glm::dvec4 rowW(clipFromWorld[0][3], clipFromWorld[1][3], clipFromWorld[2][3],
                         clipFromWorld[3][3]);
+  const double sigma = mode.farNdcZ() > mode.nearNdcZ() ? 1.0 : -1.0;  // FrameTerms::sigma
   const std::uint32_t first = static_cast<std::uint32_t>(intersector.triangleCount()) + 1;
-  std::vector<double> lows;
+  std::vector<PrimitiveBoxDepth> depths;
   for (std::size_t p = 0; p < intersector.analyticCount(); ++p) {
     const AnalyticPrimitive& primitive =
         intersector.analyticPrimitive(first + static_cast<std::uint32_t>(p));
-    double low = kInf;
+    PrimitiveBoxDepth& box = depths.emplace_back();
     const bool flat =
         primitive.kind == PrimitiveKind::Disk || primitive.kind == PrimitiveKind::Quad;
     for (int k = 0; k < 8 && primitive.kind != PrimitiveKind::Plane; ++k) {
@@ -334,17 +312,19 @@ std::vector<double> primitiveKeyLows(const SceneIntersector& intersector,
       const double z = glm::dot(rowZ, world), w = glm::dot(rowW, world);
       const double zSize = glm::dot(glm::abs(rowZ), glm::abs(world));
       const double wSize = glm::dot(glm::abs(rowW), glm::abs(world));
-      if (!(w - 0x1p-40 * wSize > 0.0)) {
-        low = -kInf;
+      const double wLow = w - 0x1p-40 * wSize;
+      if (!(wLow > 0.0)) {
+        box = {-kInf, -kInf};
         break;
       }
-      const double key = terms.sigma * (z / w - terms.zNear);
+      const double key = sigma * (z / w - mode.nearNdcZ());
       const double rounding = (zSize + std::abs(z / w) * wSize) / w;
-      low = std::min(low, key - 0x1p-30 * (rounding + std::abs(key) + 1.0));
+      box.keyLow = std::min(box.keyLow, key - 0x1p-30 * (rounding + std::abs(key) + 1.0));
+      box.wLow = std::min(box.wLow, wLow);
     }
-    lows.push_back(primitive.kind == PrimitiveKind::Plane || std::isnan(low) ? -kInf : low);
+    if (primitive.kind == PrimitiveKind::Plane || std::isnan(box.keyLow)) box = {-kInf, -kInf};
   }
-  return lows;
+  return depths;
 }
 
 bool tileRaysExist(const NearPointW& w, double xLow, double xHigh, double yLow, double yHigh) {
@@ -406,9 +386,14 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   if (camera.depthClamp) {
     clamp = depthClampDeviation(generator, reason);
     if (!clamp) return traceByRays(reason);
-    if (!analyticBoxesBeyond(intersector, camera.clipFromWorld, clamp->eyeBoxW)) {
-      return traceByRays("an analytic primitive reaches the depth-clamped rays near the eye");
-    }
+  }
+  const std::vector<PrimitiveBoxDepth> primitiveBoxes =
+      primitiveBoxDepths(intersector, camera.clipFromWorld, camera.mode);
+  // Under depth clamp no ray may reach a primitive nearer the eye than the eye box.
+  if (clamp && clamp->eyeBoxW > 0.0 &&
+      std::any_of(primitiveBoxes.begin(), primitiveBoxes.end(),
+                  [&](const PrimitiveBoxDepth& box) { return !(box.wLow >= clamp->eyeBoxW); })) {
+    return traceByRays("an analytic primitive reaches the depth-clamped rays near the eye");
   }
   const std::optional<double> rayDelta =
       clamp ? std::optional<double>(clamp->delta) : rayDeviation(generator, reason);
@@ -488,8 +473,6 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
   frame.planesById = planes;
   result.rayDeviationNdc = delta;
   result.used = true;
-  const std::vector<double> primitiveLows =
-      primitiveKeyLows(intersector, camera.clipFromWorld, terms);
   const bool avx2 = detail::PacketKernels::available();
   parallelForRows(tileRows, threadCount, [&](int tileRowBegin, int tileRowEnd) {
     ScreenEvaluation counts;
@@ -538,7 +521,7 @@ ScreenEvaluation intersectFrameInScreenSpace(AnalyticFrame& frame,
           for (int ly = std::max(0, b.y0 - y0); ly <= std::min(rows - 1, b.y1 - y0); ++ly) {
             for (int lx = std::max(0, b.x0 - x0); lx <= std::min(columns - 1, b.x1 - x0); ++lx) {
               double& low = state.unsureLow[ly * kTile + lx];
-              low = std::min(low, primitiveLows[p]);
+              low = std::min(low, primitiveBoxes[p].keyLow);
             }
           }
         }

@@ -183,13 +183,10 @@ DirectionTerms directionTerms(const glm::dmat4& m) {
   return {d3, crossError, crossError + gamma(8) * sizeD};
 }
 
-// A perspective camera's rays: the NDC stray their direction adds (over the whole ray) and the
+// A perspective camera's rays: the NDC stray their direction adds (over the whole ray), from the
 // rate of clip w along the unnormalized direction, |det| less its error; nullopt with the reason.
-struct PerspectiveStray {
-  double direction, rate;
-};
-std::optional<PerspectiveStray> perspectiveStray(const RobustRayGenerator& generator,
-                                                 const DirectionTerms& terms, std::string& reason) {
+std::optional<double> perspectiveStray(const RobustRayGenerator& generator,
+                                       const DirectionTerms& terms, std::string& reason) {
   // The bound needs w to grow along the ray (the robust direction's sign: away from the eye).
   if (!(generator.facingSign() > 0.0)) {
     reason = "rays along which clip w falls (a near plane on the eye's visible side)";
@@ -205,10 +202,9 @@ std::optional<PerspectiveStray> perspectiveStray(const RobustRayGenerator& gener
     reason = "the rays' rate of clip w has no bound";
     return std::nullopt;
   }
-  return PerspectiveStray{std::max(glm::dot(glm::abs(mx) + glm::abs(mw), terms.deltaD),
-                                   glm::dot(glm::abs(my) + glm::abs(mw), terms.deltaD)) /
-                              rate,
-                          rate};
+  return std::max(glm::dot(glm::abs(mx) + glm::abs(mw), terms.deltaD),
+                  glm::dot(glm::abs(my) + glm::abs(mw), terms.deltaD)) /
+         rate;
 }
 
 }  // namespace
@@ -241,9 +237,9 @@ std::optional<double> rayDeviation(const RobustRayGenerator& generator, std::str
         std::max(glm::dot(glm::abs(mx), terms.deltaD), glm::dot(glm::abs(my), terms.deltaD));
     direction = stray * tMax * (1.0 + 0x1p-20) / (length * w);
   } else {
-    const std::optional<PerspectiveStray> stray = perspectiveStray(generator, terms, reason);
+    const std::optional<double> stray = perspectiveStray(generator, terms, reason);
     if (!stray) return std::nullopt;
-    direction = stray->direction;
+    direction = *stray;
   }
   return kSlack * (nearPoint + direction);
 }
@@ -277,15 +273,8 @@ std::optional<DepthClampReach> depthClampDeviation(const RobustRayGenerator& gen
   if (generator.isParallel()) {
     const std::optional<double> delta = rayDeviation(generator, reason);
     if (!delta) return std::nullopt;
-    double origin = 0.0;  // the largest |o| (inf-norm) of a near point
-    for (const double x : {-1.0, 1.0}) {
-      for (const double y : {-1.0, 1.0}) {
-        const glm::dvec4 corner = p * glm::dvec4(x, y, generator.mode().nearNdcZ(), 1.0);
-        origin = std::max(origin, maxAbs(glm::dvec3(corner) / corner.w));
-      }
-    }
-    const double e =
-        gamma(2) * (origin + generator.depthClamp().parallelReach) * (1.0 + 0x1p-20) + kUnit;
+    // |o| + r, o a near point (originExtentOf about the world origin).
+    const double e = gamma(2) * originExtentOf(generator, glm::dvec3(0.0)) + kUnit;
     const glm::dvec3 mx = glm::abs(row3(m, 0)), my = glm::abs(row3(m, 1));
     const double shift = std::max(mx.x + mx.y + mx.z, my.x + my.y + my.z) * e / std::abs(m[3][3]);
     reach.delta = *delta + kSlack * shift;
@@ -297,7 +286,7 @@ std::optional<DepthClampReach> depthClampDeviation(const RobustRayGenerator& gen
     return reach;
   }
   const DirectionTerms terms = directionTerms(m);
-  const std::optional<PerspectiveStray> stray = perspectiveStray(generator, terms, reason);
+  const std::optional<double> stray = perspectiveStray(generator, terms, reason);
   if (!stray) return std::nullopt;
   const glm::dmat4 residual = inverseResidual(m, p);
   const double cw = std::abs(p[2][3]);
@@ -307,7 +296,7 @@ std::optional<DepthClampReach> depthClampDeviation(const RobustRayGenerator& gen
   };
   const double ex = std::max(eyeClip(0), eyeClip(1)), ew = eyeClip(3);
   reach.wLeast = 0x1p-16 * *wNear;
-  const double direction = stray->direction;
+  const double direction = *stray;
   if (!(cw > 0.0) || !(4.0 * ew < reach.wLeast) || !std::isfinite(ex)) {
     reason = "the depth-clamped rays' eye has no bound";
     return std::nullopt;
