@@ -7,8 +7,9 @@ claims "same outputs" runs the suite into two folders, before and after, and thi
 nothing and exits 0 when they match; otherwise it lists every difference and exits 1. Each
 --without FIELD leaves that report.json field out too (screen_path: what only the screen path
 writes, when its sweep is compared with the ray path's). --figures-within REL compares the
-report's and summary's non-integer numbers within REL of themselves and the error heat maps and
-depth images within one level per channel, everything else as before: the screen path's depth figures come
+report's and summary's non-integer numbers within REL of themselves (summary lines in any order:
+runs sorted by a figure may trade places) and the error heat maps and depth images within one
+level per channel, everything else as before: the screen path's depth figures come
 from its planes, within a hair of the ray path's (docs/reconcile.md).
 
 usage: harness/tools/same-outputs.py [--without FIELD]... [--figures-within REL] BEFORE AFTER
@@ -67,6 +68,24 @@ def lines_match(a, b, within):
         return a == b
     return all(close(float(x), float(y), within)
                for x, y in zip(NUMBER.findall(a), NUMBER.findall(b)))
+
+
+def same_lines(a_lines, b_lines, within):
+    """Line by line; with figures compared within a fraction, in any order too (summary.txt sorts
+    its runs by a figure, and two runs whose figures lie that close may trade places)."""
+    if len(a_lines) != len(b_lines):
+        return False
+    if all(lines_match(x, y, within) for x, y in zip(a_lines, b_lines)):
+        return True
+    if within == 0.0:
+        return False
+    unmatched = list(b_lines)
+    for x in a_lines:
+        match = next((k for k, y in enumerate(unmatched) if lines_match(x, y, within)), None)
+        if match is None:
+            return False
+        del unmatched[match]
+    return True
 
 
 def png_rows(data):
@@ -163,8 +182,7 @@ def main():
             with open(a_path, "rb") as fa, open(b_path, "rb") as fb:
                 a_lines = [TIMING_TAIL.sub(b"", l) for l in fa.read().splitlines()]
                 b_lines = [TIMING_TAIL.sub(b"", l) for l in fb.read().splitlines()]
-            if len(a_lines) != len(b_lines) or not all(
-                    lines_match(x, y, within) for x, y in zip(a_lines, b_lines)):
+            if not same_lines(a_lines, b_lines, within):
                 problems.append(f"{name}: text differs")
         else:
             with open(a_path, "rb") as fa, open(b_path, "rb") as fb:

@@ -5,7 +5,9 @@
 // decided lie within their planes' bound of the exact crossing (tests/unit/ScreenEvaluatorTest.cpp)
 // and, printed here with the worst difference of every figure, close to the ray path's.
 // A third of the cameras draw with a user clip plane through the scene, a quarter with depth clamp
-// (some with both).
+// (some with both), and a fifth of the perspective ones without depth clamp write a logarithmic
+// depth (three.js's or Outerra's), whose pixels' depths lie within the reach the plane of 1 / w
+// gives them (LogDepthMapping::reachOver).
 
 #include <gtest/gtest.h>
 
@@ -76,7 +78,8 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
   std::int64_t fromPlanes = 0, compared = 0;
   double worstDepth = 0.0, worstDepthOverBound = 0.0, worstFigure = 0.0;
   std::string worstFigureAt;
-  int clipped = 0, clamped = 0;
+  int clipped = 0, clamped = 0, logDepth = 0;
+  std::int64_t logFromPlanes = 0;
   for (const Viewport size : sizes) {
     for (const HardCase& hardCase : hardCases(size)) {
       Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
@@ -87,6 +90,21 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
         ++clamped;
       }
       Camera camera = testing::hardCaseCamera(hardCase);
+      if (seed % 5 == 2 && hardCase.fovYDegrees && !scene.depthClamp) {
+        // L reaches 1 beyond every vertex in front of the eye.
+        double farthest = 0.0;
+        for (const MeshObject& object : scene.objects) {
+          for (const glm::dvec3& v : object.worldPositions) {
+            farthest = std::max(farthest, (hardCase.inputs.clipFromWorld * glm::dvec4(v, 1.0)).w);
+          }
+        }
+        if (farthest > 0.0) {
+          camera.logarithmicDepth =
+              seed % 2 == 0 ? LogarithmicDepth{LogDepthForm::ThreeJs, 2.0 * farthest, 1.0}
+                            : LogarithmicDepth{LogDepthForm::Outerra, 2.0 * farthest, 0.05};
+          ++logDepth;
+        }
+      }
       if (seed % 3 == 0) {
         // A user clip plane through a vertex of the scene, its normal from the seed: the triangles
         // it cuts go to the rays, those it keeps or clips whole stay on the screen path.
@@ -105,10 +123,10 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
         const AnalyticPathFor path(AnalyticPath::Screen);
         return engine::runAnalyticPass(scene, camera, mode, camera.viewport, 2);
       }();
-      const std::string what = scene.name + " " + hardCase.convention() + " " +
-                               std::to_string(size.width) + "x" + std::to_string(size.height) +
-                               (camera.clipPlanes.empty() ? "" : " clipped") +
-                               (scene.depthClamp ? " depth clamp" : "");
+      const std::string what =
+          scene.name + " " + hardCase.convention() + " " + std::to_string(size.width) + "x" +
+          std::to_string(size.height) + (camera.clipPlanes.empty() ? "" : " clipped") +
+          (scene.depthClamp ? " depth clamp" : "") + (camera.logarithmicDepth ? " log depth" : "");
       ASSERT_FALSE(rays.frame.planesById) << what;
       evaluated += screen.screen.used ? 1 : 0;
       const double toWindow = 1.0 / (1.0 - mode.clipVolumeMinZ());
@@ -132,8 +150,19 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
               const double depthB = byScreen.pixels.analyticDepth[i];
               if (std::isnan(depthA) || std::isnan(depthB)) continue;
               ++compared;
-              const double bound =
-                  (*screen.frame.planesById)[hit.primitiveId].depthError * toWindow;
+              const TrianglePlanes& planes = (*screen.frame.planesById)[hit.primitiveId];
+              double bound = planes.depthError * toWindow;
+              if (screen.logDepth) {
+                // The ray path's w within twice the plane's bound of 1 / w (reachOver's claim).
+                const glm::dvec2 ndc = clipXYOfPixelCentre(static_cast<int>(i % size.width),
+                                                           static_cast<int>(i / size.width), size);
+                const double reciprocalW = planes.ra * ndc.x + (planes.rb * ndc.y + planes.rc);
+                const auto reach =
+                    screen.logDepth->reachOver(reciprocalW, 2.0 * planes.reciprocalWError, depthB);
+                ASSERT_TRUE(reach.has_value()) << run << ", pixel " << i;
+                bound = reach->depth;
+                ++logFromPlanes;
+              }
               worstDepth = std::max(worstDepth, std::abs(depthA - depthB));
               worstDepthOverBound =
                   std::max(worstDepthOverBound, std::abs(depthA - depthB) / bound);
@@ -156,13 +185,16 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
     }
   }
   std::cout << runs << " runs (" << clipped << " scene cameras with a clip plane, " << clamped
-            << " with depth clamp), " << evaluated << " scene cameras on the screen path; "
-            << fromPlanes << " pixels decided from planes, " << compared
+            << " with depth clamp, " << logDepth << " with a logarithmic depth, " << logFromPlanes
+            << " of its pixels compared from planes), " << evaluated
+            << " scene cameras on the screen path; " << fromPlanes
+            << " pixels decided from planes, " << compared
             << " with depths on both sides: the depths apart by at most " << worstDepth << " ("
             << worstDepthOverBound << " of the planes' bound); the report's figures apart by "
             << worstFigure << " of themselves at most (" << worstFigureAt << ")\n";
   EXPECT_GT(evaluated * 4, runs);  // three runs per scene camera: most cameras on planes
   EXPECT_GT(compared, 10000);
+  EXPECT_GT(logFromPlanes, 1000);
   // The ray path's depth lies far closer to the exact crossing than the planes' bound (the
   // bound's worst case stacks every rounding): both depths within it of each other.
   EXPECT_LE(worstDepthOverBound, 1.0);

@@ -63,6 +63,21 @@ class LogDepthMapping {
     const double s = scale_ * constant_ / ((1.0 + constant_ * clipW) * std::numbers::ln2);
     return reversed_ ? -s : s;
   }
+  // Where 1 / w lies within reciprocalWError of reciprocalW (> 0): w's range, and how far L (or
+  // 1 - L) over it may lie from `depth`, windowDepth(1 / reciprocalW) as computed, both
+  // evaluations' rounding of log2 and of 1 + C w included (a few ulp of L and of the scale). L
+  // rises ever more slowly with w, so its slope at the range's low end bounds it. nullopt where
+  // the range reaches w <= 0.
+  struct Reach {
+    double wLow, wHigh, depth;
+  };
+  std::optional<Reach> reachOver(double reciprocalW, double reciprocalWError, double depth) const {
+    if (!(reciprocalW - reciprocalWError > 0.0)) return std::nullopt;
+    const double wLow = 1.0 / (reciprocalW + reciprocalWError);
+    const double wHigh = 1.0 / (reciprocalW - reciprocalWError);
+    return Reach{wLow, wHigh,
+                 std::abs(slope(wLow)) * (wHigh - wLow) + 0x1p-48 * (std::abs(depth) + scale_)};
+  }
   // The tolerance above for a fragment at clip w whose w may be off by wError (vertex rounding
   // and snap, world units of w), w_min the smallest w of its clipped polygon, stored with
   // quantum `storage`.

@@ -346,9 +346,11 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
 #endif
   // A parallel camera's distance figure is relative to its ray's interval, which the user clip
   // planes shorten: its plane pixels go along their rays where it has planes.
+  // A logarithmic depth is a perspective camera's (a parallel one's clip w is the same everywhere)
+  // and never clamped here.
   if (analytic.planesById && setup.oneDepthRange() &&
       (!setup.depthClamp.enabled || (!parallel_ && setup.defaultDepthRange())) &&
-      setup.objectOffsets.empty() && !setup.logDepth &&
+      setup.objectOffsets.empty() && !(setup.logDepth && (parallel_ || setup.depthClamp.enabled)) &&
       !(parallel_ && (!setup.clipPlanes.empty() || !setup.objectClipPlanes.empty()))) {
     planes_ = analytic.planesById.get();
     planeMapping_ = setup.depthMapping();
@@ -356,7 +358,8 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
     for (int x = 0; x < raster.viewport.width; ++x) {
       clipXOfColumn_[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, raster.viewport).x;
     }
-    fourPlanes_ = setup.defaultDepthRange();
+    // The four-pixel kernel maps NDC z: a logarithmic depth goes pixel by pixel.
+    fourPlanes_ = setup.defaultDepthRange() && !setup.logDepth;
 #if CLIPRAY_COMPARE_AVX2
     fourPlanesAvx2_ = cpuHasAvx2() && simdKernelsChosen();
 #endif

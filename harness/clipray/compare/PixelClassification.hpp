@@ -76,6 +76,12 @@ struct FourPlanePixels {
   double yNdc;
   const float* rasterDepth;
 };
+// One plane pixel's figures before its class: its window depth, tolerance and quantum, how far
+// the ray path's depth may lie from it (reach), and the raster depth's distance from the hit
+// relative to the hit's (the report's relative figure).
+struct PlaneFigures {
+  double depth, tolerance, quantum, reach, relative;
+};
 struct FourPlaneFigures {
   double depth[4], ratio[4], quanta[4], relative[4];
 };
@@ -107,6 +113,14 @@ class FrameClassifier {
   // the ray path must classify it.
   bool classifyFromPlanes(std::size_t i, double xNdc, double yNdc, RunMetrics& metrics,
                           WorkerSamples& samples) const;
+  // Its figures where the raster stores the projective depth (planeMapping_), or a logarithmic
+  // depth of clip w (setup_.logDepth, a perspective camera without depth clamp); false where the
+  // depth may be clamped or the planes' bounds leave the ray path's depth too far.
+  bool projectiveDepthFromPlanes(const TrianglePlanes& planes, std::uint32_t slot, double xNdc,
+                                 double yNdc, double zNdc, double reciprocalW, double rasterDepth,
+                                 PlaneFigures& out) const;
+  bool logDepthFromPlanes(const TrianglePlanes& planes, std::uint32_t id, double xNdc, double yNdc,
+                          double reciprocalW, double rasterDepth, PlaneFigures& out) const;
   // Pixels first .. first + 3, at NDC (xNdc[l], yNdc), the same four at once where all four were
   // decided from planes, show their triangle on both sides and are certain; false (nothing
   // written) otherwise.
@@ -137,9 +151,9 @@ class FrameClassifier {
   bool fourAtOnce_ = false;
   FourPixelsInput fourInput_{};
   // The screen path's planes, where the frame has them and this setup stores the projective depth
-  // through one mapping (no polygon offset or depth the shader writes; depth clamp only with the
-  // default range and a perspective camera, whose rays' distances are the sight lines' from the
-  // eye); else null, and its pixels are classified along their rays.
+  // through one mapping or a perspective camera's logarithmic depth (no polygon offset; depth
+  // clamp only with the default range and a perspective camera, whose rays' distances are the
+  // sight lines' from the eye); else null, and its pixels are classified along their rays.
   const FrameVector<TrianglePlanes>* planes_ = nullptr;
   DepthMapping planeMapping_{};
   std::vector<double> clipXOfColumn_;  // NDC x of each column's pixel centre

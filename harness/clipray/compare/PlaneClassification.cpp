@@ -10,6 +10,9 @@
 // s = c / (c + w_P (z_r - z_P)), and its distance from the eye over the hit's is s:
 // |s - 1| = |z_P - z_r| / |c / w_P + z_r - z_P|. A parallel camera's NDC depth is affine in the
 // distance along its rays, which span the depth of view: |z_P - z_r| / |z_far - z_near|.
+// A logarithmic depth (LogarithmicDepth.hpp) is L(w) of the hit's w = 1 / (1 / w from the plane),
+// and since w is 0 at the eye and affine along a sight line, the distance figure is
+// |w_r - w_P| / w_P with w_r the w whose L is the raster's depth.
 //
 // The class must be the ray path's. Both paths' inputs lie within tiny bounds of the exact
 // crossing (the planes' certified bounds, ScreenTriangleSetup.cpp; the ray path's t within
@@ -179,7 +182,50 @@ bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc
   const double zNdc = p.za * xNdc + (p.zb * yNdc + p.zc);
   const double reciprocalW = p.ra * xNdc + (p.rb * yNdc + p.rc);
   if (!(reciprocalW > 0.0) || !std::isfinite(zNdc) || !std::isfinite(reciprocalW)) return false;
+  const double rasterDepth = raster_.depth[i];
+  PlaneFigures figures;
+  const bool found =
+      setup_.logDepth
+          ? logDepthFromPlanes(p, id, xNdc, yNdc, reciprocalW, rasterDepth, figures)
+          : projectiveDepthFromPlanes(p, slot, xNdc, yNdc, zNdc, reciprocalW, rasterDepth, figures);
+  if (!found) return false;
+  // Certain: the error clear of the tolerance by both depths' reach and the tolerance's spread,
+  // and one float quantum over the depths' reach.
+  const double error = std::abs(rasterDepth - figures.depth);
+  if (!(std::abs(error - figures.tolerance) > figures.reach + 0x1p-20 * figures.tolerance)) {
+    return false;
+  }
+  if (setup_.depthFormat == DepthFormat::Float32) {
+    const double span = figures.reach + 0x1p-40 * std::abs(figures.depth);
+    if (quantumAt(DepthFormat::Float32, figures.depth - span) !=
+        quantumAt(DepthFormat::Float32, figures.depth + span)) {
+      return false;
+    }
+  }
+  const double ratio = error / figures.tolerance;
+  const double quanta = error / figures.quantum;
 
+  ++metrics.rasterHits;
+  ++metrics.rayHits;
+  ++metrics.depthCompared;
+  ++metrics.planePixels.fromPlanes;
+  pixels_.rasterDepth[i] = raster_.depth[i];
+  pixels_.analyticDepth[i] = figures.depth;
+  pixels_.toleranceRatio[i] = static_cast<float>(ratio);
+  KindSamples& kind = samplesOf(samples, 0);
+  kind.quanta.push_back(quanta);
+  kind.relative.push_back(figures.relative);
+  kind.ratios.push_back(ratio);
+  const bool beyond = !(ratio <= 1.0);  // NaN counts as beyond tolerance
+  metrics.depthBeyondTolerance += beyond ? 1 : 0;
+  pixels_.classes[i] = beyond ? PixelClass::DepthBeyondTolerance : PixelClass::Agree;
+  return true;
+}
+
+bool FrameClassifier::projectiveDepthFromPlanes(const TrianglePlanes& p, std::uint32_t slot,
+                                                double xNdc, double yNdc, double zNdc,
+                                                double reciprocalW, double rasterDepth,
+                                                PlaneFigures& out) const {
   // Under depth clamp, the depth before the clamp, clear of the range's ends by the planes' reach
   // (else it may be clamped: the ray path decides).
   const double depth = planeMapping_.mappedWindowDepth(zNdc);
@@ -188,45 +234,40 @@ bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc
   if (!(depth - reach > planeConstants_.clampLow && depth + reach < planeConstants_.clampHigh)) {
     return false;
   }
-  const double rasterDepth = raster_.depth[i];
-  const double error = std::abs(rasterDepth - depth);
   const double quantum = quantumAt(setup_.depthFormat, depth);
   const double tolerance =
       triangleDepthToleranceAtNdc(model_.pixelTerms_[slot], xNdc, yNdc, zNdc, reciprocalW, depth,
                                   quantum, toWindow, model_.subpixelStep_, raster_.viewport);
-  // Certain: the error clear of the tolerance by both depths' reach and the tolerance's spread,
-  // and one float quantum over the depths' reach.
-  if (!(std::abs(error - tolerance) > reach + 0x1p-20 * tolerance)) return false;
-  if (setup_.depthFormat == DepthFormat::Float32) {
-    const double span = reach + 0x1p-40 * std::abs(depth);
-    if (quantumAt(DepthFormat::Float32, depth - span) !=
-        quantumAt(DepthFormat::Float32, depth + span)) {
-      return false;
-    }
-  }
-
   const double zRaster = planeMapping_.ndcOfWindowDepth(rasterDepth);
   const double apart = std::abs(zNdc - zRaster);
   const double relative =
       parallel_ ? apart / planeConstants_.depthSpan
                 : apart / std::abs(planeConstants_.eyeClipZ * reciprocalW + zRaster - zNdc);
-  const double ratio = error / tolerance;
-  const double quanta = error / quantum;
+  out = {depth, tolerance, quantum, reach, relative};
+  return true;
+}
 
-  ++metrics.rasterHits;
-  ++metrics.rayHits;
-  ++metrics.depthCompared;
-  ++metrics.planePixels.fromPlanes;
-  pixels_.rasterDepth[i] = raster_.depth[i];
-  pixels_.analyticDepth[i] = depth;
-  pixels_.toleranceRatio[i] = static_cast<float>(ratio);
-  KindSamples& kind = samplesOf(samples, 0);
-  kind.quanta.push_back(quanta);
-  kind.relative.push_back(relative);
-  kind.ratios.push_back(ratio);
-  const bool beyond = !(ratio <= 1.0);  // NaN counts as beyond tolerance
-  metrics.depthBeyondTolerance += beyond ? 1 : 0;
-  pixels_.classes[i] = beyond ? PixelClass::DepthBeyondTolerance : PixelClass::Agree;
+bool FrameClassifier::logDepthFromPlanes(const TrianglePlanes& p, std::uint32_t id, double xNdc,
+                                         double yNdc, double reciprocalW, double rasterDepth,
+                                         PlaneFigures& out) const {
+  const LogDepthMapping& mapping = *setup_.logDepth;
+  // Both paths' 1 / w lie within the plane's bound of the exact crossing's (as their NDC z lie
+  // within the depth plane's): the ray path's within twice the bound of the plane's.
+  const double w = 1.0 / reciprocalW;
+  const double depth = mapping.windowDepth(w);
+  const std::optional<LogDepthMapping::Reach> reach =
+      mapping.reachOver(reciprocalW, 2.0 * p.reciprocalWError, depth);
+  if (!reach) return false;
+  // The tolerance reads w through w^2, w / w_min and 1 + C w: over so narrow a range of w its
+  // spread stays below 2^-21 of itself (within the 2^-20 the certainty test allows).
+  if (!((reach->wHigh - reach->wLow) < 0x1p-24 * reach->wLow)) return false;
+  const double quantum = quantumAt(setup_.depthFormat, depth);
+  const double tolerance =
+      model_.logDepthTolerance(id, glm::dvec4(xNdc * w, yNdc * w, 0.0, w), quantum);
+  // The distance from the eye along a sight line is proportional to clip w (0 at the eye): the
+  // raster's relative to the hit's, as the ray path measures it along the ray.
+  const double relative = std::abs(mapping.clipWOfWindowDepth(rasterDepth) - w) / w;
+  out = {depth, tolerance, quantum, reach->depth, relative};
   return true;
 }
 
