@@ -29,7 +29,7 @@ CATEGORIES = [
     ("intersect: watertight triangle tests in the bins", ["traceBins", "testGroup"]),
     ("intersect: analytic primitives", ["addAnalyticToTile", "PrimitiveKernels",
                                         "intersectPrimitive"]),
-    ("intersect: screen bins (FrameBins)", ["FrameBins::FrameBins", "pixelRange"]),
+    ("intersect: screen bins (FrameBins)", ["FrameBins::FrameBins", "pixelRange", "binChunk"]),
     ("intersect: the screen path's triangle setups, tile walks and decisions",
      ["setupTriangle", "walkTileAvx2", "walkTilePortable", "intersectFrameInScreenSpace",
       "closestOfListed"]),

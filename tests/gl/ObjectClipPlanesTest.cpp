@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <optional>
 #include <string>
 #include <tuple>
@@ -50,9 +52,12 @@ Shown shownBy(const engine::AnalyticPass& pass, const Scene& scene) {
   for (int y = 0; y < viewport.height; ++y) {
     pass.frame.pixelCentreRays->row(y, 0, viewport.width, row.data());
     for (int x = 0; x < viewport.width; ++x) {
-      const Hit hit = pass.frame.hits[static_cast<std::size_t>(y) * viewport.width + x];
+      Hit hit = pass.frame.hits[static_cast<std::size_t>(y) * viewport.width + x];
       if (!hit.hit()) continue;
       const Ray& ray = row[static_cast<std::size_t>(x)];
+      // A hit the screen path decided from its triangle's planes has no t: the triangle's test
+      // along the ray gives it (the ground is drawn along the frame's rays).
+      if (std::isnan(hit.t)) hit = pass.intersector->intersectOne(hit.primitiveId, ray);
       const glm::dvec3 point = ray.origin + hit.t * ray.direction;
       if (ofObject(house, hit.primitiveId)) {
         const std::array<glm::dvec3, 3> v = pass.intersector->worldTriangle(hit.primitiveId);

@@ -7,7 +7,9 @@
 // A third of the cameras draw with a user clip plane through the scene, a quarter with depth clamp
 // (some with both), and a fifth of the perspective ones without depth clamp write a logarithmic
 // depth (three.js's or Outerra's), whose pixels' depths lie within the reach the plane of 1 / w
-// gives them (LogDepthMapping::reachOver).
+// gives them (LogDepthMapping::reachOver); a quarter draw an object with a depth range, a polygon
+// offset or a clip plane of its own (DrawStateGroups.hpp: its group's depths from planes compete
+// in the depth test).
 
 #include <gtest/gtest.h>
 
@@ -78,8 +80,8 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
   std::int64_t fromPlanes = 0, compared = 0;
   double worstDepth = 0.0, worstDepthOverBound = 0.0, worstFigure = 0.0;
   std::string worstFigureAt;
-  int clipped = 0, clamped = 0, logDepth = 0;
-  std::int64_t logFromPlanes = 0;
+  int clipped = 0, clamped = 0, logDepth = 0, grouped = 0;
+  std::int64_t logFromPlanes = 0, groupsFromPlanes = 0;
   for (const Viewport size : sizes) {
     for (const HardCase& hardCase : hardCases(size)) {
       Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
@@ -89,8 +91,33 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
         scene.depthClamp = true;
         ++clamped;
       }
+      // A quarter of the scenes draw a copy of their first object with state of its own, a group
+      // apart that meets the original at every pixel it covers: a depth range of its own (a
+      // first-person weapon's), a polygon offset toward the camera (a decal on its wall) or a
+      // clip plane of its own through its first vertex (a section view's).
+      // The reversed-Z cameras too, whose depth test keeps the greater depth.
+      const bool ownState = (seed % 4 == 3 || hardCase.inputs.mode.reversed) && !scene.depthClamp;
+      if (ownState) {
+        MeshObject copy = scene.objects.front();
+        copy.name += "_own_state";
+        const glm::dvec3 through = copy.worldPositions.front();
+        switch (seed % 3) {
+          case 0:
+            copy.depthRange = glm::dvec2(0.0, 0.25);
+            break;
+          case 1:
+            copy.polygonOffset = PolygonOffset{-1.0, -2.0, 0.0};
+            break;
+          default:
+            copy.clipPlanes = {
+                glm::dvec4(glm::dvec3(0.6, 0.0, 0.8), -0.6 * through.x - 0.8 * through.z)};
+            break;
+        }
+        scene.objects.push_back(std::move(copy));
+        ++grouped;
+      }
       Camera camera = testing::hardCaseCamera(hardCase);
-      if (seed % 5 == 2 && hardCase.fovYDegrees && !scene.depthClamp) {
+      if (seed % 5 == 2 && hardCase.fovYDegrees && !scene.depthClamp && !ownState) {
         // L reaches 1 beyond every vertex in front of the eye.
         double farthest = 0.0;
         for (const MeshObject& object : scene.objects) {
@@ -163,6 +190,7 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
                 bound = reach->depth;
                 ++logFromPlanes;
               }
+              groupsFromPlanes += ownState ? 1 : 0;
               worstDepth = std::max(worstDepth, std::abs(depthA - depthB));
               worstDepthOverBound =
                   std::max(worstDepthOverBound, std::abs(depthA - depthB) / bound);
@@ -186,7 +214,9 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
   }
   std::cout << runs << " runs (" << clipped << " scene cameras with a clip plane, " << clamped
             << " with depth clamp, " << logDepth << " with a logarithmic depth, " << logFromPlanes
-            << " of its pixels compared from planes), " << evaluated
+            << " of its pixels compared from planes, " << grouped
+            << " with an object drawn with state of its own, " << groupsFromPlanes
+            << " of their pixels decided from planes), " << evaluated
             << " scene cameras on the screen path; " << fromPlanes
             << " pixels decided from planes, " << compared
             << " with depths on both sides: the depths apart by at most " << worstDepth << " ("
@@ -195,6 +225,7 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
   EXPECT_GT(evaluated * 4, runs);  // three runs per scene camera: most cameras on planes
   EXPECT_GT(compared, 10000);
   EXPECT_GT(logFromPlanes, 1000);
+  EXPECT_GT(groupsFromPlanes, 1000);
   // The ray path's depth lies far closer to the exact crossing than the planes' bound (the
   // bound's worst case stacks every rounding): both depths within it of each other.
   EXPECT_LE(worstDepthOverBound, 1.0);

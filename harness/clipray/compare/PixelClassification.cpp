@@ -348,9 +348,10 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
   // planes shorten: its plane pixels go along their rays where it has planes.
   // A logarithmic depth is a perspective camera's (a parallel one's clip w is the same everywhere)
   // and never clamped here.
-  if (analytic.planesById && setup.oneDepthRange() &&
-      (!setup.depthClamp.enabled || (!parallel_ && setup.defaultDepthRange())) &&
-      setup.objectOffsets.empty() && !(setup.logDepth && (parallel_ || setup.depthClamp.enabled)) &&
+  if (analytic.planesById &&
+      (!setup.depthClamp.enabled || (!parallel_ && setup.defaultDepthRange() &&
+                                     setup.oneDepthRange() && setup.objectOffsets.empty())) &&
+      !(setup.logDepth && (parallel_ || setup.depthClamp.enabled)) &&
       !(parallel_ && (!setup.clipPlanes.empty() || !setup.objectClipPlanes.empty()))) {
     planes_ = analytic.planesById.get();
     planeMapping_ = setup.depthMapping();
@@ -358,8 +359,10 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
     for (int x = 0; x < raster.viewport.width; ++x) {
       clipXOfColumn_[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, raster.viewport).x;
     }
-    // The four-pixel kernel maps NDC z: a logarithmic depth goes pixel by pixel.
-    fourPlanes_ = setup.defaultDepthRange() && !setup.logDepth;
+    // The four-pixel kernel maps NDC z through the default range alone: objects' own ranges,
+    // polygon offsets and a logarithmic depth go pixel by pixel.
+    fourPlanes_ = setup.defaultDepthRange() && setup.oneDepthRange() &&
+                  setup.objectOffsets.empty() && !setup.logDepth;
 #if CLIPRAY_COMPARE_AVX2
     fourPlanesAvx2_ = cpuHasAvx2() && simdKernelsChosen();
 #endif

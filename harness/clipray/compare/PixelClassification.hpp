@@ -76,11 +76,13 @@ struct FourPlanePixels {
   double yNdc;
   const float* rasterDepth;
 };
-// One plane pixel's figures before its class: its window depth, tolerance and quantum, how far
-// the ray path's depth may lie from it (reach), and the raster depth's distance from the hit
-// relative to the hit's (the report's relative figure).
+// One plane pixel's figures before its class: its window depth, the depth the raster's is
+// compared with (under a polygon offset the middle of what GL allows), the tolerance and
+// quantum, how far the ray path's depth may lie from it (reach) and its tolerance (beyond 2^-20
+// of itself: toleranceReach), and the raster depth's distance from the hit relative to the hit's
+// (the report's relative figure).
 struct PlaneFigures {
-  double depth, tolerance, quantum, reach, relative;
+  double depth, compared, tolerance, quantum, reach, toleranceReach, relative;
 };
 struct FourPlaneFigures {
   double depth[4], ratio[4], quanta[4], relative[4];
@@ -116,9 +118,9 @@ class FrameClassifier {
   // Its figures where the raster stores the projective depth (planeMapping_), or a logarithmic
   // depth of clip w (setup_.logDepth, a perspective camera without depth clamp); false where the
   // depth may be clamped or the planes' bounds leave the ray path's depth too far.
-  bool projectiveDepthFromPlanes(const TrianglePlanes& planes, std::uint32_t slot, double xNdc,
-                                 double yNdc, double zNdc, double reciprocalW, double rasterDepth,
-                                 PlaneFigures& out) const;
+  bool projectiveDepthFromPlanes(const TrianglePlanes& planes, std::uint32_t id, std::uint32_t slot,
+                                 double xNdc, double yNdc, double zNdc, double reciprocalW,
+                                 double rasterDepth, PlaneFigures& out) const;
   bool logDepthFromPlanes(const TrianglePlanes& planes, std::uint32_t id, double xNdc, double yNdc,
                           double reciprocalW, double rasterDepth, PlaneFigures& out) const;
   // Pixels first .. first + 3, at NDC (xNdc[l], yNdc), the same four at once where all four were
@@ -151,9 +153,10 @@ class FrameClassifier {
   bool fourAtOnce_ = false;
   FourPixelsInput fourInput_{};
   // The screen path's planes, where the frame has them and this setup stores the projective depth
-  // through one mapping or a perspective camera's logarithmic depth (no polygon offset; depth
-  // clamp only with the default range and a perspective camera, whose rays' distances are the
-  // sight lines' from the eye); else null, and its pixels are classified along their rays.
+  // (through the objects' own depth ranges and polygon offsets too) or a perspective camera's
+  // logarithmic depth; depth clamp only with the default range, no object's own and a
+  // perspective camera, whose rays' distances are the sight lines' from the eye. Else null, and
+  // its pixels are classified along their rays.
   const FrameVector<TrianglePlanes>* planes_ = nullptr;
   DepthMapping planeMapping_{};
   std::vector<double> clipXOfColumn_;  // NDC x of each column's pixel centre

@@ -28,6 +28,7 @@
 #include <limits>
 
 #include "clipray/compare/PixelClassification.hpp"
+#include "clipray/compare/PolygonOffset.hpp"
 #include "clipray/compare/ToleranceTerms.hpp"
 #include "clipray/util/KernelChoice.hpp"
 
@@ -184,21 +185,22 @@ bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc
   if (!(reciprocalW > 0.0) || !std::isfinite(zNdc) || !std::isfinite(reciprocalW)) return false;
   const double rasterDepth = raster_.depth[i];
   PlaneFigures figures;
-  const bool found =
-      setup_.logDepth
-          ? logDepthFromPlanes(p, id, xNdc, yNdc, reciprocalW, rasterDepth, figures)
-          : projectiveDepthFromPlanes(p, slot, xNdc, yNdc, zNdc, reciprocalW, rasterDepth, figures);
+  const bool found = setup_.logDepth
+                         ? logDepthFromPlanes(p, id, xNdc, yNdc, reciprocalW, rasterDepth, figures)
+                         : projectiveDepthFromPlanes(p, id, slot, xNdc, yNdc, zNdc, reciprocalW,
+                                                     rasterDepth, figures);
   if (!found) return false;
   // Certain: the error clear of the tolerance by both depths' reach and the tolerance's spread,
   // and one float quantum over the depths' reach.
-  const double error = std::abs(rasterDepth - figures.depth);
-  if (!(std::abs(error - figures.tolerance) > figures.reach + 0x1p-20 * figures.tolerance)) {
+  const double error = std::abs(rasterDepth - figures.compared);
+  if (!(std::abs(error - figures.tolerance) >
+        figures.reach + figures.toleranceReach + 0x1p-20 * figures.tolerance)) {
     return false;
   }
   if (setup_.depthFormat == DepthFormat::Float32) {
-    const double span = figures.reach + 0x1p-40 * std::abs(figures.depth);
-    if (quantumAt(DepthFormat::Float32, figures.depth - span) !=
-        quantumAt(DepthFormat::Float32, figures.depth + span)) {
+    const double span = figures.reach + 0x1p-40 * std::abs(figures.compared);
+    if (quantumAt(DepthFormat::Float32, figures.compared - span) !=
+        quantumAt(DepthFormat::Float32, figures.compared + span)) {
       return false;
     }
   }
@@ -222,28 +224,39 @@ bool FrameClassifier::classifyFromPlanes(std::size_t i, double xNdc, double yNdc
   return true;
 }
 
-bool FrameClassifier::projectiveDepthFromPlanes(const TrianglePlanes& p, std::uint32_t slot,
-                                                double xNdc, double yNdc, double zNdc,
-                                                double reciprocalW, double rasterDepth,
+bool FrameClassifier::projectiveDepthFromPlanes(const TrianglePlanes& p, std::uint32_t id,
+                                                std::uint32_t slot, double xNdc, double yNdc,
+                                                double zNdc, double reciprocalW, double rasterDepth,
                                                 PlaneFigures& out) const {
+  // The object's own depth range, if it has one.
+  const bool ownRange = !setup_.oneDepthRange();
+  const DepthMapping mapping = ownRange ? setup_.depthMappingOf(id) : planeMapping_;
+  const double toWindow = ownRange ? mapping.windowFromNdcScale() : model_.windowFromNdcScale_;
   // Under depth clamp, the depth before the clamp, clear of the range's ends by the planes' reach
   // (else it may be clamped: the ray path decides).
-  const double depth = planeMapping_.mappedWindowDepth(zNdc);
-  const double toWindow = model_.windowFromNdcScale_;
+  const double depth = mapping.mappedWindowDepth(zNdc);
   const double reach = 2.0 * p.depthError * toWindow;
   if (!(depth - reach > planeConstants_.clampLow && depth + reach < planeConstants_.clampHigh)) {
     return false;
   }
-  const double quantum = quantumAt(setup_.depthFormat, depth);
+  // A polygon offset: compared with the middle of the depths GL allows, the tolerance widened by
+  // their half width (PolygonOffset.hpp); both move by at most as much as the depth.
+  const OffsetBand band = setup_.objectOffsets.empty()
+                              ? OffsetBand{depth, 0.0}
+                              : offsetBand(model_.offsetInterval(id), depth, setup_.depthFormat);
+  const double quantum = quantumAt(setup_.depthFormat, band.middle);
   const double tolerance =
-      triangleDepthToleranceAtNdc(model_.pixelTerms_[slot], xNdc, yNdc, zNdc, reciprocalW, depth,
-                                  quantum, toWindow, model_.subpixelStep_, raster_.viewport);
-  const double zRaster = planeMapping_.ndcOfWindowDepth(rasterDepth);
+      band.halfWidth + triangleDepthToleranceAtNdc(model_.pixelTerms_[slot], xNdc, yNdc, zNdc,
+                                                   reciprocalW, depth, quantum, toWindow,
+                                                   model_.subpixelStep_, raster_.viewport);
+  const double zRaster = mapping.ndcOfWindowDepth(rasterDepth - (band.middle - depth));
   const double apart = std::abs(zNdc - zRaster);
   const double relative =
       parallel_ ? apart / planeConstants_.depthSpan
                 : apart / std::abs(planeConstants_.eyeClipZ * reciprocalW + zRaster - zNdc);
-  out = {depth, tolerance, quantum, reach, relative};
+  out = {depth,   band.middle, tolerance,
+         quantum, reach,       setup_.objectOffsets.empty() ? 0.0 : reach,
+         relative};
   return true;
 }
 
@@ -267,7 +280,7 @@ bool FrameClassifier::logDepthFromPlanes(const TrianglePlanes& p, std::uint32_t 
   // The distance from the eye along a sight line is proportional to clip w (0 at the eye): the
   // raster's relative to the hit's, as the ray path measures it along the ray.
   const double relative = std::abs(mapping.clipWOfWindowDepth(rasterDepth) - w) / w;
-  out = {depth, tolerance, quantum, reach->depth, relative};
+  out = {depth, depth, tolerance, quantum, reach->depth, 0.0, relative};
   return true;
 }
 

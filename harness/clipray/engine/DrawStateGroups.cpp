@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -12,6 +16,10 @@
 #include "clipray/util/AnalyticChoice.hpp"
 
 namespace clipray::engine {
+
+namespace {
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+}  // namespace
 
 std::vector<DrawStateGroup> drawStateGroups(const Scene& scene) {
   std::vector<DrawStateGroup> groups{{scene.depthRange, {}, std::nullopt, {}, true}};
@@ -162,6 +170,32 @@ Hit closestHitByDrawState(const Ray& ray, const SceneIntersector& wholeScene, co
   return kept;
 }
 
+namespace {
+
+// One group's pass over the frame: its objects as a scene with its own intersector, its rays (the
+// frame's, or cut by its own planes) and their hits (by its scene's ids), and how its hits compete
+// in the depth test.
+struct GroupPass {
+  GroupScene part;
+  std::unique_ptr<SceneIntersector> intersector;
+  AnalyticFrame frame;
+  bool ownRays = false;
+  DepthMapping mapping;
+  std::vector<double> offsets;  // offsetsOf
+};
+
+// A group's hit at one pixel in the depth test: the hit (the whole scene's id; t NaN where it was
+// decided from its planes), the window depth the test compares (offset included) and how far the
+// ray path's may lie from it (0: that depth).
+struct Contender {
+  Hit hit;
+  double depth = 0.0, reach = 0.0;
+  std::size_t group = 0;
+  std::uint32_t localId = 0;
+};
+
+}  // namespace
+
 ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
                                       const Scene& scene, const glm::dmat4& drawnClipFromWorld,
                                       const PickingCamera& camera, unsigned threadCount) {
@@ -183,33 +217,38 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
   }
   const glm::dvec3& reference = wholeScene.reference();
   const bool greater = nearerIsGreater(camera.mode, scene.depthRange);
-  const int width = frame.viewport.width;
-  FrameVector<Hit> kept(frame.pixelCount());
-  std::vector<double> keptDepth(frame.pixelCount(), 0.0);
+  const Viewport viewport = frame.viewport;
+  const int width = viewport.width;
   // The groups' frames the screen path evaluated, their counts summed; else the first reason.
   ScreenEvaluation evaluated;
   evaluated.frames = 0;
   evaluated.groups = groups.size();
   std::string firstReason;
-  for (std::size_t g = 0; g < groups.size(); ++g) {
-    const GroupScene part = groupScene(scene, groups[g]);
-    const SceneIntersector intersector(
-        part.scene, reference, SceneIntersector::BvhBuild::WhenFirstNeeded, drawnClipFromWorld);
-    const bool ownRays = !groups[g].clipPlanes.empty();
-    AnalyticFrame cutFrame = ownRays
-                                 ? groupFrame(frame, camera, groups[g].clipPlanes)
-                                 : AnalyticFrame{frame.viewport, {}, frame.pixelCentreRays, {}, {}};
-    if (!ownRays && !frame.pixelCentreRays) cutFrame.rays = frame.rays;
-    // The group's hits, bit for bit the ray path's on either path: decided pixels are tested
-    // (their t competes in the depth test below).
+  std::vector<std::unique_ptr<GroupPass>> passes;
+  bool anyPlanes = false;
+  for (const DrawStateGroup& group : groups) {
+    GroupPass& pass = *passes.emplace_back(std::make_unique<GroupPass>());
+    pass.part = groupScene(scene, group);
+    pass.intersector = std::make_unique<SceneIntersector>(
+        pass.part.scene, reference, SceneIntersector::BvhBuild::WhenFirstNeeded,
+        drawnClipFromWorld);
+    const SceneIntersector& intersector = *pass.intersector;
+    pass.ownRays = !group.clipPlanes.empty();
+    pass.frame = pass.ownRays ? groupFrame(frame, camera, group.clipPlanes)
+                              : AnalyticFrame{frame.viewport, {}, frame.pixelCentreRays, {}, {}};
+    if (!pass.ownRays && !frame.pixelCentreRays) pass.frame.rays = frame.rays;
     if (takesScreenPath(path, intersector.triangleCount(), frame.pixelCount())) {
       PickingCamera groupCamera = camera;
-      if (ownRays) {
-        groupCamera.clipPlanes.insert(groupCamera.clipPlanes.end(), groups[g].clipPlanes.begin(),
-                                      groups[g].clipPlanes.end());
-      }
-      const ScreenEvaluation e = intersectFrameInScreenSpace(
-          cutFrame, intersector, groupCamera, threadCount, nullptr, DecidedHits::Tested);
+      groupCamera.clipPlanes.insert(groupCamera.clipPlanes.end(), group.clipPlanes.begin(),
+                                    group.clipPlanes.end());
+      // A group along the frame's rays keeps its decided pixels' planes: the merge below compares
+      // their depths from the planes, and the compare's fallback tests the triangle along the
+      // frame's ray, the group's. One with planes of its own tests them (its t, along its cut
+      // ray, is given along the frame's).
+      const ScreenEvaluation e =
+          intersectFrameInScreenSpace(pass.frame, intersector, groupCamera, threadCount, nullptr,
+                                      pass.ownRays ? DecidedHits::Tested : DecidedHits::FromPlanes);
+      anyPlanes = anyPlanes || pass.frame.planesById != nullptr;
       if (e.used) {
         evaluated.used = true;
         evaluated.background += e.background;
@@ -223,66 +262,157 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
         firstReason = e.reason;
       }
     } else {
-      intersectFrame(cutFrame, intersector, camera, threadCount);
+      intersectFrame(pass.frame, intersector, camera, threadCount);
       if (path == AnalyticPath::Auto && firstReason.empty()) {
         firstReason = fewPixelsReason(intersector.triangleCount(), frame.pixelCount());
       }
     }
-    const DepthMapping mapping{camera.mode, groups[g].range, false};
-    const std::vector<double> offsets = offsetsOf(part, groups[g], mapping, camera, frame.viewport);
-    parallelForRows(frame.viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
-      // A row goes in runs of 64 pixels; a run with no hit of the group computes no ray. The
-      // group's rays are the frame's where it has no planes of its own; where its planes cut
-      // them, the frame's are computed too (t is measured along them).
-      constexpr int kRun = 64;
-      std::array<Ray, kRun> frameRun, groupRun;
-      for (int y = rowBegin; y < rowEnd; ++y) {
-        for (int x0 = 0; x0 < width; x0 += kRun) {
-          const int n = std::min(kRun, width - x0);
-          const std::size_t first = static_cast<std::size_t>(y) * width + x0;
-          if (g == 0) std::fill_n(kept.data() + first, n, Hit{});
-          bool anyHit = false;
-          for (int k = 0; k < n; ++k) anyHit = anyHit || cutFrame.hits[first + k].hit();
-          if (!anyHit) continue;
-          const Ray* groupRays = groupRun.data();
-          if (cutFrame.pixelCentreRays) {
-            cutFrame.pixelCentreRays->row(y, x0, n, groupRun.data());
-          } else {
-            groupRays = cutFrame.rays.data() + first;
-          }
-          const Ray* frameRays = groupRays;
-          if (ownRays && frame.pixelCentreRays) {
-            frame.pixelCentreRays->row(y, x0, n, frameRun.data());
-            frameRays = frameRun.data();
-          } else if (ownRays) {
-            frameRays = frame.rays.data() + first;
-          }
+    pass.mapping = DepthMapping{camera.mode, group.range, false};
+    pass.offsets = offsetsOf(pass.part, group, pass.mapping, camera, frame.viewport);
+  }
+  // The decided triangles' planes by the whole scene's ids (each group's entries copied as bytes:
+  // only its decided triangles' are written).
+  std::shared_ptr<FrameVector<TrianglePlanes>> planes;
+  if (anyPlanes) {
+    planes = std::make_shared<FrameVector<TrianglePlanes>>();
+    planes->resize(std::size_t{wholeScene.primitiveIdCount()} + 1);
+    for (const std::unique_ptr<GroupPass>& pass : passes) {
+      if (!pass->frame.planesById) continue;
+      const std::vector<std::uint32_t>& globalIds = pass->part.globalIdOfLocal;
+      for (std::size_t local = 1; local < globalIds.size(); ++local) {
+        std::memcpy(&(*planes)[globalIds[local]], &(*pass->frame.planesById)[local],
+                    sizeof(TrianglePlanes));
+      }
+    }
+  }
+  FrameVector<Hit> kept(frame.pixelCount());
+  parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
+    // A row goes in runs of 64 pixels. A run's rays (the frame's, and each group's with planes of
+    // its own) are computed where a hit of it has its t (its depth is measured along its ray) or
+    // two groups' planes leave the depth test open; a run with no hit computes none.
+    constexpr int kRun = 64;
+    std::array<Ray, kRun> frameRun;
+    std::vector<std::array<Ray, kRun>> groupRuns(passes.size());
+    std::vector<const Ray*> groupRays(passes.size());
+    for (int y = rowBegin; y < rowEnd; ++y) {
+      const double yNdc = clipXYOfPixelCentre(0, y, viewport).y;
+      for (int x0 = 0; x0 < width; x0 += kRun) {
+        const int n = std::min(kRun, width - x0);
+        const std::size_t first = static_cast<std::size_t>(y) * width + x0;
+        std::fill_n(kept.data() + first, n, Hit{});
+        bool anyHit = false, anyTraced = false;
+        for (const std::unique_ptr<GroupPass>& pass : passes) {
           for (int k = 0; k < n; ++k) {
-            const std::size_t i = first + static_cast<std::size_t>(k);
-            Hit hit = cutFrame.hits[i];
-            if (!hit.hit()) continue;
-            const double offset = offsets.empty() ? 0.0 : offsets[hit.primitiveId];
-            hit.primitiveId = part.globalIdOfLocal[hit.primitiveId];
-            const Ray& groupRay = groupRays[k];
-            const glm::dvec3 point = groupRay.origin + hit.t * groupRay.direction;
-            if (ownRays) {
-              // The group's ray starts where its planes cut the frame's: t along the frame's ray.
-              const Ray& frameRay = frameRays[k];
-              hit.t = glm::dot(point - frameRay.origin, frameRay.direction) /
-                      glm::dot(frameRay.direction, frameRay.direction);
-            }
-            const glm::dvec4 clip = camera.clipFromWorld * glm::dvec4(point, 1.0);
-            const double depth = mapping.windowDepth(clip.z / clip.w) + offset;
-            if (depthTestKeeps(hit, depth, kept[i], keptDepth[i], greater)) {
-              kept[i] = hit;
-              keptDepth[i] = depth;
-            }
+            const Hit& hit = pass->frame.hits[first + static_cast<std::size_t>(k)];
+            anyHit = anyHit || hit.hit();
+            anyTraced = anyTraced || (hit.hit() && !std::isnan(hit.t));
           }
         }
+        if (!anyHit) continue;
+        const Ray* frameRays = nullptr;
+        const auto makeRays = [&] {
+          if (frameRays) return;
+          if (frame.pixelCentreRays) {
+            frame.pixelCentreRays->row(y, x0, n, frameRun.data());
+            frameRays = frameRun.data();
+          } else {
+            frameRays = frame.rays.data() + first;
+          }
+          for (std::size_t g = 0; g < passes.size(); ++g) {
+            const GroupPass& pass = *passes[g];
+            if (!pass.ownRays) {
+              groupRays[g] = frameRays;
+            } else if (pass.frame.pixelCentreRays) {
+              pass.frame.pixelCentreRays->row(y, x0, n, groupRuns[g].data());
+              groupRays[g] = groupRuns[g].data();
+            } else {
+              groupRays[g] = pass.frame.rays.data() + first;
+            }
+          }
+        };
+        if (anyTraced) makeRays();
+        // A group's hit with its t: its depth at the point along its ray, t given along the
+        // frame's ray (the group's ray starts where its planes cut the frame's).
+        const auto traced = [&](std::size_t g, Hit hit, int k) {
+          const GroupPass& pass = *passes[g];
+          Contender c{hit, 0.0, 0.0, g, hit.primitiveId};
+          const double offset = pass.offsets.empty() ? 0.0 : pass.offsets[hit.primitiveId];
+          c.hit.primitiveId = pass.part.globalIdOfLocal[hit.primitiveId];
+          const Ray& groupRay = groupRays[g][k];
+          const glm::dvec3 point = groupRay.origin + hit.t * groupRay.direction;
+          if (pass.ownRays) {
+            const Ray& frameRay = frameRays[k];
+            c.hit.t = glm::dot(point - frameRay.origin, frameRay.direction) /
+                      glm::dot(frameRay.direction, frameRay.direction);
+          }
+          const glm::dvec4 clip = camera.clipFromWorld * glm::dvec4(point, 1.0);
+          c.depth = pass.mapping.windowDepth(clip.z / clip.w) + offset;
+          return c;
+        };
+        // A group's hit decided from its planes: its depth from the depth plane at the pixel
+        // centre. The ray path's NDC z lies within twice the plane's bound of it (as the compare
+        // takes it, PlaneClassification.cpp); the mapping and the offset round by far less than
+        // 2^-40 of the depth.
+        const auto fromPlanes = [&](std::size_t g, const Hit& hit, double xNdc) {
+          const GroupPass& pass = *passes[g];
+          const TrianglePlanes& p = (*pass.frame.planesById)[hit.primitiveId];
+          Contender c{hit, 0.0, 0.0, g, hit.primitiveId};
+          c.hit.primitiveId = pass.part.globalIdOfLocal[hit.primitiveId];
+          const double offset = pass.offsets.empty() ? 0.0 : pass.offsets[hit.primitiveId];
+          const double zNdc = p.za * xNdc + (p.zb * yNdc + p.zc);
+          c.depth = pass.mapping.windowDepth(zNdc) + offset;
+          c.reach = 2.0 * p.depthError * std::abs(pass.mapping.windowFromNdcScale()) +
+                    0x1p-40 * std::abs(c.depth);
+          if (!std::isfinite(c.depth) || !std::isfinite(c.reach)) c.reach = kInfinity;
+          return c;
+        };
+        // A contender from planes made the ray path's: its triangle's test along its ray (the
+        // frame's), or the group's closest hit should that miss; false where nothing is hit.
+        const auto made = [&](Contender& c, int k) {
+          if (c.reach == 0.0) return true;
+          makeRays();
+          const GroupPass& pass = *passes[c.group];
+          Hit hit = pass.intersector->intersectOne(c.localId, groupRays[c.group][k]);
+          if (!hit.hit()) hit = pass.intersector->closestHit(groupRays[c.group][k]);
+          if (!hit.hit()) return false;
+          c = traced(c.group, hit, k);
+          return true;
+        };
+        for (int k = 0; k < n; ++k) {
+          const std::size_t i = first + static_cast<std::size_t>(k);
+          const double xNdc = clipXYOfPixelCentre(x0 + k, y, viewport).x;
+          std::optional<Contender> best;
+          for (std::size_t g = 0; g < passes.size(); ++g) {
+            const Hit& hit = passes[g]->frame.hits[i];
+            if (!hit.hit()) continue;
+            Contender c = std::isnan(hit.t) ? fromPlanes(g, hit, xNdc) : traced(g, hit, k);
+            if (!best) {
+              best = c;
+              continue;
+            }
+            // Surely kept or surely not where the reaches leave the depths apart; else both
+            // depths the ray path's, and its test.
+            const double gap = c.reach + best->reach;
+            const double ahead = greater ? c.depth - best->depth : best->depth - c.depth;
+            bool keeps = false;
+            if (gap > 0.0 && ahead > gap) {
+              keeps = true;
+            } else if (gap > 0.0 && -ahead > gap) {
+              keeps = false;
+            } else {
+              const bool bestMade = made(*best, k), candidateMade = made(c, k);
+              if (!candidateMade) continue;
+              keeps = !bestMade || depthTestKeeps(c.hit, c.depth, best->hit, best->depth, greater);
+            }
+            if (keeps) best = c;
+          }
+          if (best) kept[i] = best->hit;
+        }
       }
-    });
-  }
+    }
+  });
   frame.hits = std::move(kept);
+  frame.planesById = planes;
   if (evaluated.used) return evaluated;
   ScreenEvaluation rays;
   if (path != AnalyticPath::Rays) {
