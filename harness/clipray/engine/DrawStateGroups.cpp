@@ -286,10 +286,15 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
     }
   }
   FrameVector<Hit> kept(frame.pixelCount());
+  std::vector<double> clipX(static_cast<std::size_t>(width));
+  for (int x = 0; x < width; ++x) {
+    clipX[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, viewport).x;
+  }
   parallelForRows(viewport.height, threadCount, [&](int rowBegin, int rowEnd) {
     // A row goes in runs of 64 pixels. A run's rays (the frame's, and each group's with planes of
-    // its own) are computed where a hit of it has its t (its depth is measured along its ray) or
-    // two groups' planes leave the depth test open; a run with no hit computes none.
+    // its own) are computed where a pixel needs one: two groups' hits there, one of them with its
+    // t (its depth is measured along its ray) or both from planes the depth test leaves open, or
+    // a hit along a group's own ray, whose t is given along the frame's.
     constexpr int kRun = 64;
     std::array<Ray, kRun> frameRun;
     std::vector<std::array<Ray, kRun>> groupRuns(passes.size());
@@ -300,12 +305,10 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
         const int n = std::min(kRun, width - x0);
         const std::size_t first = static_cast<std::size_t>(y) * width + x0;
         std::fill_n(kept.data() + first, n, Hit{});
-        bool anyHit = false, anyTraced = false;
+        bool anyHit = false;
         for (const std::unique_ptr<GroupPass>& pass : passes) {
           for (int k = 0; k < n; ++k) {
-            const Hit& hit = pass->frame.hits[first + static_cast<std::size_t>(k)];
-            anyHit = anyHit || hit.hit();
-            anyTraced = anyTraced || (hit.hit() && !std::isnan(hit.t));
+            anyHit = anyHit || pass->frame.hits[first + static_cast<std::size_t>(k)].hit();
           }
         }
         if (!anyHit) continue;
@@ -330,10 +333,10 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
             }
           }
         };
-        if (anyTraced) makeRays();
         // A group's hit with its t: its depth at the point along its ray, t given along the
         // frame's ray (the group's ray starts where its planes cut the frame's).
         const auto traced = [&](std::size_t g, Hit hit, int k) {
+          makeRays();
           const GroupPass& pass = *passes[g];
           Contender c{hit, 0.0, 0.0, g, hit.primitiveId};
           const double offset = pass.offsets.empty() ? 0.0 : pass.offsets[hit.primitiveId];
@@ -380,7 +383,27 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
         };
         for (int k = 0; k < n; ++k) {
           const std::size_t i = first + static_cast<std::size_t>(k);
-          const double xNdc = clipXYOfPixelCentre(x0 + k, y, viewport).x;
+          std::size_t hitCount = 0, only = 0;
+          for (std::size_t g = 0; g < passes.size(); ++g) {
+            if (passes[g]->frame.hits[i].hit()) {
+              ++hitCount;
+              only = g;
+            }
+          }
+          if (hitCount == 0) continue;
+          if (hitCount == 1) {
+            // One group's hit: kept, with no depth to compare (t along the frame's ray).
+            const GroupPass& pass = *passes[only];
+            Hit hit = pass.frame.hits[i];
+            if (pass.ownRays && !std::isnan(hit.t)) {
+              hit = traced(only, hit, k).hit;
+            } else {
+              hit.primitiveId = pass.part.globalIdOfLocal[hit.primitiveId];
+            }
+            kept[i] = hit;
+            continue;
+          }
+          const double xNdc = clipX[static_cast<std::size_t>(x0 + k)];
           std::optional<Contender> best;
           for (std::size_t g = 0; g < passes.size(); ++g) {
             const Hit& hit = passes[g]->frame.hits[i];
