@@ -359,10 +359,9 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
     for (int x = 0; x < raster.viewport.width; ++x) {
       clipXOfColumn_[static_cast<std::size_t>(x)] = clipXYOfPixelCentre(x, 0, raster.viewport).x;
     }
-    // The four-pixel kernel maps NDC z through the default range alone: objects' own ranges,
-    // polygon offsets and a logarithmic depth go pixel by pixel.
-    fourPlanes_ = setup.defaultDepthRange() && setup.oneDepthRange() &&
-                  setup.objectOffsets.empty() && !setup.logDepth;
+    // The four-pixel kernel maps NDC z through the scene's default range or an object's own,
+    // with its offset: a logarithmic depth goes pixel by pixel.
+    fourPlanes_ = setup.defaultDepthRange() && !setup.logDepth;
 #if CLIPRAY_COMPARE_AVX2
     fourPlanesAvx2_ = cpuHasAvx2() && simdKernelsChosen();
 #endif
@@ -381,6 +380,7 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
     in.depthSpan = std::abs(setup.mode.farNdcZ() - setup.mode.nearNdcZ());
     in.clampLow = setup.depthClamp.enabled ? 0.0 : -kInf;
     in.clampHigh = setup.depthClamp.enabled ? 1.0 : kInf;
+    in.offsets = !setup.objectOffsets.empty();
   }
 }
 

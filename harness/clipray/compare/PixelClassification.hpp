@@ -65,6 +65,9 @@ struct PlaneFrameConstants {
   // Under depth clamp the depth range's ends (0 and 1): a pixel whose depth lies within its
   // planes' reach of either may be clamped, and the ray path decides it; else -inf and +inf.
   double clampLow, clampHigh;
+  // Objects drawn with a polygon offset: the raster's depth is compared with the middle of the
+  // depths GL allows (PolygonOffset.hpp's offsetBand), the tolerance widened by their half width.
+  bool offsets;
 };
 struct FourPlanePixels {
   const TrianglePlanes* planes[4];
@@ -72,6 +75,9 @@ struct FourPlanePixels {
   const double* gradient[4];
   const double* interpolation[4];
   bool one;  // all four the same triangle
+  // Each pixel's object's glDepthRange(n, f) as n and f - n (0 and 1: the scene's default), and
+  // where the frame has offsets, its object's OffsetInterval (0 and 0: none).
+  double rangeLow[4], rangeSpan[4], offsetLow[4], offsetHigh[4];
   const double* xNdc;
   double yNdc;
   const float* rasterDepth;

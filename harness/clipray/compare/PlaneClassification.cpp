@@ -109,28 +109,47 @@ using FloatBits = unsigned __attribute__((vector_size(16)));
       (planeField(p, &TrianglePlanes::rb) * y + planeField(p, &TrianglePlanes::rc));
   const Mask usable = (reciprocalW > 0.0) & (absolute(zNdc) < kInf) & (reciprocalW < kInf);
   if ((usable[0] & usable[1] & usable[2] & usable[3]) == 0) return false;
-  const Lanes depth = (zNdc - in.zn) * in.toWindowDepth;
+  // The object's depth range: n + (f - n) d, which the default (0, 1) leaves d, bit for bit.
+  const Lanes rangeSpan = load(p.rangeSpan);
+  const Lanes depth = load(p.rangeLow) + rangeSpan * ((zNdc - in.zn) * in.toWindowDepth);
+  const Lanes toWindow = in.toWindow * absolute(rangeSpan);
   Floats rasterFloats;
   std::memcpy(&rasterFloats, p.rasterDepth, sizeof rasterFloats);
   const Lanes rasterDepth = __builtin_convertvector(rasterFloats, Lanes);
-  const Lanes error = absolute(rasterDepth - depth);
-  const Lanes reach = 2.0 * planeField(p, &TrianglePlanes::depthError) * in.toWindow;
+  const Lanes reach = 2.0 * planeField(p, &TrianglePlanes::depthError) * toWindow;
   // Depth clamp: clear of the range's ends by the reach (else it may be clamped).
   const Mask inRange = (depth - reach > in.clampLow) & (depth + reach < in.clampHigh);
   if ((inRange[0] & inRange[1] & inRange[2] & inRange[3]) == 0) return false;
+  // A polygon offset's band (offsetBand, clamped to [0, 1] in a fixed-point buffer): its middle
+  // and half width move by at most as much as the depth, so the tolerance by the reach too.
+  Lanes compared = depth, halfWidth = Lanes{}, toleranceReach = Lanes{};
+  if (in.offsets) {
+    Lanes low = depth + load(p.offsetLow), high = depth + load(p.offsetHigh);
+    if (in.fixedQuantum != 0.0) {
+      const Lanes zero = Lanes{}, one = Lanes{} + 1.0;
+      low = low < zero ? zero : (low > one ? one : low);
+      high = high < zero ? zero : (high > one ? one : high);
+    }
+    compared = 0.5 * (low + high);
+    halfWidth = 0.5 * (high - low);
+    toleranceReach = reach;
+  }
+  const Lanes error = absolute(rasterDepth - compared);
   Lanes quantum = Lanes{} + in.fixedQuantum;
   if (in.fixedQuantum == 0.0) {
     // One float quantum over the depths' reach (else the ray path decides). The quantum grows
     // with |depth|: where the reach stays above 0, the depth's quantum is the one at either end.
-    const Lanes span = reach + 0x1p-40 * absolute(depth);
+    const Lanes span = reach + 0x1p-40 * absolute(compared);
     Lanes below, above;
-    if (!floatQuanta(depth - span, below) || !floatQuanta(depth + span, above)) return false;
+    if (!floatQuanta(compared - span, below) || !floatQuanta(compared + span, above)) {
+      return false;
+    }
     const Mask steady = below == above;
     if ((steady[0] & steady[1] & steady[2] & steady[3]) == 0) return false;
-    const Mask positive = depth - span > 0.0;
+    const Mask positive = compared - span > 0.0;
     if ((positive[0] & positive[1] & positive[2] & positive[3]) != 0) {
       quantum = below;
-    } else if (!floatQuanta(depth, quantum)) {
+    } else if (!floatQuanta(compared, quantum)) {
       return false;
     }
   }
@@ -138,13 +157,15 @@ using FloatBits = unsigned __attribute__((vector_size(16)));
   const Lanes boundW = boundField(p, 3);
   const Lanes xyError = largerOf((boundField(p, 0) + absolute(x) * boundW) * 0.5 * in.width,
                                  (boundField(p, 1) + absolute(y) * boundW) * 0.5 * in.height);
-  const Lanes vertex = (boundField(p, 2) + absolute(zNdc) * boundW) * reciprocalW * in.toWindow +
+  const Lanes vertex = (boundField(p, 2) + absolute(zNdc) * boundW) * reciprocalW * toWindow +
                        2.0 * u * absolute(depth);
   const Lanes snap = termField(p, p.gradient) * (in.subpixelStep + xyError * reciprocalW);
-  const Lanes tolerance = quantum + vertex + snap + termField(p, p.interpolation);
-  const Mask certain = absolute(error - tolerance) > reach + 0x1p-20 * tolerance;
+  const Lanes tolerance = halfWidth + (quantum + vertex + snap + termField(p, p.interpolation));
+  const Mask certain = absolute(error - tolerance) > reach + toleranceReach + 0x1p-20 * tolerance;
   if ((certain[0] & certain[1] & certain[2] & certain[3]) == 0) return false;
-  const Lanes zRaster = rasterDepth * (1.0 - in.zn) + in.zn;
+  // The raster's depth less the offset's move, in the object's range, back to NDC.
+  const Lanes unmoved = rasterDepth - (compared - depth);
+  const Lanes zRaster = (unmoved - load(p.rangeLow)) / rangeSpan * (1.0 - in.zn) + in.zn;
   const Lanes apart = absolute(zNdc - zRaster);
   const Lanes relative = in.parallel ? apart / in.depthSpan
                                      : apart / absolute(in.eyeClipZ * reciprocalW + zRaster - zNdc);
@@ -302,12 +323,23 @@ bool FrameClassifier::classifyFourFromPlanes(std::size_t first, const double* xN
       p.clipErrorBound[l] = &terms.clipErrorBound;
       p.gradient[l] = &terms.gradient;
       p.interpolation[l] = &terms.interpolation;
+      const glm::dvec2 range = setup_.objectDepthRanges.rangeOf(id, setup_.depthRange);
+      p.rangeLow[l] = range.x;
+      p.rangeSpan[l] = range.y - range.x;
+      const OffsetInterval offset =
+          planeConstants_.offsets ? model_.offsetInterval(id) : OffsetInterval{};
+      p.offsetLow[l] = offset.low;
+      p.offsetHigh[l] = offset.high;
       previousId = id;
     } else {
       p.planes[l] = p.planes[l - 1];
       p.clipErrorBound[l] = p.clipErrorBound[l - 1];
       p.gradient[l] = p.gradient[l - 1];
       p.interpolation[l] = p.interpolation[l - 1];
+      p.rangeLow[l] = p.rangeLow[l - 1];
+      p.rangeSpan[l] = p.rangeSpan[l - 1];
+      p.offsetLow[l] = p.offsetLow[l - 1];
+      p.offsetHigh[l] = p.offsetHigh[l - 1];
     }
   }
   p.one = hits[0].primitiveId == hits[3].primitiveId &&
