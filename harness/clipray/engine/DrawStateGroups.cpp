@@ -194,97 +194,30 @@ struct Contender {
   std::uint32_t localId = 0;
 };
 
-}  // namespace
-
-ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
-                                      const Scene& scene, const glm::dmat4& drawnClipFromWorld,
-                                      const PickingCamera& camera, unsigned threadCount) {
-  const std::vector<DrawStateGroup> groups = drawStateGroups(scene);
-  // An app's own picking rays (stored per pixel) are the ray path's alone.
-  const AnalyticPath path = frame.pixelCentreRays ? chosenAnalyticPath() : AnalyticPath::Rays;
-  if (groups.size() == 1) {
-    if (takesScreenPath(path, wholeScene.triangleCount(), frame.pixelCount())) {
-      // Decided pixels keep their planes: the compare evaluates them in place of rays.
-      return intersectFrameInScreenSpace(frame, wholeScene, camera, threadCount, nullptr,
-                                         DecidedHits::FromPlanes);
+// The decided triangles' planes by the whole scene's ids (each group's entries copied as bytes:
+// only its decided triangles' are written).
+std::shared_ptr<FrameVector<TrianglePlanes>> planesByWholeSceneId(
+    const std::vector<std::unique_ptr<GroupPass>>& passes, std::uint32_t primitiveIdCount) {
+  auto planes = std::make_shared<FrameVector<TrianglePlanes>>();
+  planes->resize(std::size_t{primitiveIdCount} + 1);
+  for (const std::unique_ptr<GroupPass>& pass : passes) {
+    if (!pass->frame.planesById) continue;
+    const std::vector<std::uint32_t>& globalIds = pass->part.globalIdOfLocal;
+    for (std::size_t local = 1; local < globalIds.size(); ++local) {
+      std::memcpy(&(*planes)[globalIds[local]], &(*pass->frame.planesById)[local],
+                  sizeof(TrianglePlanes));
     }
-    intersectFrame(frame, wholeScene, camera, threadCount);
-    ScreenEvaluation rays;
-    if (path == AnalyticPath::Auto) {
-      rays.reason = fewPixelsReason(wholeScene.triangleCount(), frame.pixelCount());
-    }
-    return rays;
   }
-  const glm::dvec3& reference = wholeScene.reference();
-  const bool greater = nearerIsGreater(camera.mode, scene.depthRange);
+  return planes;
+}
+
+// Per pixel, the group hit the depth test keeps (greater: GL_GREATER), by the whole scene's ids, t
+// along the frame's ray (NaN where it was decided from its group's planes).
+FrameVector<Hit> keptHits(const AnalyticFrame& frame,
+                          const std::vector<std::unique_ptr<GroupPass>>& passes,
+                          const PickingCamera& camera, bool greater, unsigned threadCount) {
   const Viewport viewport = frame.viewport;
   const int width = viewport.width;
-  // The groups' frames the screen path evaluated, their counts summed; else the first reason.
-  ScreenEvaluation evaluated;
-  evaluated.frames = 0;
-  evaluated.groups = groups.size();
-  std::string firstReason;
-  std::vector<std::unique_ptr<GroupPass>> passes;
-  bool anyPlanes = false;
-  for (const DrawStateGroup& group : groups) {
-    GroupPass& pass = *passes.emplace_back(std::make_unique<GroupPass>());
-    pass.part = groupScene(scene, group);
-    pass.intersector = std::make_unique<SceneIntersector>(
-        pass.part.scene, reference, SceneIntersector::BvhBuild::WhenFirstNeeded,
-        drawnClipFromWorld);
-    const SceneIntersector& intersector = *pass.intersector;
-    pass.ownRays = !group.clipPlanes.empty();
-    pass.frame = pass.ownRays ? groupFrame(frame, camera, group.clipPlanes)
-                              : AnalyticFrame{frame.viewport, {}, frame.pixelCentreRays, {}, {}};
-    if (!pass.ownRays && !frame.pixelCentreRays) pass.frame.rays = frame.rays;
-    if (takesScreenPath(path, intersector.triangleCount(), frame.pixelCount())) {
-      PickingCamera groupCamera = camera;
-      groupCamera.clipPlanes.insert(groupCamera.clipPlanes.end(), group.clipPlanes.begin(),
-                                    group.clipPlanes.end());
-      // A group along the frame's rays keeps its decided pixels' planes: the merge below compares
-      // their depths from the planes, and the compare's fallback tests the triangle along the
-      // frame's ray, the group's. One with planes of its own tests them (its t, along its cut
-      // ray, is given along the frame's).
-      const ScreenEvaluation e =
-          intersectFrameInScreenSpace(pass.frame, intersector, groupCamera, threadCount, nullptr,
-                                      pass.ownRays ? DecidedHits::Tested : DecidedHits::FromPlanes);
-      anyPlanes = anyPlanes || pass.frame.planesById != nullptr;
-      if (e.used) {
-        evaluated.used = true;
-        evaluated.background += e.background;
-        evaluated.decided += e.decided;
-        evaluated.contested += e.contested;
-        evaluated.traced += e.traced;
-        evaluated.boundMisses += e.boundMisses;
-        evaluated.rayDeviationNdc = std::max(evaluated.rayDeviationNdc, e.rayDeviationNdc);
-        ++evaluated.frames;
-      } else if (firstReason.empty()) {
-        firstReason = e.reason;
-      }
-    } else {
-      intersectFrame(pass.frame, intersector, camera, threadCount);
-      if (path == AnalyticPath::Auto && firstReason.empty()) {
-        firstReason = fewPixelsReason(intersector.triangleCount(), frame.pixelCount());
-      }
-    }
-    pass.mapping = DepthMapping{camera.mode, group.range, false};
-    pass.offsets = offsetsOf(pass.part, group, pass.mapping, camera, frame.viewport);
-  }
-  // The decided triangles' planes by the whole scene's ids (each group's entries copied as bytes:
-  // only its decided triangles' are written).
-  std::shared_ptr<FrameVector<TrianglePlanes>> planes;
-  if (anyPlanes) {
-    planes = std::make_shared<FrameVector<TrianglePlanes>>();
-    planes->resize(std::size_t{wholeScene.primitiveIdCount()} + 1);
-    for (const std::unique_ptr<GroupPass>& pass : passes) {
-      if (!pass->frame.planesById) continue;
-      const std::vector<std::uint32_t>& globalIds = pass->part.globalIdOfLocal;
-      for (std::size_t local = 1; local < globalIds.size(); ++local) {
-        std::memcpy(&(*planes)[globalIds[local]], &(*pass->frame.planesById)[local],
-                    sizeof(TrianglePlanes));
-      }
-    }
-  }
   FrameVector<Hit> kept(frame.pixelCount());
   std::vector<double> clipX(static_cast<std::size_t>(width));
   for (int x = 0; x < width; ++x) {
@@ -434,8 +367,86 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
       }
     }
   });
-  frame.hits = std::move(kept);
-  frame.planesById = planes;
+  return kept;
+}
+
+}  // namespace
+
+ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
+                                      const Scene& scene, const glm::dmat4& drawnClipFromWorld,
+                                      const PickingCamera& camera, unsigned threadCount) {
+  const std::vector<DrawStateGroup> groups = drawStateGroups(scene);
+  // An app's own picking rays (stored per pixel) are the ray path's alone.
+  const AnalyticPath path = frame.pixelCentreRays ? chosenAnalyticPath() : AnalyticPath::Rays;
+  if (groups.size() == 1) {
+    if (takesScreenPath(path, wholeScene.triangleCount(), frame.pixelCount())) {
+      // Decided pixels keep their planes: the compare evaluates them in place of rays.
+      return intersectFrameInScreenSpace(frame, wholeScene, camera, threadCount, nullptr,
+                                         DecidedHits::FromPlanes);
+    }
+    intersectFrame(frame, wholeScene, camera, threadCount);
+    ScreenEvaluation rays;
+    if (path == AnalyticPath::Auto) {
+      rays.reason = fewPixelsReason(wholeScene.triangleCount(), frame.pixelCount());
+    }
+    return rays;
+  }
+  const glm::dvec3& reference = wholeScene.reference();
+  // The groups' frames the screen path evaluated, their counts summed; else the first reason.
+  ScreenEvaluation evaluated;
+  evaluated.frames = 0;
+  evaluated.groups = groups.size();
+  std::string firstReason;
+  std::vector<std::unique_ptr<GroupPass>> passes;
+  bool anyPlanes = false;
+  for (const DrawStateGroup& group : groups) {
+    GroupPass& pass = *passes.emplace_back(std::make_unique<GroupPass>());
+    pass.part = groupScene(scene, group);
+    pass.intersector = std::make_unique<SceneIntersector>(
+        pass.part.scene, reference, SceneIntersector::BvhBuild::WhenFirstNeeded,
+        drawnClipFromWorld);
+    const SceneIntersector& intersector = *pass.intersector;
+    pass.ownRays = !group.clipPlanes.empty();
+    pass.frame = pass.ownRays ? groupFrame(frame, camera, group.clipPlanes)
+                              : AnalyticFrame{frame.viewport, {}, frame.pixelCentreRays, {}, {}};
+    if (!pass.ownRays && !frame.pixelCentreRays) pass.frame.rays = frame.rays;
+    if (takesScreenPath(path, intersector.triangleCount(), frame.pixelCount())) {
+      PickingCamera groupCamera = camera;
+      groupCamera.clipPlanes.insert(groupCamera.clipPlanes.end(), group.clipPlanes.begin(),
+                                    group.clipPlanes.end());
+      // A group along the frame's rays keeps its decided pixels' planes: the merge below compares
+      // their depths from the planes, and the compare's fallback tests the triangle along the
+      // frame's ray, the group's. One with planes of its own tests them (its t, along its cut
+      // ray, is given along the frame's).
+      const ScreenEvaluation e =
+          intersectFrameInScreenSpace(pass.frame, intersector, groupCamera, threadCount, nullptr,
+                                      pass.ownRays ? DecidedHits::Tested : DecidedHits::FromPlanes);
+      anyPlanes = anyPlanes || pass.frame.planesById != nullptr;
+      if (e.used) {
+        evaluated.used = true;
+        evaluated.background += e.background;
+        evaluated.decided += e.decided;
+        evaluated.contested += e.contested;
+        evaluated.traced += e.traced;
+        evaluated.boundMisses += e.boundMisses;
+        evaluated.rayDeviationNdc = std::max(evaluated.rayDeviationNdc, e.rayDeviationNdc);
+        ++evaluated.frames;
+      } else if (firstReason.empty()) {
+        firstReason = e.reason;
+      }
+    } else {
+      intersectFrame(pass.frame, intersector, camera, threadCount);
+      if (path == AnalyticPath::Auto && firstReason.empty()) {
+        firstReason = fewPixelsReason(intersector.triangleCount(), frame.pixelCount());
+      }
+    }
+    pass.mapping = DepthMapping{camera.mode, group.range, false};
+    pass.offsets = offsetsOf(pass.part, group, pass.mapping, camera, frame.viewport);
+  }
+  frame.hits =
+      keptHits(frame, passes, camera, nearerIsGreater(camera.mode, scene.depthRange), threadCount);
+  frame.planesById =
+      anyPlanes ? planesByWholeSceneId(passes, wholeScene.primitiveIdCount()) : nullptr;
   if (evaluated.used) return evaluated;
   ScreenEvaluation rays;
   if (path != AnalyticPath::Rays) {
