@@ -1,20 +1,27 @@
 // User clip planes per object (MeshObject::clipPlanes): a section view cuts one object (a house,
 // closed, cut by [-1, 0, 0, 0.3]) and leaves the rest whole. GL clips that draw by the camera's
 // planes and its own; the rays of its objects are cut by both (engine/DrawStateGroups.hpp), the
-// tolerance model's screen polygons too. A compare that does not know the object's planes is
-// caught.
+// tolerance model's screen polygons too, and a pixel the screen path decided from its planes goes
+// along the house's ray where the compare must test it. A compare that does not know the object's
+// planes is caught.
 
 #include <gtest/gtest.h>
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 
 #include <optional>
 #include <string>
 #include <tuple>
 #include <vector>
 
+#include "clipray/compare/PlanePixelHits.hpp"
+#include "clipray/compare/PrimitiveClipPlanes.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/scene/Scene.hpp"
+#include "support/AnalyticPathFor.hpp"
 #include "support/GlFixture.hpp"
 #include "support/RunStates.hpp"
 #include "support/SceneObjects.hpp"
@@ -109,6 +116,62 @@ TEST_F(ObjectClipPlanes, TheHouseShowsItsInsideThroughItsOwnCutUnderEveryState) 
 
 // The camera's planes and the object's together: a camera plane keeping y >= 0.2 cuts the ground
 // away and the house's floor with it; the house is cut by both.
+// The house's pixels the screen path decided from its planes, seen through its cut: where the
+// compare goes along the ray for one (its class open), it gets the ray path's hit bit for bit,
+// along the house's ray (the frame's cut by its plane, which moves its start into the house) with
+// t given along the frame's. Tracing the frame's uncut ray instead moves t.
+TEST_F(ObjectClipPlanes, APixelDecidedFromPlanesGetsTheRayPathsHitAlongItsObjectsRay) {
+  const Scene scene = sectionScene();
+  const Camera& camera = scene.cameras.at(0);
+  const std::size_t house = objectIndex(scene, "house");
+  const PrimitiveIdTable ids(scene);
+  const PrimitiveClipPlanes objectPlanes(scene);
+  int alongOwnRays = 0, tMovedByTheFramesRay = 0;
+  for (const DepthMode lowerLeft : testing::kLowerLeftModes) {
+    const engine::AnalyticPass rays = [&] {
+      const testing::AnalyticPathFor path(AnalyticPath::Rays);
+      return engine::runAnalyticPass(scene, camera, lowerLeft, camera.viewport);
+    }();
+    const engine::AnalyticPass screen = [&] {
+      const testing::AnalyticPathFor path(AnalyticPath::Screen);
+      return engine::runAnalyticPass(scene, camera, lowerLeft, camera.viewport);
+    }();
+    ASSERT_TRUE(screen.frame.planesById) << lowerLeft.name();
+    const PlanePixelHits planePixelHits(*screen.frame.pixelCentreRays, objectPlanes);
+    const Viewport viewport = camera.viewport;
+    for (int y = 0; y < viewport.height; ++y) {
+      for (int x = 0; x < viewport.width; ++x) {
+        const std::size_t i = static_cast<std::size_t>(y) * viewport.width + x;
+        const Hit& decided = screen.frame.hits[i];
+        if (!decided.hit() || !std::isnan(decided.t)) continue;
+        Ray ray;
+        screen.frame.pixelCentreRays->row(y, x, 1, &ray);
+        const Hit hit =
+            planePixelHits.rayPathHit(*screen.intersector, decided.primitiveId, x, y, ray);
+        const Hit& expected = rays.frame.hits[i];
+        ASSERT_EQ(hit.primitiveId, expected.primitiveId)
+            << lowerLeft.name() << " " << x << "," << y;
+        ASSERT_EQ(std::bit_cast<std::uint64_t>(hit.t), std::bit_cast<std::uint64_t>(expected.t))
+            << lowerLeft.name() << " " << x << "," << y << ": t " << hit.t << " against "
+            << expected.t;
+        const bool ofHouse = decided.primitiveId >= ids.firstIdOfObject[house] &&
+                             decided.primitiveId <
+                                 ids.firstIdOfObject[house] + scene.objects[house].triangles.size();
+        if (!ofHouse) continue;
+        ++alongOwnRays;
+        const Hit uncut = screen.intersector->intersectOne(decided.primitiveId, ray);
+        tMovedByTheFramesRay += uncut.t != expected.t ? 1 : 0;
+      }
+    }
+  }
+  std::printf(
+      "%d of the house's plane pixels along its own rays, the ray path's hit each; the "
+      "frame's uncut ray moves t at %d\n",
+      alongOwnRays, tMovedByTheFramesRay);
+  EXPECT_GT(alongOwnRays, 3000);
+  EXPECT_GT(tMovedByTheFramesRay, alongOwnRays / 10);
+}
+
 TEST_F(ObjectClipPlanes, TheCamerasPlanesAndTheObjectsCutTogether) {
   Scene scene = sectionScene();
   scene.cameras.at(0).clipPlanes = {{0.0, 1.0, 0.0, -0.2}};

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <iostream>
@@ -21,6 +22,8 @@
 #include <string>
 #include <vector>
 
+#include "clipray/compare/PlanePixelHits.hpp"
+#include "clipray/compare/PrimitiveClipPlanes.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/rays/HardCases.hpp"
 #include "clipray/report/Report.hpp"
@@ -82,7 +85,7 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
   double worstDepth = 0.0, worstDepthOverBound = 0.0, worstFigure = 0.0;
   std::string worstFigureAt;
   int clipped = 0, clamped = 0, logDepth = 0, grouped = 0;
-  std::int64_t logFromPlanes = 0, groupsFromPlanes = 0;
+  std::int64_t logFromPlanes = 0, groupsFromPlanes = 0, rayPathHits = 0, ownPlaneHits = 0;
   for (const Viewport size : sizes) {
     for (const HardCase& hardCase : hardCases(size)) {
       Scene scene = testing::randomScene(hardCase, hardCase.viewport, seed++, true);
@@ -109,10 +112,16 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
           case 1:
             copy.polygonOffset = PolygonOffset{-1.0, -2.0, 0.0};
             break;
-          default:
+          default: {
             copy.clipPlanes = {
                 glm::dvec4(glm::dvec3(0.6, 0.0, 0.8), -0.6 * through.x - 0.8 * through.z)};
+            // The last object too, with a plane of its own through its first vertex (its pixels
+            // are its group's, not the copy's, which ties with the original it lies on).
+            MeshObject& last = scene.objects.back();
+            const glm::dvec3 at = last.worldPositions.front();
+            last.clipPlanes = {glm::dvec4(glm::dvec3(-0.8, 0.0, 0.6), 0.8 * at.x - 0.6 * at.z)};
             break;
+          }
         }
         scene.objects.push_back(std::move(copy));
         ++grouped;
@@ -157,6 +166,31 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
           (scene.depthClamp ? " depth clamp" : "") + (camera.logarithmicDepth ? " log depth" : "");
       ASSERT_FALSE(rays.frame.planesById) << what;
       evaluated += screen.screen.used ? 1 : 0;
+      if (screen.frame.planesById) {
+        // Where the compare goes along the ray for a pixel decided from planes, it gets the ray
+        // path's hit bit for bit: along its group's ray, t given along the frame's.
+        const PrimitiveClipPlanes objectPlanes(scene);
+        const PlanePixelHits planePixelHits(*screen.frame.pixelCentreRays, objectPlanes);
+        const Viewport viewport = camera.viewport;
+        for (int y = 0; y < viewport.height; ++y) {
+          for (int x = 0; x < viewport.width; ++x) {
+            const std::size_t i = static_cast<std::size_t>(y) * viewport.width + x;
+            const Hit& decided = screen.frame.hits[i];
+            if (!decided.hit() || !std::isnan(decided.t)) continue;
+            Ray ray;
+            screen.frame.pixelCentreRays->row(y, x, 1, &ray);
+            const Hit hit =
+                planePixelHits.rayPathHit(*screen.intersector, decided.primitiveId, x, y, ray);
+            const Hit& expected = rays.frame.hits[i];
+            ASSERT_EQ(hit.primitiveId, expected.primitiveId) << what << ", pixel " << x << "," << y;
+            ASSERT_EQ(std::bit_cast<std::uint64_t>(hit.t), std::bit_cast<std::uint64_t>(expected.t))
+                << what << ", pixel " << x << "," << y << ": t " << hit.t << " against "
+                << expected.t;
+            ++rayPathHits;
+            ownPlaneHits += objectPlanes.of(decided.primitiveId).empty() ? 0 : 1;
+          }
+        }
+      }
       const double toWindow = 1.0 / (1.0 - mode.clipVolumeMinZ());
       testing::drawInEveryDepthFormat(
           renderer(), rays, runs, [&](DepthFormat format, const auto& compare) {
@@ -248,6 +282,10 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
   EXPECT_GT(compared, 10000);
   EXPECT_GT(logFromPlanes, 1000);
   EXPECT_GT(groupsFromPlanes, 1000);
+  std::cout << rayPathHits << " plane pixels' ray path hits through PlanePixelHits, "
+            << ownPlaneHits
+            << " of them along an object's own rays: each the ray path's bit for bit\n";
+  EXPECT_GT(ownPlaneHits, 500);
   // The ray path's depth lies far closer to the exact crossing than the planes' bound (the
   // bound's worst case stacks every rounding): both depths within it of each other.
   EXPECT_LE(worstDepthOverBound, 1.0);

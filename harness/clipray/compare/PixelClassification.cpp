@@ -20,6 +20,7 @@
 #include "clipray/compare/ToleranceTerms.hpp"
 #include "clipray/math/Projections.hpp"
 #include "clipray/rays/FourRays.hpp"
+#include "clipray/util/Check.hpp"
 #include "clipray/util/KernelChoice.hpp"
 
 namespace clipray::detail {
@@ -346,6 +347,11 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
 #endif
   // A parallel camera's distance figure is relative to its ray's interval, which the user clip
   // planes shorten: its plane pixels go along their rays where it has planes.
+  // Hits decided from planes come only with computed rays (the screen path's): where a pixel's
+  // class is open, its ray path hit.
+  if (analytic.planesById && analytic.pixelCentreRays) {
+    planePixelHits_.emplace(*analytic.pixelCentreRays, setup.objectClipPlanes);
+  }
   // A logarithmic depth is a perspective camera's (a parallel one's clip w is the same everywhere)
   // and never clamped here.
   if (analytic.planesById &&
@@ -708,11 +714,13 @@ void FrameClassifier::classifyRows(int rowBegin, int rowEnd, RunMetrics& metrics
       }
       if (planeHits && fromPlanes(i)) {
         if (planes_ && classifyFromPlanes(i, clipXOfColumn_[x], yNdc, metrics, samples)) continue;
-        // The ray path's hit, as DecidedHits::Tested gives it: the decided triangle's test.
         const Ray& ray = *raysOf(x);
-        Hit hit = intersector_.intersectOne(analytic_.hits[i].primitiveId, ray);
-        if (!hit.hit()) hit = intersector_.closestHit(ray);
-        classifyPixel(i, centre, ray, hit, metrics, samples);
+        CLIPRAY_CHECK(planePixelHits_.has_value(),
+                      "a hit decided from planes without computed rays");
+        classifyPixel(i, centre, ray,
+                      planePixelHits_->rayPathHit(intersector_, analytic_.hits[i].primitiveId,
+                                                  static_cast<int>(x), y, ray),
+                      metrics, samples);
         ++metrics.planePixels.alongRays;
         continue;
       }

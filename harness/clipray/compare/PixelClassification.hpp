@@ -8,10 +8,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
+#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
 
+#include "clipray/compare/PlanePixelHits.hpp"
 #include "clipray/compare/Reconcile.hpp"
 
 namespace clipray::detail {
@@ -171,6 +173,9 @@ class FrameClassifier {
   bool fourPlanes_ = false;
   bool fourPlanesAvx2_ = false;
   PlaneFrameConstants planeConstants_{};  // both plane kernels' frame constants
+  // Where the frame's rays are computed: the ray path's hit of a plane pixel whose class the
+  // planes leave open (along its group's ray).
+  std::optional<PlanePixelHits> planePixelHits_;
 };
 
 }  // namespace clipray::detail

@@ -22,14 +22,22 @@ class PrimitiveClipPlanes {
   bool empty() const { return runs_.empty(); }
   // The object's own planes of the primitive with that id (none for most).
   std::span<const glm::dvec4> of(std::uint32_t primitiveId) const {
-    if (runs_.empty()) return {};
+    const std::size_t object = objectOf(primitiveId);
+    return object < runs_.size() ? std::span<const glm::dvec4>(runs_[object].planes)
+                                 : std::span<const glm::dvec4>();
+  }
+  // The objects with planes of their own, in id order: how many, each one's planes, and which
+  // one the primitive with that id belongs to (objectCount() for none).
+  std::size_t objectCount() const { return runs_.size(); }
+  std::span<const glm::dvec4> planesOfObject(std::size_t object) const {
+    return runs_[object].planes;
+  }
+  std::size_t objectOf(std::uint32_t primitiveId) const {
     const auto run =
         std::upper_bound(runs_.begin(), runs_.end(), primitiveId,
                          [](std::uint32_t id, const Run& r) { return id < r.firstId; });
-    if (run == runs_.begin()) return {};
-    const Run& r = *(run - 1);
-    return primitiveId < r.endId ? std::span<const glm::dvec4>(r.planes)
-                                 : std::span<const glm::dvec4>();
+    if (run == runs_.begin() || primitiveId >= (run - 1)->endId) return runs_.size();
+    return static_cast<std::size_t>(run - 1 - runs_.begin());
   }
   bool operator==(const PrimitiveClipPlanes&) const = default;
 

@@ -302,8 +302,8 @@ FrameVector<Hit> keptHits(const AnalyticFrame& frame,
           if (!std::isfinite(c.depth) || !std::isfinite(c.reach)) c.reach = kInfinity;
           return c;
         };
-        // A contender from planes made the ray path's: its triangle's test along its ray (the
-        // frame's), or the group's closest hit should that miss; false where nothing is hit.
+        // A contender from planes made the ray path's: its triangle's test along its group's ray,
+        // or the group's closest hit should that miss; false where nothing is hit.
         const auto made = [&](Contender& c, int k) {
           if (c.reach == 0.0) return true;
           makeRays();
@@ -414,13 +414,11 @@ ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersect
       PickingCamera groupCamera = camera;
       groupCamera.clipPlanes.insert(groupCamera.clipPlanes.end(), group.clipPlanes.begin(),
                                     group.clipPlanes.end());
-      // A group along the frame's rays keeps its decided pixels' planes: the merge below compares
-      // their depths from the planes, and the compare's fallback tests the triangle along the
-      // frame's ray, the group's. One with planes of its own tests them (its t, along its cut
-      // ray, is given along the frame's).
-      const ScreenEvaluation e =
-          intersectFrameInScreenSpace(pass.frame, intersector, groupCamera, threadCount, nullptr,
-                                      pass.ownRays ? DecidedHits::Tested : DecidedHits::FromPlanes);
+      // The group keeps its decided pixels' planes: the merge compares their depths from the
+      // planes, and the compare's fallback tests the triangle along the group's ray (the frame's,
+      // or the one its own planes cut: its t then given along the frame's).
+      const ScreenEvaluation e = intersectFrameInScreenSpace(
+          pass.frame, intersector, groupCamera, threadCount, nullptr, DecidedHits::FromPlanes);
       anyPlanes = anyPlanes || pass.frame.planesById != nullptr;
       if (e.used) {
         evaluated.used = true;

@@ -47,12 +47,12 @@ std::vector<DrawStateGroup> drawStateGroups(const Scene& scene);
 // frame's own ray). drawnClipFromWorld decides face culling as the frame is drawn; camera is the
 // lower-left view the rays were made for (its clipFromWorld maps hits to window depth). Where the
 // screen path is chosen (AnalyticChoice.hpp) a scene of one group is evaluated in screen space,
-// and so is each group of several: a group along the frame's rays keeps its decided pixels'
-// planes, whose depths compete in the depth test where their bounds decide it (else the
-// triangle's test along the ray gives the ray path's depth), and a winner from planes keeps t
-// NaN with frame.planesById by the whole scene's ids; a group with planes of its own tests its
-// decided pixels. The hits are the ray path's. What that did is returned
-// (ScreenEvaluation::used false otherwise, with the reason).
+// and so is each group of several: a group keeps its decided pixels' planes, whose depths compete
+// in the depth test where their bounds decide it (else the triangle's test along the group's ray
+// gives the ray path's depth), and a winner from planes keeps t NaN with frame.planesById by the
+// whole scene's ids (the compare tests it along its group's ray where it must). The hits are the
+// ray path's. What that did is returned (ScreenEvaluation::used false otherwise, with the
+// reason).
 ScreenEvaluation intersectByDrawState(AnalyticFrame& frame, const SceneIntersector& wholeScene,
                                       const Scene& scene, const glm::dmat4& drawnClipFromWorld,
                                       const PickingCamera& camera, unsigned threadCount);
