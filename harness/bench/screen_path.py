@@ -5,7 +5,8 @@ compared along rays per frame."""
 import os
 import statistics
 
-SCENES = ["terrain_100k", "standard", "grazing_floor", "far_from_origin", "coplanar", "infinite_far"]
+SCENES = ["terrain_100k", "standard", "grazing_floor", "far_from_origin", "coplanar", "infinite_far",
+          "logarithmic_depth", "object_depth_range", "object_clip_planes", "polygon_offset"]
 
 
 def screen_path_section(root, build, work, quick, reconcile, fmt, table):

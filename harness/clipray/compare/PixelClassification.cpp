@@ -387,6 +387,7 @@ FrameClassifier::FrameClassifier(const RasterFrame& raster, const AnalyticFrame&
     in.clampLow = setup.depthClamp.enabled ? 0.0 : -kInf;
     in.clampHigh = setup.depthClamp.enabled ? 1.0 : kInf;
     in.offsets = !setup.objectOffsets.empty();
+    in.objectRanges = !setup.oneDepthRange();
   }
 }
 

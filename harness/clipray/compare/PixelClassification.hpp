@@ -70,6 +70,9 @@ struct PlaneFrameConstants {
   // Objects drawn with a polygon offset: the raster's depth is compared with the middle of the
   // depths GL allows (PolygonOffset.hpp's offsetBand), the tolerance widened by their half width.
   bool offsets;
+  // Objects drawn with a depth range of their own: each pixel's window depth through its
+  // object's (FourPlanePixels' rangeLow and rangeSpan).
+  bool objectRanges;
 };
 struct FourPlanePixels {
   const TrianglePlanes* planes[4];
@@ -77,8 +80,8 @@ struct FourPlanePixels {
   const double* gradient[4];
   const double* interpolation[4];
   bool one;  // all four the same triangle
-  // Each pixel's object's glDepthRange(n, f) as n and f - n (0 and 1: the scene's default), and
-  // where the frame has offsets, its object's OffsetInterval (0 and 0: none).
+  // Where the frame has objects' own ranges, each pixel's object's glDepthRange(n, f) as n and
+  // f - n, and where it has offsets, its object's OffsetInterval (0 and 0: none).
   double rangeLow[4], rangeSpan[4], offsetLow[4], offsetHigh[4];
   const double* xNdc;
   double yNdc;

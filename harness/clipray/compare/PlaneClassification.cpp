@@ -109,10 +109,13 @@ using FloatBits = unsigned __attribute__((vector_size(16)));
       (planeField(p, &TrianglePlanes::rb) * y + planeField(p, &TrianglePlanes::rc));
   const Mask usable = (reciprocalW > 0.0) & (absolute(zNdc) < kInf) & (reciprocalW < kInf);
   if ((usable[0] & usable[1] & usable[2] & usable[3]) == 0) return false;
-  // The object's depth range: n + (f - n) d, which the default (0, 1) leaves d, bit for bit.
-  const Lanes rangeSpan = load(p.rangeSpan);
-  const Lanes depth = load(p.rangeLow) + rangeSpan * ((zNdc - in.zn) * in.toWindowDepth);
-  const Lanes toWindow = in.toWindow * absolute(rangeSpan);
+  // The object's depth range where objects have their own: n + (f - n) d.
+  Lanes depth = (zNdc - in.zn) * in.toWindowDepth;
+  Lanes toWindow = Lanes{} + in.toWindow;
+  if (in.objectRanges) {
+    depth = load(p.rangeLow) + load(p.rangeSpan) * depth;
+    toWindow = toWindow * absolute(load(p.rangeSpan));
+  }
   Floats rasterFloats;
   std::memcpy(&rasterFloats, p.rasterDepth, sizeof rasterFloats);
   const Lanes rasterDepth = __builtin_convertvector(rasterFloats, Lanes);
@@ -164,8 +167,9 @@ using FloatBits = unsigned __attribute__((vector_size(16)));
   const Mask certain = absolute(error - tolerance) > reach + toleranceReach + 0x1p-20 * tolerance;
   if ((certain[0] & certain[1] & certain[2] & certain[3]) == 0) return false;
   // The raster's depth less the offset's move, in the object's range, back to NDC.
-  const Lanes unmoved = rasterDepth - (compared - depth);
-  const Lanes zRaster = (unmoved - load(p.rangeLow)) / rangeSpan * (1.0 - in.zn) + in.zn;
+  Lanes unmoved = in.offsets ? rasterDepth - (compared - depth) : rasterDepth;
+  if (in.objectRanges) unmoved = (unmoved - load(p.rangeLow)) / load(p.rangeSpan);
+  const Lanes zRaster = unmoved * (1.0 - in.zn) + in.zn;
   const Lanes apart = absolute(zNdc - zRaster);
   const Lanes relative = in.parallel ? apart / in.depthSpan
                                      : apart / absolute(in.eyeClipZ * reciprocalW + zRaster - zNdc);
@@ -323,7 +327,9 @@ bool FrameClassifier::classifyFourFromPlanes(std::size_t first, const double* xN
       p.clipErrorBound[l] = &terms.clipErrorBound;
       p.gradient[l] = &terms.gradient;
       p.interpolation[l] = &terms.interpolation;
-      const glm::dvec2 range = setup_.objectDepthRanges.rangeOf(id, setup_.depthRange);
+      const glm::dvec2 range = planeConstants_.objectRanges
+                                   ? setup_.objectDepthRanges.rangeOf(id, setup_.depthRange)
+                                   : setup_.depthRange;
       p.rangeLow[l] = range.x;
       p.rangeSpan[l] = range.y - range.x;
       const OffsetInterval offset =
