@@ -17,12 +17,12 @@
 #include <tuple>
 #include <vector>
 
-#include "clipray/compare/PlanePixelHits.hpp"
 #include "clipray/compare/PrimitiveClipPlanes.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/scene/Scene.hpp"
 #include "support/AnalyticPathFor.hpp"
 #include "support/GlFixture.hpp"
+#include "support/PlanePixelChecks.hpp"
 #include "support/RunStates.hpp"
 #include "support/SceneObjects.hpp"
 
@@ -137,31 +137,16 @@ TEST_F(ObjectClipPlanes, APixelDecidedFromPlanesGetsTheRayPathsHitAlongItsObject
       return engine::runAnalyticPass(scene, camera, lowerLeft, camera.viewport);
     }();
     ASSERT_TRUE(screen.frame.planesById) << lowerLeft.name();
-    const PlanePixelHits planePixelHits(*screen.frame.pixelCentreRays, objectPlanes);
-    const Viewport viewport = camera.viewport;
-    for (int y = 0; y < viewport.height; ++y) {
-      for (int x = 0; x < viewport.width; ++x) {
-        const std::size_t i = static_cast<std::size_t>(y) * viewport.width + x;
-        const Hit& decided = screen.frame.hits[i];
-        if (!decided.hit() || !std::isnan(decided.t)) continue;
-        Ray ray;
-        screen.frame.pixelCentreRays->row(y, x, 1, &ray);
-        const Hit hit =
-            planePixelHits.rayPathHit(*screen.intersector, decided.primitiveId, x, y, ray);
-        const Hit& expected = rays.frame.hits[i];
-        ASSERT_EQ(hit.primitiveId, expected.primitiveId)
-            << lowerLeft.name() << " " << x << "," << y;
-        ASSERT_EQ(std::bit_cast<std::uint64_t>(hit.t), std::bit_cast<std::uint64_t>(expected.t))
-            << lowerLeft.name() << " " << x << "," << y << ": t " << hit.t << " against "
-            << expected.t;
-        const bool ofHouse = decided.primitiveId >= ids.firstIdOfObject[house] &&
-                             decided.primitiveId <
-                                 ids.firstIdOfObject[house] + scene.objects[house].triangles.size();
-        if (!ofHouse) continue;
-        ++alongOwnRays;
-        const Hit uncut = screen.intersector->intersectOne(decided.primitiveId, ray);
-        tMovedByTheFramesRay += uncut.t != expected.t ? 1 : 0;
+    for (const testing::PlanePixel& pixel :
+         testing::planePixelsAsTheRayPathHitsThem(screen, rays, objectPlanes, lowerLeft.name())) {
+      const std::uint32_t id = pixel.hit.primitiveId;
+      if (id < ids.firstIdOfObject[house] ||
+          id >= ids.firstIdOfObject[house] + scene.objects[house].triangles.size()) {
+        continue;
       }
+      ++alongOwnRays;
+      const Hit uncut = screen.intersector->intersectOne(id, pixel.ray);
+      tMovedByTheFramesRay += uncut.t != pixel.hit.t ? 1 : 0;
     }
   }
   std::printf(

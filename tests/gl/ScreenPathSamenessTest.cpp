@@ -22,7 +22,6 @@
 #include <string>
 #include <vector>
 
-#include "clipray/compare/PlanePixelHits.hpp"
 #include "clipray/compare/PrimitiveClipPlanes.hpp"
 #include "clipray/engine/ReconcileRun.hpp"
 #include "clipray/rays/HardCases.hpp"
@@ -30,6 +29,7 @@
 #include "support/AnalyticPathFor.hpp"
 #include "support/EveryDepthFormat.hpp"
 #include "support/GlFixture.hpp"
+#include "support/PlanePixelChecks.hpp"
 #include "support/RandomScenes.hpp"
 #include "support/Sanitizers.hpp"
 
@@ -166,30 +166,13 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
           (scene.depthClamp ? " depth clamp" : "") + (camera.logarithmicDepth ? " log depth" : "");
       ASSERT_FALSE(rays.frame.planesById) << what;
       evaluated += screen.screen.used ? 1 : 0;
-      if (screen.frame.planesById) {
-        // Where the compare goes along the ray for a pixel decided from planes, it gets the ray
-        // path's hit bit for bit: along its group's ray, t given along the frame's.
-        const PrimitiveClipPlanes objectPlanes(scene);
-        const PlanePixelHits planePixelHits(*screen.frame.pixelCentreRays, objectPlanes);
-        const Viewport viewport = camera.viewport;
-        for (int y = 0; y < viewport.height; ++y) {
-          for (int x = 0; x < viewport.width; ++x) {
-            const std::size_t i = static_cast<std::size_t>(y) * viewport.width + x;
-            const Hit& decided = screen.frame.hits[i];
-            if (!decided.hit() || !std::isnan(decided.t)) continue;
-            Ray ray;
-            screen.frame.pixelCentreRays->row(y, x, 1, &ray);
-            const Hit hit =
-                planePixelHits.rayPathHit(*screen.intersector, decided.primitiveId, x, y, ray);
-            const Hit& expected = rays.frame.hits[i];
-            ASSERT_EQ(hit.primitiveId, expected.primitiveId) << what << ", pixel " << x << "," << y;
-            ASSERT_EQ(std::bit_cast<std::uint64_t>(hit.t), std::bit_cast<std::uint64_t>(expected.t))
-                << what << ", pixel " << x << "," << y << ": t " << hit.t << " against "
-                << expected.t;
-            ++rayPathHits;
-            ownPlaneHits += objectPlanes.of(decided.primitiveId).empty() ? 0 : 1;
-          }
-        }
+      // Where the compare goes along the ray for a pixel decided from planes, it gets the ray
+      // path's hit bit for bit: along its group's ray, t given along the frame's.
+      const PrimitiveClipPlanes objectPlanes(scene);
+      for (const testing::PlanePixel& pixel :
+           testing::planePixelsAsTheRayPathHitsThem(screen, rays, objectPlanes, what)) {
+        ++rayPathHits;
+        ownPlaneHits += objectPlanes.of(pixel.hit.primitiveId).empty() ? 0 : 1;
       }
       const double toWindow = 1.0 / (1.0 - mode.clipVolumeMinZ());
       testing::drawInEveryDepthFormat(
