@@ -268,7 +268,8 @@ TEST_F(ScreenPathSameness, RandomMeshScenesThroughTheHardCaseCamerasClassifyAsTh
   std::cout << rayPathHits << " plane pixels' ray path hits through PlanePixelHits, "
             << ownPlaneHits
             << " of them along an object's own rays: each the ray path's bit for bit\n";
-  EXPECT_GT(ownPlaneHits, 500);
+  // One size under AddressSanitizer: a handful there.
+  EXPECT_GT(ownPlaneHits, testing::kUnderAddressSanitizer ? 0 : 500);
   // The ray path's depth lies far closer to the exact crossing than the planes' bound (the
   // bound's worst case stacks every rounding): both depths within it of each other.
   EXPECT_LE(worstDepthOverBound, 1.0);
